@@ -1,0 +1,238 @@
+//! `report.json`: per frame, the reaction of every constraint (the sum of the reactions Ru of
+//! equation (8) over its prescribed dofs), the displacement of every probe, the balance of
+//! applied loads against reactions, and what the solver cost.
+
+use crate::fem::stress::von_mises;
+use crate::sim::{Frame, Model};
+use nalgebra::Vector3;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// The scene file.
+    pub scene: String,
+    /// Sizes of the model.
+    pub model: ModelSummary,
+    /// One entry per solved frame.
+    pub frames: Vec<FrameReport>,
+}
+
+/// Sizes of the model.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelSummary {
+    /// Nodes.
+    pub nodes: usize,
+    /// Elements.
+    pub elements: usize,
+    /// Degrees of freedom (3 per node).
+    pub dofs: usize,
+    /// Per body.
+    pub bodies: Vec<BodySummary>,
+}
+
+/// One body.
+#[derive(Clone, Debug, Serialize)]
+pub struct BodySummary {
+    /// Name.
+    pub name: String,
+    /// Nodes.
+    pub nodes: usize,
+    /// Elements.
+    pub elements: usize,
+    /// Volume, m³.
+    pub volume: f64,
+    /// Mass, kg.
+    pub mass: f64,
+}
+
+/// A constraint's resultant.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConstraintReport {
+    /// Sum of the support reactions over its prescribed dofs, N.
+    pub reaction: [f64; 3],
+    /// How many dofs it prescribes.
+    pub dofs: usize,
+}
+
+/// A probe's reading.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProbeReport {
+    /// The node read (global index).
+    pub node: usize,
+    /// Its position before deformation, m.
+    pub position: [f64; 3],
+    /// Its displacement, m.
+    pub displacement: [f64; 3],
+}
+
+/// Applied loads against reactions: their sum is the out-of-balance force.
+#[derive(Clone, Debug, Serialize)]
+pub struct Equilibrium {
+    /// Total applied load (gravity, pressure, forces), N.
+    pub applied: [f64; 3],
+    /// Total support reaction, N.
+    pub reactions: [f64; 3],
+    /// applied + reactions, N (zero to round-off at equilibrium).
+    pub imbalance: [f64; 3],
+}
+
+/// Solver costs, ms.
+#[derive(Clone, Debug, Serialize)]
+pub struct Timings {
+    /// Assembly of K.
+    pub assembly: f64,
+    /// Ordering and symbolic analysis (0 when reused).
+    pub symbolic: f64,
+    /// Numeric Cholesky factorization.
+    pub factorization: f64,
+    /// Substitution and reactions.
+    pub solve: f64,
+    /// Stress recovery.
+    pub stress: f64,
+}
+
+/// Solver figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverReport {
+    /// Relative residual of equation (7).
+    pub residual: f64,
+    /// Whether the symbolic factorization was reused.
+    pub symbolic_reused: bool,
+    /// Unknown dofs (NBEQ).
+    pub free_dofs: usize,
+    /// Prescribed dofs (NP).
+    pub prescribed_dofs: usize,
+    /// Stored entries of K11.
+    pub matrix_nnz: usize,
+    /// Entries of the Cholesky factor.
+    pub factor_nnz: usize,
+    /// Timings.
+    pub timings_ms: Timings,
+}
+
+/// One frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameReport {
+    /// Frame number.
+    pub frame: usize,
+    /// Time, s (pseudo-time of the paper's t_i).
+    pub time: f64,
+    /// Per constraint.
+    pub constraints: BTreeMap<String, ConstraintReport>,
+    /// Per probe.
+    pub probes: BTreeMap<String, ProbeReport>,
+    /// Per load, the total force applied, N.
+    pub loads: BTreeMap<String, [f64; 3]>,
+    /// Total gravity force, N.
+    pub gravity: [f64; 3],
+    /// Balance.
+    pub equilibrium: Equilibrium,
+    /// Largest displacement magnitude, m.
+    pub max_displacement: f64,
+    /// Largest nodal von Mises stress, Pa.
+    pub max_von_mises: f64,
+    /// Solver figures.
+    pub solver: SolverReport,
+}
+
+fn arr(v: Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// Builds the report entry of a solved frame.
+pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> FrameReport {
+    let sol = &frame.solution;
+    let dof_vec = |dofs: &[usize], values: &[f64]| {
+        let mut v = Vector3::zeros();
+        for &d in dofs {
+            v[d % 3] += values[d];
+        }
+        v
+    };
+    let constraints = model
+        .constraints
+        .iter()
+        .map(|c| {
+            (
+                c.name.clone(),
+                ConstraintReport {
+                    reaction: arr(dof_vec(&c.dofs, &sol.reaction)),
+                    dofs: c.dofs.len(),
+                },
+            )
+        })
+        .collect();
+    let probes = model
+        .probes
+        .iter()
+        .map(|p| {
+            (
+                p.name.clone(),
+                ProbeReport {
+                    node: p.node,
+                    position: arr(model.mesh.nodes[p.node]),
+                    displacement: arr(sol.node_displacement(p.node)),
+                },
+            )
+        })
+        .collect();
+    let applied: Vector3<f64> = model.loads.iter().map(|l| l.total).sum::<Vector3<f64>>() + model.gravity_total;
+    let all: Vec<usize> = (0..sol.reaction.len()).collect();
+    let reactions = dof_vec(&all, &sol.reaction);
+    let max_displacement = (0..model.mesh.node_count())
+        .map(|n| sol.node_displacement(n).norm())
+        .fold(0.0, f64::max);
+    let max_von_mises = frame.stress.nodal.iter().map(von_mises).fold(0.0, f64::max);
+    FrameReport {
+        frame: index,
+        time,
+        constraints,
+        probes,
+        loads: model.loads.iter().map(|l| (l.name.clone(), arr(l.total))).collect(),
+        gravity: arr(model.gravity_total),
+        equilibrium: Equilibrium {
+            applied: arr(applied),
+            reactions: arr(reactions),
+            imbalance: arr(applied + reactions),
+        },
+        max_displacement,
+        max_von_mises,
+        solver: SolverReport {
+            residual: sol.stats.relative_residual,
+            symbolic_reused: sol.stats.symbolic_reused,
+            free_dofs: sol.stats.free_dofs,
+            prescribed_dofs: sol.stats.prescribed_dofs,
+            matrix_nnz: sol.stats.matrix_nnz,
+            factor_nnz: sol.stats.factor_nnz,
+            timings_ms: Timings {
+                assembly: frame.assembly_ms,
+                symbolic: sol.stats.symbolic_ms,
+                factorization: sol.stats.factorization_ms,
+                solve: sol.stats.solve_ms,
+                stress: frame.stress_ms,
+            },
+        },
+    }
+}
+
+/// Summary of the model.
+pub fn model_summary(model: &Model) -> ModelSummary {
+    ModelSummary {
+        nodes: model.mesh.node_count(),
+        elements: model.mesh.cell_count(),
+        dofs: 3 * model.mesh.node_count(),
+        bodies: model
+            .bodies
+            .iter()
+            .map(|b| BodySummary {
+                name: b.name.clone(),
+                nodes: b.nodes.len(),
+                elements: b.cells.len(),
+                volume: b.volume,
+                mass: b.mass,
+            })
+            .collect(),
+    }
+}

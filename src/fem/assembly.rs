@@ -1,0 +1,234 @@
+//! Sparse symmetric assembly of the global stiffness K (the paper's equations (3)–(5)).
+//!
+//! The sparsity pattern is built once per mesh: the upper triangle of K in compressed sparse
+//! columns over all 3·NBP degrees of freedom (dof 3n+i is node n along axis i), plus, for every
+//! cell, where each of its node-pair blocks lands. Cells are coloured so that no two cells of a
+//! colour share a node; a colour is then assembled in parallel without locks.
+
+use super::hex8::{element_stiffness, InvertedCell};
+use super::material::Material;
+use crate::mesh::Mesh;
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// Where the blocks of each cell go in the upper triangle of K; computed once per mesh.
+#[derive(Debug)]
+pub struct StiffnessPattern {
+    /// Number of degrees of freedom (3 per node).
+    pub dofs: usize,
+    /// Column pointers of the upper triangle (length dofs + 1).
+    pub col_ptr: Vec<usize>,
+    /// Row indices of the upper triangle, sorted within each column.
+    pub row_idx: Vec<usize>,
+    /// For cell c and local node pair (a, b): the rank of node(a) among the neighbours ≤ node(b)
+    /// of node(b), or `u32::MAX` when node(a) > node(b) (a lower-triangle block).
+    ranks: Vec<[u32; 64]>,
+    /// Cells grouped into colours; cells of one colour share no node.
+    colours: Vec<Vec<usize>>,
+    /// For every node, its neighbours (nodes sharing a cell), itself excluded, sorted.
+    pub node_neighbours: Vec<Vec<usize>>,
+}
+
+impl StiffnessPattern {
+    /// Builds the pattern of `mesh`.
+    pub fn new(mesh: &Mesh) -> Self {
+        let n = mesh.node_count();
+        let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for cell in &mesh.cells {
+            for &a in cell {
+                for &b in cell {
+                    if a != b {
+                        neighbours[a].push(b);
+                    }
+                }
+            }
+        }
+        neighbours.par_iter_mut().for_each(|l| {
+            l.sort_unstable();
+            l.dedup();
+        });
+        // Lower neighbours of node j (i < j), then j itself: the node-level upper column j.
+        let lower_count: Vec<usize> = neighbours
+            .iter()
+            .enumerate()
+            .map(|(j, l)| l.partition_point(|&i| i < j))
+            .collect();
+        let dofs = 3 * n;
+        let mut col_ptr = Vec::with_capacity(dofs + 1);
+        col_ptr.push(0);
+        for j in 0..n {
+            for c in 0..3 {
+                let len = 3 * lower_count[j] + c + 1;
+                col_ptr.push(col_ptr.last().unwrap() + len);
+            }
+        }
+        let mut row_idx = vec![0usize; *col_ptr.last().unwrap()];
+        for j in 0..n {
+            for c in 0..3 {
+                let mut p = col_ptr[3 * j + c];
+                for &i in &neighbours[j][..lower_count[j]] {
+                    for d in 0..3 {
+                        row_idx[p] = 3 * i + d;
+                        p += 1;
+                    }
+                }
+                for d in 0..=c {
+                    row_idx[p] = 3 * j + d;
+                    p += 1;
+                }
+            }
+        }
+        let ranks = mesh
+            .cells
+            .par_iter()
+            .map(|cell| {
+                let mut r = [u32::MAX; 64];
+                for a in 0..8 {
+                    for b in 0..8 {
+                        let (na, nb) = (cell[a], cell[b]);
+                        if na < nb {
+                            let list = &neighbours[nb][..lower_count[nb]];
+                            r[a * 8 + b] = list.binary_search(&na).expect("neighbour") as u32;
+                        } else if na == nb {
+                            r[a * 8 + b] = lower_count[nb] as u32;
+                        }
+                    }
+                }
+                r
+            })
+            .collect();
+        Self {
+            dofs,
+            col_ptr,
+            row_idx,
+            ranks,
+            colours: colour_cells(mesh),
+            node_neighbours: neighbours,
+        }
+    }
+
+    /// Number of stored entries (upper triangle).
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Number of cell colours (cells of one colour are assembled in parallel).
+    pub fn colour_count(&self) -> usize {
+        self.colours.len()
+    }
+}
+
+/// Greedy colouring: each cell takes the first colour no cell touching its nodes has taken.
+fn colour_cells(mesh: &Mesh) -> Vec<Vec<usize>> {
+    let mut used = vec![0u64; mesh.node_count()];
+    let mut colours: Vec<Vec<usize>> = Vec::new();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let taken = cell.iter().fold(0u64, |m, &n| m | used[n]);
+        let colour = (taken.trailing_ones() as usize).min(63);
+        if colour < 63 {
+            for &n in cell {
+                used[n] |= 1 << colour;
+            }
+        }
+        if colours.len() <= colour {
+            colours.resize(colour + 1, Vec::new());
+        }
+        colours[colour].push(c);
+    }
+    colours
+}
+
+/// An assembled stiffness matrix K: the upper triangle of a symmetric matrix on a shared pattern.
+#[derive(Clone, Debug)]
+pub struct Stiffness {
+    /// The pattern the values belong to.
+    pub pattern: Arc<StiffnessPattern>,
+    /// Values, aligned with `pattern.row_idx`.
+    pub values: Vec<f64>,
+}
+
+/// Assembly failed because a cell is inverted or flat.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AssemblyError {
+    /// The offending cell.
+    pub cell: usize,
+    /// Its smallest relative det J.
+    pub inverted: InvertedCell,
+}
+
+struct SharedValues(*mut f64);
+unsafe impl Send for SharedValues {}
+unsafe impl Sync for SharedValues {}
+
+/// Assembles K = Σ_e K_e (equation (3) composed into (5)) for the mesh at its current node
+/// positions, with `materials[c]` the material of cell c.
+pub fn assemble(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+) -> Result<Stiffness, AssemblyError> {
+    assert_eq!(materials.len(), mesh.cell_count());
+    let mut values = vec![0.0; pattern.nnz()];
+    let shared = SharedValues(values.as_mut_ptr());
+    let shared = &shared;
+    for (index, colour) in pattern.colours.iter().enumerate() {
+        // Colour 63 collects the cells that found no free colour: they may share nodes.
+        let serial = index == 63;
+        let add = |&c: &usize| -> Result<(), AssemblyError> {
+            let cell = &mesh.cells[c];
+            let ke = element_stiffness(&mesh.cell_coords(c), &materials[c])
+                .map_err(|inverted| AssemblyError { cell: c, inverted })?;
+            let ranks = &pattern.ranks[c];
+            for a in 0..8 {
+                for b in 0..8 {
+                    let rank = ranks[a * 8 + b];
+                    if rank == u32::MAX {
+                        continue;
+                    }
+                    let (na, nb) = (cell[a], cell[b]);
+                    let block = &ke[a][b];
+                    for j in 0..3 {
+                        let base = pattern.col_ptr[3 * nb + j] + 3 * rank as usize;
+                        let rows = if na == nb { j + 1 } else { 3 };
+                        for i in 0..rows {
+                            // SAFETY: cells of one colour share no node, so no two threads write
+                            // the same column; `base + i` lies inside column 3·nb + j.
+                            unsafe { *shared.0.add(base + i) += block[(i, j)] };
+                        }
+                    }
+                }
+            }
+            Ok(())
+        };
+        if serial {
+            colour.iter().try_for_each(add)?;
+        } else {
+            colour.par_iter().try_for_each(add)?;
+        }
+    }
+    Ok(Stiffness {
+        pattern: pattern.clone(),
+        values,
+    })
+}
+
+impl Stiffness {
+    /// y = K·x, using the symmetry of the stored upper triangle.
+    pub fn mul(&self, x: &[f64]) -> Vec<f64> {
+        let p = &self.pattern;
+        let mut y = vec![0.0; p.dofs];
+        for j in 0..p.dofs {
+            let mut acc = 0.0;
+            for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                let i = p.row_idx[k];
+                let v = self.values[k];
+                y[i] += v * x[j];
+                if i != j {
+                    acc += v * x[i];
+                }
+            }
+            y[j] += acc;
+        }
+        y
+    }
+}

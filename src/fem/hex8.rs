@@ -1,0 +1,196 @@
+//! The 8-node isoparametric hexahedron: trilinear shape functions, 2×2×2 Gauss quadrature,
+//! element stiffness, consistent body force, and strains at the Gauss points.
+//!
+//! Prisms and tetrahedra are hexahedra with repeated nodes (the paper: "these elements are easily
+//! modified to prismatic or tetrahedral elements"). The trilinear map still reproduces every linear
+//! field, and its Jacobian vanishes only on the collapsed edges, never at a Gauss point of a
+//! well-shaped degenerate cell, so the same quadrature serves them.
+
+use super::material::Material;
+use nalgebra::{Matrix3, Vector3};
+use std::sync::LazyLock;
+
+/// Natural coordinates (ξ, η, ζ) of the eight nodes, VTK order.
+pub const NODE_SIGNS: [[f64; 3]; 8] = [
+    [-1.0, -1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, -1.0, 1.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, 1.0],
+];
+
+/// The 2×2×2 Gauss points (weights all 1), ordered like the nodes: point g sits at
+/// `NODE_SIGNS[g] / √3`.
+pub static GAUSS_POINTS: LazyLock<[Vector3<f64>; 8]> = LazyLock::new(|| {
+    let s = 1.0 / 3f64.sqrt();
+    NODE_SIGNS.map(|p| Vector3::new(p[0] * s, p[1] * s, p[2] * s))
+});
+
+/// Shape-function derivatives ∂N_a/∂ξ at each Gauss point: `[point][node]`.
+static GAUSS_DERIVATIVES: LazyLock<[[Vector3<f64>; 8]; 8]> =
+    LazyLock::new(|| GAUSS_POINTS.map(|xi| shape_derivatives(&xi)));
+
+/// Trilinear shape functions N_a(ξ) = (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)/8.
+pub fn shape(xi: &Vector3<f64>) -> [f64; 8] {
+    NODE_SIGNS.map(|s| (1.0 + s[0] * xi.x) * (1.0 + s[1] * xi.y) * (1.0 + s[2] * xi.z) / 8.0)
+}
+
+/// Derivatives ∂N_a/∂ξ of the shape functions.
+pub fn shape_derivatives(xi: &Vector3<f64>) -> [Vector3<f64>; 8] {
+    NODE_SIGNS.map(|s| {
+        let (a, b, c) = (1.0 + s[0] * xi.x, 1.0 + s[1] * xi.y, 1.0 + s[2] * xi.z);
+        Vector3::new(s[0] * b * c, a * s[1] * c, a * b * s[2]) / 8.0
+    })
+}
+
+/// The Jacobian matrix J_ij = ∂x_i/∂ξ_j of the map from natural to physical coordinates.
+pub fn jacobian(coords: &[Vector3<f64>; 8], dn: &[Vector3<f64>; 8]) -> Matrix3<f64> {
+    let mut j = Matrix3::zeros();
+    for a in 0..8 {
+        j += coords[a] * dn[a].transpose();
+    }
+    j
+}
+
+/// A Gauss point mapped onto a cell: det J times the weight, and ∂N_a/∂x.
+#[derive(Clone, Copy, Debug)]
+pub struct MappedPoint {
+    /// det J · w: the volume this point stands for.
+    pub volume: f64,
+    /// Physical gradients of the shape functions.
+    pub gradients: [Vector3<f64>; 8],
+}
+
+/// A cell whose map is not one-to-one at a Gauss point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InvertedCell {
+    /// The smallest det J found at a Gauss point, relative to the cell's mean det J scale.
+    pub relative_det: f64,
+}
+
+/// Smallest det J at a Gauss point divided by the cell's size cubed (L³ with L the longest
+/// edge of the bounding box); a value ≤ 1e−12 means an inverted or flat cell.
+pub fn relative_min_jacobian(coords: &[Vector3<f64>; 8]) -> f64 {
+    let mut lo = coords[0];
+    let mut hi = coords[0];
+    for c in coords {
+        lo = lo.inf(c);
+        hi = hi.sup(c);
+    }
+    let size = (hi - lo).max();
+    let scale = (size * size * size).max(f64::MIN_POSITIVE);
+    GAUSS_DERIVATIVES
+        .iter()
+        .map(|dn| jacobian(coords, dn).determinant() / scale)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The eight Gauss points of a cell mapped to physical space.
+pub fn mapped_points(coords: &[Vector3<f64>; 8]) -> Result<[MappedPoint; 8], InvertedCell> {
+    let mut out = [MappedPoint {
+        volume: 0.0,
+        gradients: [Vector3::zeros(); 8],
+    }; 8];
+    for (g, dn) in GAUSS_DERIVATIVES.iter().enumerate() {
+        let j = jacobian(coords, dn);
+        let det = j.determinant();
+        let inv_t = match j.try_inverse() {
+            Some(inv) if det > 0.0 => inv.transpose(),
+            _ => {
+                return Err(InvertedCell {
+                    relative_det: relative_min_jacobian(coords),
+                })
+            }
+        };
+        out[g].volume = det;
+        for a in 0..8 {
+            out[g].gradients[a] = inv_t * dn[a];
+        }
+    }
+    Ok(out)
+}
+
+/// An element stiffness matrix as 3×3 blocks: `k[a][b][(i, j)]` = ∂f_{a,i}/∂u_{b,j}, the force on
+/// node a along axis i per unit displacement of node b along axis j.
+pub type ElementStiffness = [[Matrix3<f64>; 8]; 8];
+
+/// Element stiffness K_e = ∫ Bᵀ D B dV for an isotropic material, written block-wise:
+/// K_ab = ∫ (λ ∇N_a ∇N_bᵀ + μ ∇N_b ∇N_aᵀ + μ (∇N_a·∇N_b) I) dV.
+/// Its assembly over elements is the stiffness K of the paper's equation (5).
+pub fn element_stiffness(
+    coords: &[Vector3<f64>; 8],
+    material: &Material,
+) -> Result<ElementStiffness, InvertedCell> {
+    let points = mapped_points(coords)?;
+    let (lambda, mu) = (material.lambda(), material.mu());
+    let mut k = [[Matrix3::zeros(); 8]; 8];
+    for p in &points {
+        let (l, m) = (lambda * p.volume, mu * p.volume);
+        for a in 0..8 {
+            let ga = p.gradients[a];
+            for b in a..8 {
+                let gb = p.gradients[b];
+                let dot = m * ga.dot(&gb);
+                let mut block = ga * gb.transpose() * l + gb * ga.transpose() * m;
+                block[(0, 0)] += dot;
+                block[(1, 1)] += dot;
+                block[(2, 2)] += dot;
+                k[a][b] += block;
+            }
+        }
+    }
+    for a in 0..8 {
+        for b in 0..a {
+            k[a][b] = k[b][a].transpose();
+        }
+    }
+    Ok(k)
+}
+
+/// Consistent nodal forces of a uniform body force density `b` (N/m³): f_a = ∫ N_a b dV
+/// (the term RB of the paper's equation (4)).
+pub fn element_body_force(
+    coords: &[Vector3<f64>; 8],
+    b: &Vector3<f64>,
+) -> Result<[Vector3<f64>; 8], InvertedCell> {
+    let mut f = [Vector3::zeros(); 8];
+    for (g, dn) in GAUSS_DERIVATIVES.iter().enumerate() {
+        let det = jacobian(coords, dn).determinant();
+        if det <= 0.0 {
+            return Err(InvertedCell {
+                relative_det: relative_min_jacobian(coords),
+            });
+        }
+        let n = shape(&GAUSS_POINTS[g]);
+        for a in 0..8 {
+            f[a] += b * (n[a] * det);
+        }
+    }
+    Ok(f)
+}
+
+/// Volume of a cell (sum of det J over the Gauss points; exact for trilinear cells).
+pub fn cell_volume(coords: &[Vector3<f64>; 8]) -> f64 {
+    GAUSS_DERIVATIVES
+        .iter()
+        .map(|dn| jacobian(coords, dn).determinant())
+        .sum()
+}
+
+/// Small-strain tensor ε = sym(∇u) at each Gauss point, from nodal displacements.
+pub fn gauss_strains(
+    coords: &[Vector3<f64>; 8],
+    u: &[Vector3<f64>; 8],
+) -> Result<[Matrix3<f64>; 8], InvertedCell> {
+    let points = mapped_points(coords)?;
+    Ok(points.map(|p| {
+        let mut grad = Matrix3::zeros();
+        for a in 0..8 {
+            grad += u[a] * p.gradients[a].transpose();
+        }
+        (grad + grad.transpose()) * 0.5
+    }))
+}

@@ -1,0 +1,68 @@
+//! Detection of rigid-body motions left free by the prescribed displacements.
+//!
+//! A piece of a body is held when the prescribed dofs, seen as linear functionals on the six
+//! rigid motions (three translations, three rotations about the centroid), have rank six.
+
+use nalgebra::{Matrix6, SymmetricEigen, Vector3, Vector6};
+
+/// Names of the rigid motions a piece can still make, empty when it is held. `nodes` are the
+/// nodes of the piece, `prescribed(dof)` tells whether a dof is prescribed.
+pub fn free_rigid_motions(
+    nodes: &[usize],
+    positions: &[Vector3<f64>],
+    prescribed: impl Fn(usize) -> bool,
+) -> Vec<String> {
+    let centroid = nodes.iter().map(|&n| positions[n]).sum::<Vector3<f64>>() / nodes.len() as f64;
+    let size = nodes
+        .iter()
+        .map(|&n| (positions[n] - centroid).norm())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut gram = Matrix6::<f64>::zeros();
+    for &n in nodes {
+        let y = (positions[n] - centroid) / size;
+        for i in 0..3 {
+            if !prescribed(3 * n + i) {
+                continue;
+            }
+            let mut row = Vector6::zeros();
+            row[i] = 1.0;
+            for k in 0..3 {
+                let mut axis = Vector3::zeros();
+                axis[k] = 1.0;
+                row[3 + k] = axis.cross(&y)[i];
+            }
+            gram += row * row.transpose();
+        }
+    }
+    let eigen = SymmetricEigen::new(gram);
+    let largest = eigen.eigenvalues.amax();
+    const NAMES: [&str; 6] = [
+        "translation along x",
+        "translation along y",
+        "translation along z",
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+    ];
+    let mut free = Vec::new();
+    for (k, &lambda) in eigen.eigenvalues.iter().enumerate() {
+        if largest == 0.0 || lambda <= 1e-9 * largest {
+            let v = eigen.eigenvectors.column(k);
+            let mut name = NAMES[v.iamax()].to_string();
+            while free.contains(&name) {
+                // Two free modes dominated by the same component: name the next largest.
+                let mut w = v.abs();
+                for (j, n) in NAMES.iter().enumerate() {
+                    if free.iter().any(|f| f == n) {
+                        w[j] = 0.0;
+                    }
+                }
+                name = NAMES[w.iamax()].to_string();
+            }
+            free.push(name);
+        }
+    }
+    free.sort();
+    free
+}

@@ -1,0 +1,78 @@
+//! Cauchy stress (small strain: σ = λ tr(ε) I + 2μ ε) at the Gauss points, extrapolated to the
+//! corners of each cell and averaged at the nodes, and the von Mises equivalent stress.
+
+use super::hex8::{gauss_strains, shape, InvertedCell, NODE_SIGNS};
+use super::material::Material;
+use crate::mesh::Mesh;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// Cauchy stress from small strain for an isotropic material.
+pub fn cauchy_stress(strain: &Matrix3<f64>, material: &Material) -> Matrix3<f64> {
+    Matrix3::identity() * (material.lambda() * strain.trace()) + strain * (2.0 * material.mu())
+}
+
+/// Von Mises equivalent stress √(3/2 s:s), with s the deviatoric part of σ.
+pub fn von_mises(sigma: &Matrix3<f64>) -> f64 {
+    let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+    (1.5 * dev.component_mul(&dev).sum()).max(0.0).sqrt()
+}
+
+/// Stresses of a solved displacement field.
+#[derive(Clone, Debug)]
+pub struct StressField {
+    /// Per cell, the stress at its eight Gauss points.
+    pub gauss: Vec<[Matrix3<f64>; 8]>,
+    /// Per node, the average of the corner values extrapolated from the Gauss points of every
+    /// cell that uses the node.
+    pub nodal: Vec<Matrix3<f64>>,
+    /// Per cell, the von Mises stress of the mean Gauss-point stress.
+    pub cell_von_mises: Vec<f64>,
+}
+
+/// Computes the stresses of displacement `u` (3 per node) on `mesh`.
+pub fn stress_field(
+    mesh: &Mesh,
+    materials: &[Material],
+    u: &[f64],
+) -> Result<StressField, (usize, InvertedCell)> {
+    let gauss: Vec<[Matrix3<f64>; 8]> = (0..mesh.cell_count())
+        .into_par_iter()
+        .map(|c| {
+            let ue = mesh.cells[c].map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
+            let strains = gauss_strains(&mesh.cell_coords(c), &ue).map_err(|e| (c, e))?;
+            Ok(strains.map(|e| cauchy_stress(&e, &materials[c])))
+        })
+        .collect::<Result<_, _>>()?;
+    // Corner a sits at √3·NODE_SIGNS[a] in the coordinates of the Gauss-point lattice.
+    let s3 = 3f64.sqrt();
+    let extrapolate: [[f64; 8]; 8] = NODE_SIGNS.map(|p| {
+        shape(&Vector3::new(p[0] * s3, p[1] * s3, p[2] * s3))
+    });
+    let mut nodal = vec![Matrix3::zeros(); mesh.node_count()];
+    let mut count = vec![0u32; mesh.node_count()];
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        for a in 0..8 {
+            let mut s = Matrix3::zeros();
+            for g in 0..8 {
+                s += gauss[c][g] * extrapolate[a][g];
+            }
+            nodal[cell[a]] += s;
+            count[cell[a]] += 1;
+        }
+    }
+    for (s, &k) in nodal.iter_mut().zip(&count) {
+        if k > 0 {
+            *s /= k as f64;
+        }
+    }
+    let cell_von_mises = gauss
+        .iter()
+        .map(|g| von_mises(&(g.iter().sum::<Matrix3<f64>>() / 8.0)))
+        .collect();
+    Ok(StressField {
+        gauss,
+        nodal,
+        cell_von_mises,
+    })
+}

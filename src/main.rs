@@ -1,0 +1,158 @@
+//! The `prehensile` command line: solve scenes, run benchmarks. Without a subcommand it solves the
+//! built-in default scene and prints a summary (the viewer will take this place).
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use prehensile::bench::{solver_rows, solver_table};
+use prehensile::fem::solve::FillOrdering;
+use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
+use prehensile::scene::{Scene, DEFAULT_SCENE};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "prehensile",
+    version,
+    about = "Finite element simulation of a hand grasping a deformable object (after Gourret, \
+             Magnenat-Thalmann & Thalmann 1989)",
+    long_about = "Finite element simulation of a hand grasping a deformable object.\n\n\
+                  Without a subcommand, solves the built-in default scene (a pressurised rubber \
+                  ball pressed at its top) and prints a summary."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a scene file; write report.json, one VTU per frame and frames.pvd into --out.
+    Solve {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// Output folder (created if missing; files appear only when all are written).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Benchmarks; print a Markdown table.
+    Bench {
+        #[command(subcommand)]
+        which: BenchCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Assembly, factorization, solve and peak memory on an n×n×n cube.
+    Solver {
+        /// Cells per edge, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "10,20,30,40")]
+        sizes: Vec<usize>,
+        /// Fill-reducing ordering.
+        #[arg(long, value_enum, default_value = "nested-dissection")]
+        ordering: OrderingArg,
+        /// Assembly repetitions (the best time is kept).
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OrderingArg {
+    NestedDissection,
+    Amd,
+}
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<()> {
+    faer::set_global_parallelism(faer::Par::rayon(0));
+    let cli = Cli::parse();
+    match cli.command {
+        None => {
+            let scene = Scene::parse(DEFAULT_SCENE, "<built-in default scene>")?;
+            let solved = solve_scene(&scene, "<built-in default scene>")?;
+            print_summary(&solved);
+            println!(
+                "\n(headless commands: `prehensile solve SCENE.toml --out DIR`, \
+                 `prehensile bench solver`; see --help)"
+            );
+        }
+        Some(Command::Solve { scene, out }) => {
+            let solved = solve_scene_file(&scene)?;
+            let written = write_solved(&solved, &out)
+                .with_context(|| format!("writing {}", out.display()))?;
+            print_summary(&solved);
+            for path in written {
+                println!("wrote {}", path.display());
+            }
+        }
+        Some(Command::Bench { which }) => match which {
+            BenchCommand::Solver {
+                sizes,
+                ordering,
+                repeats,
+            } => {
+                let ordering = match ordering {
+                    OrderingArg::NestedDissection => FillOrdering::NestedDissection,
+                    OrderingArg::Amd => FillOrdering::Amd,
+                };
+                println!(
+                    "solver benchmark: unit cube, bottom clamped, top pressed; ordering {ordering:?}; {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = solver_rows(&sizes, ordering, repeats);
+                print!("{}", solver_table(&rows));
+            }
+        },
+    }
+    Ok(())
+}
+
+fn print_summary(solved: &Solved) {
+    let r = &solved.report;
+    println!(
+        "{}: {} nodes, {} elements, {} dofs",
+        r.scene, r.model.nodes, r.model.elements, r.model.dofs
+    );
+    for f in &r.frames {
+        let s = &f.solver;
+        println!(
+            "frame {}: {} free / {} prescribed dofs; assembly {:.1} ms, symbolic {:.1} ms, \
+             factorization {:.1} ms, solve {:.1} ms; residual {:.2e}",
+            f.frame,
+            s.free_dofs,
+            s.prescribed_dofs,
+            s.timings_ms.assembly,
+            s.timings_ms.symbolic,
+            s.timings_ms.factorization,
+            s.timings_ms.solve,
+            s.residual
+        );
+        println!(
+            "  max displacement {:.4e} m, max von Mises {:.4e} Pa, out of balance [{:.2e}, {:.2e}, {:.2e}] N",
+            f.max_displacement,
+            f.max_von_mises,
+            f.equilibrium.imbalance[0],
+            f.equilibrium.imbalance[1],
+            f.equilibrium.imbalance[2]
+        );
+        for (name, c) in &f.constraints {
+            println!(
+                "  constraint {name}: reaction [{:.4e}, {:.4e}, {:.4e}] N over {} dofs",
+                c.reaction[0], c.reaction[1], c.reaction[2], c.dofs
+            );
+        }
+        for (name, p) in &f.probes {
+            println!(
+                "  probe {name}: displacement [{:.4e}, {:.4e}, {:.4e}] m",
+                p.displacement[0], p.displacement[1], p.displacement[2]
+            );
+        }
+    }
+}

@@ -1,0 +1,29 @@
+//! Scene files (TOML): materials, bodies, constraints, loads and probes, with validation errors
+//! that name the file and the field. The format is documented in `docs/scene-format.md`.
+
+mod error;
+mod types;
+
+pub use error::SceneError;
+pub use types::*;
+
+use std::path::Path;
+
+/// The built-in default scene (a pressurised rubber ball squeezed between two plates).
+pub const DEFAULT_SCENE: &str = include_str!("../../assets/scenes/default.toml");
+
+impl Scene {
+    /// Reads and parses a scene file.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            file: path.display().to_string(),
+            source,
+        })?;
+        Scene::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses scene text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        toml::from_str::<Scene>(text).map_err(|e| SceneError::syntax(file, text, &e))
+    }
+}

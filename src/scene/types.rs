@@ -1,0 +1,244 @@
+//! Serde types of the scene file.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// World settings (gravity).
+    #[serde(default)]
+    pub world: World,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverSettings,
+    /// Named materials.
+    #[serde(default)]
+    pub material: Vec<MaterialDef>,
+    /// Bodies.
+    #[serde(default)]
+    pub body: Vec<BodyDef>,
+    /// Sub-regions of a body made of another material.
+    #[serde(default)]
+    pub region: Vec<RegionDef>,
+    /// Prescribed displacements.
+    #[serde(default)]
+    pub constraint: Vec<ConstraintDef>,
+    /// Loads.
+    #[serde(default)]
+    pub load: Vec<LoadDef>,
+    /// Points whose displacement is reported.
+    #[serde(default)]
+    pub probe: Vec<ProbeDef>,
+}
+
+/// `[world]`
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct World {
+    /// Gravitational acceleration in m/s², e.g. `[0, 0, -9.81]`; none when absent.
+    #[serde(default)]
+    pub gravity: Option<[f64; 3]>,
+}
+
+/// `[solver]`
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSettings {
+    /// Fill-reducing ordering for the sparse Cholesky: `"nested_dissection"` (default) or `"amd"`.
+    #[serde(default)]
+    pub ordering: Option<OrderingName>,
+}
+
+/// Name of a fill-reducing ordering.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum OrderingName {
+    /// Geometric nested dissection.
+    NestedDissection,
+    /// Approximate minimum degree.
+    Amd,
+}
+
+/// `[[material]]`
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDef {
+    /// Name used by bodies and regions.
+    pub name: String,
+    /// Young's modulus, Pa.
+    pub young: f64,
+    /// Poisson's ratio.
+    pub poisson: f64,
+    /// Density, kg/m³.
+    #[serde(default)]
+    pub density: f64,
+}
+
+/// `[[body]]`
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    /// Unique name.
+    pub name: String,
+    /// Material of its cells (regions may override).
+    pub material: String,
+    /// Its geometry.
+    pub shape: Shape,
+}
+
+/// A body's geometry.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Shape {
+    /// An axis-aligned box.
+    Box {
+        /// Lower corner, m.
+        min: [f64; 3],
+        /// Upper corner, m.
+        max: [f64; 3],
+        /// Cells along x, y, z.
+        cells: [usize; 3],
+    },
+    /// A solid ball.
+    Sphere {
+        /// Centre, m.
+        center: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+        /// Cells across the diameter.
+        cells: usize,
+    },
+    /// A hollow ball (cubed sphere).
+    Shell {
+        /// Centre, m.
+        center: [f64; 3],
+        /// Inner radius, m.
+        inner_radius: f64,
+        /// Outer radius, m.
+        outer_radius: f64,
+        /// Cells along each edge of each of the six cube faces.
+        cells: usize,
+        /// Cells through the wall.
+        layers: usize,
+    },
+    /// An explicit mesh: node coordinates and 8-node cells (VTK order; repeat nodes for prisms
+    /// and tetrahedra).
+    Mesh {
+        /// Node positions, m.
+        nodes: Vec<[f64; 3]>,
+        /// Cells as 0-based node indices.
+        cells: Vec<[usize; 8]>,
+    },
+}
+
+/// A selection of nodes (and of boundary facets) of one body.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Selection {
+    /// A face of a box body: `x-`, `x+`, `y-`, `y+`, `z-`, `z+`.
+    Face(String),
+    /// `outer` (every body) or `inner` (a shell's cavity).
+    Surface(String),
+    /// The node nearest a point.
+    Point([f64; 3]),
+    /// Nodes inside an axis-aligned box (facets with all their nodes inside).
+    Box {
+        /// Lower corner.
+        min: [f64; 3],
+        /// Upper corner.
+        max: [f64; 3],
+    },
+}
+
+/// `[[region]]`: cells of a body (all eight nodes selected) made of another material.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionDef {
+    /// The body.
+    pub body: String,
+    /// The material of the region.
+    pub material: String,
+    /// Which cells.
+    #[serde(rename = "where")]
+    pub selection: Selection,
+}
+
+/// A prescribed displacement: all three components, or some of them.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum DisplacementDef {
+    /// `[ux, uy, uz]`
+    All([f64; 3]),
+    /// `{ x = .., z = .. }`: only the named components are prescribed.
+    Some(Components),
+}
+
+/// Optional components.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Components {
+    /// Along x, m.
+    pub x: Option<f64>,
+    /// Along y, m.
+    pub y: Option<f64>,
+    /// Along z, m.
+    pub z: Option<f64>,
+}
+
+impl DisplacementDef {
+    /// The prescribed components (None where free).
+    pub fn components(&self) -> [Option<f64>; 3] {
+        match self {
+            DisplacementDef::All(u) => u.map(Some),
+            DisplacementDef::Some(c) => [c.x, c.y, c.z],
+        }
+    }
+}
+
+/// `[[constraint]]`
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintDef {
+    /// Unique name (the report's key).
+    pub name: String,
+    /// The body.
+    pub body: String,
+    /// Which nodes.
+    #[serde(rename = "where")]
+    pub selection: Selection,
+    /// Prescribed displacement, m.
+    pub displacement: DisplacementDef,
+}
+
+/// `[[load]]`: exactly one of `pressure` and `force`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadDef {
+    /// Optional name.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The body.
+    pub body: String,
+    /// Where it acts.
+    #[serde(rename = "where")]
+    pub selection: Selection,
+    /// Pressure on the selected facets, Pa, pushing against their outward normal.
+    #[serde(default)]
+    pub pressure: Option<f64>,
+    /// Total force shared equally by the selected nodes, N.
+    #[serde(default)]
+    pub force: Option<[f64; 3]>,
+}
+
+/// `[[probe]]`
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeDef {
+    /// Unique name.
+    pub name: String,
+    /// The body.
+    pub body: String,
+    /// The point; the nearest node of the body is reported.
+    pub point: [f64; 3],
+}

@@ -1,0 +1,545 @@
+//! `Model::build`: from a scene to meshes, materials, prescribed dofs and the load vector.
+//! Everything here is fixed for a frame; the solve produces the state.
+
+use super::select::select;
+use crate::fem::assembly::StiffnessPattern;
+use crate::fem::hex8::{cell_volume, relative_min_jacobian};
+use crate::fem::loads::{add_gravity, add_pressure, add_shared_force};
+use crate::fem::rigid::free_rigid_motions;
+use crate::fem::solve::FillOrdering;
+use crate::fem::{DofPartition, Material};
+use crate::mesh::{box_mesh, boundary_facets, shell_mesh, sphere_mesh, Facet, Mesh};
+use crate::scene::{OrderingName, Scene, SceneError, Shape};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// One body: a contiguous range of nodes and cells of the model's mesh.
+#[derive(Clone, Debug)]
+pub struct BodyModel {
+    /// Its name in the scene.
+    pub name: String,
+    /// Its shape as given.
+    pub shape: Shape,
+    /// Its nodes.
+    pub nodes: Range<usize>,
+    /// Its cells.
+    pub cells: Range<usize>,
+    /// Its boundary facets (global node indices).
+    pub facets: Vec<Facet>,
+    /// Longest edge of its bounding box, m.
+    pub size: f64,
+    /// Volume, m³.
+    pub volume: f64,
+    /// Mass, kg.
+    pub mass: f64,
+}
+
+/// A named set of prescribed dofs.
+#[derive(Clone, Debug)]
+pub struct ConstraintModel {
+    /// Name (report key).
+    pub name: String,
+    /// Index of the body.
+    pub body: usize,
+    /// The dofs it prescribes (a dof prescribed by an earlier constraint is not repeated).
+    pub dofs: Vec<usize>,
+}
+
+/// A load as applied.
+#[derive(Clone, Debug)]
+pub struct LoadModel {
+    /// Name (given, or `load[i]`).
+    pub name: String,
+    /// Index of the body.
+    pub body: usize,
+    /// The total force it applies, N.
+    pub total: Vector3<f64>,
+}
+
+/// A probed node.
+#[derive(Clone, Debug)]
+pub struct ProbeModel {
+    /// Name (report key).
+    pub name: String,
+    /// Index of the body.
+    pub body: usize,
+    /// The requested point.
+    pub point: Vector3<f64>,
+    /// The nearest node of the body.
+    pub node: usize,
+}
+
+/// The compiled scene.
+#[derive(Debug)]
+pub struct Model {
+    /// All bodies' meshes, one after the other.
+    pub mesh: Mesh,
+    /// Bodies.
+    pub bodies: Vec<BodyModel>,
+    /// Material names.
+    pub material_names: Vec<String>,
+    /// Material index of each cell.
+    pub cell_material: Vec<usize>,
+    /// Material of each cell (expanded, for assembly).
+    pub cell_materials: Vec<Material>,
+    /// Body index of each cell.
+    pub cell_body: Vec<usize>,
+    /// Constraints.
+    pub constraints: Vec<ConstraintModel>,
+    /// Loads.
+    pub loads: Vec<LoadModel>,
+    /// Total gravity force, N.
+    pub gravity_total: Vector3<f64>,
+    /// Probes.
+    pub probes: Vec<ProbeModel>,
+    /// Which dofs are prescribed.
+    pub partition: DofPartition,
+    /// Prescribed values U_k (zero at free dofs).
+    pub prescribed: Vec<f64>,
+    /// The load vector R (body forces, pressure, point forces).
+    pub load_vector: Vec<f64>,
+    /// Sparsity pattern of K.
+    pub pattern: Arc<StiffnessPattern>,
+    /// Fill-reducing ordering.
+    pub ordering: FillOrdering,
+}
+
+fn finite(values: &[f64]) -> bool {
+    values.iter().all(|v| v.is_finite())
+}
+
+impl Model {
+    /// Builds the model; `file` names the scene in errors.
+    pub fn build(scene: &Scene, file: &str) -> Result<Model, SceneError> {
+        let err = |field: String, message: String| SceneError::invalid(file, field, message);
+
+        // Materials.
+        let mut material_index: HashMap<&str, usize> = HashMap::new();
+        let mut materials = Vec::new();
+        for (i, m) in scene.material.iter().enumerate() {
+            let field = format!("material \"{}\" (material[{i}])", m.name);
+            if material_index.insert(&m.name, i).is_some() {
+                return Err(err(field, "a material of this name is defined twice".into()));
+            }
+            let mat = Material {
+                young: m.young,
+                poisson: m.poisson,
+                density: m.density,
+            };
+            mat.check().map_err(|msg| err(field, msg))?;
+            materials.push(mat);
+        }
+        let find_material = |name: &str, field: String| -> Result<usize, SceneError> {
+            material_index.get(name).copied().ok_or_else(|| {
+                let known: Vec<&str> = scene.material.iter().map(|m| m.name.as_str()).collect();
+                err(
+                    field,
+                    format!("no material named \"{name}\" (defined: {})", list(&known)),
+                )
+            })
+        };
+
+        // Bodies.
+        if scene.body.is_empty() {
+            return Err(err("body".into(), "the scene defines no [[body]]".into()));
+        }
+        let mut mesh = Mesh::default();
+        let mut bodies: Vec<BodyModel> = Vec::new();
+        let mut cell_material = Vec::new();
+        let mut cell_body = Vec::new();
+        for (i, b) in scene.body.iter().enumerate() {
+            let field = format!("body \"{}\" (body[{i}])", b.name);
+            if bodies.iter().any(|o| o.name == b.name) {
+                return Err(err(field, "a body of this name is defined twice".into()));
+            }
+            let material = find_material(&b.material, format!("{field}.material"))?;
+            let body_mesh = build_shape(&b.shape).map_err(|m| err(format!("{field}.shape"), m))?;
+            for (c, _) in body_mesh.cells.iter().enumerate() {
+                let rel = relative_min_jacobian(&body_mesh.cell_coords(c));
+                if rel.is_nan() || rel <= 1e-12 {
+                    return Err(err(
+                        format!("{field}.shape"),
+                        format!(
+                            "element {c} is inverted or has zero volume (smallest det J / size³ = \
+                             {rel:.3e})"
+                        ),
+                    ));
+                }
+            }
+            let facets = boundary_facets(&body_mesh);
+            let (node_offset, cell_offset) = mesh.append(&body_mesh);
+            let facets = facets
+                .into_iter()
+                .map(|f| Facet {
+                    nodes: f.nodes.map(|n| n + node_offset),
+                    cell: f.cell + cell_offset,
+                })
+                .collect();
+            let mut lo = body_mesh.nodes[0];
+            let mut hi = lo;
+            for p in &body_mesh.nodes {
+                lo = lo.inf(p);
+                hi = hi.sup(p);
+            }
+            let volume: f64 = (0..body_mesh.cell_count())
+                .map(|c| cell_volume(&body_mesh.cell_coords(c)))
+                .sum();
+            bodies.push(BodyModel {
+                name: b.name.clone(),
+                shape: b.shape.clone(),
+                nodes: node_offset..node_offset + body_mesh.node_count(),
+                cells: cell_offset..cell_offset + body_mesh.cell_count(),
+                facets,
+                size: (hi - lo).max(),
+                volume,
+                mass: 0.0,
+            });
+            cell_material.extend(std::iter::repeat_n(material, body_mesh.cell_count()));
+            cell_body.extend(std::iter::repeat_n(i, body_mesh.cell_count()));
+        }
+        let find_body = |name: &str, field: String| -> Result<usize, SceneError> {
+            bodies.iter().position(|b| b.name == name).ok_or_else(|| {
+                let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+                err(field, format!("no body named \"{name}\" (defined: {})", list(&known)))
+            })
+        };
+
+        // Regions of other materials.
+        for (i, r) in scene.region.iter().enumerate() {
+            let field = format!("region[{i}]");
+            let b = find_body(&r.body, format!("{field}.body"))?;
+            let m = find_material(&r.material, format!("{field}.material"))?;
+            let sel = select(&bodies[b], &mesh, &r.selection)
+                .map_err(|msg| err(format!("{field}.where"), msg))?;
+            let mut chosen = vec![false; mesh.node_count()];
+            for &n in &sel.nodes {
+                chosen[n] = true;
+            }
+            let mut count = 0;
+            for c in bodies[b].cells.clone() {
+                if mesh.cells[c].iter().all(|&n| chosen[n]) {
+                    cell_material[c] = m;
+                    count += 1;
+                }
+            }
+            if count == 0 {
+                return Err(err(
+                    format!("{field}.where"),
+                    "contains no whole element of the body (a region takes the elements whose \
+                     eight nodes are all selected)"
+                        .into(),
+                ));
+            }
+        }
+        let cell_materials: Vec<Material> = cell_material.iter().map(|&m| materials[m]).collect();
+
+        // Constraints.
+        let dofs = 3 * mesh.node_count();
+        let mut prescribed_mask = vec![false; dofs];
+        let mut prescribed = vec![0.0; dofs];
+        let mut owner = vec![usize::MAX; dofs];
+        let mut constraints: Vec<ConstraintModel> = Vec::new();
+        for (i, c) in scene.constraint.iter().enumerate() {
+            let field = format!("constraint \"{}\" (constraint[{i}])", c.name);
+            if constraints.iter().any(|o| o.name == c.name) {
+                return Err(err(field, "a constraint of this name is defined twice".into()));
+            }
+            let b = find_body(&c.body, format!("{field}.body"))?;
+            let sel = select(&bodies[b], &mesh, &c.selection)
+                .map_err(|msg| err(format!("{field}.where"), msg))?;
+            let components = c.displacement.components();
+            if components.iter().all(Option::is_none) {
+                return Err(err(
+                    format!("{field}.displacement"),
+                    "prescribes no component (give x, y or z)".into(),
+                ));
+            }
+            if components.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(err(format!("{field}.displacement"), "is not a finite number".into()));
+            }
+            let mut own = Vec::new();
+            for &n in &sel.nodes {
+                for (axis, value) in components.iter().enumerate() {
+                    let Some(value) = *value else { continue };
+                    let d = 3 * n + axis;
+                    if prescribed_mask[d] {
+                        if (prescribed[d] - value).abs() > 1e-15 * (1.0 + value.abs()) {
+                            return Err(err(
+                                format!("{field}.displacement"),
+                                format!(
+                                    "node {} is already prescribed along {} by constraint \"{}\" \
+                                     with another value ({} m against {} m)",
+                                    n - bodies[b].nodes.start,
+                                    ["x", "y", "z"][axis],
+                                    constraints[owner[d]].name,
+                                    prescribed[d],
+                                    value
+                                ),
+                            ));
+                        }
+                        continue;
+                    }
+                    prescribed_mask[d] = true;
+                    prescribed[d] = value;
+                    owner[d] = constraints.len();
+                    own.push(d);
+                }
+            }
+            constraints.push(ConstraintModel {
+                name: c.name.clone(),
+                body: b,
+                dofs: own,
+            });
+        }
+
+        // Loads.
+        let mut load_vector = vec![0.0; dofs];
+        let mut loads = Vec::new();
+        for (i, l) in scene.load.iter().enumerate() {
+            let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
+            let field = format!("load \"{name}\" (load[{i}])");
+            let b = find_body(&l.body, format!("{field}.body"))?;
+            let sel = select(&bodies[b], &mesh, &l.selection)
+                .map_err(|msg| err(format!("{field}.where"), msg))?;
+            let total = match (l.pressure, l.force) {
+                (Some(p), None) => {
+                    if !p.is_finite() {
+                        return Err(err(format!("{field}.pressure"), "is not a finite number".into()));
+                    }
+                    if sel.facets.is_empty() {
+                        return Err(err(
+                            format!("{field}.where"),
+                            "selects no boundary facet, and a pressure acts on facets (use a \
+                             face, a surface or a box)"
+                                .into(),
+                        ));
+                    }
+                    add_pressure(&mut load_vector, &mesh, &sel.facets, p)
+                }
+                (None, Some(f)) => {
+                    if !finite(&f) {
+                        return Err(err(format!("{field}.force"), "is not a finite number".into()));
+                    }
+                    let f = Vector3::from(f);
+                    add_shared_force(&mut load_vector, &sel.nodes, &f);
+                    f
+                }
+                _ => {
+                    return Err(err(
+                        field,
+                        "give exactly one of `pressure` (Pa) and `force` ([fx, fy, fz] N)".into(),
+                    ))
+                }
+            };
+            loads.push(LoadModel {
+                name,
+                body: b,
+                total,
+            });
+        }
+        let mut gravity_total = Vector3::zeros();
+        if let Some(g) = scene.world.gravity {
+            if !finite(&g) {
+                return Err(err("world.gravity".into(), "is not a finite vector".into()));
+            }
+            gravity_total = add_gravity(
+                &mut load_vector,
+                &mesh,
+                &cell_materials,
+                0..mesh.cell_count(),
+                &Vector3::from(g),
+            )
+            .map_err(|e| err("world.gravity".into(), format!("element {} is inverted", e.cell)))?;
+        }
+
+        // Probes.
+        let mut probes = Vec::new();
+        for (i, p) in scene.probe.iter().enumerate() {
+            let field = format!("probe \"{}\" (probe[{i}])", p.name);
+            if probes.iter().any(|o: &ProbeModel| o.name == p.name) {
+                return Err(err(field, "a probe of this name is defined twice".into()));
+            }
+            if !finite(&p.point) {
+                return Err(err(format!("{field}.point"), "is not a finite point".into()));
+            }
+            let b = find_body(&p.body, format!("{field}.body"))?;
+            let sel = select(&bodies[b], &mesh, &crate::scene::Selection::Point(p.point))
+                .map_err(|msg| err(format!("{field}.point"), msg))?;
+            probes.push(ProbeModel {
+                name: p.name.clone(),
+                body: b,
+                point: Vector3::from(p.point),
+                node: sel.nodes[0],
+            });
+        }
+
+        // Every piece of every body must be held against rigid motion.
+        let (piece, pieces) = mesh.connected_pieces();
+        let mut piece_nodes: Vec<Vec<usize>> = vec![Vec::new(); pieces];
+        for (n, &p) in piece.iter().enumerate() {
+            piece_nodes[p].push(n);
+        }
+        for (b, body) in bodies.iter().enumerate() {
+            let mut body_pieces: Vec<usize> = body.nodes.clone().map(|n| piece[n]).collect();
+            body_pieces.sort_unstable();
+            body_pieces.dedup();
+            for (k, &p) in body_pieces.iter().enumerate() {
+                let free = free_rigid_motions(&piece_nodes[p], &mesh.nodes, |d| prescribed_mask[d]);
+                if !free.is_empty() {
+                    let which = if body_pieces.len() > 1 {
+                        format!(
+                            " (piece {} of {}, {} nodes)",
+                            k + 1,
+                            body_pieces.len(),
+                            piece_nodes[p].len()
+                        )
+                    } else {
+                        String::new()
+                    };
+                    return Err(err(
+                        format!("body \"{}\" (body[{b}])", body.name),
+                        format!(
+                            "is free to move rigidly{which}: the constraints leave {} free; \
+                             prescribe more displacements on it",
+                            list(&free.iter().map(String::as_str).collect::<Vec<_>>())
+                        ),
+                    ));
+                }
+            }
+        }
+
+        let ordering = match scene.solver.ordering {
+            Some(OrderingName::Amd) => FillOrdering::Amd,
+            _ => FillOrdering::NestedDissection,
+        };
+        for b in &mut bodies {
+            b.mass = b
+                .cells
+                .clone()
+                .map(|c| cell_materials[c].density * cell_volume(&mesh.cell_coords(c)))
+                .sum();
+        }
+        let pattern = Arc::new(StiffnessPattern::new(&mesh));
+        Ok(Model {
+            mesh,
+            bodies,
+            material_names: scene.material.iter().map(|m| m.name.clone()).collect(),
+            cell_material,
+            cell_materials,
+            cell_body,
+            constraints,
+            loads,
+            gravity_total,
+            probes,
+            partition: DofPartition::new(prescribed_mask),
+            prescribed,
+            load_vector,
+            pattern,
+            ordering,
+        })
+    }
+
+    /// Index of the body that owns node `n`.
+    pub fn body_of_node(&self, n: usize) -> usize {
+        self.bodies
+            .iter()
+            .position(|b| b.nodes.contains(&n))
+            .unwrap_or(0)
+    }
+}
+
+fn list(names: &[&str]) -> String {
+    if names.is_empty() {
+        "none".into()
+    } else {
+        names.join(", ")
+    }
+}
+
+/// Generates the mesh of a shape after checking its parameters.
+fn build_shape(shape: &Shape) -> Result<Mesh, String> {
+    const MAX_CELLS: usize = 5_000_000;
+    match shape {
+        Shape::Mesh { nodes, cells } => {
+            if nodes.is_empty() || cells.is_empty() {
+                return Err("mesh needs at least one node and one cell".into());
+            }
+            if let Some(i) = nodes.iter().position(|p| !finite(p)) {
+                return Err(format!("mesh node {i} is not a finite point"));
+            }
+            for (c, cell) in cells.iter().enumerate() {
+                if let Some(&n) = cell.iter().find(|&&n| n >= nodes.len()) {
+                    return Err(format!(
+                        "mesh element {c} names node {n}, but there are {} nodes",
+                        nodes.len()
+                    ));
+                }
+            }
+            Ok(Mesh {
+                nodes: nodes.iter().map(|p| Vector3::from(*p)).collect(),
+                cells: cells.clone(),
+            })
+        }
+        Shape::Box { min, max, cells } => {
+            if !finite(min) || !finite(max) {
+                return Err("box min and max must be finite".into());
+            }
+            if (0..3).any(|i| max[i] <= min[i]) {
+                return Err(format!("box max {max:?} must exceed min {min:?} on every axis"));
+            }
+            if cells.contains(&0) {
+                return Err(format!("box cells {cells:?} must all be at least 1"));
+            }
+            if cells.iter().product::<usize>() > MAX_CELLS {
+                return Err(format!("box cells {cells:?} make more than {MAX_CELLS} elements"));
+            }
+            Ok(box_mesh(Vector3::from(*min), Vector3::from(*max), *cells))
+        }
+        Shape::Sphere {
+            center,
+            radius,
+            cells,
+        } => {
+            if !finite(center) || !(radius.is_finite() && *radius > 0.0) {
+                return Err(format!("sphere needs a finite center and a radius > 0 (radius = {radius})"));
+            }
+            if *cells == 0 || cells.pow(3) > MAX_CELLS {
+                return Err(format!("sphere cells = {cells} must be at least 1 and at most 170"));
+            }
+            Ok(sphere_mesh(Vector3::from(*center), *radius, *cells))
+        }
+        Shape::Shell {
+            center,
+            inner_radius,
+            outer_radius,
+            cells,
+            layers,
+        } => {
+            if !finite(center) || !(inner_radius.is_finite() && *inner_radius > 0.0) {
+                return Err(format!(
+                    "shell needs a finite center and inner_radius > 0 (inner_radius = {inner_radius})"
+                ));
+            }
+            if !(outer_radius.is_finite() && outer_radius > inner_radius) {
+                return Err(format!(
+                    "shell outer_radius = {outer_radius} must exceed inner_radius = {inner_radius}"
+                ));
+            }
+            if *cells == 0 || *layers == 0 || 6 * cells * cells * layers > MAX_CELLS {
+                return Err(format!(
+                    "shell cells = {cells} and layers = {layers} must be at least 1 (and make at \
+                     most {MAX_CELLS} elements)"
+                ));
+            }
+            Ok(shell_mesh(
+                Vector3::from(*center),
+                *inner_radius,
+                *outer_radius,
+                *cells,
+                *layers,
+            ))
+        }
+    }
+}

@@ -1,0 +1,93 @@
+//! The static solve of one frame: assemble K on the current geometry, solve equations (7)–(8),
+//! then recover stresses. The result is the frame's state.
+
+use super::model::Model;
+use crate::fem::assembly::assemble;
+use crate::fem::solve::{PartitionedSolver, SolveError, Solution};
+use crate::fem::stress::{stress_field, StressField};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Why a frame could not be solved.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// An element is inverted or flat.
+    #[error("body \"{body}\": element {element} is inverted or has zero volume (smallest det J / size³ = {relative_det:.3e})")]
+    InvertedElement {
+        /// The body.
+        body: String,
+        /// The element, numbered within its body.
+        element: usize,
+        /// Its smallest relative Jacobian.
+        relative_det: f64,
+    },
+    /// The linear solve failed.
+    #[error("body \"{body}\": {source}")]
+    Solve {
+        /// The body the failing dof belongs to.
+        body: String,
+        /// Why.
+        source: SolveError,
+    },
+}
+
+/// The state after solving one frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Displacements and reactions.
+    pub solution: Solution,
+    /// Stresses.
+    pub stress: StressField,
+    /// Time spent assembling K, ms.
+    pub assembly_ms: f64,
+    /// Time spent on stresses, ms.
+    pub stress_ms: f64,
+}
+
+/// Solves the static equilibrium of the model (equation (5) partitioned as (6)–(8)).
+pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Frame, SimError> {
+    let inverted = |cell: usize, relative_det: f64| {
+        let b = model.cell_body[cell];
+        SimError::InvertedElement {
+            body: model.bodies[b].name.clone(),
+            element: cell - model.bodies[b].cells.start,
+            relative_det,
+        }
+    };
+    let t = Instant::now();
+    let k = assemble(&model.pattern, &model.mesh, &model.cell_materials)
+        .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
+    let assembly_ms = t.elapsed().as_secs_f64() * 1e3;
+    let solution = solver
+        .solve(
+            &k,
+            &model.partition,
+            &model.prescribed,
+            &model.load_vector,
+            &model.mesh.nodes,
+        )
+        .map_err(|source| {
+            let body = match &source {
+                SolveError::NotPositiveDefinite { node, .. } => {
+                    model.bodies[model.body_of_node(*node)].name.clone()
+                }
+                _ => model
+                    .bodies
+                    .iter()
+                    .map(|b| b.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            };
+            SimError::Solve { body, source }
+        })?;
+    let t = Instant::now();
+    let stress = stress_field(&model.mesh, &model.cell_materials, &solution.displacement)
+        .map_err(|(c, e)| inverted(c, e.relative_det))?;
+    let stress_ms = t.elapsed().as_secs_f64() * 1e3;
+    Ok(Frame {
+        solution,
+        stress,
+        assembly_ms,
+        stress_ms,
+    })
+}
