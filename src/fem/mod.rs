@@ -6,6 +6,7 @@ pub mod assembly;
 pub mod hex8;
 pub mod loads;
 pub mod material;
+pub mod memory;
 pub mod ordering;
 pub mod partition;
 pub mod rigid;

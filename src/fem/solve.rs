@@ -8,7 +8,9 @@
 use super::assembly::{Stiffness, StiffnessPattern};
 use super::ordering::nested_dissection;
 use super::partition::DofPartition;
-use faer::dyn_stack::{MemBuffer, MemStack};
+use super::memory::{grow, scratch};
+use faer::dyn_stack::MemStack;
+use std::mem::MaybeUninit;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::Perm;
 use faer::sparse::linalg::cholesky::{
@@ -119,6 +121,7 @@ pub struct PartitionedSolver {
     ordering: FillOrdering,
     analysis: Option<Analysis>,
     factor: Vec<f64>,
+    scratch: Vec<MaybeUninit<u64>>,
 }
 
 impl PartitionedSolver {
@@ -128,6 +131,7 @@ impl PartitionedSolver {
             ordering,
             analysis: None,
             factor: Vec::new(),
+            scratch: Vec::new(),
         }
     }
 
@@ -183,17 +187,14 @@ impl PartitionedSolver {
         let k11 = SparseColMatRef::new(analysis.k11.as_ref(), &k11_values);
         let par = faer::get_global_parallelism();
         let len = analysis.cholesky.len_val();
-        self.factor.clear();
-        self.factor.resize(len, 0.0);
+        grow(&mut self.factor, len, || 0.0);
         stats.factor_nnz = len;
         stats.matrix_nnz = k11_values.len();
         {
-            let mut mem = MemBuffer::try_new(
-                analysis
-                    .cholesky
-                    .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-            )
-            .map_err(|e| SolveError::Faer(format!("{e:?}")))?;
+            let req = analysis
+                .cholesky
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+            let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
             analysis
                 .cholesky
                 .factorize_numeric_llt(
@@ -202,7 +203,7 @@ impl PartitionedSolver {
                     Side::Upper,
                     LltRegularization::default(),
                     par,
-                    MemStack::new(&mut mem),
+                    MemStack::new_any(mem),
                     Default::default(),
                 )
                 .map_err(|e| match e {
@@ -225,15 +226,13 @@ impl PartitionedSolver {
         let mut x = rhs.clone();
         {
             let llt = LltRef::new(&analysis.cholesky, &self.factor);
-            let mut mem = MemBuffer::try_new(
-                analysis.cholesky.solve_in_place_scratch::<f64>(1, par),
-            )
-            .map_err(|e| SolveError::Faer(format!("{e:?}")))?;
+            let req = analysis.cholesky.solve_in_place_scratch::<f64>(1, par);
+            let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
             llt.solve_in_place_with_conj(
                 Conj::No,
                 MatMut::from_column_major_slice_mut(&mut x, neq, 1),
                 par,
-                MemStack::new(&mut mem),
+                MemStack::new_any(mem),
             );
         }
         for (e, &d) in partition.free.iter().enumerate() {
