@@ -85,18 +85,32 @@ pub fn solver_rows(sizes: &[usize], ordering: FillOrdering, repeats: usize) -> V
         let mut k = None;
         for _ in 0..repeats.max(1) {
             let t = Instant::now();
-            k = Some(assemble(&model.pattern, &model.mesh, &model.cell_materials).expect("assemble"));
+            k = Some(
+                assemble(&model.pattern, &model.mesh, &model.cell_materials).expect("assemble"),
+            );
             assembly_ms = assembly_ms.min(t.elapsed().as_secs_f64() * 1e3);
         }
         let k = k.unwrap();
         let mut solver = PartitionedSolver::new(ordering);
         let first = solver
-            .solve(&k, &model.partition, &model.prescribed, &model.load_vector, &model.mesh.nodes)
+            .solve(
+                &k,
+                &model.partition,
+                &model.prescribed,
+                &model.load_vector,
+                &model.mesh.nodes,
+            )
             .expect("solve");
         let doubled: Vec<f64> = model.prescribed.iter().map(|v| 2.0 * v).collect();
         let t = Instant::now();
         let second = solver
-            .solve(&k, &model.partition, &doubled, &model.load_vector, &model.mesh.nodes)
+            .solve(
+                &k,
+                &model.partition,
+                &doubled,
+                &model.load_vector,
+                &model.mesh.nodes,
+            )
             .expect("second solve");
         let resolve_ms = t.elapsed().as_secs_f64() * 1e3;
         rows.push(SolverRow {

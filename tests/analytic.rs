@@ -29,10 +29,19 @@ fn cantilever_tip(k: usize, poisson: f64) -> f64 {
     let (sol, _) = solve_mesh(
         &mesh,
         &vec![m; mesh.cell_count()],
-        |_, x| if x.x.abs() < 1e-9 { [Some(0.0); 3] } else { [None; 3] },
+        |_, x| {
+            if x.x.abs() < 1e-9 {
+                [Some(0.0); 3]
+            } else {
+                [None; 3]
+            }
+        },
         &loads,
     );
-    end.iter().map(|&n| sol.displacement[3 * n + 2]).sum::<f64>() / end.len() as f64
+    end.iter()
+        .map(|&n| sol.displacement[3 * n + 2])
+        .sum::<f64>()
+        / end.len() as f64
 }
 
 /// Timoshenko beam: δ = PL³/(3EI) + PL/(κGA), κ = 5/6.
@@ -46,22 +55,39 @@ fn timoshenko_tip(poisson: f64) -> f64 {
 #[test]
 fn cantilever_converges_to_beam_theory_and_shows_shear_locking_when_coarse() {
     let exact = timoshenko_tip(0.3);
-    let ratios: Vec<f64> = [1, 2, 4].iter().map(|&k| cantilever_tip(k, 0.3) / exact).collect();
+    let ratios: Vec<f64> = [1, 2, 4]
+        .iter()
+        .map(|&k| cantilever_tip(k, 0.3) / exact)
+        .collect();
     println!("cantilever tip / Timoshenko for 8k×k×k meshes, k = 1, 2, 4: {ratios:?}");
     // Fully integrated hex8 locks in bending: one element through the thickness gives about
     // 70 % of the beam deflection (its parasitic shear stiffens it)...
-    assert!(ratios[0] > 0.6 && ratios[0] < 0.8, "k=1 ratio {}", ratios[0]);
+    assert!(
+        ratios[0] > 0.6 && ratios[0] < 0.8,
+        "k=1 ratio {}",
+        ratios[0]
+    );
     // ...and refinement removes the locking monotonically...
     assert!(ratios[0] < ratios[1] && ratios[1] < ratios[2], "{ratios:?}");
     // ...with the error falling roughly fourfold per halving (second order in h).
     let (e1, e2, e4) = (1.0 - ratios[0], 1.0 - ratios[1], 1.0 - ratios[2]);
-    assert!(e1 / e2 > 2.5 && e2 / e4 > 2.5, "error ratios {} {}", e1 / e2, e2 / e4);
-    assert!(ratios[2] > 0.95 && ratios[2] < 1.02, "k=4 ratio {}", ratios[2]);
+    assert!(
+        e1 / e2 > 2.5 && e2 / e4 > 2.5,
+        "error ratios {} {}",
+        e1 / e2,
+        e2 / e4
+    );
+    assert!(
+        ratios[2] > 0.95 && ratios[2] < 1.02,
+        "k=4 ratio {}",
+        ratios[2]
+    );
 }
 
 /// Lamé's thick sphere: u(r) = p a³/[E(b³−a³)]·[(1−2ν) r + (1+ν) b³/(2r²)].
 fn lame(r: f64, a: f64, b: f64, p: f64, e: f64, nu: f64) -> f64 {
-    p * a.powi(3) / (e * (b.powi(3) - a.powi(3))) * ((1.0 - 2.0 * nu) * r + (1.0 + nu) * b.powi(3) / (2.0 * r * r))
+    p * a.powi(3) / (e * (b.powi(3) - a.powi(3)))
+        * ((1.0 - 2.0 * nu) * r + (1.0 + nu) * b.powi(3) / (2.0 * r * r))
 }
 
 fn lame_scene(cells: usize, layers: usize) -> String {
@@ -128,10 +154,19 @@ fn thick_sphere_under_internal_pressure_matches_lame() {
     let coarse = lame_errors(4, 2);
     let medium = lame_errors(8, 4);
     let fine = lame_errors(16, 8);
-    println!("Lamé radial error (max over nodes): {:.4} {:.4} {:.4}", coarse.0, medium.0, fine.0);
-    println!("Lamé tangential / u(a): {:.4} {:.4} {:.4}", coarse.1, medium.1, fine.1);
+    println!(
+        "Lamé radial error (max over nodes): {:.4} {:.4} {:.4}",
+        coarse.0, medium.0, fine.0
+    );
+    println!(
+        "Lamé tangential / u(a): {:.4} {:.4} {:.4}",
+        coarse.1, medium.1, fine.1
+    );
     // Second-order convergence: each halving of the cell size divides the error by about four.
-    assert!(coarse.0 / medium.0 > 2.5 && medium.0 / fine.0 > 2.5, "{coarse:?} {medium:?} {fine:?}");
+    assert!(
+        coarse.0 / medium.0 > 2.5 && medium.0 / fine.0 > 2.5,
+        "{coarse:?} {medium:?} {fine:?}"
+    );
     assert!(fine.0 < 0.015, "fine radial error {}", fine.0);
     assert!(fine.1 < 0.005, "fine tangential error {}", fine.1);
 }
@@ -149,17 +184,33 @@ fn column_under_its_own_weight_matches_one_dimensional_solution_at_the_nodes() {
     };
     let materials = vec![m; mesh.cell_count()];
     let mut loads = vec![0.0; 3 * mesh.node_count()];
-    let weight = add_gravity(&mut loads, &mesh, &materials, 0..mesh.cell_count(), &Vector3::new(0.0, 0.0, -g)).unwrap();
+    let weight = add_gravity(
+        &mut loads,
+        &mesh,
+        &materials,
+        0..mesh.cell_count(),
+        &Vector3::new(0.0, 0.0, -g),
+    )
+    .unwrap();
     assert!(rel(weight.z, -rho * g * 0.01 * l) < 1e-12);
     let (sol, stress) = solve_mesh(
         &mesh,
         &materials,
-        |_, x| if x.z.abs() < 1e-12 { [Some(0.0); 3] } else { [Some(0.0), Some(0.0), None] },
+        |_, x| {
+            if x.z.abs() < 1e-12 {
+                [Some(0.0); 3]
+            } else {
+                [Some(0.0), Some(0.0), None]
+            }
+        },
         &loads,
     );
     for (n, x) in mesh.nodes.iter().enumerate() {
         let exact = -rho * g / e * (l * x.z - x.z * x.z / 2.0);
-        assert!((sol.displacement[3 * n + 2] - exact).abs() < 1e-12 * (rho * g * l * l / e), "node {n}");
+        assert!(
+            (sol.displacement[3 * n + 2] - exact).abs() < 1e-12 * (rho * g * l * l / e),
+            "node {n}"
+        );
     }
     // Each element carries the exact mean strain of its span, which for a linear stress is the
     // stress at its mid-height: σzz = −ρg(L − z_mid).
@@ -174,19 +225,43 @@ fn column_under_its_own_weight_matches_one_dimensional_solution_at_the_nodes() {
 fn bar_of_two_materials_in_series_stretches_by_the_sum_of_its_parts() {
     // Composition of sub-objects with their own properties: F·L1/(E1·A) + F·L2/(E2·A), ν = 0.
     let mesh = box_mesh(Vector3::zeros(), Vector3::new(2.0, 0.2, 0.2), [10, 2, 2]);
-    let soft = Material { young: 1.0e5, poisson: 0.0, density: 0.0 };
-    let hard = Material { young: 7.0e5, poisson: 0.0, density: 0.0 };
+    let soft = Material {
+        young: 1.0e5,
+        poisson: 0.0,
+        density: 0.0,
+    };
+    let hard = Material {
+        young: 7.0e5,
+        poisson: 0.0,
+        density: 0.0,
+    };
     let materials: Vec<Material> = (0..mesh.cell_count())
-        .map(|c| if mesh.cell_coords(c).iter().map(|p| p.x).sum::<f64>() / 8.0 < 1.2 { soft } else { hard })
+        .map(|c| {
+            if mesh.cell_coords(c).iter().map(|p| p.x).sum::<f64>() / 8.0 < 1.2 {
+                soft
+            } else {
+                hard
+            }
+        })
         .collect();
-    let end: Vec<usize> = (0..mesh.node_count()).filter(|&n| (mesh.nodes[n].x - 2.0).abs() < 1e-12).collect();
+    let end: Vec<usize> = (0..mesh.node_count())
+        .filter(|&n| (mesh.nodes[n].x - 2.0).abs() < 1e-12)
+        .collect();
     let mut loads = vec![0.0; 3 * mesh.node_count()];
     let f = 10.0;
     // Consistent loads of a uniform traction on a 2×2 face: corner 1/16, edge 2/16, centre 4/16.
     for &n in &end {
         let p = mesh.nodes[n];
-        let wy = if p.y == 0.0 || (p.y - 0.2).abs() < 1e-12 { 1.0 } else { 2.0 };
-        let wz = if p.z == 0.0 || (p.z - 0.2).abs() < 1e-12 { 1.0 } else { 2.0 };
+        let wy = if p.y == 0.0 || (p.y - 0.2).abs() < 1e-12 {
+            1.0
+        } else {
+            2.0
+        };
+        let wz = if p.z == 0.0 || (p.z - 0.2).abs() < 1e-12 {
+            1.0
+        } else {
+            2.0
+        };
         loads[3 * n] = f * wy * wz / 16.0;
     }
     // The x = 0 face slides in its plane; three of its corners hold the lateral rigid motions.
@@ -195,7 +270,15 @@ fn bar_of_two_materials_in_series_stretches_by_the_sum_of_its_parts() {
         &materials,
         |n, x| {
             if x.x == 0.0 {
-                if n == 0 { [Some(0.0); 3] } else if x.y == 0.0 && x.z == 0.2 { [Some(0.0), Some(0.0), None] } else if x.y == 0.2 && x.z == 0.0 { [Some(0.0), None, Some(0.0)] } else { [Some(0.0), None, None] }
+                if n == 0 {
+                    [Some(0.0); 3]
+                } else if x.y == 0.0 && x.z == 0.2 {
+                    [Some(0.0), Some(0.0), None]
+                } else if x.y == 0.2 && x.z == 0.0 {
+                    [Some(0.0), None, Some(0.0)]
+                } else {
+                    [Some(0.0), None, None]
+                }
             } else {
                 [None; 3]
             }
@@ -205,6 +288,10 @@ fn bar_of_two_materials_in_series_stretches_by_the_sum_of_its_parts() {
     let a = 0.04;
     let exact = f * 1.2 / (soft.young * a) + f * 0.8 / (hard.young * a);
     for &n in &end {
-        assert!(rel(sol.displacement[3 * n], exact) < 1e-10, "node {n}: {} vs {exact}", sol.displacement[3 * n]);
+        assert!(
+            rel(sol.displacement[3 * n], exact) < 1e-10,
+            "node {n}: {} vs {exact}",
+            sol.displacement[3 * n]
+        );
     }
 }

@@ -85,7 +85,9 @@ fn patch_errors(mesh: &Mesh, on_boundary: impl Fn(&Vector3<f64>) -> bool) -> (f6
     let u_err = (0..mesh.node_count())
         .map(|n| (sol.node_displacement(n) - linear_field(&mesh.nodes[n])).norm())
         .fold(0.0, f64::max);
-    let exact = Matrix3::new(2000.0, 400.0, 400.0, 400.0, 2000.0, 400.0, 400.0, 400.0, 2000.0);
+    let exact = Matrix3::new(
+        2000.0, 400.0, 400.0, 400.0, 2000.0, 400.0, 400.0, 400.0, 2000.0,
+    );
     let s_err = stress
         .gauss
         .iter()
@@ -97,7 +99,8 @@ fn patch_errors(mesh: &Mesh, on_boundary: impl Fn(&Vector3<f64>) -> bool) -> (f6
 }
 
 fn on_unit_cube_boundary(p: &Vector3<f64>) -> bool {
-    p.iter().any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12)
+    p.iter()
+        .any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12)
 }
 
 #[test]
@@ -194,6 +197,9 @@ fn tetrahedron_split_covers_the_volume_with_positive_jacobians() {
         .sum();
     assert!((total - 1.0).abs() < 1e-12, "volume {total}");
     for c in 0..mesh.cell_count() {
-        assert!(relative_min_jacobian(&mesh.cell_coords(c)) > 0.0, "cell {c}");
+        assert!(
+            relative_min_jacobian(&mesh.cell_coords(c)) > 0.0,
+            "cell {c}"
+        );
     }
 }

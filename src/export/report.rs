@@ -178,7 +178,8 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
             )
         })
         .collect();
-    let applied: Vector3<f64> = model.loads.iter().map(|l| l.total).sum::<Vector3<f64>>() + model.gravity_total;
+    let applied: Vector3<f64> =
+        model.loads.iter().map(|l| l.total).sum::<Vector3<f64>>() + model.gravity_total;
     let all: Vec<usize> = (0..sol.reaction.len()).collect();
     let reactions = dof_vec(&all, &sol.reaction);
     let max_displacement = (0..model.mesh.node_count())
@@ -190,7 +191,11 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
         time,
         constraints,
         probes,
-        loads: model.loads.iter().map(|l| (l.name.clone(), arr(l.total))).collect(),
+        loads: model
+            .loads
+            .iter()
+            .map(|l| (l.name.clone(), arr(l.total)))
+            .collect(),
         gravity: arr(model.gravity_total),
         equilibrium: Equilibrium {
             applied: arr(applied),

@@ -26,7 +26,9 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
         mesh.node_count(),
         mesh.cell_count()
     );
-    s.push_str("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    s.push_str(
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+    );
     for p in &mesh.nodes {
         let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
     }
@@ -86,7 +88,9 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
     for b in &model.cell_body {
         let _ = write!(s, "{b} ");
     }
-    s.push_str("\n</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n");
+    s.push_str(
+        "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">\n",
+    );
     for v in &frame.stress.cell_von_mises {
         let _ = writeln!(s, "{v}");
     }
@@ -100,7 +104,10 @@ pub fn collection_pvd(frames: &[(f64, String)]) -> String {
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n",
     );
     for (time, file) in frames {
-        let _ = writeln!(s, "<DataSet timestep=\"{time}\" part=\"0\" file=\"{file}\"/>");
+        let _ = writeln!(
+            s,
+            "<DataSet timestep=\"{time}\" part=\"0\" file=\"{file}\"/>"
+        );
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     s

@@ -27,13 +27,22 @@ impl Material {
     /// Why the material is not admissible, if it is not.
     pub fn check(&self) -> Result<(), String> {
         if !(self.young.is_finite() && self.young > 0.0) {
-            return Err(format!("young = {} must be a positive number of pascals", self.young));
+            return Err(format!(
+                "young = {} must be a positive number of pascals",
+                self.young
+            ));
         }
         if !(self.poisson.is_finite() && self.poisson > -1.0 && self.poisson < 0.5) {
-            return Err(format!("poisson = {} must lie strictly between -1 and 0.5", self.poisson));
+            return Err(format!(
+                "poisson = {} must lie strictly between -1 and 0.5",
+                self.poisson
+            ));
         }
         if !(self.density.is_finite() && self.density >= 0.0) {
-            return Err(format!("density = {} must be zero or positive (kg/m^3)", self.density));
+            return Err(format!(
+                "density = {} must be zero or positive (kg/m^3)",
+                self.density
+            ));
         }
         Ok(())
     }

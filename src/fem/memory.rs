@@ -10,7 +10,10 @@ use std::mem::MaybeUninit;
 pub fn grow<T>(buffer: &mut Vec<T>, len: usize, fill: impl FnMut() -> T) {
     if buffer.capacity() < len {
         *buffer = Vec::with_capacity(len);
-        advise_huge_pages(buffer.as_mut_ptr() as *mut u8, len * std::mem::size_of::<T>());
+        advise_huge_pages(
+            buffer.as_mut_ptr() as *mut u8,
+            len * std::mem::size_of::<T>(),
+        );
     }
     buffer.clear();
     buffer.resize_with(len, fill);

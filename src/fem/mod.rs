@@ -16,4 +16,4 @@ pub mod stress;
 pub use assembly::{Stiffness, StiffnessPattern};
 pub use material::Material;
 pub use partition::DofPartition;
-pub use solve::{PartitionedSolver, SolveError, SolveStats, Solution};
+pub use solve::{PartitionedSolver, Solution, SolveError, SolveStats};

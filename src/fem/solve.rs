@@ -6,11 +6,10 @@
 //! prescribed and on the mesh, so it is computed once and reused while both stay the same.
 
 use super::assembly::{Stiffness, StiffnessPattern};
+use super::memory::{grow, scratch};
 use super::ordering::nested_dissection;
 use super::partition::DofPartition;
-use super::memory::{grow, scratch};
 use faer::dyn_stack::MemStack;
-use std::mem::MaybeUninit;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::Perm;
 use faer::sparse::linalg::cholesky::{
@@ -20,6 +19,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Side};
 use nalgebra::Vector3;
 use serde::Serialize;
+use std::mem::MaybeUninit;
 use std::sync::Arc;
 use std::time::Instant;
 use thiserror::Error;
@@ -164,9 +164,10 @@ impl PartitionedSolver {
             ..Default::default()
         };
 
-        let reuse = self.analysis.as_ref().is_some_and(|a| {
-            Arc::ptr_eq(&a.pattern, &k.pattern) && a.partition == *partition
-        });
+        let reuse = self
+            .analysis
+            .as_ref()
+            .is_some_and(|a| Arc::ptr_eq(&a.pattern, &k.pattern) && a.partition == *partition);
         if !reuse {
             let t = Instant::now();
             self.analysis = Some(analyse(&k.pattern, partition, positions, self.ordering)?);
@@ -179,7 +180,13 @@ impl PartitionedSolver {
         // Uk embedded in a full vector; K·[0; Uk] gives K12·Uk on the free rows (eq. 7)
         // and K22·Uk on the prescribed rows (eq. 8).
         let mut u: Vec<f64> = (0..dofs)
-            .map(|d| if partition.prescribed[d] { prescribed_values[d] } else { 0.0 })
+            .map(|d| {
+                if partition.prescribed[d] {
+                    prescribed_values[d]
+                } else {
+                    0.0
+                }
+            })
             .collect();
 
         let t = Instant::now();
@@ -320,7 +327,8 @@ fn analyse(
             for (new, &old) in forward.iter().enumerate() {
                 inverse[old] = new;
             }
-            let perm = Perm::new_checked(forward.into_boxed_slice(), inverse.into_boxed_slice(), neq);
+            let perm =
+                Perm::new_checked(forward.into_boxed_slice(), inverse.into_boxed_slice(), neq);
             factorize_symbolic_cholesky(
                 k11.as_ref(),
                 Side::Upper,

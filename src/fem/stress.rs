@@ -46,9 +46,8 @@ pub fn stress_field(
         .collect::<Result<_, _>>()?;
     // Corner a sits at √3·NODE_SIGNS[a] in the coordinates of the Gauss-point lattice.
     let s3 = 3f64.sqrt();
-    let extrapolate: [[f64; 8]; 8] = NODE_SIGNS.map(|p| {
-        shape(&Vector3::new(p[0] * s3, p[1] * s3, p[2] * s3))
-    });
+    let extrapolate: [[f64; 8]; 8] =
+        NODE_SIGNS.map(|p| shape(&Vector3::new(p[0] * s3, p[1] * s3, p[2] * s3)));
     let mut nodal = vec![Matrix3::zeros(); mesh.node_count()];
     let mut count = vec![0u32; mesh.node_count()];
     for (c, cell) in mesh.cells.iter().enumerate() {

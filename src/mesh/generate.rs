@@ -96,14 +96,44 @@ pub fn shell_mesh(
     for a in 0..n {
         for b in 0..n {
             // ±x faces over (y, z) = (a, b)
-            quads.push([node(n, a, b), node(n, a + 1, b), node(n, a + 1, b + 1), node(n, a, b + 1)]);
-            quads.push([node(0, a, b), node(0, a, b + 1), node(0, a + 1, b + 1), node(0, a + 1, b)]);
+            quads.push([
+                node(n, a, b),
+                node(n, a + 1, b),
+                node(n, a + 1, b + 1),
+                node(n, a, b + 1),
+            ]);
+            quads.push([
+                node(0, a, b),
+                node(0, a, b + 1),
+                node(0, a + 1, b + 1),
+                node(0, a + 1, b),
+            ]);
             // ±y faces over (z, x) = (a, b)
-            quads.push([node(b, n, a), node(b, n, a + 1), node(b + 1, n, a + 1), node(b + 1, n, a)]);
-            quads.push([node(b, 0, a), node(b + 1, 0, a), node(b + 1, 0, a + 1), node(b, 0, a + 1)]);
+            quads.push([
+                node(b, n, a),
+                node(b, n, a + 1),
+                node(b + 1, n, a + 1),
+                node(b + 1, n, a),
+            ]);
+            quads.push([
+                node(b, 0, a),
+                node(b + 1, 0, a),
+                node(b + 1, 0, a + 1),
+                node(b, 0, a + 1),
+            ]);
             // ±z faces over (x, y) = (a, b)
-            quads.push([node(a, b, n), node(a + 1, b, n), node(a + 1, b + 1, n), node(a, b + 1, n)]);
-            quads.push([node(a, b, 0), node(a, b + 1, 0), node(a + 1, b + 1, 0), node(a + 1, b, 0)]);
+            quads.push([
+                node(a, b, n),
+                node(a + 1, b, n),
+                node(a + 1, b + 1, n),
+                node(a, b + 1, n),
+            ]);
+            quads.push([
+                node(a, b, 0),
+                node(a, b + 1, 0),
+                node(a + 1, b + 1, 0),
+                node(a + 1, b, 0),
+            ]);
         }
     }
     let per_layer = directions.len();

@@ -8,7 +8,7 @@ use crate::fem::loads::{add_gravity, add_pressure, add_shared_force};
 use crate::fem::rigid::free_rigid_motions;
 use crate::fem::solve::FillOrdering;
 use crate::fem::{DofPartition, Material};
-use crate::mesh::{box_mesh, boundary_facets, shell_mesh, sphere_mesh, Facet, Mesh};
+use crate::mesh::{boundary_facets, box_mesh, shell_mesh, sphere_mesh, Facet, Mesh};
 use crate::scene::{OrderingName, Scene, SceneError, Shape};
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -121,7 +121,10 @@ impl Model {
         for (i, m) in scene.material.iter().enumerate() {
             let field = format!("material \"{}\" (material[{i}])", m.name);
             if material_index.insert(&m.name, i).is_some() {
-                return Err(err(field, "a material of this name is defined twice".into()));
+                return Err(err(
+                    field,
+                    "a material of this name is defined twice".into(),
+                ));
             }
             let mat = Material {
                 young: m.young,
@@ -202,7 +205,10 @@ impl Model {
         let find_body = |name: &str, field: String| -> Result<usize, SceneError> {
             bodies.iter().position(|b| b.name == name).ok_or_else(|| {
                 let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
-                err(field, format!("no body named \"{name}\" (defined: {})", list(&known)))
+                err(
+                    field,
+                    format!("no body named \"{name}\" (defined: {})", list(&known)),
+                )
             })
         };
 
@@ -244,7 +250,10 @@ impl Model {
         for (i, c) in scene.constraint.iter().enumerate() {
             let field = format!("constraint \"{}\" (constraint[{i}])", c.name);
             if constraints.iter().any(|o| o.name == c.name) {
-                return Err(err(field, "a constraint of this name is defined twice".into()));
+                return Err(err(
+                    field,
+                    "a constraint of this name is defined twice".into(),
+                ));
             }
             let b = find_body(&c.body, format!("{field}.body"))?;
             let sel = select(&bodies[b], &mesh, &c.selection)
@@ -257,7 +266,10 @@ impl Model {
                 ));
             }
             if components.iter().flatten().any(|v| !v.is_finite()) {
-                return Err(err(format!("{field}.displacement"), "is not a finite number".into()));
+                return Err(err(
+                    format!("{field}.displacement"),
+                    "is not a finite number".into(),
+                ));
             }
             let mut own = Vec::new();
             for &n in &sel.nodes {
@@ -306,7 +318,10 @@ impl Model {
             let total = match (l.pressure, l.force) {
                 (Some(p), None) => {
                     if !p.is_finite() {
-                        return Err(err(format!("{field}.pressure"), "is not a finite number".into()));
+                        return Err(err(
+                            format!("{field}.pressure"),
+                            "is not a finite number".into(),
+                        ));
                     }
                     if sel.facets.is_empty() {
                         return Err(err(
@@ -320,7 +335,10 @@ impl Model {
                 }
                 (None, Some(f)) => {
                     if !finite(&f) {
-                        return Err(err(format!("{field}.force"), "is not a finite number".into()));
+                        return Err(err(
+                            format!("{field}.force"),
+                            "is not a finite number".into(),
+                        ));
                     }
                     let f = Vector3::from(f);
                     add_shared_force(&mut load_vector, &sel.nodes, &f);
@@ -351,7 +369,12 @@ impl Model {
                 0..mesh.cell_count(),
                 &Vector3::from(g),
             )
-            .map_err(|e| err("world.gravity".into(), format!("element {} is inverted", e.cell)))?;
+            .map_err(|e| {
+                err(
+                    "world.gravity".into(),
+                    format!("element {} is inverted", e.cell),
+                )
+            })?;
         }
 
         // Probes.
@@ -362,7 +385,10 @@ impl Model {
                 return Err(err(field, "a probe of this name is defined twice".into()));
             }
             if !finite(&p.point) {
-                return Err(err(format!("{field}.point"), "is not a finite point".into()));
+                return Err(err(
+                    format!("{field}.point"),
+                    "is not a finite point".into(),
+                ));
             }
             let b = find_body(&p.body, format!("{field}.body"))?;
             let sel = select(&bodies[b], &mesh, &crate::scene::Selection::Point(p.point))
@@ -487,13 +513,17 @@ fn build_shape(shape: &Shape) -> Result<Mesh, String> {
                 return Err("box min and max must be finite".into());
             }
             if (0..3).any(|i| max[i] <= min[i]) {
-                return Err(format!("box max {max:?} must exceed min {min:?} on every axis"));
+                return Err(format!(
+                    "box max {max:?} must exceed min {min:?} on every axis"
+                ));
             }
             if cells.contains(&0) {
                 return Err(format!("box cells {cells:?} must all be at least 1"));
             }
             if cells.iter().product::<usize>() > MAX_CELLS {
-                return Err(format!("box cells {cells:?} make more than {MAX_CELLS} elements"));
+                return Err(format!(
+                    "box cells {cells:?} make more than {MAX_CELLS} elements"
+                ));
             }
             Ok(box_mesh(Vector3::from(*min), Vector3::from(*max), *cells))
         }
@@ -503,10 +533,14 @@ fn build_shape(shape: &Shape) -> Result<Mesh, String> {
             cells,
         } => {
             if !finite(center) || !(radius.is_finite() && *radius > 0.0) {
-                return Err(format!("sphere needs a finite center and a radius > 0 (radius = {radius})"));
+                return Err(format!(
+                    "sphere needs a finite center and a radius > 0 (radius = {radius})"
+                ));
             }
             if *cells == 0 || cells.pow(3) > MAX_CELLS {
-                return Err(format!("sphere cells = {cells} must be at least 1 and at most 170"));
+                return Err(format!(
+                    "sphere cells = {cells} must be at least 1 and at most 170"
+                ));
             }
             Ok(sphere_mesh(Vector3::from(*center), *radius, *cells))
         }

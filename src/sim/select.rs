@@ -16,7 +16,10 @@ pub struct Selected {
 /// Resolves `selection` on `body`; the error says why it cannot be used (never empty on success).
 pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Selected, String> {
     let nodes_in = |pred: &dyn Fn(&Vector3<f64>) -> bool| -> Vec<usize> {
-        body.nodes.clone().filter(|&n| pred(&mesh.nodes[n])).collect()
+        body.nodes
+            .clone()
+            .filter(|&n| pred(&mesh.nodes[n]))
+            .collect()
     };
     let facets_on = |pred: &dyn Fn(&Vector3<f64>) -> bool| -> Vec<Facet> {
         body.facets
@@ -62,7 +65,15 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
         }
         Selection::Surface(which) => {
             let facets: Vec<Facet> = match (which.as_str(), &body.shape) {
-                ("outer", Shape::Shell { center, inner_radius, outer_radius, .. }) => {
+                (
+                    "outer",
+                    Shape::Shell {
+                        center,
+                        inner_radius,
+                        outer_radius,
+                        ..
+                    },
+                ) => {
                     let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
                     body.facets
                         .iter()
@@ -70,7 +81,15 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                         .copied()
                         .collect()
                 }
-                ("inner", Shape::Shell { center, inner_radius, outer_radius, .. }) => {
+                (
+                    "inner",
+                    Shape::Shell {
+                        center,
+                        inner_radius,
+                        outer_radius,
+                        ..
+                    },
+                ) => {
                     let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
                     body.facets
                         .iter()
@@ -115,9 +134,8 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
         Selection::Box { min, max } => {
             let tol = 1e-9 * body.size;
             let (lo, hi) = (Vector3::from(*min), Vector3::from(*max));
-            let inside = move |p: &Vector3<f64>| {
-                (0..3).all(|i| p[i] >= lo[i] - tol && p[i] <= hi[i] + tol)
-            };
+            let inside =
+                move |p: &Vector3<f64>| (0..3).all(|i| p[i] >= lo[i] - tol && p[i] <= hi[i] + tol);
             Selected {
                 nodes: nodes_in(&inside),
                 facets: facets_on(&inside),

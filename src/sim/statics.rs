@@ -3,7 +3,7 @@
 
 use super::model::Model;
 use crate::fem::assembly::assemble;
-use crate::fem::solve::{PartitionedSolver, SolveError, Solution};
+use crate::fem::solve::{PartitionedSolver, Solution, SolveError};
 use crate::fem::stress::{stress_field, StressField};
 use std::time::Instant;
 use thiserror::Error;
