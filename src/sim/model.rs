@@ -532,7 +532,7 @@ fn build_shape(shape: &Shape) -> Result<Mesh, String> {
             radius,
             cells,
         } => {
-            if !finite(center) || !(radius.is_finite() && *radius > 0.0) {
+            if !(finite(center) && radius.is_finite() && *radius > 0.0) {
                 return Err(format!(
                     "sphere needs a finite center and a radius > 0 (radius = {radius})"
                 ));
@@ -551,7 +551,7 @@ fn build_shape(shape: &Shape) -> Result<Mesh, String> {
             cells,
             layers,
         } => {
-            if !finite(center) || !(inner_radius.is_finite() && *inner_radius > 0.0) {
+            if !(finite(center) && inner_radius.is_finite() && *inner_radius > 0.0) {
                 return Err(format!(
                     "shell needs a finite center and inner_radius > 0 (inner_radius = {inner_radius})"
                 ));
