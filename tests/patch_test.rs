@@ -82,6 +82,7 @@ fn patch_errors(mesh: &Mesh, on_boundary: impl Fn(&Vector3<f64>) -> bool) -> (f6
         &loads,
     );
     let interior = mesh.nodes.iter().filter(|p| !on_boundary(p)).count();
+    let report = |u: f64, s: f64| println!("patch: {} cells, displacement error {u:.2e} m, stress error {s:.2e} Pa", mesh.cell_count());
     let u_err = (0..mesh.node_count())
         .map(|n| (sol.node_displacement(n) - linear_field(&mesh.nodes[n])).norm())
         .fold(0.0, f64::max);
@@ -95,6 +96,7 @@ fn patch_errors(mesh: &Mesh, on_boundary: impl Fn(&Vector3<f64>) -> bool) -> (f6
         .chain(stress.nodal.iter())
         .map(|s| (s - exact).amax())
         .fold(0.0, f64::max);
+    report(u_err, s_err);
     (u_err, s_err, interior)
 }
 
