@@ -295,3 +295,70 @@ fn bar_of_two_materials_in_series_stretches_by_the_sum_of_its_parts() {
         );
     }
 }
+
+#[test]
+fn scene_with_a_material_region_and_an_end_traction_stretches_exactly() {
+    // The same bar as above, through a scene: a [[region]] of stiffer material and a traction
+    // load on the end face. Total force 250 Pa × 0.04 m² = 10 N.
+    let text = r#"
+[[material]]
+name = "soft"
+young = 1.0e5
+poisson = 0.0
+[[material]]
+name = "hard"
+young = 7.0e5
+poisson = 0.0
+[[body]]
+name = "bar"
+material = "soft"
+shape = { box = { min = [0, 0, 0], max = [2.0, 0.2, 0.2], cells = [10, 2, 2] } }
+[[region]]
+body = "bar"
+material = "hard"
+where = { box = { min = [1.2, -1, -1], max = [3, 1, 1] } }
+[[constraint]]
+name = "slide"
+body = "bar"
+where = { face = "x-" }
+displacement = { x = 0 }
+[[constraint]]
+name = "pin"
+body = "bar"
+where = { point = [0, 0, 0] }
+displacement = [0, 0, 0]
+[[constraint]]
+name = "roller-y"
+body = "bar"
+where = { point = [0, 0.2, 0] }
+displacement = { z = 0 }
+[[constraint]]
+name = "roller-z"
+body = "bar"
+where = { point = [0, 0, 0.2] }
+displacement = { y = 0 }
+[[load]]
+name = "pull"
+body = "bar"
+where = { face = "x+" }
+traction = [250.0, 0, 0]
+[[probe]]
+name = "end"
+body = "bar"
+point = [2.0, 0.1, 0.1]
+"#;
+    let solved = solve_scene(&Scene::parse(text, "bar").unwrap(), "bar").unwrap();
+    let f = &solved.report.frames[0];
+    assert!(
+        rel(f.loads["pull"][0], 10.0) < 1e-12,
+        "{:?}",
+        f.loads["pull"]
+    );
+    assert!(rel(f.constraints["slide"].reaction[0], -10.0) < 1e-10);
+    let exact = 10.0 * 1.2 / (1.0e5 * 0.04) + 10.0 * 0.8 / (7.0e5 * 0.04);
+    assert!(
+        rel(f.probes["end"].displacement[0], exact) < 1e-10,
+        "{} vs {exact}",
+        f.probes["end"].displacement[0]
+    );
+}

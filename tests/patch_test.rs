@@ -82,7 +82,12 @@ fn patch_errors(mesh: &Mesh, on_boundary: impl Fn(&Vector3<f64>) -> bool) -> (f6
         &loads,
     );
     let interior = mesh.nodes.iter().filter(|p| !on_boundary(p)).count();
-    let report = |u: f64, s: f64| println!("patch: {} cells, displacement error {u:.2e} m, stress error {s:.2e} Pa", mesh.cell_count());
+    let report = |u: f64, s: f64| {
+        println!(
+            "patch: {} cells, displacement error {u:.2e} m, stress error {s:.2e} Pa",
+            mesh.cell_count()
+        )
+    };
     let u_err = (0..mesh.node_count())
         .map(|n| (sol.node_displacement(n) - linear_field(&mesh.nodes[n])).norm())
         .fold(0.0, f64::max);

@@ -29,9 +29,31 @@ pub fn add_gravity(
 }
 
 /// Adds the consistent nodal forces of a pressure `p` (Pa) acting on `facets`, pushing against
-/// their outward normal like a gas: f_a = −p ∫ N_a n dA, integrated with 2×2 Gauss points on the
-/// bilinear facet. Returns the total force.
+/// their outward normal like a gas: f_a = −p ∫ N_a n dA (the surface term RS of equation (4)).
+/// Returns the total force.
 pub fn add_pressure(r: &mut [f64], mesh: &Mesh, facets: &[Facet], p: f64) -> Vector3<f64> {
+    add_surface_load(r, mesh, facets, |normal_area| normal_area * (-p))
+}
+
+/// Adds the consistent nodal forces of a uniform traction `t` (Pa, a force per unit area in a
+/// fixed direction) on `facets`: f_a = ∫ N_a t dA. Returns the total force.
+pub fn add_traction(
+    r: &mut [f64],
+    mesh: &Mesh,
+    facets: &[Facet],
+    t: &Vector3<f64>,
+) -> Vector3<f64> {
+    add_surface_load(r, mesh, facets, |normal_area| t * normal_area.norm())
+}
+
+/// Integrates a surface load over bilinear facets with 2×2 Gauss points. `density` maps the
+/// outward normal scaled by the area element (∂x/∂s × ∂x/∂t) to the force per unit (s, t).
+fn add_surface_load(
+    r: &mut [f64],
+    mesh: &Mesh,
+    facets: &[Facet],
+    density: impl Fn(Vector3<f64>) -> Vector3<f64>,
+) -> Vector3<f64> {
     const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
     let g = 1.0 / 3f64.sqrt();
     let mut total = Vector3::zeros();
@@ -47,10 +69,9 @@ pub fn add_pressure(r: &mut [f64], mesh: &Mesh, facets: &[Facet], p: f64) -> Vec
                 dxs += x[a] * (c[0] * (1.0 + c[1] * t) / 4.0);
                 dxt += x[a] * (c[1] * (1.0 + c[0] * s) / 4.0);
             }
-            // dxs × dxt is the outward normal times the area element.
-            let traction = dxs.cross(&dxt) * (-p);
+            let load = density(dxs.cross(&dxt));
             for a in 0..4 {
-                f[a] += traction * n[a];
+                f[a] += load * n[a];
             }
         }
         for a in 0..4 {

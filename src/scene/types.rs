@@ -211,7 +211,7 @@ pub struct ConstraintDef {
     pub displacement: DisplacementDef,
 }
 
-/// `[[load]]`: exactly one of `pressure` and `force`.
+/// `[[load]]`: exactly one of `pressure`, `traction` and `force`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadDef {
@@ -229,6 +229,9 @@ pub struct LoadDef {
     /// Total force shared equally by the selected nodes, N.
     #[serde(default)]
     pub force: Option<[f64; 3]>,
+    /// Uniform traction (force per unit area) on the selected facets, Pa.
+    #[serde(default)]
+    pub traction: Option<[f64; 3]>,
 }
 
 /// `[[probe]]`

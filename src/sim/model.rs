@@ -4,7 +4,7 @@
 use super::select::select;
 use crate::fem::assembly::StiffnessPattern;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
-use crate::fem::loads::{add_gravity, add_pressure, add_shared_force};
+use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
 use crate::fem::rigid::free_rigid_motions;
 use crate::fem::solve::FillOrdering;
 use crate::fem::{DofPartition, Material};
@@ -315,41 +315,47 @@ impl Model {
             let b = find_body(&l.body, format!("{field}.body"))?;
             let sel = select(&bodies[b], &mesh, &l.selection)
                 .map_err(|msg| err(format!("{field}.where"), msg))?;
-            let total = match (l.pressure, l.force) {
-                (Some(p), None) => {
-                    if !p.is_finite() {
-                        return Err(err(
-                            format!("{field}.pressure"),
-                            "is not a finite number".into(),
-                        ));
-                    }
-                    if sel.facets.is_empty() {
-                        return Err(err(
-                            format!("{field}.where"),
-                            "selects no boundary facet, and a pressure acts on facets (use a \
-                             face, a surface or a box)"
-                                .into(),
-                        ));
-                    }
-                    add_pressure(&mut load_vector, &mesh, &sel.facets, p)
-                }
-                (None, Some(f)) => {
-                    if !finite(&f) {
-                        return Err(err(
-                            format!("{field}.force"),
-                            "is not a finite number".into(),
-                        ));
-                    }
-                    let f = Vector3::from(f);
-                    add_shared_force(&mut load_vector, &sel.nodes, &f);
-                    f
-                }
-                _ => {
-                    return Err(err(
-                        field,
-                        "give exactly one of `pressure` (Pa) and `force` ([fx, fy, fz] N)".into(),
-                    ))
-                }
+            let kinds = [
+                l.pressure.is_some(),
+                l.traction.is_some(),
+                l.force.is_some(),
+            ];
+            if kinds.iter().filter(|&&k| k).count() != 1 {
+                return Err(err(
+                    field,
+                    "give exactly one of `pressure` (Pa), `traction` ([tx, ty, tz] Pa) and \
+                     `force` ([fx, fy, fz] N)"
+                        .into(),
+                ));
+            }
+            let values: Vec<f64> = l
+                .pressure
+                .into_iter()
+                .chain(l.traction.into_iter().flatten())
+                .chain(l.force.into_iter().flatten())
+                .collect();
+            if !finite(&values) {
+                return Err(err(
+                    field,
+                    "holds a value that is not a finite number".into(),
+                ));
+            }
+            if l.force.is_none() && sel.facets.is_empty() {
+                return Err(err(
+                    format!("{field}.where"),
+                    "selects no boundary facet, and a pressure or traction acts on facets (use \
+                     a face, a surface or a box)"
+                        .into(),
+                ));
+            }
+            let total = if let Some(p) = l.pressure {
+                add_pressure(&mut load_vector, &mesh, &sel.facets, p)
+            } else if let Some(t) = l.traction {
+                add_traction(&mut load_vector, &mesh, &sel.facets, &Vector3::from(t))
+            } else {
+                let f = Vector3::from(l.force.unwrap());
+                add_shared_force(&mut load_vector, &sel.nodes, &f);
+                f
             };
             loads.push(LoadModel {
                 name,
