@@ -67,7 +67,8 @@ pub struct MappedPoint {
 /// A cell whose map is not one-to-one at a Gauss point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InvertedCell {
-    /// The smallest det J found at a Gauss point, relative to the cell's mean det J scale.
+    /// The smallest det J at a Gauss point divided by the cell size cubed (see
+    /// [`relative_min_jacobian`]).
     pub relative_det: f64,
 }
 
