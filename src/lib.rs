@@ -42,6 +42,7 @@
 pub mod bench;
 pub mod export;
 pub mod fem;
+pub mod hand;
 pub mod mesh;
 pub mod pipeline;
 pub mod scene;

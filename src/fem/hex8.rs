@@ -195,3 +195,37 @@ pub fn gauss_strains(
         (grad + grad.transpose()) * 0.5
     }))
 }
+
+/// For each corner, the three neighbouring corners along the cell's edges, in right-handed order.
+const CORNER_EDGES: [[usize; 3]; 8] = [
+    [1, 3, 4],
+    [2, 0, 5],
+    [3, 1, 6],
+    [0, 2, 7],
+    [7, 5, 0],
+    [4, 6, 1],
+    [5, 7, 2],
+    [6, 4, 3],
+];
+
+/// The scaled Jacobian of a cell: the smallest, over its eight corners, of det[e1 e2 e3] /
+/// (|e1| |e2| |e3|) for the three edges leaving the corner. 1 for any rectangular box, ≤ 0 for
+/// an inverted corner (and 0 at the collapsed corners of prisms and tetrahedra).
+pub fn scaled_jacobian(coords: &[Vector3<f64>; 8]) -> f64 {
+    let mut worst = f64::INFINITY;
+    for (c, [a, b, d]) in CORNER_EDGES.iter().enumerate() {
+        let (e1, e2, e3) = (
+            coords[*a] - coords[c],
+            coords[*b] - coords[c],
+            coords[*d] - coords[c],
+        );
+        let scale = e1.norm() * e2.norm() * e3.norm();
+        let q = if scale > 0.0 {
+            e1.cross(&e2).dot(&e3) / scale
+        } else {
+            0.0
+        };
+        worst = worst.min(q);
+    }
+    worst
+}

@@ -5,7 +5,7 @@ mod generate;
 mod surface;
 
 pub use generate::{box_mesh, shell_mesh, sphere_mesh};
-pub use surface::{boundary_facets, Facet};
+pub use surface::{boundary_facets, Facet, HEX_FACES};
 
 use nalgebra::Vector3;
 

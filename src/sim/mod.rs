@@ -1,9 +1,11 @@
-//! The model built from a scene (immutable: mesh, materials, constraints, loads) and the static
-//! solve of one frame, which produces the state (displacements, stresses, reactions).
+//! The model built from a scene (immutable: mesh, materials, constraints, loads) and the solves
+//! that produce the state: the static solve of a frame, and the incremental flexion of a hand.
 
+mod flexion;
 mod model;
 mod select;
 mod statics;
 
+pub use flexion::{FleshMethod, FleshRegion, Flexion, FlexionSettings, HandState, KeyframeStats};
 pub use model::{BodyModel, ConstraintModel, LoadModel, Model, ProbeModel};
 pub use statics::{solve_static, Frame, SimError};

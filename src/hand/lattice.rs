@@ -1,0 +1,460 @@
+//! The flesh mesh: a graded hexahedral lattice filling the skin, minus the bones.
+//!
+//! Cells whose centre is inside the skin and outside every bone are kept. Nodes inside a bone,
+//! or on a face shared with a cell inside a bone, are attached to that bone (their displacement is
+//! prescribed by its rigid motion). The lattice is twice as fine over the finger-tip pads and the
+//! thumb tip (tensor-product grading, so every cell stays a conforming hexahedron). Nodes on the
+//! skin are projected onto the skin surface, as far as the cells they touch stay well shaped.
+//! Cells of two different digits never share a node: a lattice node touched by both is split,
+//! so fingers lying side by side stay separate bodies of flesh joined only through the palm.
+
+use super::shape::SkinShape;
+use super::skeleton::{BoneShape, Side, Skeleton};
+use crate::fem::hex8::scaled_jacobian;
+use crate::mesh::{Mesh, HEX_FACES};
+use nalgebra::Vector3;
+
+/// Corner offsets of a lattice cell in VTK node order.
+const CORNERS: [[usize; 3]; 8] = [
+    [0, 0, 0],
+    [1, 0, 0],
+    [1, 1, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+    [1, 0, 1],
+    [1, 1, 1],
+    [0, 1, 1],
+];
+
+/// Neighbour offsets matching [`HEX_FACES`] (−x, +x, −y, +y, −z, +z).
+const FACE_DIRS: [[i64; 3]; 6] = [
+    [-1, 0, 0],
+    [1, 0, 0],
+    [0, -1, 0],
+    [0, 1, 0],
+    [0, 0, -1],
+    [0, 0, 1],
+];
+
+/// Smallest relative Jacobian a cell may be left with after projecting skin nodes.
+const MIN_QUALITY: f64 = 0.3;
+
+/// The meshed flesh of a hand.
+#[derive(Clone, Debug)]
+pub struct FleshMesh {
+    /// Hexahedra in the rest pose.
+    pub mesh: Mesh,
+    /// The bone each node is attached to, if any.
+    pub node_bone: Vec<Option<usize>>,
+    /// The digit (0 = thumb … 4 = little) each cell belongs to; `None` for the palm.
+    pub cell_digit: Vec<Option<usize>>,
+    /// Skin quadrilaterals (outward normals), node indices.
+    pub skin_quads: Vec<[usize; 4]>,
+    /// Base lattice spacing, m.
+    pub spacing: f64,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum CellState {
+    Outside,
+    Bone(usize),
+    /// Between two bones that move relative to each other: the joint space, not flesh.
+    Joint,
+    Kept(usize),
+}
+
+/// Lattice coordinates from `lo` to at least `hi`, spacing `h`, halved inside `fine` intervals.
+fn graded(lo: f64, hi: f64, h: f64, fine: &[(f64, f64)]) -> Vec<f64> {
+    let mut s = lo;
+    let mut out = vec![s];
+    while s < hi {
+        let probe = s + h * 0.25;
+        let step = if fine.iter().any(|&(a, b)| probe >= a && probe <= b) {
+            h * 0.5
+        } else {
+            h
+        };
+        s += step;
+        out.push(s);
+    }
+    out
+}
+
+/// Errors of meshing.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshingError {
+    /// A bone got no node.
+    #[error("resolution {resolution} is too coarse: bone \"{bone}\" holds no flesh node (use a resolution of at least 0.5)")]
+    BoneWithoutNodes {
+        /// The bone.
+        bone: String,
+        /// The resolution asked for.
+        resolution: f64,
+    },
+    /// Bad resolution.
+    #[error("resolution must be a number between 0.25 and 4, got {0}")]
+    Resolution(f64),
+}
+
+/// Base lattice spacing at resolution 1, m.
+pub const BASE_SPACING: f64 = 0.0032;
+
+/// Meshes the flesh of the hand of `skeleton` (rest pose); `resolution` scales the number of
+/// cells per unit length (1 = 3.2 mm base spacing, 1.6 mm on the pads).
+pub fn mesh_flesh(
+    skeleton: &Skeleton,
+    skin: &SkinShape,
+    resolution: f64,
+) -> Result<FleshMesh, MeshingError> {
+    if !(0.25..=4.0).contains(&resolution) {
+        return Err(MeshingError::Resolution(resolution));
+    }
+    let h = BASE_SPACING / resolution;
+    let (lo, hi) = skin.bounds();
+    // Fine windows: the finger-tip pads (distal phalanges) and the thumb's distal phalanx.
+    let dip_x = skeleton
+        .bones
+        .iter()
+        .filter(|b| b.name.ends_with(".distal") && b.digit != Some(0))
+        .map(|b| b.start.x)
+        .fold(f64::INFINITY, f64::min);
+    let thumb_ip = skeleton.bones[skeleton.bone_index("thumb.distal").unwrap()].start;
+    let y_fine = match skeleton.side {
+        Side::Right => (thumb_ip.y - 0.004, hi.y + 1.0),
+        Side::Left => (lo.y - 1.0, thumb_ip.y + 0.004),
+    };
+    let xs = graded(lo.x, hi.x, h, &[(dip_x - 0.004, hi.x + 1.0)]);
+    let ys = graded(lo.y, hi.y, h, &[y_fine]);
+    let zs = graded(lo.z, hi.z, h, &[]);
+    let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, zs.len() - 1);
+    let cell_id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
+    let point = |i: usize, j: usize, k: usize| Vector3::new(xs[i], ys[j], zs[k]);
+
+    // Region of a bone: its digit for phalanges and the thumb; the palm for the carpus and the
+    // finger metacarpals.
+    let region_of = |b: usize| {
+        let bone = &skeleton.bones[b];
+        match (bone.digit, bone.name.ends_with(".metacarpal")) {
+            (Some(0), _) => Some(0),
+            (Some(d), false) => Some(d),
+            _ => None,
+        }
+    };
+    let nearest_bone = |p: &Vector3<f64>| {
+        let mut best = (f64::INFINITY, 0);
+        for (b, bone) in skeleton.bones.iter().enumerate() {
+            let d = bone.distance(p);
+            if d < best.0 {
+                best = (d, b);
+            }
+        }
+        best
+    };
+
+    // Classify cells.
+    let mut state = vec![CellState::Outside; nx * ny * nz];
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let c = (point(i, j, k) + point(i + 1, j + 1, k + 1)) / 2.0;
+                if skin.distance(&c) >= 0.0 {
+                    continue;
+                }
+                let (d, b) = nearest_bone(&c);
+                state[cell_id(i, j, k)] = if d < 0.0 {
+                    CellState::Bone(b)
+                } else {
+                    CellState::Kept(b)
+                };
+            }
+        }
+    }
+    let compatible = |a: usize, b: usize| {
+        let (ra, rb) = (region_of(a), region_of(b));
+        ra == rb || ra.is_none() || rb.is_none()
+    };
+
+    // Nodes: one per lattice node and group of face-connected compatible incident cells.
+    let (mx, my) = (nx + 1, ny + 1);
+    let lattice_node = |i: usize, j: usize, k: usize| i + mx * (j + my * k);
+    let mut node_of = vec![u32::MAX; mx * my * (nz + 1) * 8];
+    let mut nodes = Vec::new();
+    let mut node_lattice = Vec::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let mut incident = [None; 8];
+                for (o, slot) in incident.iter_mut().enumerate() {
+                    let (a, b, c) = (o & 1, (o >> 1) & 1, (o >> 2) & 1);
+                    let (ci, cj, ck) = (i + a, j + b, k + c);
+                    if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
+                        continue;
+                    }
+                    if let CellState::Kept(bone) = state[cell_id(ci - 1, cj - 1, ck - 1)] {
+                        *slot = Some(bone);
+                    }
+                }
+                let mut group: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+                fn root(g: &mut [usize; 8], mut x: usize) -> usize {
+                    while g[x] != x {
+                        x = g[x];
+                    }
+                    x
+                }
+                for o1 in 0..8 {
+                    for bit in [1, 2, 4] {
+                        let o2 = o1 ^ bit;
+                        if let (Some(a), Some(b)) = (incident[o1], incident[o2]) {
+                            if compatible(a, b) {
+                                let (r1, r2) = (root(&mut group, o1), root(&mut group, o2));
+                                if r1 != r2 {
+                                    group[r2] = r1;
+                                }
+                            }
+                        }
+                    }
+                }
+                let base = lattice_node(i, j, k) * 8;
+                let mut id_of_root = [u32::MAX; 8];
+                for o in 0..8 {
+                    if incident[o].is_none() {
+                        continue;
+                    }
+                    let r = root(&mut group, o);
+                    if id_of_root[r] == u32::MAX {
+                        id_of_root[r] = nodes.len() as u32;
+                        nodes.push(point(i, j, k));
+                        node_lattice.push([i, j, k]);
+                    }
+                    node_of[base + o] = id_of_root[r];
+                }
+            }
+        }
+    }
+
+    // Cells.
+    let mut cells = Vec::new();
+    let mut cell_bone = Vec::new();
+    let mut cell_lattice = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let CellState::Kept(bone) = state[cell_id(i, j, k)] else {
+                    continue;
+                };
+                let hex = CORNERS.map(|[a, b, c]| {
+                    let octant = (1 - a) + 2 * (1 - b) + 4 * (1 - c);
+                    node_of[lattice_node(i + a, j + b, k + c) * 8 + octant] as usize
+                });
+                cells.push(hex);
+                cell_bone.push(bone);
+                cell_lattice.push([i, j, k]);
+            }
+        }
+    }
+
+    // Attach nodes to bones: inside a bone, or corner of a cell inside a bone.
+    let mut node_bone: Vec<Option<usize>> = vec![None; nodes.len()];
+    for (n, p) in nodes.iter().enumerate() {
+        let (d, b) = nearest_bone(p);
+        if d < 0.0 {
+            node_bone[n] = Some(b);
+            continue;
+        }
+        let [i, j, k] = node_lattice[n];
+        for o in 0..8 {
+            let (a, bb, c) = (o & 1, (o >> 1) & 1, (o >> 2) & 1);
+            let (ci, cj, ck) = (i + a, j + bb, k + c);
+            if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
+                continue;
+            }
+            if let CellState::Bone(b) = state[cell_id(ci - 1, cj - 1, ck - 1)] {
+                node_bone[n] = Some(b);
+                break;
+            }
+        }
+    }
+    // Fallback for thin bones on coarse lattices: the node nearest to points along the axis.
+    for (b, bone) in skeleton.bones.iter().enumerate() {
+        if node_bone.contains(&Some(b)) {
+            continue;
+        }
+        if let BoneShape::Long { .. } = bone.shape {
+            for s in 1..8 {
+                let p = bone.start + (bone.end - bone.start) * (s as f64 / 8.0);
+                let best = nodes
+                    .iter()
+                    .enumerate()
+                    .filter(|(n, _)| node_bone[*n].is_none())
+                    .min_by(|a, b| (a.1 - p).norm().total_cmp(&(b.1 - p).norm()));
+                if let Some((n, q)) = best {
+                    if (q - p).norm() < h {
+                        node_bone[n] = Some(b);
+                    }
+                }
+            }
+        }
+        if !node_bone.contains(&Some(b)) {
+            return Err(MeshingError::BoneWithoutNodes {
+                bone: bone.name.clone(),
+                resolution,
+            });
+        }
+    }
+
+    // The joint spaces: a cell holding nodes of two bones that can move relative to each other
+    // would be sheared across the joint as it flexes; articular surfaces slide instead. Such
+    // cells are left out.
+    let group: Vec<usize> = {
+        let mut group: Vec<usize> = (0..skeleton.bones.len()).collect();
+        for (b, bone) in skeleton.bones.iter().enumerate() {
+            if let Some(p) = bone.parent {
+                if !skeleton.dofs.iter().any(|d| d.bone == b) {
+                    group[b] = group[p];
+                }
+            }
+        }
+        group
+    };
+    let mut keep = vec![true; cells.len()];
+    for (c, cell) in cells.iter().enumerate() {
+        let mut groups = cell.iter().filter_map(|&n| node_bone[n].map(|b| group[b]));
+        if let Some(first) = groups.next() {
+            if groups.any(|g| g != first) {
+                keep[c] = false;
+                let [i, j, k] = cell_lattice[c];
+                state[cell_id(i, j, k)] = CellState::Joint;
+            }
+        }
+    }
+    let mut kept = 0;
+    for c in 0..cells.len() {
+        if keep[c] {
+            cells[kept] = cells[c];
+            cell_bone[kept] = cell_bone[c];
+            cell_lattice[kept] = cell_lattice[c];
+            kept += 1;
+        }
+    }
+    cells.truncate(kept);
+    cell_bone.truncate(kept);
+    cell_lattice.truncate(kept);
+
+    // Skin quads: faces towards outside cells, or towards a cell of another digit.
+    let mut skin_quads = Vec::new();
+    let mut on_skin = vec![false; nodes.len()];
+    for (c, &[i, j, k]) in cell_lattice.iter().enumerate() {
+        for (f, dir) in FACE_DIRS.iter().enumerate() {
+            let (ni, nj, nk) = (i as i64 + dir[0], j as i64 + dir[1], k as i64 + dir[2]);
+            let outside =
+                ni < 0 || nj < 0 || nk < 0 || ni >= nx as i64 || nj >= ny as i64 || nk >= nz as i64;
+            let neighbour = if outside {
+                CellState::Outside
+            } else {
+                state[cell_id(ni as usize, nj as usize, nk as usize)]
+            };
+            let quad = HEX_FACES[f].map(|l| cells[c][l]);
+            match neighbour {
+                CellState::Outside => {
+                    skin_quads.push(quad);
+                    for n in quad {
+                        on_skin[n] = true;
+                    }
+                }
+                CellState::Kept(other) if !compatible(cell_bone[c], other) => {
+                    skin_quads.push(quad);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    // Project free skin nodes onto the skin; back off where cells would be spoiled.
+    let rest = nodes.clone();
+    let mut target: Vec<Option<Vector3<f64>>> = vec![None; nodes.len()];
+    for n in 0..nodes.len() {
+        if on_skin[n] && node_bone[n].is_none() {
+            let p = project(skin, rest[n]);
+            if (p - rest[n]).norm() < h {
+                target[n] = Some(p);
+            }
+        }
+    }
+    let mut scale = vec![1.0f64; nodes.len()];
+    for round in 0..8 {
+        for n in 0..nodes.len() {
+            if let Some(p) = target[n] {
+                nodes[n] = rest[n] + (p - rest[n]) * scale[n];
+            }
+        }
+        let mut bad = false;
+        for cell in &cells {
+            if cell.iter().any(|&n| target[n].is_some())
+                && scaled_jacobian(&cell.map(|n| nodes[n])) < MIN_QUALITY
+            {
+                bad = true;
+                for &n in cell {
+                    scale[n] = if round >= 6 { 0.0 } else { scale[n] * 0.5 };
+                }
+            }
+        }
+        if !bad {
+            break;
+        }
+    }
+    for n in 0..nodes.len() {
+        if let Some(p) = target[n] {
+            nodes[n] = rest[n] + (p - rest[n]) * scale[n];
+        }
+    }
+
+    // Drop the nodes no cell uses any more.
+    let mut new_index = vec![usize::MAX; nodes.len()];
+    let mut used_nodes = Vec::new();
+    let mut used_bone = Vec::new();
+    for cell in &mut cells {
+        for n in cell.iter_mut() {
+            if new_index[*n] == usize::MAX {
+                new_index[*n] = used_nodes.len();
+                used_nodes.push(nodes[*n]);
+                used_bone.push(node_bone[*n]);
+            }
+            *n = new_index[*n];
+        }
+    }
+    for q in &mut skin_quads {
+        for n in q.iter_mut() {
+            *n = new_index[*n];
+        }
+    }
+    let (nodes, node_bone) = (used_nodes, used_bone);
+    for (b, bone) in skeleton.bones.iter().enumerate() {
+        if !node_bone.contains(&Some(b)) {
+            return Err(MeshingError::BoneWithoutNodes {
+                bone: bone.name.clone(),
+                resolution,
+            });
+        }
+    }
+
+    Ok(FleshMesh {
+        mesh: Mesh { nodes, cells },
+        node_bone,
+        cell_digit: cell_bone.iter().map(|&b| region_of(b)).collect(),
+        skin_quads,
+        spacing: h,
+    })
+}
+
+/// Newton projection of `p` onto the zero level set of the skin.
+fn project(skin: &SkinShape, mut p: Vector3<f64>) -> Vector3<f64> {
+    for _ in 0..4 {
+        let g = skin.gradient(&p);
+        let g2 = g.norm_squared();
+        if g2 < 1e-12 {
+            break;
+        }
+        p -= g * (skin.distance(&p) / g2);
+    }
+    p
+}

@@ -1,0 +1,19 @@
+//! The synthetic hand: anatomy, skeleton and pose, the skin's shape, the meshed flesh around the
+//! bones, the smooth display skin, and geometric skinning (the fast path).
+
+pub mod anatomy;
+mod bone_mesh;
+mod lattice;
+mod model;
+mod shape;
+mod skeleton;
+mod skin;
+mod skinning;
+
+pub use bone_mesh::{bone_surface, TriangleSurface};
+pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
+pub use model::{HandModel, SKIN_LEVELS};
+pub use shape::SkinShape;
+pub use skeleton::{long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton};
+pub use skin::DisplaySkin;
+pub use skinning::{Blend, SkinningWeights};

@@ -1,0 +1,50 @@
+//! A built hand: skeleton, meshed flesh, display skin, skinning weights. Fixed for a scene; the
+//! pose and the flesh positions are state.
+
+use super::lattice::{mesh_flesh, FleshMesh, MeshingError};
+use super::shape::SkinShape;
+use super::skeleton::{Side, Skeleton};
+use super::skin::DisplaySkin;
+use super::skinning::SkinningWeights;
+
+/// Catmull–Clark levels of the display skin.
+pub const SKIN_LEVELS: usize = 2;
+
+/// Everything about a hand that does not change with its pose.
+#[derive(Clone, Debug)]
+pub struct HandModel {
+    /// Bones and joints.
+    pub skeleton: Skeleton,
+    /// The simulation mesh of the flesh (rest pose), with bone attachments.
+    pub flesh: FleshMesh,
+    /// The smooth display skin embedded in the flesh.
+    pub skin: DisplaySkin,
+    /// Skinning weights of every flesh node.
+    pub weights: SkinningWeights,
+    /// The resolution it was meshed at.
+    pub resolution: f64,
+}
+
+impl HandModel {
+    /// Builds the hand of the given side at `resolution` (1 = default).
+    pub fn new(side: Side, resolution: f64) -> Result<HandModel, MeshingError> {
+        let skeleton = Skeleton::new(side);
+        let flesh = mesh_flesh(&skeleton, &SkinShape::new(side), resolution)?;
+        let skin = DisplaySkin::new(&flesh.skin_quads, flesh.mesh.nodes.len(), SKIN_LEVELS);
+        let weights = SkinningWeights::new(&skeleton, &flesh.mesh.nodes, &flesh.node_bone);
+        Ok(HandModel {
+            skeleton,
+            flesh,
+            skin,
+            weights,
+            resolution,
+        })
+    }
+
+    /// Nodes attached to bone `b`.
+    pub fn bone_nodes(&self, b: usize) -> Vec<usize> {
+        (0..self.flesh.node_bone.len())
+            .filter(|&n| self.flesh.node_bone[n] == Some(b))
+            .collect()
+    }
+}

@@ -1,0 +1,198 @@
+//! The skin's shape in the rest pose as a signed distance function (negative inside): a rounded
+//! palm slab blended smoothly with one chain of round cones per digit, finger axes set slightly
+//! palmar of the bones so that the flesh is thin on the back of the fingers (bone nearly flush
+//! with the skin) and thick on the palmar pads.
+
+use super::anatomy::{FINGERS, PALM, THUMB};
+use super::skeleton::Side;
+use nalgebra::Vector3;
+
+/// Offset of a finger's skin axis from its bone axis towards the palm, m.
+const PALMAR_OFFSET: f64 = 0.0014;
+/// Flesh beyond the end of the distal phalanx, m.
+const TIP_PAD: f64 = 0.0035;
+/// Blending radius between the palm and each digit, m.
+const BLEND: f64 = 0.008;
+
+/// A round cone: a capsule whose radius goes from `r0` at `a` to `r1` at `b`.
+#[derive(Clone, Copy, Debug)]
+struct RoundCone {
+    a: Vector3<f64>,
+    b: Vector3<f64>,
+    r0: f64,
+    r1: f64,
+}
+
+impl RoundCone {
+    /// Exact signed distance to a round cone (sphere-swept cone between two spheres).
+    fn distance(&self, p: &Vector3<f64>) -> f64 {
+        let ba = self.b - self.a;
+        let l2 = ba.norm_squared();
+        let rr = self.r0 - self.r1;
+        let a2 = l2 - rr * rr;
+        let il2 = 1.0 / l2;
+        let pa = p - self.a;
+        let y = pa.dot(&ba);
+        let z = y - l2;
+        let x2 = (pa * l2 - ba * y).norm_squared();
+        let y2 = y * y * l2;
+        let z2 = z * z * l2;
+        let k = rr.signum() * rr * rr * x2;
+        if z.signum() * a2 * z2 > k {
+            return (x2 + z2).sqrt() * il2 - self.r1;
+        }
+        if y.signum() * a2 * y2 < k {
+            return (x2 + y2).sqrt() * il2 - self.r0;
+        }
+        ((x2 * a2 * il2).sqrt() + y * rr) * il2 - self.r0
+    }
+}
+
+/// Polynomial smooth minimum with blending radius `k`.
+fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
+    let h = (k - (a - b).abs()).max(0.0) / k;
+    a.min(b) - h * h * k * 0.25
+}
+
+/// The skin of the rest hand.
+#[derive(Clone, Debug)]
+pub struct SkinShape {
+    side: Side,
+    digits: Vec<Vec<RoundCone>>,
+    thenar: (Vector3<f64>, Vector3<f64>),
+}
+
+impl SkinShape {
+    /// The built-in hand's skin.
+    pub fn new(side: Side) -> SkinShape {
+        let mut digits = Vec::new();
+        // Thumb: from the thenar base along its three bones.
+        let d = Vector3::from(THUMB.direction).normalize();
+        let down = Vector3::new(0.0, 0.0, -PALMAR_OFFSET);
+        let mut joints = vec![Vector3::from(THUMB.cmc)];
+        for len in THUMB.bones {
+            let last = *joints.last().unwrap();
+            joints.push(last + d * len);
+        }
+        digits.push(chain(&joints, &THUMB.skin, d, down));
+        for f in &FINGERS {
+            let mcp = Vector3::new(f.mcp[0], f.mcp[1], 0.0);
+            let mut joints = vec![mcp - Vector3::x() * 0.010];
+            let mut x = mcp;
+            for len in f.phalanges {
+                joints.push(x);
+                x += Vector3::x() * len;
+            }
+            joints.push(x);
+            // Skin radii: at the metacarpal head, MCP, PIP, DIP, tip.
+            let radii = [f.skin[0], f.skin[0], f.skin[1], f.skin[2], f.skin[3]];
+            digits.push(chain(&joints, &radii, Vector3::x(), down));
+        }
+        // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal.
+        let c = Vector3::from(THUMB.cmc) + d * 0.022 + Vector3::new(0.004, -0.008, -0.006);
+        SkinShape {
+            side,
+            digits,
+            thenar: (c, Vector3::new(0.024, 0.016, 0.010)),
+        }
+    }
+
+    /// Signed distance from `p` (rest frame) to the skin, m (an approximation away from the
+    /// surface, exact enough near it to project nodes onto it).
+    pub fn distance(&self, p: &Vector3<f64>) -> f64 {
+        let p = match self.side {
+            Side::Right => *p,
+            Side::Left => Vector3::new(p.x, -p.y, p.z),
+        };
+        let palm = palm_distance(&p);
+        let (c, r) = self.thenar;
+        let q = (p - c).component_div(&r);
+        let thenar = (q.norm() - 1.0) * r.min();
+        let palm = smooth_min(palm, thenar, BLEND);
+        let mut d = f64::INFINITY;
+        for digit in &self.digits {
+            let dd = digit
+                .iter()
+                .map(|cone| cone.distance(&p))
+                .fold(f64::INFINITY, f64::min);
+            d = d.min(smooth_min(palm, dd, BLEND));
+        }
+        // The forearm is cut at the wrist.
+        d.max(PALM.wrist_x - p.x)
+    }
+
+    /// Gradient of the distance (central differences), unnormalised.
+    pub fn gradient(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        let h = 1e-5;
+        let mut g = Vector3::zeros();
+        for i in 0..3 {
+            let mut e = Vector3::zeros();
+            e[i] = h;
+            g[i] = (self.distance(&(p + e)) - self.distance(&(p - e))) / (2.0 * h);
+        }
+        g
+    }
+
+    /// Axis-aligned bounds of the skin, m (padded by 2 mm).
+    pub fn bounds(&self) -> (Vector3<f64>, Vector3<f64>) {
+        let mut lo = Vector3::new(PALM.wrist_x, -PALM.half_width[1], -PALM.palmar);
+        let mut hi = Vector3::new(0.0, PALM.half_width[1], PALM.dorsal);
+        for digit in &self.digits {
+            for cone in digit {
+                for (p, r) in [(cone.a, cone.r0), (cone.b, cone.r1)] {
+                    lo = lo.inf(&(p - Vector3::repeat(r)));
+                    hi = hi.sup(&(p + Vector3::repeat(r)));
+                }
+            }
+        }
+        let (c, r) = self.thenar;
+        lo = lo.inf(&(c - r));
+        hi = hi.sup(&(c + r));
+        lo.x = lo.x.max(PALM.wrist_x);
+        let pad = Vector3::repeat(0.002);
+        let (mut lo, mut hi) = (lo - pad, hi + pad);
+        if self.side == Side::Left {
+            (lo.y, hi.y) = (-hi.y, -lo.y);
+        }
+        (lo, hi)
+    }
+}
+
+/// Round cones through `joints` with `radii`; the last one is shortened so that the skin ends
+/// [`TIP_PAD`] beyond the last joint (the bone tip).
+fn chain(
+    joints: &[Vector3<f64>],
+    radii: &[f64],
+    dir: Vector3<f64>,
+    offset: Vector3<f64>,
+) -> Vec<RoundCone> {
+    let n = joints.len();
+    let mut cones = Vec::new();
+    for i in 0..n - 1 {
+        let mut b = joints[i + 1];
+        if i == n - 2 {
+            b += dir * (TIP_PAD - radii[i + 1]);
+        }
+        cones.push(RoundCone {
+            a: joints[i] + offset,
+            b: b + offset,
+            r0: radii[i],
+            r1: radii[i + 1],
+        });
+    }
+    cones
+}
+
+/// The palm: a slab from the wrist to the knuckles, tapering from the knuckles to the wrist,
+/// rounded at its edges.
+fn palm_distance(p: &Vector3<f64>) -> f64 {
+    let x0 = PALM.wrist_x - 0.01;
+    let x1 = 0.086;
+    let t = ((p.x - PALM.wrist_x) / (x1 - PALM.wrist_x)).clamp(0.0, 1.0);
+    let half_w = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t;
+    let r = PALM.rounding;
+    let center = Vector3::new((x0 + x1) / 2.0, -0.002, (PALM.dorsal - PALM.palmar) / 2.0);
+    let half = Vector3::new((x1 - x0) / 2.0, half_w, (PALM.dorsal + PALM.palmar) / 2.0);
+    let q = (p - center).abs() - (half - Vector3::repeat(r));
+    q.sup(&Vector3::zeros()).norm() + q.max().min(0.0) - r
+}

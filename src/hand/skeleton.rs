@@ -1,0 +1,439 @@
+//! The skeleton: rigid bones in a tree, joint angles (degrees) with anatomical limits, and forward
+//! kinematics from a pose to one rigid motion per bone (rest frame → posed frame).
+
+use super::anatomy::{limits, Limits, CARPUS, CONDYLE_RATIO, FINGERS, JOINT_GAP, THUMB};
+use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
+use std::collections::BTreeMap;
+use thiserror::Error;
+
+/// Which hand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// Right hand (thumb towards +y).
+    Right,
+    /// Left hand (mirror image in y).
+    Left,
+}
+
+/// The geometric kind of a bone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BoneShape {
+    /// A long bone from `start` to `end`: shaft with condyles (wider heads) at both ends; a distal
+    /// phalanx ends in a narrower tuft instead.
+    Long {
+        /// Shaft radius, m.
+        shaft: f64,
+        /// Is it a distal phalanx (tuft at the end)?
+        distal: bool,
+    },
+    /// The carpus: a rounded block with these half extents, m.
+    Block {
+        /// Half extents.
+        half: [f64; 3],
+    },
+}
+
+/// One rigid bone.
+#[derive(Clone, Debug)]
+pub struct Bone {
+    /// Name, e.g. `index.distal`.
+    pub name: String,
+    /// Digit (0 = thumb … 4 = little), `None` for the carpus.
+    pub digit: Option<usize>,
+    /// Parent bone, `None` for the root.
+    pub parent: Option<usize>,
+    /// Proximal joint centre (rest), m.
+    pub start: Vector3<f64>,
+    /// Distal end (rest), m.
+    pub end: Vector3<f64>,
+    /// Shape.
+    pub shape: BoneShape,
+}
+
+impl Bone {
+    /// Signed distance from `p` (rest frame) to the bone's surface, m (negative inside).
+    pub fn distance(&self, p: &Vector3<f64>) -> f64 {
+        match self.shape {
+            BoneShape::Block { half } => {
+                let c = (self.start + self.end) / 2.0;
+                let r = 0.004;
+                let q = (p - c).abs() - (Vector3::from(half) - Vector3::repeat(r));
+                q.sup(&Vector3::zeros()).norm() + q.max().min(0.0) - r
+            }
+            BoneShape::Long { shaft, distal } => {
+                // The rounded ends stop at the joint spaces: the segment is inset by the end
+                // radii, so neighbouring bones never overlap.
+                let axis = self.end - self.start;
+                let len = axis.norm();
+                let dir = axis / len;
+                let r0 = long_bone_radius(0.0, shaft, distal);
+                let r1 = long_bone_radius(1.0, shaft, distal);
+                let a = self.start + dir * (JOINT_GAP + r0);
+                let l = (len - 2.0 * JOINT_GAP - r0 - r1).max(1e-6);
+                let s = (p - a).dot(&dir);
+                let t = (s / l).clamp(0.0, 1.0);
+                let along = ((s + r0) / len).clamp(0.0, 1.0);
+                let radius = long_bone_radius(along, shaft, distal);
+                let r = if t <= 0.0 {
+                    r0
+                } else if t >= 1.0 {
+                    r1
+                } else {
+                    radius
+                };
+                (p - (a + dir * (t * l))).norm() - r
+            }
+        }
+    }
+
+    /// Length of the bone (joint to joint), m.
+    pub fn length(&self) -> f64 {
+        (self.end - self.start).norm()
+    }
+}
+
+/// Radius of a long bone at the fraction `t` of its length: condyles of [`CONDYLE_RATIO`] × the
+/// shaft at the ends, blending into the shaft over a fifth of the length; a distal phalanx ends in
+/// a tuft only slightly wider than its shaft.
+pub fn long_bone_radius(t: f64, shaft: f64, distal: bool) -> f64 {
+    let bump = |s: f64| {
+        let s = (s / 0.22).clamp(0.0, 1.0);
+        (1.0 - s) * (1.0 - s)
+    };
+    let head = shaft * CONDYLE_RATIO;
+    let tail = if distal { shaft * 1.25 } else { head };
+    shaft + (head - shaft) * bump(t) + (tail - shaft) * bump(1.0 - t)
+}
+
+/// One joint angle (degree of freedom): rotation of `bone` (and its descendants) about `axis`
+/// through `center`, relative to its parent.
+#[derive(Clone, Debug)]
+pub struct JointDof {
+    /// Name, e.g. `index.mcp.flex`.
+    pub name: String,
+    /// The bone it moves.
+    pub bone: usize,
+    /// Centre of rotation (rest), m.
+    pub center: Vector3<f64>,
+    /// Unit axis (rest frame); a positive angle is flexion (or abduction).
+    pub axis: Unit<Vector3<f64>>,
+    /// Range, degrees.
+    pub limits: Limits,
+}
+
+/// A pose: joint angles by name, in degrees. Joints not named keep their previous angle.
+pub type Pose = BTreeMap<String, f64>;
+
+/// What is wrong with a pose.
+#[derive(Debug, Error, PartialEq)]
+pub enum PoseError {
+    /// No such joint.
+    #[error("there is no joint \"{name}\"; the joints are: {known}")]
+    UnknownJoint {
+        /// The name given.
+        name: String,
+        /// All joint names.
+        known: String,
+    },
+    /// Outside the anatomical range.
+    #[error("joint \"{name}\": {angle}° is outside its range {min}° … {max}°")]
+    OutOfRange {
+        /// The joint.
+        name: String,
+        /// The angle asked for.
+        angle: f64,
+        /// Smallest angle.
+        min: f64,
+        /// Largest angle.
+        max: f64,
+    },
+}
+
+/// The hand skeleton: 20 bones (the carpus, five metacarpals, fourteen phalanges) and 20 joint
+/// angles.
+#[derive(Clone, Debug)]
+pub struct Skeleton {
+    /// Which hand.
+    pub side: Side,
+    /// Bones, parents before children.
+    pub bones: Vec<Bone>,
+    /// Joint angles, in order of application (abduction before flexion at a joint).
+    pub dofs: Vec<JointDof>,
+}
+
+impl Skeleton {
+    /// The built-in adult hand skeleton.
+    pub fn new(side: Side) -> Skeleton {
+        let mut bones = Vec::new();
+        let mut dofs = Vec::new();
+        let z = Vector3::z();
+        let (c, h) = CARPUS;
+        bones.push(Bone {
+            name: "carpus".into(),
+            digit: None,
+            parent: None,
+            start: Vector3::new(c[0] - h[0], c[1], c[2]),
+            end: Vector3::new(c[0] + h[0], c[1], c[2]),
+            shape: BoneShape::Block { half: h },
+        });
+        let add_dof = |dofs: &mut Vec<JointDof>, name: String, bone, center, axis, limits| {
+            dofs.push(JointDof {
+                name,
+                bone,
+                center,
+                axis: Unit::new_normalize(axis),
+                limits,
+            })
+        };
+
+        // Thumb: metacarpal (CMC: flexion across the palm, palmar abduction), proximal (MCP),
+        // distal (IP).
+        let d = Vector3::from(THUMB.direction).normalize();
+        let zp = (z - d * z.dot(&d)).normalize();
+        let outward = zp.cross(&d).normalize();
+        let p = THUMB.pronation_deg.to_radians();
+        let nail = zp * p.cos() + outward * p.sin();
+        let mut start = Vector3::from(THUMB.cmc);
+        let names = ["metacarpal", "proximal", "distal"];
+        for (k, name) in names.iter().enumerate() {
+            let end = start + d * THUMB.bones[k];
+            let bone = bones.len();
+            bones.push(Bone {
+                name: format!("thumb.{name}"),
+                digit: Some(0),
+                parent: Some(if k == 0 { 0 } else { bone - 1 }),
+                start,
+                end,
+                shape: BoneShape::Long {
+                    shaft: THUMB.shaft[k],
+                    distal: k == 2,
+                },
+            });
+            match k {
+                0 => {
+                    add_dof(
+                        &mut dofs,
+                        "thumb.cmc.abd".into(),
+                        bone,
+                        start,
+                        outward,
+                        limits::CMC_ABD,
+                    );
+                    add_dof(
+                        &mut dofs,
+                        "thumb.cmc.flex".into(),
+                        bone,
+                        start,
+                        -zp,
+                        limits::CMC_FLEX,
+                    );
+                }
+                1 => add_dof(
+                    &mut dofs,
+                    "thumb.mcp".into(),
+                    bone,
+                    start,
+                    nail.cross(&d),
+                    limits::THUMB_MCP,
+                ),
+                _ => add_dof(
+                    &mut dofs,
+                    "thumb.ip".into(),
+                    bone,
+                    start,
+                    nail.cross(&d),
+                    limits::THUMB_IP,
+                ),
+            }
+            start = end;
+        }
+
+        // Fingers: metacarpal fixed to the carpus, then proximal (MCP abduction + flexion),
+        // middle (PIP), distal (DIP).
+        for (f, finger) in FINGERS.iter().enumerate() {
+            let digit = f + 1;
+            let base = Vector3::new(finger.base[0], finger.base[1], 0.0);
+            let mcp = Vector3::new(finger.mcp[0], finger.mcp[1], 0.0);
+            let metacarpal = bones.len();
+            bones.push(Bone {
+                name: format!("{}.metacarpal", finger.name),
+                digit: Some(digit),
+                parent: Some(0),
+                start: base,
+                end: mcp,
+                shape: BoneShape::Long {
+                    shaft: finger.shaft[0] * 1.05,
+                    distal: false,
+                },
+            });
+            let dir = Vector3::x();
+            let lateral = z.cross(&dir);
+            let abd_axis = if finger.name == "ring" || finger.name == "little" {
+                -z
+            } else {
+                z
+            };
+            let mut start = mcp;
+            for (k, name) in ["proximal", "middle", "distal"].iter().enumerate() {
+                let end = start + dir * finger.phalanges[k];
+                let bone = bones.len();
+                bones.push(Bone {
+                    name: format!("{}.{name}", finger.name),
+                    digit: Some(digit),
+                    parent: Some(if k == 0 { metacarpal } else { bone - 1 }),
+                    start,
+                    end,
+                    shape: BoneShape::Long {
+                        shaft: finger.shaft[k],
+                        distal: k == 2,
+                    },
+                });
+                let prefix = finger.name;
+                match k {
+                    0 => {
+                        add_dof(
+                            &mut dofs,
+                            format!("{prefix}.mcp.abd"),
+                            bone,
+                            start,
+                            abd_axis,
+                            limits::MCP_ABD,
+                        );
+                        add_dof(
+                            &mut dofs,
+                            format!("{prefix}.mcp.flex"),
+                            bone,
+                            start,
+                            lateral,
+                            limits::MCP_FLEX,
+                        );
+                    }
+                    1 => add_dof(
+                        &mut dofs,
+                        format!("{prefix}.pip"),
+                        bone,
+                        start,
+                        lateral,
+                        limits::PIP,
+                    ),
+                    _ => add_dof(
+                        &mut dofs,
+                        format!("{prefix}.dip"),
+                        bone,
+                        start,
+                        lateral,
+                        limits::DIP,
+                    ),
+                }
+                start = end;
+            }
+        }
+        // Joints turn about the centre of the proximal bone's head (its condyle), as real
+        // hinges do, so that the joint space keeps its width as the joint flexes.
+        for dof in &mut dofs {
+            let parent = &bones[bones[dof.bone].parent.unwrap_or(0)];
+            if let BoneShape::Long { shaft, distal } = parent.shape {
+                let dir = (parent.end - parent.start).normalize();
+                let head = long_bone_radius(1.0, shaft, distal);
+                dof.center = parent.end - dir * (JOINT_GAP + head);
+            }
+        }
+        let mut skeleton = Skeleton { side, bones, dofs };
+        if side == Side::Left {
+            skeleton.mirror();
+        }
+        skeleton
+    }
+
+    /// Mirrors the (right) skeleton in y: points map to M·p, and a rotation axis a (an axial
+    /// vector) to −M·a, so that the same angles give the mirrored motion.
+    fn mirror(&mut self) {
+        let m = |v: Vector3<f64>| Vector3::new(v.x, -v.y, v.z);
+        for bone in &mut self.bones {
+            bone.start = m(bone.start);
+            bone.end = m(bone.end);
+        }
+        for dof in &mut self.dofs {
+            dof.center = m(dof.center);
+            dof.axis = Unit::new_normalize(-m(dof.axis.into_inner()));
+        }
+    }
+
+    /// Index of the bone called `name`.
+    pub fn bone_index(&self, name: &str) -> Option<usize> {
+        self.bones.iter().position(|b| b.name == name)
+    }
+
+    /// Comma-separated bone names (for error messages).
+    pub fn bone_names(&self) -> String {
+        let names: Vec<&str> = self.bones.iter().map(|b| b.name.as_str()).collect();
+        names.join(", ")
+    }
+
+    /// Joint angles of the rest pose (all zero, degrees).
+    pub fn rest_angles(&self) -> Vec<f64> {
+        vec![0.0; self.dofs.len()]
+    }
+
+    /// `base` with the angles named in `pose` replaced; unknown names and angles outside their
+    /// limits are errors.
+    pub fn apply_pose(&self, base: &[f64], pose: &Pose) -> Result<Vec<f64>, PoseError> {
+        let mut angles = base.to_vec();
+        for (name, &angle) in pose {
+            let Some(i) = self.dofs.iter().position(|d| &d.name == name) else {
+                let known: Vec<&str> = self.dofs.iter().map(|d| d.name.as_str()).collect();
+                return Err(PoseError::UnknownJoint {
+                    name: name.clone(),
+                    known: known.join(", "),
+                });
+            };
+            let lim = self.dofs[i].limits;
+            if !angle.is_finite() || angle < lim.min - 1e-9 || angle > lim.max + 1e-9 {
+                return Err(PoseError::OutOfRange {
+                    name: name.clone(),
+                    angle,
+                    min: lim.min,
+                    max: lim.max,
+                });
+            }
+            angles[i] = angle;
+        }
+        Ok(angles)
+    }
+
+    /// Forward kinematics: for each bone, the rigid motion taking its rest position to its
+    /// position at `angles` (degrees, one per dof).
+    pub fn transforms(&self, angles: &[f64]) -> Vec<Isometry3<f64>> {
+        let mut local: Vec<Isometry3<f64>> = vec![Isometry3::identity(); self.bones.len()];
+        for (dof, &angle) in self.dofs.iter().zip(angles) {
+            let c = Translation3::from(dof.center);
+            let r = UnitQuaternion::from_axis_angle(&dof.axis, angle.to_radians());
+            let about_center = c * Isometry3::from_parts(Translation3::identity(), r) * c.inverse();
+            local[dof.bone] *= about_center;
+        }
+        let mut world = local.clone();
+        for b in 0..self.bones.len() {
+            if let Some(p) = self.bones[b].parent {
+                world[b] = world[p] * local[b];
+            }
+        }
+        world
+    }
+
+    /// Children of every bone.
+    pub fn children(&self) -> Vec<Vec<usize>> {
+        let mut children = vec![Vec::new(); self.bones.len()];
+        for (b, bone) in self.bones.iter().enumerate() {
+            if let Some(p) = bone.parent {
+                children[p].push(b);
+            }
+        }
+        children
+    }
+
+    /// Posed position of a rest point attached to bone `b`.
+    pub fn posed(transforms: &[Isometry3<f64>], b: usize, rest: &Vector3<f64>) -> Vector3<f64> {
+        (transforms[b] * Point3::from(*rest)).coords
+    }
+}

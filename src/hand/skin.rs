@@ -1,0 +1,192 @@
+//! The display skin: the flesh mesh's skin quads refined by Catmull–Clark subdivision. Every
+//! display vertex is a fixed weighted average of simulation nodes, so the skin is embedded in the
+//! flesh and follows its displacement field at the cost of one sparse product per frame; the
+//! display resolution never costs simulation time.
+
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// A smooth quad surface whose vertices are fixed linear combinations of simulation nodes.
+#[derive(Clone, Debug, Default)]
+pub struct DisplaySkin {
+    /// Start of each vertex's weights in `nodes`/`weights` (CSR), one more than vertices.
+    offsets: Vec<u32>,
+    nodes: Vec<u32>,
+    weights: Vec<f32>,
+    /// Quads (outward normals), display vertex indices.
+    pub quads: Vec<[u32; 4]>,
+}
+
+type Row = Vec<(usize, f64)>;
+
+fn combine(parts: &[(&Row, f64)]) -> Row {
+    let mut out: Row = Vec::new();
+    for (row, c) in parts {
+        for &(n, w) in row.iter() {
+            out.push((n, w * c));
+        }
+    }
+    out.sort_unstable_by_key(|e| e.0);
+    let mut merged: Row = Vec::with_capacity(out.len());
+    for (n, w) in out {
+        match merged.last_mut() {
+            Some(last) if last.0 == n => last.1 += w,
+            _ => merged.push((n, w)),
+        }
+    }
+    merged.retain(|e| e.1.abs() > 1e-9);
+    merged
+}
+
+/// One Catmull–Clark step on quads whose vertices are the rows `rows`; non-manifold edges and
+/// their vertices are kept sharp.
+fn subdivide(rows: &[Row], quads: &[[usize; 4]]) -> (Vec<Row>, Vec<[usize; 4]>) {
+    let mut edge_faces: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    for (f, q) in quads.iter().enumerate() {
+        for i in 0..4 {
+            let (a, b) = (q[i], q[(i + 1) % 4]);
+            edge_faces.entry((a.min(b), a.max(b))).or_default().push(f);
+        }
+    }
+    let face_rows: Vec<Row> = quads
+        .iter()
+        .map(|q| combine(&q.map(|v| (&rows[v], 0.25))))
+        .collect();
+    let mut edge_index: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut new_rows: Vec<Row> = Vec::new();
+    // Vertex points first (same indices as the old vertices).
+    let mut vertex_faces: Vec<Vec<usize>> = vec![Vec::new(); rows.len()];
+    for (f, q) in quads.iter().enumerate() {
+        for &v in q {
+            vertex_faces[v].push(f);
+        }
+    }
+    let mut vertex_edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); rows.len()];
+    for &e in edge_faces.keys() {
+        vertex_edges[e.0].push(e);
+        vertex_edges[e.1].push(e);
+    }
+    for v in 0..rows.len() {
+        let edges = &vertex_edges[v];
+        let faces = &vertex_faces[v];
+        let smooth = !edges.is_empty()
+            && edges.iter().all(|e| edge_faces[e].len() == 2)
+            && edges.len() == faces.len();
+        if !smooth {
+            new_rows.push(rows[v].clone());
+            continue;
+        }
+        let n = edges.len() as f64;
+        let mut parts: Vec<(&Row, f64)> = Vec::new();
+        for &f in faces {
+            parts.push((&face_rows[f], 1.0 / (n * n)));
+        }
+        for e in edges {
+            let other = if e.0 == v { e.1 } else { e.0 };
+            // 2R/n with R the mean of edge midpoints: each midpoint (P + Q)/2.
+            parts.push((&rows[other], 1.0 / (n * n)));
+        }
+        parts.push((&rows[v], (n - 3.0) / n + 1.0 / n));
+        new_rows.push(combine(&parts));
+    }
+    // Face points.
+    let face_base = new_rows.len();
+    new_rows.extend(face_rows.iter().cloned());
+    // Edge points.
+    let mut new_quads = Vec::with_capacity(quads.len() * 4);
+    let mut edge_point = |a: usize, b: usize, new_rows: &mut Vec<Row>| -> usize {
+        let key = (a.min(b), a.max(b));
+        if let Some(&i) = edge_index.get(&key) {
+            return i;
+        }
+        let faces = &edge_faces[&key];
+        let row = if faces.len() == 2 {
+            combine(&[
+                (&rows[a], 0.25),
+                (&rows[b], 0.25),
+                (&face_rows[faces[0]], 0.25),
+                (&face_rows[faces[1]], 0.25),
+            ])
+        } else {
+            combine(&[(&rows[a], 0.5), (&rows[b], 0.5)])
+        };
+        new_rows.push(row);
+        edge_index.insert(key, new_rows.len() - 1);
+        new_rows.len() - 1
+    };
+    for (f, q) in quads.iter().enumerate() {
+        for i in 0..4 {
+            let (prev, cur, next) = (q[(i + 3) % 4], q[i], q[(i + 1) % 4]);
+            let e_next = edge_point(cur, next, &mut new_rows);
+            let e_prev = edge_point(prev, cur, &mut new_rows);
+            new_quads.push([cur, e_next, face_base + f, e_prev]);
+        }
+    }
+    (new_rows, new_quads)
+}
+
+impl DisplaySkin {
+    /// The skin quads of a flesh mesh (node indices) subdivided `levels` times.
+    pub fn new(quads: &[[usize; 4]], node_count: usize, levels: usize) -> DisplaySkin {
+        // Keep only the nodes the quads use, renumbered.
+        let mut local = vec![usize::MAX; node_count];
+        let mut rows: Vec<Row> = Vec::new();
+        let mut q: Vec<[usize; 4]> = quads
+            .iter()
+            .map(|quad| {
+                quad.map(|n| {
+                    if local[n] == usize::MAX {
+                        local[n] = rows.len();
+                        rows.push(vec![(n, 1.0)]);
+                    }
+                    local[n]
+                })
+            })
+            .collect();
+        for _ in 0..levels {
+            let (r, qq) = subdivide(&rows, &q);
+            rows = r;
+            q = qq;
+        }
+        let mut skin = DisplaySkin {
+            offsets: vec![0],
+            ..Default::default()
+        };
+        for row in &rows {
+            for &(n, w) in row {
+                skin.nodes.push(n as u32);
+                skin.weights.push(w as f32);
+            }
+            skin.offsets.push(skin.nodes.len() as u32);
+        }
+        skin.quads = q.iter().map(|v| v.map(|i| i as u32)).collect();
+        skin
+    }
+
+    /// Number of display vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Display vertex positions for node positions `nodes`.
+    pub fn positions(&self, nodes: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+        (0..self.vertex_count())
+            .map(|v| {
+                let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
+                let mut p = Vector3::zeros();
+                for i in a..b {
+                    p += nodes[self.nodes[i] as usize] * self.weights[i] as f64;
+                }
+                p
+            })
+            .collect()
+    }
+
+    /// Triangles (two per quad), display vertex indices.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect()
+    }
+}

@@ -1,0 +1,442 @@
+//! Finger flexion by increments: the paper's procedure (Figure 2 and Figure 6) in an updated
+//! Lagrangian, small-strain form.
+//!
+//! A keyframe's joint motion is split into increments of at most `max_step_deg`. For each
+//! increment the bones are moved; the displacement of every bone node from the previous increment
+//! is prescribed (U_k); the stiffness is assembled on the current geometry; equation (7),
+//! K11·U_u = R_k − K12·U_k with R_k = 0, gives the free flesh displacement; equation (8) the bone
+//! reactions; the flesh positions are updated.
+//!
+//! Only what the motion requires is solved: with a local region, the cells within `radius` of a
+//! moving joint are solved by FEM and every other node follows its bones by incremental skinning
+//! (exactly rigid away from joints, where the FEM solution is rigid too); digits set to skinning
+//! follow their bones geometrically (the fast path).
+
+use super::statics::SimError;
+use crate::fem::assembly::{assemble, StiffnessPattern};
+use crate::fem::hex8::{cell_volume, relative_min_jacobian};
+use crate::fem::solve::{FillOrdering, PartitionedSolver};
+use crate::fem::{DofPartition, Material};
+use crate::hand::{Blend, HandModel};
+use crate::mesh::Mesh;
+use nalgebra::{Isometry3, Point3, Vector3};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How the flesh of a digit (or of the palm) moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FleshMethod {
+    /// Finite elements, incremental updated Lagrangian.
+    #[default]
+    Fem,
+    /// Geometric skinning only.
+    Skinning,
+}
+
+/// Which cells the FEM solves in an increment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FleshRegion {
+    /// Every FEM cell of the hand.
+    Whole,
+    /// The FEM cells whose centre lies within `radius` (m) of a joint that moves.
+    Local {
+        /// Radius, m.
+        radius: f64,
+    },
+}
+
+/// Settings of the incremental flexion.
+#[derive(Clone, Debug)]
+pub struct FlexionSettings {
+    /// Largest joint rotation per increment, degrees.
+    pub max_step_deg: f64,
+    /// Region solved by FEM.
+    pub region: FleshRegion,
+    /// Method of the palm (index 0) and of each digit (1 = thumb … 5 = little).
+    pub methods: [FleshMethod; 6],
+    /// Skinning blend.
+    pub blend: Blend,
+}
+
+impl Default for FlexionSettings {
+    fn default() -> Self {
+        FlexionSettings {
+            max_step_deg: 10.0,
+            region: FleshRegion::Local { radius: 0.025 },
+            methods: [FleshMethod::Fem; 6],
+            blend: Blend::DualQuaternion,
+        }
+    }
+}
+
+/// The pose-dependent state of a hand.
+#[derive(Clone, Debug)]
+pub struct HandState {
+    /// Joint angles, degrees.
+    pub angles: Vec<f64>,
+    /// Rigid motion of every bone (rest → now).
+    pub transforms: Vec<Isometry3<f64>>,
+    /// Flesh node positions, m.
+    pub positions: Vec<Vector3<f64>>,
+    /// Accumulated reaction at every node (non-zero at prescribed nodes), N.
+    pub reaction: Vec<Vector3<f64>>,
+}
+
+impl HandState {
+    /// The rest pose.
+    pub fn rest(hand: &HandModel) -> HandState {
+        let angles = hand.skeleton.rest_angles();
+        HandState {
+            transforms: hand.skeleton.transforms(&angles),
+            angles,
+            positions: hand.flesh.mesh.nodes.clone(),
+            reaction: vec![Vector3::zeros(); hand.flesh.mesh.nodes.len()],
+        }
+    }
+
+    /// Sum of the reactions on each bone's nodes (equation (8)), N.
+    pub fn bone_reactions(&self, hand: &HandModel) -> Vec<Vector3<f64>> {
+        let mut out = vec![Vector3::zeros(); hand.skeleton.bones.len()];
+        for (n, b) in hand.flesh.node_bone.iter().enumerate() {
+            if let Some(b) = b {
+                out[*b] += self.reaction[n];
+            }
+        }
+        out
+    }
+
+    /// Volume of the flesh, m³.
+    pub fn flesh_volume(&self, hand: &HandModel) -> f64 {
+        hand.flesh
+            .mesh
+            .cells
+            .iter()
+            .map(|c| cell_volume(&c.map(|n| self.positions[n])))
+            .sum()
+    }
+}
+
+/// What one keyframe cost.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct KeyframeStats {
+    /// Increments taken.
+    pub increments: usize,
+    /// Cells solved by FEM.
+    pub fem_cells: usize,
+    /// Free dofs of the FEM problem.
+    pub free_dofs: usize,
+    /// Prescribed dofs of the FEM problem (bones and region boundary).
+    pub prescribed_dofs: usize,
+    /// Factorizations.
+    pub factorizations: usize,
+    /// Time in assembly, ms.
+    pub assembly_ms: f64,
+    /// Time in symbolic analysis, ms.
+    pub symbolic_ms: f64,
+    /// Time in numeric factorization, ms.
+    pub factorization_ms: f64,
+    /// Time in substitution and reactions, ms.
+    pub solve_ms: f64,
+    /// Time in skinning and updates, ms.
+    pub update_ms: f64,
+    /// Wall time of the keyframe, ms.
+    pub total_ms: f64,
+    /// Largest relative residual of the linear solves.
+    pub relative_residual: f64,
+}
+
+/// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
+struct SubProblem {
+    nodes: Vec<usize>,
+    mesh: Mesh,
+    cells: Vec<usize>,
+    pattern: Arc<StiffnessPattern>,
+    partition: DofPartition,
+    materials: Vec<Material>,
+}
+
+/// Moves a hand through keyframes.
+pub struct Flexion<'a> {
+    hand: &'a HandModel,
+    body: String,
+    material: Material,
+    settings: FlexionSettings,
+    solver: PartitionedSolver,
+}
+
+impl<'a> Flexion<'a> {
+    /// A stepper for `hand` (called `body` in errors) with flesh `material`.
+    pub fn new(
+        hand: &'a HandModel,
+        body: &str,
+        material: Material,
+        settings: FlexionSettings,
+        ordering: FillOrdering,
+    ) -> Self {
+        Flexion {
+            hand,
+            body: body.to_string(),
+            material,
+            settings,
+            solver: PartitionedSolver::new(ordering),
+        }
+    }
+
+    fn cell_method(&self, c: usize) -> FleshMethod {
+        self.settings.methods[self.hand.flesh.cell_digit[c].map_or(0, |d| d + 1)]
+    }
+
+    /// Moves `state` to the joint angles `target` (degrees).
+    pub fn move_to(
+        &mut self,
+        state: &mut HandState,
+        target: &[f64],
+    ) -> Result<KeyframeStats, SimError> {
+        let t_all = Instant::now();
+        let hand = self.hand;
+        let skeleton = &hand.skeleton;
+        let flesh = &hand.flesh;
+        let start = state.angles.clone();
+        let largest = start
+            .iter()
+            .zip(target)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let mut stats = KeyframeStats::default();
+        if largest == 0.0 {
+            return Ok(stats);
+        }
+        let steps = (largest / self.settings.max_step_deg - 1e-9)
+            .ceil()
+            .max(1.0) as usize;
+        stats.increments = steps;
+
+        // Cells solved by FEM, chosen at the start of the keyframe.
+        let centers: Vec<Vector3<f64>> = skeleton
+            .dofs
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| start[*i] != target[*i])
+            .map(|(_, d)| (state.transforms[d.bone] * Point3::from(d.center)).coords)
+            .collect();
+        let active: Vec<bool> = (0..flesh.mesh.cells.len())
+            .map(|c| {
+                if self.cell_method(c) != FleshMethod::Fem {
+                    return false;
+                }
+                match self.settings.region {
+                    FleshRegion::Whole => true,
+                    FleshRegion::Local { radius } => {
+                        let cell = &flesh.mesh.cells[c];
+                        let mid = cell
+                            .iter()
+                            .map(|&n| state.positions[n])
+                            .sum::<Vector3<f64>>()
+                            / 8.0;
+                        centers.iter().any(|j| (mid - j).norm() < radius)
+                    }
+                }
+            })
+            .collect();
+        let sub = self.sub_problem(&active);
+        if let Some(sub) = &sub {
+            stats.fem_cells = sub.cells.len();
+            stats.free_dofs = sub.partition.free_count();
+            stats.prescribed_dofs = sub.partition.prescribed_count();
+        }
+        // Nodes owned by skinned digits follow skinning from rest; every other free node not
+        // solved by FEM follows incremental skinning.
+        let mut owned_by_skinning = vec![true; flesh.mesh.nodes.len()];
+        for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+            if self.cell_method(c) == FleshMethod::Fem {
+                for &n in cell {
+                    owned_by_skinning[n] = false;
+                }
+            }
+        }
+        let direct: Vec<usize> = (0..owned_by_skinning.len())
+            .filter(|&n| owned_by_skinning[n] && flesh.node_bone[n].is_none())
+            .collect();
+        let incremental: Vec<usize> = (0..owned_by_skinning.len())
+            .filter(|&n| !owned_by_skinning[n] && flesh.node_bone[n].is_none())
+            .collect();
+
+        for step in 1..=steps {
+            let f = step as f64 / steps as f64;
+            let angles: Vec<f64> = start
+                .iter()
+                .zip(target)
+                .map(|(a, b)| a + (b - a) * f)
+                .collect();
+            let t_update = Instant::now();
+            let transforms = skeleton.transforms(&angles);
+            let delta: Vec<Isometry3<f64>> = transforms
+                .iter()
+                .zip(&state.transforms)
+                .map(|(new, old)| new * old.inverse())
+                .collect();
+            let mut next = state.positions.clone();
+            hand.weights.apply(
+                self.settings.blend,
+                &delta,
+                &state.positions,
+                incremental.iter().copied(),
+                &mut next,
+            );
+            hand.weights.apply(
+                self.settings.blend,
+                &transforms,
+                &flesh.mesh.nodes,
+                direct.iter().copied(),
+                &mut next,
+            );
+            for (n, b) in flesh.node_bone.iter().enumerate() {
+                if let Some(b) = b {
+                    next[n] = (transforms[*b] * Point3::from(flesh.mesh.nodes[n])).coords;
+                }
+            }
+            // Reactions found earlier turn with the bones that carry them.
+            for (n, r) in state.reaction.iter_mut().enumerate() {
+                if *r != Vector3::zeros() {
+                    let b = hand.weights.weights[n][0].0;
+                    *r = delta[b].rotation * *r;
+                }
+            }
+            stats.update_ms += ms(t_update);
+
+            if let Some(sub) = &sub {
+                self.solve_increment(sub, state, &mut next, &mut stats)?;
+            }
+            state.positions = next;
+            state.transforms = transforms;
+            state.angles = angles;
+        }
+        state.angles = target.to_vec();
+        stats.total_ms = ms(t_all);
+        Ok(stats)
+    }
+
+    fn sub_problem(&self, active: &[bool]) -> Option<SubProblem> {
+        let flesh = &self.hand.flesh;
+        let cells: Vec<usize> = (0..active.len()).filter(|&c| active[c]).collect();
+        if cells.is_empty() {
+            return None;
+        }
+        let mut local = vec![usize::MAX; flesh.mesh.nodes.len()];
+        let mut nodes = Vec::new();
+        let mut hexes = Vec::with_capacity(cells.len());
+        for &c in &cells {
+            hexes.push(flesh.mesh.cells[c].map(|n| {
+                if local[n] == usize::MAX {
+                    local[n] = nodes.len();
+                    nodes.push(n);
+                }
+                local[n]
+            }));
+        }
+        // Prescribed: bone nodes, and nodes shared with cells outside the region.
+        let mut boundary = vec![false; flesh.mesh.nodes.len()];
+        for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+            if !active[c] {
+                for &n in cell {
+                    boundary[n] = true;
+                }
+            }
+        }
+        let mut mask = vec![false; nodes.len() * 3];
+        for (i, &n) in nodes.iter().enumerate() {
+            if flesh.node_bone[n].is_some() || boundary[n] {
+                mask[3 * i..3 * i + 3].fill(true);
+            }
+        }
+        let partition = DofPartition::new(mask);
+        if partition.free_count() == 0 {
+            return None;
+        }
+        let mesh = Mesh {
+            nodes: nodes.iter().map(|&n| flesh.mesh.nodes[n]).collect(),
+            cells: hexes,
+        };
+        let pattern = Arc::new(StiffnessPattern::new(&mesh));
+        let materials = vec![self.material; cells.len()];
+        Some(SubProblem {
+            nodes,
+            mesh,
+            cells,
+            pattern,
+            partition,
+            materials,
+        })
+    }
+
+    /// One increment on the FEM region: equations (7)–(8) on the current geometry.
+    fn solve_increment(
+        &mut self,
+        sub: &SubProblem,
+        state: &mut HandState,
+        next: &mut [Vector3<f64>],
+        stats: &mut KeyframeStats,
+    ) -> Result<(), SimError> {
+        let inverted = |cell: usize, relative_det: f64| SimError::InvertedElement {
+            body: self.body.clone(),
+            element: cell,
+            relative_det,
+        };
+        let mut mesh = Mesh {
+            nodes: sub.nodes.iter().map(|&n| state.positions[n]).collect(),
+            cells: sub.mesh.cells.clone(),
+        };
+        let t = Instant::now();
+        let k = assemble(&sub.pattern, &mesh, &sub.materials)
+            .map_err(|e| inverted(sub.cells[e.cell], e.inverted.relative_det))?;
+        stats.assembly_ms += ms(t);
+        let dofs = sub.nodes.len() * 3;
+        let mut prescribed = vec![0.0; dofs];
+        for (i, &n) in sub.nodes.iter().enumerate() {
+            if sub.partition.prescribed[3 * i] {
+                let du = next[n] - state.positions[n];
+                prescribed[3 * i..3 * i + 3].copy_from_slice(du.as_slice());
+            }
+        }
+        let loads = vec![0.0; dofs];
+        let solution = self
+            .solver
+            .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
+            .map_err(|source| SimError::Solve {
+                body: self.body.clone(),
+                source,
+            })?;
+        let s = &solution.stats;
+        stats.symbolic_ms += s.symbolic_ms;
+        stats.factorization_ms += s.factorization_ms;
+        stats.solve_ms += s.solve_ms;
+        stats.factorizations += 1;
+        stats.relative_residual = stats.relative_residual.max(s.relative_residual);
+        for (i, &n) in sub.nodes.iter().enumerate() {
+            let u = solution.node_displacement(i);
+            if sub.partition.prescribed[3 * i] {
+                state.reaction[n] += Vector3::new(
+                    solution.reaction[3 * i],
+                    solution.reaction[3 * i + 1],
+                    solution.reaction[3 * i + 2],
+                );
+            } else {
+                next[n] = state.positions[n] + u;
+            }
+            mesh.nodes[i] = next[n];
+        }
+        // No cell may turn inside out.
+        for (local, cell) in mesh.cells.iter().enumerate() {
+            let q = relative_min_jacobian(&cell.map(|n| mesh.nodes[n]));
+            if q <= 0.0 {
+                return Err(inverted(sub.cells[local], q));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
