@@ -1,11 +1,11 @@
 //! From a scene file to solved frames and written output: what `prehensile solve` does.
 
+use crate::export::hand_geometry::{bones_vtu, frame_obj};
 use crate::export::output::OutputSet;
 use crate::export::report::{frame_report, model_summary, Report};
 use crate::export::vtu::{collection_pvd, frame_vtu};
-use crate::fem::solve::PartitionedSolver;
 use crate::scene::{Scene, SceneError};
-use crate::sim::{solve_static, Frame, Model, SimError};
+use crate::sim::{solve_frames, Frame, Model, SimError};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -43,22 +43,27 @@ pub struct Solved {
     pub report: Report,
 }
 
-/// Builds and solves a parsed scene; `file` names it in errors and in the report.
+/// Builds and solves a parsed scene; `file` names it in errors and in the report. Without hands
+/// there is one static frame; with hands, one frame per distinct keyframe time.
 pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
     let model = Model::build(scene, file)?;
-    let mut solver = PartitionedSolver::new(model.ordering);
-    let frame = solve_static(&model, &mut solver).map_err(|source| PipelineError::Sim {
+    let (times, frames) = solve_frames(&model).map_err(|source| PipelineError::Sim {
         file: file.to_string(),
         source,
     })?;
     let report = Report {
         scene: file.to_string(),
         model: model_summary(&model),
-        frames: vec![frame_report(&model, &frame, 0, 0.0)],
+        frames: frames
+            .iter()
+            .zip(&times)
+            .enumerate()
+            .map(|(i, (f, &t))| frame_report(&model, f, i, t))
+            .collect(),
     };
     Ok(Solved {
         model,
-        frames: vec![frame],
+        frames,
         report,
     })
 }
@@ -69,8 +74,8 @@ pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
     solve_scene(&scene, &path.display().to_string())
 }
 
-/// Writes `report.json`, one `frame_NNNN.vtu` per frame and `frames.pvd` into `dir`, all or
-/// nothing.
+/// Writes `report.json`, one `frame_NNNN.vtu` per frame and `frames.pvd` into `dir` (with hands,
+/// also `hand_NNNN.obj`: skin and bones, and `bones_NNNN.vtu`), all or nothing.
 pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     let io = |source| PipelineError::Output {
         dir: dir.display().to_string(),
@@ -85,6 +90,14 @@ pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, Pipelin
         out.write(&name, frame_vtu(&solved.model, frame).as_bytes())
             .map_err(io)?;
         listing.push((solved.report.frames[i].time, name));
+        if let Some(obj) = frame_obj(&solved.model, frame) {
+            out.write(&format!("hand_{i:04}.obj"), obj.as_bytes())
+                .map_err(io)?;
+        }
+        if let Some(vtu) = bones_vtu(&solved.model, frame) {
+            out.write(&format!("bones_{i:04}.vtu"), vtu.as_bytes())
+                .map_err(io)?;
+        }
     }
     out.write("frames.pvd", collection_pvd(&listing).as_bytes())
         .map_err(io)?;

@@ -135,6 +135,89 @@ pub struct FrameReport {
     pub max_von_mises: f64,
     /// Solver figures.
     pub solver: SolverReport,
+    /// Per hand body: pose, bone reactions, flesh volume, flexion cost.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub hands: BTreeMap<String, HandReport>,
+}
+
+/// A bone's reaction.
+#[derive(Clone, Debug, Serialize)]
+pub struct BoneReport {
+    /// Sum of R_u over the bone's nodes (equation (8)): the force the bone exerts on the flesh, N.
+    pub reaction: [f64; 3],
+    /// Its magnitude, N.
+    pub magnitude: f64,
+    /// Flesh nodes attached to the bone.
+    pub nodes: usize,
+}
+
+/// A hand in a frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct HandReport {
+    /// Joint angles, degrees.
+    pub pose: BTreeMap<String, f64>,
+    /// Per bone.
+    pub bones: BTreeMap<String, BoneReport>,
+    /// Sum of all bone reactions, N (zero to round-off: the flesh is in equilibrium).
+    pub bone_reaction_sum: [f64; 3],
+    /// Flesh volume, m³.
+    pub flesh_volume: f64,
+    /// Relative change of the flesh volume from rest.
+    pub volume_change: f64,
+    /// Increments, factorizations and timings of the motion into this frame.
+    pub motion: crate::sim::KeyframeStats,
+}
+
+/// The report entries of the hands of a frame.
+pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport> {
+    frame
+        .hands
+        .iter()
+        .map(|h| {
+            let body = &model.bodies[h.body];
+            let hand = body
+                .hand
+                .as_deref()
+                .expect("a hand frame belongs to a hand");
+            let skeleton = &hand.skeleton;
+            let mut counts = vec![0; skeleton.bones.len()];
+            for b in hand.flesh.node_bone.iter().flatten() {
+                counts[*b] += 1;
+            }
+            let bones = skeleton
+                .bones
+                .iter()
+                .enumerate()
+                .map(|(b, bone)| {
+                    let r = h.bone_reactions[b];
+                    (
+                        bone.name.clone(),
+                        BoneReport {
+                            reaction: arr(r),
+                            magnitude: r.norm(),
+                            nodes: counts[b],
+                        },
+                    )
+                })
+                .collect();
+            (
+                body.name.clone(),
+                HandReport {
+                    pose: skeleton
+                        .dofs
+                        .iter()
+                        .zip(&h.angles)
+                        .map(|(d, a)| (d.name.clone(), *a))
+                        .collect(),
+                    bones,
+                    bone_reaction_sum: arr(h.bone_reactions.iter().sum()),
+                    flesh_volume: h.volume,
+                    volume_change: h.volume / body.volume - 1.0,
+                    motion: h.stats.clone(),
+                },
+            )
+        })
+        .collect()
 }
 
 fn arr(v: Vector3<f64>) -> [f64; 3] {
@@ -219,6 +302,7 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
                 stress: frame.stress_ms,
             },
         },
+        hands: hand_reports(model, frame),
     }
 }
 

@@ -77,7 +77,22 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
             m[(0, 2)]
         );
     }
-    s.push_str("</DataArray>\n</PointData>\n");
+    s.push_str("</DataArray>\n<DataArray type=\"Int32\" Name=\"bone_id\" format=\"ascii\">\n");
+    // The bone a node is attached to (prescribed by), −1 for free nodes and other bodies.
+    let mut bone_id = vec![-1i32; mesh.node_count()];
+    for body in &model.bodies {
+        if let Some(hand) = &body.hand {
+            for (n, b) in hand.flesh.node_bone.iter().enumerate() {
+                if let Some(b) = b {
+                    bone_id[body.nodes.start + n] = *b as i32;
+                }
+            }
+        }
+    }
+    for b in &bone_id {
+        let _ = write!(s, "{b} ");
+    }
+    s.push_str("\n</DataArray>\n</PointData>\n");
 
     s.push_str("<CellData Scalars=\"material_id\">\n");
     s.push_str("<DataArray type=\"Int32\" Name=\"material_id\" format=\"ascii\">\n");

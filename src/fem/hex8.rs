@@ -196,6 +196,26 @@ pub fn gauss_strains(
     }))
 }
 
+/// Rotation-free (Biot) strain U − I at each Gauss point, with F = I + ∇u = R·U the polar
+/// decomposition: equal to the small strain for small rotations, and unchanged by any rigid
+/// rotation of the cell, so that a flexed finger's flesh shows no spurious stress.
+pub fn gauss_biot_strains(
+    coords: &[Vector3<f64>; 8],
+    u: &[Vector3<f64>; 8],
+) -> Result<[Matrix3<f64>; 8], InvertedCell> {
+    let points = mapped_points(coords)?;
+    Ok(points.map(|p| {
+        let mut f = Matrix3::identity();
+        for a in 0..8 {
+            f += u[a] * p.gradients[a].transpose();
+        }
+        let eig = (f.transpose() * f).symmetric_eigen();
+        let stretch = eig.eigenvalues.map(|l| l.max(0.0).sqrt());
+        eig.eigenvectors * Matrix3::from_diagonal(&stretch) * eig.eigenvectors.transpose()
+            - Matrix3::identity()
+    }))
+}
+
 /// For each corner, the three neighbouring corners along the cell's edges, in right-handed order.
 const CORNER_EDGES: [[usize; 3]; 8] = [
     [1, 3, 4],

@@ -1,7 +1,7 @@
 //! Cauchy stress (small strain: σ = λ tr(ε) I + 2μ ε) at the Gauss points, extrapolated to the
 //! corners of each cell and averaged at the nodes, and the von Mises equivalent stress.
 
-use super::hex8::{gauss_strains, shape, InvertedCell, NODE_SIGNS};
+use super::hex8::{gauss_biot_strains, gauss_strains, shape, InvertedCell, NODE_SIGNS};
 use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, Vector3};
@@ -36,11 +36,27 @@ pub fn stress_field(
     materials: &[Material],
     u: &[f64],
 ) -> Result<StressField, (usize, InvertedCell)> {
+    stress_field_with(mesh, materials, u, &|_| false)
+}
+
+/// As [`stress_field`], with the rotation-free (Biot) strain in the cells where `rotated(c)`
+/// holds (cells that turn through large angles, such as the flesh of a flexed finger).
+pub fn stress_field_with(
+    mesh: &Mesh,
+    materials: &[Material],
+    u: &[f64],
+    rotated: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<StressField, (usize, InvertedCell)> {
     let gauss: Vec<[Matrix3<f64>; 8]> = (0..mesh.cell_count())
         .into_par_iter()
         .map(|c| {
             let ue = mesh.cells[c].map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
-            let strains = gauss_strains(&mesh.cell_coords(c), &ue).map_err(|e| (c, e))?;
+            let strains = if rotated(c) {
+                gauss_biot_strains(&mesh.cell_coords(c), &ue)
+            } else {
+                gauss_strains(&mesh.cell_coords(c), &ue)
+            }
+            .map_err(|e| (c, e))?;
             Ok(strains.map(|e| cauchy_stress(&e, &materials[c])))
         })
         .collect::<Result<_, _>>()?;

@@ -50,6 +50,8 @@ pub struct FleshMesh {
     pub cell_digit: Vec<Option<usize>>,
     /// Skin quadrilaterals (outward normals), node indices.
     pub skin_quads: Vec<[usize; 4]>,
+    /// The cell each skin quadrilateral bounds.
+    pub skin_cells: Vec<usize>,
     /// Base lattice spacing, m.
     pub spacing: f64,
 }
@@ -84,7 +86,7 @@ fn graded(lo: f64, hi: f64, h: f64, fine: &[(f64, f64)]) -> Vec<f64> {
 #[derive(Debug, thiserror::Error)]
 pub enum MeshingError {
     /// A bone got no node.
-    #[error("resolution {resolution} is too coarse: bone \"{bone}\" holds no flesh node (use a resolution of at least 0.5)")]
+    #[error("resolution {resolution} is too coarse: bone \"{bone}\" holds no flesh node (use a higher resolution)")]
     BoneWithoutNodes {
         /// The bone.
         bone: String,
@@ -92,7 +94,7 @@ pub enum MeshingError {
         resolution: f64,
     },
     /// Bad resolution.
-    #[error("resolution must be a number between 0.25 and 4, got {0}")]
+    #[error("resolution must be a number between 0.5 and 4, got {0}")]
     Resolution(f64),
 }
 
@@ -106,7 +108,7 @@ pub fn mesh_flesh(
     skin: &SkinShape,
     resolution: f64,
 ) -> Result<FleshMesh, MeshingError> {
-    if !(0.25..=4.0).contains(&resolution) {
+    if !(0.5..=4.0).contains(&resolution) {
         return Err(MeshingError::Resolution(resolution));
     }
     let h = BASE_SPACING / resolution;
@@ -342,6 +344,7 @@ pub fn mesh_flesh(
 
     // Skin quads: faces towards outside cells, or towards a cell of another digit.
     let mut skin_quads = Vec::new();
+    let mut skin_cells = Vec::new();
     let mut on_skin = vec![false; nodes.len()];
     for (c, &[i, j, k]) in cell_lattice.iter().enumerate() {
         for (f, dir) in FACE_DIRS.iter().enumerate() {
@@ -357,12 +360,14 @@ pub fn mesh_flesh(
             match neighbour {
                 CellState::Outside => {
                     skin_quads.push(quad);
+                    skin_cells.push(c);
                     for n in quad {
                         on_skin[n] = true;
                     }
                 }
                 CellState::Kept(other) if !compatible(cell_bone[c], other) => {
                     skin_quads.push(quad);
+                    skin_cells.push(c);
                 }
                 _ => {}
             }
@@ -442,6 +447,7 @@ pub fn mesh_flesh(
         node_bone,
         cell_digit: cell_bone.iter().map(|&b| region_of(b)).collect(),
         skin_quads,
+        skin_cells,
         spacing: h,
     })
 }

@@ -1,6 +1,9 @@
 //! Serde types of the scene file.
 
+use crate::hand::{Blend, Side};
+use crate::sim::FleshMethod;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// A whole scene.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -30,6 +33,22 @@ pub struct Scene {
     /// Points whose displacement is reported.
     #[serde(default)]
     pub probe: Vec<ProbeDef>,
+    /// Poses of hands at later times.
+    #[serde(default)]
+    pub keyframe: Vec<KeyframeDef>,
+}
+
+/// `[[keyframe]]`: a hand's pose at a time. Joints not named keep their previous angle.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeDef {
+    /// Time, s (keyframes in increasing time).
+    pub time: f64,
+    /// The hand body it poses (may be left out when the scene has one hand).
+    #[serde(default)]
+    pub body: Option<String>,
+    /// Joint angles in degrees by name, e.g. `{ "index.pip" = 40 }`.
+    pub pose: BTreeMap<String, f64>,
 }
 
 /// `[world]`
@@ -48,6 +67,35 @@ pub struct SolverSettings {
     /// Fill-reducing ordering for the sparse Cholesky: `"nested_dissection"` (default) or `"amd"`.
     #[serde(default)]
     pub ordering: Option<OrderingName>,
+    /// Largest joint rotation per flexion increment, degrees (default 10).
+    #[serde(default)]
+    pub max_step_deg: Option<f64>,
+    /// How hand flesh moves: `"fem"` (default) or `"skinning"`.
+    #[serde(default)]
+    pub flesh: Option<FleshMethod>,
+    /// Per-digit override of `flesh`: keys `palm`, `thumb`, `index`, `middle`, `ring`, `little`.
+    #[serde(default)]
+    pub flesh_digits: BTreeMap<String, FleshMethod>,
+    /// FEM region of a flexion increment: `"local"` (default: cells near moving joints) or
+    /// `"whole"` (the whole hand).
+    #[serde(default)]
+    pub flesh_region: Option<FleshRegionName>,
+    /// Radius of the local region around each moving joint, m (default 0.025).
+    #[serde(default)]
+    pub flesh_region_radius: Option<f64>,
+    /// Skinning blend: `"dual_quaternion"` (default) or `"linear"`.
+    #[serde(default)]
+    pub skinning: Option<Blend>,
+}
+
+/// Name of a flexion region.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FleshRegionName {
+    /// Cells near moving joints.
+    Local,
+    /// Every cell.
+    Whole,
 }
 
 /// Name of a fill-reducing ordering.
@@ -85,6 +133,13 @@ pub struct BodyDef {
     pub material: String,
     /// Its geometry.
     pub shape: Shape,
+    /// A hand's initial pose: joint angles in degrees by name (rest when absent).
+    #[serde(default)]
+    pub pose: Option<BTreeMap<String, f64>>,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 /// A body's geometry.
@@ -122,6 +177,15 @@ pub enum Shape {
         /// Cells through the wall.
         layers: usize,
     },
+    /// The built-in hand: skeleton, bones and flesh, meshed at `resolution` (1 = default: 3.2 mm
+    /// lattice, 1.6 mm on the finger-tip pads).
+    Hand {
+        /// `"right"` or `"left"`.
+        side: Side,
+        /// Mesh resolution (0.5 … 4).
+        #[serde(default = "one")]
+        resolution: f64,
+    },
     /// An explicit mesh: node coordinates and 8-node cells (VTK order; repeat nodes for prisms
     /// and tetrahedra).
     Mesh {
@@ -142,6 +206,8 @@ pub enum Selection {
     Surface(String),
     /// The node nearest a point.
     Point([f64; 3]),
+    /// The flesh nodes attached to a bone of a hand, e.g. `"index.distal"`.
+    Bone(String),
     /// Nodes inside an axis-aligned box (facets with all their nodes inside).
     Box {
         /// Lower corner.

@@ -79,7 +79,9 @@ pub struct HandState {
     pub transforms: Vec<Isometry3<f64>>,
     /// Flesh node positions, m.
     pub positions: Vec<Vector3<f64>>,
-    /// Accumulated reaction at every node (non-zero at prescribed nodes), N.
+    /// Reaction at every node (non-zero at prescribed nodes), N: the sum of the increments'
+    /// reactions, as the updated Lagrangian scheme sums their stresses (each increment's
+    /// reactions balance, so the total does).
     pub reaction: Vec<Vector3<f64>>,
 }
 
@@ -95,13 +97,14 @@ impl HandState {
         }
     }
 
-    /// Sum of the reactions on each bone's nodes (equation (8)), N.
+    /// Sum of the reactions on each bone's nodes (equation (8)), N. With a local FEM region,
+    /// the reactions at the region's edge (nodes moved by skinning) count for the bone they
+    /// follow most, so that the bones' reactions still balance.
     pub fn bone_reactions(&self, hand: &HandModel) -> Vec<Vector3<f64>> {
         let mut out = vec![Vector3::zeros(); hand.skeleton.bones.len()];
-        for (n, b) in hand.flesh.node_bone.iter().enumerate() {
-            if let Some(b) = b {
-                out[*b] += self.reaction[n];
-            }
+        for (n, r) in self.reaction.iter().enumerate() {
+            let b = hand.flesh.node_bone[n].unwrap_or(hand.weights.weights[n][0].0);
+            out[b] += r;
         }
         out
     }
@@ -160,24 +163,24 @@ struct SubProblem {
 pub struct Flexion<'a> {
     hand: &'a HandModel,
     body: String,
-    material: Material,
+    materials: Vec<Material>,
     settings: FlexionSettings,
     solver: PartitionedSolver,
 }
 
 impl<'a> Flexion<'a> {
-    /// A stepper for `hand` (called `body` in errors) with flesh `material`.
+    /// A stepper for `hand` (called `body` in errors) with the material of each flesh cell.
     pub fn new(
         hand: &'a HandModel,
         body: &str,
-        material: Material,
+        materials: Vec<Material>,
         settings: FlexionSettings,
         ordering: FillOrdering,
     ) -> Self {
         Flexion {
             hand,
             body: body.to_string(),
-            material,
+            materials,
             settings,
             solver: PartitionedSolver::new(ordering),
         }
@@ -296,13 +299,6 @@ impl<'a> Flexion<'a> {
                     next[n] = (transforms[*b] * Point3::from(flesh.mesh.nodes[n])).coords;
                 }
             }
-            // Reactions found earlier turn with the bones that carry them.
-            for (n, r) in state.reaction.iter_mut().enumerate() {
-                if *r != Vector3::zeros() {
-                    let b = hand.weights.weights[n][0].0;
-                    *r = delta[b].rotation * *r;
-                }
-            }
             stats.update_ms += ms(t_update);
 
             if let Some(sub) = &sub {
@@ -359,7 +355,7 @@ impl<'a> Flexion<'a> {
             cells: hexes,
         };
         let pattern = Arc::new(StiffnessPattern::new(&mesh));
-        let materials = vec![self.material; cells.len()];
+        let materials = cells.iter().map(|&c| self.materials[c]).collect();
         Some(SubProblem {
             nodes,
             mesh,

@@ -3,9 +3,11 @@
 
 mod flexion;
 mod model;
+mod motion;
 mod select;
 mod statics;
 
 pub use flexion::{FleshMethod, FleshRegion, Flexion, FlexionSettings, HandState, KeyframeStats};
-pub use model::{BodyModel, ConstraintModel, LoadModel, Model, ProbeModel};
-pub use statics::{solve_static, Frame, SimError};
+pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
+pub use motion::solve_frames;
+pub use statics::{solve_static, Frame, HandFrame, SimError};

@@ -1,6 +1,7 @@
 //! `Model::build`: from a scene to meshes, materials, prescribed dofs and the load vector.
 //! Everything here is fixed for a frame; the solve produces the state.
 
+use super::flexion::{FleshRegion, FlexionSettings};
 use super::select::select;
 use crate::fem::assembly::StiffnessPattern;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
@@ -8,8 +9,9 @@ use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_tractio
 use crate::fem::rigid::free_rigid_motions;
 use crate::fem::solve::FillOrdering;
 use crate::fem::{DofPartition, Material};
+use crate::hand::HandModel;
 use crate::mesh::{boundary_facets, box_mesh, shell_mesh, sphere_mesh, Facet, Mesh};
-use crate::scene::{OrderingName, Scene, SceneError, Shape};
+use crate::scene::{FleshRegionName, OrderingName, Scene, SceneError, Shape, SolverSettings};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -34,6 +36,22 @@ pub struct BodyModel {
     pub volume: f64,
     /// Mass, kg.
     pub mass: f64,
+    /// The hand, for a hand body (its flesh is this body's mesh).
+    pub hand: Option<Arc<HandModel>>,
+    /// A hand's joint angles at time 0 (its `pose`), degrees; empty for other bodies.
+    pub initial_angles: Vec<f64>,
+}
+
+/// A keyframe: the full joint angles of one hand at a time.
+#[derive(Clone, Debug)]
+pub struct KeyframeModel {
+    /// Time, s.
+    pub time: f64,
+    /// The hand body.
+    pub body: usize,
+    /// All its joint angles, degrees (joints the keyframe does not name keep their previous
+    /// angle).
+    pub angles: Vec<f64>,
 }
 
 /// A named set of prescribed dofs.
@@ -104,6 +122,10 @@ pub struct Model {
     pub pattern: Arc<StiffnessPattern>,
     /// Fill-reducing ordering.
     pub ordering: FillOrdering,
+    /// How hands move between poses.
+    pub flexion: FlexionSettings,
+    /// Keyframes in time order.
+    pub keyframes: Vec<KeyframeModel>,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -158,7 +180,35 @@ impl Model {
                 return Err(err(field, "a body of this name is defined twice".into()));
             }
             let material = find_material(&b.material, format!("{field}.material"))?;
-            let body_mesh = build_shape(&b.shape).map_err(|m| err(format!("{field}.shape"), m))?;
+            let hand = match &b.shape {
+                Shape::Hand { side, resolution } => Some(Arc::new(
+                    HandModel::new(*side, *resolution)
+                        .map_err(|e| err(format!("{field}.shape.hand"), e.to_string()))?,
+                )),
+                _ => {
+                    if b.pose.is_some() {
+                        return Err(err(
+                            format!("{field}.pose"),
+                            "only hand bodies have a pose".into(),
+                        ));
+                    }
+                    None
+                }
+            };
+            let initial_angles = match &hand {
+                Some(hand) => hand
+                    .skeleton
+                    .apply_pose(
+                        &hand.skeleton.rest_angles(),
+                        &b.pose.clone().unwrap_or_default(),
+                    )
+                    .map_err(|e| err(format!("{field}.pose"), e.to_string()))?,
+                None => Vec::new(),
+            };
+            let body_mesh = match &hand {
+                Some(h) => h.flesh.mesh.clone(),
+                None => build_shape(&b.shape).map_err(|m| err(format!("{field}.shape"), m))?,
+            };
             for (c, _) in body_mesh.cells.iter().enumerate() {
                 let rel = relative_min_jacobian(&body_mesh.cell_coords(c));
                 if rel.is_nan() || rel <= 1e-12 {
@@ -171,7 +221,16 @@ impl Model {
                     ));
                 }
             }
-            let facets = boundary_facets(&body_mesh);
+            let facets = match &hand {
+                Some(h) => h
+                    .flesh
+                    .skin_quads
+                    .iter()
+                    .zip(&h.flesh.skin_cells)
+                    .map(|(q, &cell)| Facet { nodes: *q, cell })
+                    .collect(),
+                None => boundary_facets(&body_mesh),
+            };
             let (node_offset, cell_offset) = mesh.append(&body_mesh);
             let facets = facets
                 .into_iter()
@@ -198,6 +257,8 @@ impl Model {
                 size: (hi - lo).max(),
                 volume,
                 mass: 0.0,
+                hand,
+                initial_angles,
             });
             cell_material.extend(std::iter::repeat_n(material, body_mesh.cell_count()));
             cell_body.extend(std::iter::repeat_n(i, body_mesh.cell_count()));
@@ -259,6 +320,18 @@ impl Model {
             let sel = select(&bodies[b], &mesh, &c.selection)
                 .map_err(|msg| err(format!("{field}.where"), msg))?;
             let components = c.displacement.components();
+            if bodies[b].hand.is_some()
+                && (!matches!(c.selection, crate::scene::Selection::Bone(_))
+                    || components.iter().any(|v| *v != Some(0.0)))
+            {
+                return Err(err(
+                    field,
+                    "a hand moves with its skeleton (pose and keyframes): a constraint on a hand \
+                     selects a bone (`where = { bone = \"index.distal\" }`) with `displacement = \
+                     [0, 0, 0]`, and reports that bone's reaction under its name"
+                        .into(),
+                ));
+            }
             if components.iter().all(Option::is_none) {
                 return Err(err(
                     format!("{field}.displacement"),
@@ -306,6 +379,14 @@ impl Model {
             });
         }
 
+        // A hand moves by its skeleton, solved increment by increment (sim::flexion); in the
+        // static solve of the other bodies all its nodes are held where they are.
+        for body in &bodies {
+            if body.hand.is_some() {
+                prescribed_mask[3 * body.nodes.start..3 * body.nodes.end].fill(true);
+            }
+        }
+
         // Loads.
         let mut load_vector = vec![0.0; dofs];
         let mut loads = Vec::new();
@@ -313,6 +394,12 @@ impl Model {
             let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
             let field = format!("load \"{name}\" (load[{i}])");
             let b = find_body(&l.body, format!("{field}.body"))?;
+            if bodies[b].hand.is_some() {
+                return Err(err(
+                    format!("{field}.body"),
+                    "loads on a hand are not supported: the hand is driven by its skeleton".into(),
+                ));
+            }
             let sel = select(&bodies[b], &mesh, &l.selection)
                 .map_err(|msg| err(format!("{field}.where"), msg))?;
             let kinds = [
@@ -368,19 +455,23 @@ impl Model {
             if !finite(&g) {
                 return Err(err("world.gravity".into(), "is not a finite vector".into()));
             }
-            gravity_total = add_gravity(
-                &mut load_vector,
-                &mesh,
-                &cell_materials,
-                0..mesh.cell_count(),
-                &Vector3::from(g),
-            )
-            .map_err(|e| {
-                err(
-                    "world.gravity".into(),
-                    format!("element {} is inverted", e.cell),
+            // The weight of a hand's flesh (a few newtons at most, held by its bones) is not
+            // modelled: the hand moves by its skeleton.
+            for body in bodies.iter().filter(|b| b.hand.is_none()) {
+                gravity_total += add_gravity(
+                    &mut load_vector,
+                    &mesh,
+                    &cell_materials,
+                    body.cells.clone(),
+                    &Vector3::from(g),
                 )
-            })?;
+                .map_err(|e| {
+                    err(
+                        "world.gravity".into(),
+                        format!("element {} is inverted", e.cell),
+                    )
+                })?;
+            }
         }
 
         // Probes.
@@ -442,6 +533,8 @@ impl Model {
             }
         }
 
+        let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
+        let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
         let ordering = match scene.solver.ordering {
             Some(OrderingName::Amd) => FillOrdering::Amd,
             _ => FillOrdering::NestedDissection,
@@ -470,6 +563,8 @@ impl Model {
             load_vector,
             pattern,
             ordering,
+            flexion,
+            keyframes,
         })
     }
 
@@ -480,6 +575,127 @@ impl Model {
             .position(|b| b.nodes.contains(&n))
             .unwrap_or(0)
     }
+}
+
+/// The flexion settings of `[solver]`.
+fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, String)> {
+    let mut out = FlexionSettings::default();
+    if let Some(step) = s.max_step_deg {
+        if !(step.is_finite() && step > 0.0 && step <= 45.0) {
+            return Err((
+                "solver.max_step_deg".into(),
+                format!("must be in (0, 45] degrees, got {step}"),
+            ));
+        }
+        out.max_step_deg = step;
+    }
+    if let Some(m) = s.flesh {
+        out.methods = [m; 6];
+    }
+    const PARTS: [&str; 6] = ["palm", "thumb", "index", "middle", "ring", "little"];
+    for (name, &m) in &s.flesh_digits {
+        let Some(i) = PARTS.iter().position(|p| p == name) else {
+            return Err((
+                format!("solver.flesh_digits.{name}"),
+                format!("is not a part of the hand ({})", PARTS.join(", ")),
+            ));
+        };
+        out.methods[i] = m;
+    }
+    let radius = s.flesh_region_radius.unwrap_or(0.025);
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err((
+            "solver.flesh_region_radius".into(),
+            format!("must be a positive length in metres, got {radius}"),
+        ));
+    }
+    out.region = match s.flesh_region {
+        Some(FleshRegionName::Whole) => FleshRegion::Whole,
+        _ => FleshRegion::Local { radius },
+    };
+    if let Some(b) = s.skinning {
+        out.blend = b;
+    }
+    Ok(out)
+}
+
+/// The keyframes, validated: increasing times, an existing hand, known joints within limits.
+fn keyframes(scene: &Scene, bodies: &[BodyModel]) -> Result<Vec<KeyframeModel>, (String, String)> {
+    let hands: Vec<usize> = (0..bodies.len())
+        .filter(|&b| bodies[b].hand.is_some())
+        .collect();
+    let mut angles: Vec<Vec<f64>> = bodies.iter().map(|b| b.initial_angles.clone()).collect();
+    let mut out: Vec<KeyframeModel> = Vec::new();
+    for (i, k) in scene.keyframe.iter().enumerate() {
+        let field = format!("keyframe[{i}]");
+        if !(k.time.is_finite() && k.time >= 0.0) {
+            return Err((
+                format!("{field}.time"),
+                format!("must be a time ≥ 0 s, got {}", k.time),
+            ));
+        }
+        if let Some(last) = out.last() {
+            if k.time < last.time {
+                return Err((
+                    format!("{field}.time"),
+                    format!(
+                        "{} s comes before the previous keyframe's {} s: list keyframes in time order",
+                        k.time, last.time
+                    ),
+                ));
+            }
+        }
+        let body =
+            match &k.body {
+                Some(name) => {
+                    let Some(b) = bodies.iter().position(|b| &b.name == name) else {
+                        return Err((format!("{field}.body"), format!("no body named \"{name}\"")));
+                    };
+                    if bodies[b].hand.is_none() {
+                        return Err((
+                            format!("{field}.body"),
+                            format!("body \"{name}\" is not a hand"),
+                        ));
+                    }
+                    b
+                }
+                None => match hands.as_slice() {
+                    [b] => *b,
+                    [] => return Err((
+                        field,
+                        "the scene has no hand to pose (add a body with shape = { hand = { side \
+                         = \"right\" } })"
+                            .into(),
+                    )),
+                    _ => {
+                        return Err((
+                            format!("{field}.body"),
+                            "the scene has several hands: name the one this keyframe poses".into(),
+                        ))
+                    }
+                },
+            };
+        if out
+            .last()
+            .is_some_and(|l| l.time == k.time && l.body == body)
+        {
+            return Err((
+                format!("{field}.time"),
+                format!("a keyframe at {} s already poses this hand", k.time),
+            ));
+        }
+        let hand = bodies[body].hand.as_ref().unwrap();
+        angles[body] = hand
+            .skeleton
+            .apply_pose(&angles[body], &k.pose)
+            .map_err(|e| (format!("{field}.pose"), e.to_string()))?;
+        out.push(KeyframeModel {
+            time: k.time,
+            body,
+            angles: angles[body].clone(),
+        });
+    }
+    Ok(out)
 }
 
 fn list(names: &[&str]) -> String {
@@ -494,6 +710,7 @@ fn list(names: &[&str]) -> String {
 fn build_shape(shape: &Shape) -> Result<Mesh, String> {
     const MAX_CELLS: usize = 5_000_000;
     match shape {
+        Shape::Hand { .. } => Err("a hand is built by the hand module".into()),
         Shape::Mesh { nodes, cells } => {
             if nodes.is_empty() || cells.is_empty() {
                 return Err("mesh needs at least one node and one cell".into());

@@ -131,6 +131,28 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                 facets: Vec::new(),
             }
         }
+        Selection::Bone(name) => {
+            let Some(hand) = &body.hand else {
+                return Err(format!(
+                    "bone = \"{name}\" applies to hand bodies only; body \"{}\" is not a hand",
+                    body.name
+                ));
+            };
+            let Some(b) = hand.skeleton.bone_index(name) else {
+                return Err(format!(
+                    "there is no bone \"{name}\"; the bones are: {}",
+                    hand.skeleton.bone_names()
+                ));
+            };
+            Selected {
+                nodes: hand
+                    .bone_nodes(b)
+                    .into_iter()
+                    .map(|n| n + body.nodes.start)
+                    .collect(),
+                facets: Vec::new(),
+            }
+        }
         Selection::Box { min, max } => {
             let tol = 1e-9 * body.size;
             let (lo, hi) = (Vector3::from(*min), Vector3::from(*max));

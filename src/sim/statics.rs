@@ -42,6 +42,27 @@ pub struct Frame {
     pub assembly_ms: f64,
     /// Time spent on stresses, ms.
     pub stress_ms: f64,
+    /// The hands' state (empty without hands).
+    pub hands: Vec<HandFrame>,
+}
+
+/// A hand in a frame.
+#[derive(Clone, Debug)]
+pub struct HandFrame {
+    /// The body.
+    pub body: usize,
+    /// Joint angles, degrees.
+    pub angles: Vec<f64>,
+    /// Flesh node positions, m.
+    pub positions: Vec<nalgebra::Vector3<f64>>,
+    /// Reaction of every bone (sum of R_u over its nodes, equation (8)), N.
+    pub bone_reactions: Vec<nalgebra::Vector3<f64>>,
+    /// Accumulated reaction at every flesh node, N.
+    pub reaction: Vec<nalgebra::Vector3<f64>>,
+    /// Flesh volume, m³.
+    pub volume: f64,
+    /// What reaching this frame's pose cost.
+    pub stats: super::flexion::KeyframeStats,
 }
 
 /// Solves the static equilibrium of the model (equation (5) partitioned as (6)–(8)).
@@ -89,5 +110,6 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
         stress,
         assembly_ms,
         stress_ms,
+        hands: Vec::new(),
     })
 }

@@ -1,0 +1,147 @@
+//! A posed hand's geometry for other tools: the display skin and the bones as a Wavefront OBJ
+//! (Blender, one object per surface), and the bones as a VTU of triangles (ParaView, beside the
+//! flesh VTU).
+
+use crate::hand::{bone_surface, HandModel, TriangleSurface};
+use crate::sim::{Frame, HandFrame, Model};
+use nalgebra::{Point3, Vector3};
+use std::fmt::Write;
+
+/// VTK cell type of a triangle.
+const VTK_TRIANGLE: u8 = 5;
+
+/// The surfaces of every bone of a hand in the frame's pose, with the bone index.
+pub fn posed_bones(hand: &HandModel, h: &HandFrame) -> Vec<(usize, TriangleSurface)> {
+    let transforms = hand.skeleton.transforms(&h.angles);
+    hand.skeleton
+        .bones
+        .iter()
+        .enumerate()
+        .map(|(b, bone)| {
+            let (pos, tri) = bone_surface(bone);
+            let pos = pos
+                .iter()
+                .map(|p| (transforms[b] * Point3::from(*p)).coords)
+                .collect();
+            (b, (pos, tri))
+        })
+        .collect()
+}
+
+/// The display skin's vertex positions in the frame.
+pub fn skin_positions(hand: &HandModel, h: &HandFrame) -> Vec<Vector3<f64>> {
+    hand.skin.positions(&h.positions)
+}
+
+/// An OBJ holding, for every hand of the frame, its skin (quads) and its bones (triangles); `None`
+/// without hands.
+pub fn frame_obj(model: &Model, frame: &Frame) -> Option<String> {
+    if frame.hands.is_empty() {
+        return None;
+    }
+    let mut s = String::from("# Prehensile: posed hand skin and bones, metres\n");
+    let mut base = 1usize;
+    for h in &frame.hands {
+        let body = &model.bodies[h.body];
+        let hand = body.hand.as_deref()?;
+        let _ = writeln!(s, "o {}_skin", body.name);
+        let skin = skin_positions(hand, h);
+        for p in &skin {
+            let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
+        }
+        for q in &hand.skin.quads {
+            let _ = writeln!(
+                s,
+                "f {} {} {} {}",
+                q[0] as usize + base,
+                q[1] as usize + base,
+                q[2] as usize + base,
+                q[3] as usize + base
+            );
+        }
+        base += skin.len();
+        for (b, (pos, tri)) in posed_bones(hand, h) {
+            let _ = writeln!(s, "o {}_{}", body.name, hand.skeleton.bones[b].name);
+            for p in &pos {
+                let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
+            }
+            for t in &tri {
+                let _ = writeln!(
+                    s,
+                    "f {} {} {}",
+                    t[0] as usize + base,
+                    t[1] as usize + base,
+                    t[2] as usize + base
+                );
+            }
+            base += pos.len();
+        }
+    }
+    Some(s)
+}
+
+/// A VTU of the bones of every hand of the frame (triangles, in their posed position) with the
+/// cell data `bone_id` and `reaction` (the bone's reaction force, N); `None` without hands.
+pub fn bones_vtu(model: &Model, frame: &Frame) -> Option<String> {
+    if frame.hands.is_empty() {
+        return None;
+    }
+    let mut points = Vec::new();
+    let mut triangles = Vec::new();
+    let mut ids = Vec::new();
+    let mut reactions = Vec::new();
+    for h in &frame.hands {
+        let hand = model.bodies[h.body].hand.as_deref()?;
+        for (b, (pos, tri)) in posed_bones(hand, h) {
+            let base = points.len() as u32;
+            points.extend(pos);
+            for t in tri {
+                triangles.push(t.map(|i| i + base));
+                ids.push(b);
+                reactions.push(h.bone_reactions[b]);
+            }
+        }
+    }
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece \
+         NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        triangles.len()
+    );
+    s.push_str(
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+    );
+    for p in &points {
+        let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
+    }
+    s.push_str("</DataArray>\n</Points>\n<Cells>\n");
+    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    for t in &triangles {
+        let _ = writeln!(s, "{} {} {}", t[0], t[1], t[2]);
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    for i in 1..=triangles.len() {
+        let _ = write!(s, "{} ", 3 * i);
+    }
+    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for _ in &triangles {
+        let _ = write!(s, "{VTK_TRIANGLE} ");
+    }
+    s.push_str("\n</DataArray>\n</Cells>\n<CellData Scalars=\"bone_id\" Vectors=\"reaction\">\n");
+    s.push_str("<DataArray type=\"Int32\" Name=\"bone_id\" format=\"ascii\">\n");
+    for b in &ids {
+        let _ = write!(s, "{b} ");
+    }
+    s.push_str(
+        "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"reaction\" NumberOfComponents=\"3\" \
+         format=\"ascii\">\n",
+    );
+    for r in &reactions {
+        let _ = writeln!(s, "{} {} {}", r.x, r.y, r.z);
+    }
+    s.push_str("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    Some(s)
+}

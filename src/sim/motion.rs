@@ -1,0 +1,140 @@
+//! The timeline of a scene: the static frame of the other bodies, and every hand carried from
+//! rest to its initial pose and then through its keyframes by incremental flexion. One frame
+//! per distinct time (time 0 first).
+
+use super::flexion::{Flexion, HandState};
+use super::model::Model;
+use super::statics::{solve_static, Frame, HandFrame, SimError};
+use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
+use crate::fem::stress::{stress_field_with, StressField};
+use nalgebra::Matrix3;
+
+/// Solves every frame of the model.
+pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
+    let still = if model.partition.free_count() == 0 {
+        still_frame(model)
+    } else {
+        solve_static(model, &mut PartitionedSolver::new(model.ordering))?
+    };
+    let hands: Vec<usize> = (0..model.bodies.len())
+        .filter(|&b| model.bodies[b].hand.is_some())
+        .collect();
+    if hands.is_empty() {
+        return Ok((vec![0.0], vec![still]));
+    }
+    let mut steppers = Vec::new();
+    let mut states = Vec::new();
+    let mut frames = Vec::new();
+    let mut hand_frames = Vec::new();
+    for &b in &hands {
+        let body = &model.bodies[b];
+        let hand = body.hand.as_deref().unwrap();
+        let materials = model.cell_materials[body.cells.clone()].to_vec();
+        let mut stepper = Flexion::new(
+            hand,
+            &body.name,
+            materials,
+            model.flexion.clone(),
+            model.ordering,
+        );
+        let mut state = HandState::rest(hand);
+        let stats = stepper.move_to(&mut state, &body.initial_angles)?;
+        hand_frames.push(hand_frame(model, b, &state, stats));
+        steppers.push(stepper);
+        states.push(state);
+    }
+    let mut times = vec![0.0];
+    frames.push(compose(model, &still, hand_frames.clone())?);
+    let mut k = 0;
+    while k < model.keyframes.len() {
+        let time = model.keyframes[k].time;
+        let mut current = hand_frames.clone();
+        while k < model.keyframes.len() && model.keyframes[k].time == time {
+            let key = &model.keyframes[k];
+            let h = hands.iter().position(|&b| b == key.body).unwrap();
+            let stats = steppers[h].move_to(&mut states[h], &key.angles)?;
+            current[h] = hand_frame(model, key.body, &states[h], stats);
+            k += 1;
+        }
+        if time == 0.0 {
+            frames[0] = compose(model, &still, current.clone())?;
+        } else {
+            times.push(time);
+            frames.push(compose(model, &still, current.clone())?);
+        }
+        hand_frames = current;
+    }
+    Ok((times, frames))
+}
+
+/// The frame of a model with nothing free (only hands): every displacement and reaction zero.
+fn still_frame(model: &Model) -> Frame {
+    let dofs = 3 * model.mesh.node_count();
+    Frame {
+        solution: Solution {
+            displacement: vec![0.0; dofs],
+            reaction: vec![0.0; dofs],
+            stats: SolveStats {
+                prescribed_dofs: model.partition.prescribed_count(),
+                ..Default::default()
+            },
+        },
+        stress: StressField {
+            gauss: vec![[Matrix3::zeros(); 8]; model.mesh.cell_count()],
+            nodal: vec![Matrix3::zeros(); model.mesh.node_count()],
+            cell_von_mises: vec![0.0; model.mesh.cell_count()],
+        },
+        assembly_ms: 0.0,
+        stress_ms: 0.0,
+        hands: Vec::new(),
+    }
+}
+
+fn hand_frame(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    stats: super::flexion::KeyframeStats,
+) -> HandFrame {
+    let hand = model.bodies[body].hand.as_deref().unwrap();
+    HandFrame {
+        body,
+        angles: state.angles.clone(),
+        positions: state.positions.clone(),
+        bone_reactions: state.bone_reactions(hand),
+        reaction: state.reaction.clone(),
+        volume: state.flesh_volume(hand),
+        stats,
+    }
+}
+
+/// The static frame with the hands' displacements, reactions and (rotation-free) stresses.
+fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Frame, SimError> {
+    let mut frame = still.clone();
+    for h in &hands {
+        let body = &model.bodies[h.body];
+        for (i, p) in h.positions.iter().enumerate() {
+            let n = body.nodes.start + i;
+            let u = p - model.mesh.nodes[n];
+            frame.solution.displacement[3 * n..3 * n + 3].copy_from_slice(u.as_slice());
+            frame.solution.reaction[3 * n..3 * n + 3].copy_from_slice(h.reaction[i].as_slice());
+        }
+    }
+    let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
+    frame.stress = stress_field_with(
+        &model.mesh,
+        &model.cell_materials,
+        &frame.solution.displacement,
+        &hand_cell,
+    )
+    .map_err(|(c, e)| {
+        let b = model.cell_body[c];
+        SimError::InvertedElement {
+            body: model.bodies[b].name.clone(),
+            element: c - model.bodies[b].cells.start,
+            relative_det: e.relative_det,
+        }
+    })?;
+    frame.hands = hands;
+    Ok(frame)
+}
