@@ -113,8 +113,8 @@ pub struct PalmDims {
 pub const PALM: PalmDims = PalmDims {
     wrist_x: -0.004,
     half_width: [0.030, 0.042],
-    dorsal: 0.0085,
-    palmar: 0.0125,
+    dorsal: 0.0105,
+    palmar: 0.0160,
     rounding: 0.007,
 };
 

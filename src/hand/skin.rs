@@ -12,7 +12,7 @@ pub struct DisplaySkin {
     /// Start of each vertex's weights in `nodes`/`weights` (CSR), one more than vertices.
     offsets: Vec<u32>,
     nodes: Vec<u32>,
-    weights: Vec<f32>,
+    weights: Vec<f64>,
     /// Quads (outward normals), display vertex indices.
     pub quads: Vec<[u32; 4]>,
 }
@@ -155,7 +155,7 @@ impl DisplaySkin {
         for row in &rows {
             for &(n, w) in row {
                 skin.nodes.push(n as u32);
-                skin.weights.push(w as f32);
+                skin.weights.push(w);
             }
             skin.offsets.push(skin.nodes.len() as u32);
         }
@@ -175,7 +175,7 @@ impl DisplaySkin {
                 let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
                 let mut p = Vector3::zeros();
                 for i in a..b {
-                    p += nodes[self.nodes[i] as usize] * self.weights[i] as f64;
+                    p += nodes[self.nodes[i] as usize] * self.weights[i];
                 }
                 p
             })
