@@ -4,6 +4,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use prehensile::bench::{solver_rows, solver_table};
+use prehensile::bench_hand::{hand_rows, hand_tables};
 use prehensile::fem::solve::FillOrdering;
 use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
 use prehensile::scene::{Scene, DEFAULT_SCENE};
@@ -54,6 +55,16 @@ enum BenchCommand {
         /// Assembly repetitions (the best time is kept).
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+    },
+    /// Index finger flexed 0° → 90° at the PIP in 10° increments: FEM (local and whole-hand
+    /// regions) and skinning, per mesh resolution.
+    Hand {
+        /// Mesh resolutions, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "0.75,1,1.5,2")]
+        resolutions: Vec<f64>,
+        /// Skip the whole-hand FEM region above this resolution.
+        #[arg(long, default_value_t = 1.5)]
+        whole_limit: f64,
     },
 }
 
@@ -109,6 +120,16 @@ fn run() -> Result<()> {
                 let rows = solver_rows(&sizes, ordering, repeats);
                 print!("{}", solver_table(&rows));
             }
+            BenchCommand::Hand {
+                resolutions,
+                whole_limit,
+            } => {
+                println!(
+                    "hand benchmark: index PIP 0° → 90° in 10° increments; {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
+            }
         },
     }
     Ok(())
@@ -146,6 +167,25 @@ fn print_summary(solved: &Solved) {
             println!(
                 "  constraint {name}: reaction [{:.4e}, {:.4e}, {:.4e}] N over {} dofs",
                 c.reaction[0], c.reaction[1], c.reaction[2], c.dofs
+            );
+        }
+        for (name, h) in &f.hands {
+            let m = &h.motion;
+            let (bone, largest) = h
+                .bones
+                .iter()
+                .map(|(n, b)| (n.as_str(), b.magnitude))
+                .fold(("-", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            println!(
+                "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs), \
+                 {:.0} ms; flesh volume change {:+.3} %; largest bone reaction {largest:.3} N \
+                 ({bone})",
+                m.increments,
+                m.factorizations,
+                m.fem_cells,
+                m.free_dofs,
+                m.total_ms,
+                h.volume_change * 100.0
             );
         }
         for (name, p) in &f.probes {

@@ -64,9 +64,15 @@ fn the_finger_flexion_scene_reports_every_keyframe_and_exports_the_hand() {
         let c = f.constraints["index middle phalanx"].reaction;
         assert!(c.iter().map(|x| x * x).sum::<f64>().sqrt() > 0.1 * largest);
     }
-    // The DIP keyframe loads the distal phalanx, which had nothing before.
-    assert!(solved.report.frames[2].hands["hand"].bones["index.distal"].magnitude < 1e-9);
-    assert!(solved.report.frames[3].hands["hand"].bones["index.distal"].magnitude > 0.1);
+    // Flexing the DIP loads the distal phalanx more (before, it only held the flesh at the edge
+    // of the PIP's FEM region).
+    let distal = |k: usize| solved.report.frames[k].hands["hand"].bones["index.distal"].magnitude;
+    assert!(
+        distal(3) > 1.3 * distal(2),
+        "{} then {}",
+        distal(2),
+        distal(3)
+    );
 
     let dir = std::env::temp_dir().join(format!("prehensile-hand-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -89,10 +89,10 @@ pub const THUMB: ThumbDims = ThumbDims {
 };
 
 /// Condyle (joint head) radius relative to the shaft radius.
-pub const CONDYLE_RATIO: f64 = 1.55;
+pub const CONDYLE_RATIO: f64 = 1.3;
 
 /// Half the joint space between two bones (articular cartilage), m.
-pub const JOINT_GAP: f64 = 0.0009;
+pub const JOINT_GAP: f64 = 0.0006;
 
 /// The palm's skin: a rounded slab from the wrist (x = `wrist_x`) to just past the knuckles,
 /// thicker on the palmar side.

@@ -2,7 +2,7 @@
 //! revolution following their radius profile (shaft and condyles), the carpus as a rounded block.
 
 use super::anatomy::JOINT_GAP;
-use super::skeleton::{long_bone_radius, Bone, BoneShape};
+use super::skeleton::{cup_radius, long_bone_radius, Bone, BoneShape};
 use nalgebra::Vector3;
 
 /// A triangle surface: positions and triangles.
@@ -28,20 +28,35 @@ pub fn bone_surface(bone: &Bone) -> TriangleSurface {
             let v = dir.cross(&u);
             let r0 = long_bone_radius(0.0, shaft, distal);
             let r1 = long_bone_radius(1.0, shaft, distal);
-            let a = bone.start + dir * (JOINT_GAP + r0);
-            let l = len - 2.0 * JOINT_GAP - r0 - r1;
-            // Profile: (position along the axis from `a`, radius), caps as quarter circles.
             let mut profile = Vec::new();
             let cap = 6;
-            for i in 0..=cap {
-                let phi = std::f64::consts::FRAC_PI_2 * (1.0 - i as f64 / cap as f64);
-                profile.push((-r0 * phi.sin(), r0 * phi.cos()));
-            }
-            for i in 1..RINGS {
-                let s = l * i as f64 / RINGS as f64;
-                let along = (s + r0) / len;
-                profile.push((s, long_bone_radius(along, shaft, distal)));
-            }
+            let (a, l) = if let Some((c, inner)) = bone.cup {
+                // Cupped base: a ring around the parent's head, narrowing into the shaft.
+                let base = cup_radius(inner, shaft);
+                let b = bone.end - dir * (JOINT_GAP + r1);
+                let l = (b - c).norm();
+                profile.push((inner * 0.55, inner * 0.83));
+                for i in 0..RINGS {
+                    let s = inner * 0.6 + (l - inner * 0.6) * i as f64 / RINGS as f64;
+                    let t = s / l;
+                    let r = long_bone_radius(s / len, shaft, distal).max(base * (1.0 - t / 0.35));
+                    profile.push((s, r));
+                }
+                (c, l)
+            } else {
+                let a = bone.start + dir * (JOINT_GAP + r0);
+                // Profile: (position along the axis from `a`, radius), caps as quarter circles.
+                for i in 0..=cap {
+                    let phi = std::f64::consts::FRAC_PI_2 * (1.0 - i as f64 / cap as f64);
+                    profile.push((-r0 * phi.sin(), r0 * phi.cos()));
+                }
+                let l = len - 2.0 * JOINT_GAP - r0 - r1;
+                for i in 1..RINGS {
+                    let s = l * i as f64 / RINGS as f64;
+                    profile.push((s, long_bone_radius((s + r0) / len, shaft, distal)));
+                }
+                (a, l)
+            };
             for i in 0..=cap {
                 let phi = std::f64::consts::FRAC_PI_2 * i as f64 / cap as f64;
                 profile.push((l + r1 * phi.sin(), r1 * phi.cos()));

@@ -276,6 +276,35 @@ pub fn mesh_flesh(
             }
         }
     }
+    let group: Vec<usize> = {
+        let mut group: Vec<usize> = (0..skeleton.bones.len()).collect();
+        for (b, bone) in skeleton.bones.iter().enumerate() {
+            if let Some(p) = bone.parent {
+                if !skeleton.dofs.iter().any(|d| d.bone == b) {
+                    group[b] = group[p];
+                }
+            }
+        }
+        group
+    };
+    // Nodes in a joint space (within half a cell of two bones that move relative to each other)
+    // follow the nearer bone; the cells between them are then left out below.
+    for (n, p) in nodes.iter().enumerate() {
+        if node_bone[n].is_some() {
+            continue;
+        }
+        let mut near: Vec<(f64, usize)> = skeleton
+            .bones
+            .iter()
+            .enumerate()
+            .map(|(b, bone)| (bone.distance(p), b))
+            .filter(|(d, _)| *d < 0.5 * h)
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if near.len() >= 2 && near.iter().any(|(_, b)| group[*b] != group[near[0].1]) {
+            node_bone[n] = Some(near[0].1);
+        }
+    }
     // Fallback for thin bones on coarse lattices: the node nearest to points along the axis.
     for (b, bone) in skeleton.bones.iter().enumerate() {
         if node_bone.contains(&Some(b)) {
@@ -307,17 +336,6 @@ pub fn mesh_flesh(
     // The joint spaces: a cell holding nodes of two bones that can move relative to each other
     // would be sheared across the joint as it flexes; articular surfaces slide instead. Such
     // cells are left out.
-    let group: Vec<usize> = {
-        let mut group: Vec<usize> = (0..skeleton.bones.len()).collect();
-        for (b, bone) in skeleton.bones.iter().enumerate() {
-            if let Some(p) = bone.parent {
-                if !skeleton.dofs.iter().any(|d| d.bone == b) {
-                    group[b] = group[p];
-                }
-            }
-        }
-        group
-    };
     let mut keep = vec![true; cells.len()];
     for (c, cell) in cells.iter().enumerate() {
         let mut groups = cell.iter().filter_map(|&n| node_bone[n].map(|b| group[b]));
@@ -412,6 +430,43 @@ pub fn mesh_flesh(
             nodes[n] = rest[n] + (p - rest[n]) * scale[n];
         }
     }
+
+    // Islands of flesh that lost their hold on the bones (a few cells cut off by the joint
+    // spaces) would float: they are left out.
+    let held = {
+        let mesh = Mesh {
+            nodes: nodes.clone(),
+            cells: cells.clone(),
+        };
+        let (piece, pieces) = mesh.connected_pieces();
+        let mut attached = vec![0usize; pieces];
+        for (n, b) in node_bone.iter().enumerate() {
+            if b.is_some() {
+                attached[piece[n]] += 1;
+            }
+        }
+        let held: Vec<bool> = cells.iter().map(|c| attached[piece[c[0]]] >= 4).collect();
+        held
+    };
+    let mut kept = 0;
+    let mut quad_kept = Vec::new();
+    let mut new_cell = vec![usize::MAX; cells.len()];
+    for c in 0..cells.len() {
+        if held[c] {
+            new_cell[c] = kept;
+            cells[kept] = cells[c];
+            cell_bone[kept] = cell_bone[c];
+            kept += 1;
+        }
+    }
+    cells.truncate(kept);
+    cell_bone.truncate(kept);
+    for (q, &c) in skin_quads.iter().zip(&skin_cells) {
+        if new_cell[c] != usize::MAX {
+            quad_kept.push((*q, new_cell[c]));
+        }
+    }
+    let (mut skin_quads, skin_cells): (Vec<[usize; 4]>, Vec<usize>) = quad_kept.into_iter().unzip();
 
     // Drop the nodes no cell uses any more.
     let mut new_index = vec![usize::MAX; nodes.len()];

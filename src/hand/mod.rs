@@ -14,6 +14,8 @@ pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
 pub use model::{HandModel, SKIN_LEVELS};
 pub use shape::SkinShape;
-pub use skeleton::{long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton};
+pub use skeleton::{
+    cup_radius, long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton,
+};
 pub use skin::DisplaySkin;
 pub use skinning::{Blend, SkinningWeights};

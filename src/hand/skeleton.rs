@@ -49,6 +49,9 @@ pub struct Bone {
     pub end: Vector3<f64>,
     /// Shape.
     pub shape: BoneShape,
+    /// For a bone hinged on a long bone: the centre of the parent's head (the hinge) and the
+    /// radius of the articular cup the base of this bone forms around that head.
+    pub cup: Option<(Vector3<f64>, f64)>,
 }
 
 impl Bone {
@@ -62,11 +65,31 @@ impl Bone {
                 q.sup(&Vector3::zeros()).norm() + q.max().min(0.0) - r
             }
             BoneShape::Long { shaft, distal } => {
-                // The rounded ends stop at the joint spaces: the segment is inset by the end
-                // radii, so neighbouring bones never overlap.
                 let axis = self.end - self.start;
                 let len = axis.norm();
                 let dir = axis / len;
+                if let Some((c, inner)) = self.cup {
+                    // A base cupped around the parent's head: a round cone from the hinge to
+                    // the distal end, less the head (and joint space), on the distal side.
+                    let r1 = long_bone_radius(1.0, shaft, distal);
+                    let base = cup_radius(inner, shaft);
+                    let b = self.end - dir * (JOINT_GAP + r1);
+                    let l = (b - c).norm();
+                    let s = (p - c).dot(&dir);
+                    let t = (s / l).clamp(0.0, 1.0);
+                    let along = (s / len).clamp(0.0, 1.0);
+                    let r = if t <= 0.0 {
+                        base
+                    } else if t >= 1.0 {
+                        r1
+                    } else {
+                        long_bone_radius(along, shaft, distal).max(base * (1.0 - t / 0.35))
+                    };
+                    let cone = (p - (c + dir * (t * l))).norm() - r;
+                    return cone.max(-s).max(inner - (p - c).norm());
+                }
+                // The rounded ends stop at the joint spaces: the segment is inset by the end
+                // radii, so neighbouring bones never overlap.
                 let r0 = long_bone_radius(0.0, shaft, distal);
                 let r1 = long_bone_radius(1.0, shaft, distal);
                 let a = self.start + dir * (JOINT_GAP + r0);
@@ -91,6 +114,12 @@ impl Bone {
     pub fn length(&self) -> f64 {
         (self.end - self.start).norm()
     }
+}
+
+/// Outer radius of a bone's base cupped around a head of radius `inner` (the cup's inner
+/// radius), m: a shell of cortical bone about 0.5 mm thick, never narrower than the condyles.
+pub fn cup_radius(inner: f64, shaft: f64) -> f64 {
+    (inner + 0.0005).max(shaft * CONDYLE_RATIO)
 }
 
 /// Radius of a long bone at the fraction `t` of its length: condyles of [`CONDYLE_RATIO`] × the
@@ -165,7 +194,7 @@ pub struct Skeleton {
 impl Skeleton {
     /// The built-in adult hand skeleton.
     pub fn new(side: Side) -> Skeleton {
-        let mut bones = Vec::new();
+        let mut bones: Vec<Bone> = Vec::new();
         let mut dofs = Vec::new();
         let z = Vector3::z();
         let (c, h) = CARPUS;
@@ -176,6 +205,7 @@ impl Skeleton {
             start: Vector3::new(c[0] - h[0], c[1], c[2]),
             end: Vector3::new(c[0] + h[0], c[1], c[2]),
             shape: BoneShape::Block { half: h },
+            cup: None,
         });
         let add_dof = |dofs: &mut Vec<JointDof>, name: String, bone, center, axis, limits| {
             dofs.push(JointDof {
@@ -209,6 +239,7 @@ impl Skeleton {
                     shaft: THUMB.shaft[k],
                     distal: k == 2,
                 },
+                cup: None,
             });
             match k {
                 0 => {
@@ -266,6 +297,7 @@ impl Skeleton {
                     shaft: finger.shaft[0] * 1.05,
                     distal: false,
                 },
+                cup: None,
             });
             let dir = Vector3::x();
             let lateral = z.cross(&dir);
@@ -288,6 +320,7 @@ impl Skeleton {
                         shaft: finger.shaft[k],
                         distal: k == 2,
                     },
+                    cup: None,
                 });
                 let prefix = finger.name;
                 match k {
@@ -331,12 +364,15 @@ impl Skeleton {
         }
         // Joints turn about the centre of the proximal bone's head (its condyle), as real
         // hinges do, so that the joint space keeps its width as the joint flexes.
+        // The child's base is cupped around that head, a joint space apart.
         for dof in &mut dofs {
             let parent = &bones[bones[dof.bone].parent.unwrap_or(0)];
             if let BoneShape::Long { shaft, distal } = parent.shape {
                 let dir = (parent.end - parent.start).normalize();
                 let head = long_bone_radius(1.0, shaft, distal);
                 dof.center = parent.end - dir * (JOINT_GAP + head);
+                let cup = (dof.center, head + 2.0 * JOINT_GAP);
+                bones[dof.bone].cup = Some(cup);
             }
         }
         let mut skeleton = Skeleton { side, bones, dofs };
@@ -353,6 +389,7 @@ impl Skeleton {
         for bone in &mut self.bones {
             bone.start = m(bone.start);
             bone.end = m(bone.end);
+            bone.cup = bone.cup.map(|(c, r)| (m(c), r));
         }
         for dof in &mut self.dofs {
             dof.center = m(dof.center);

@@ -123,8 +123,12 @@ impl HandState {
 /// What one keyframe cost.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct KeyframeStats {
-    /// Increments taken.
+    /// Increments planned (the joint motion over `max_step_deg`).
     pub increments: usize,
+    /// Increments taken (more when steps were halved).
+    pub increments_taken: usize,
+    /// Times a step was halved because a cell would have turned inside out.
+    pub halvings: usize,
     /// Cells solved by FEM.
     pub fem_cells: usize,
     /// Free dofs of the FEM problem.
@@ -214,6 +218,7 @@ impl<'a> Flexion<'a> {
             .ceil()
             .max(1.0) as usize;
         stats.increments = steps;
+        const MAX_HALVINGS: usize = 4;
 
         // Cells solved by FEM, chosen at the start of the keyframe.
         let centers: Vec<Vector3<f64>> = skeleton
@@ -265,8 +270,13 @@ impl<'a> Flexion<'a> {
             .filter(|&n| !owned_by_skinning[n] && flesh.node_bone[n].is_none())
             .collect();
 
-        for step in 1..=steps {
-            let f = step as f64 / steps as f64;
+        // March from 0 to 1 in fractions of the keyframe; an increment that would turn a cell
+        // inside out is retried with half the step, up to MAX_HALVINGS times.
+        let mut done = 0.0f64;
+        let mut df = 1.0 / steps as f64;
+        let mut halvings = 0;
+        while done < 1.0 - 1e-12 {
+            let f = (done + df).min(1.0);
             let angles: Vec<f64> = start
                 .iter()
                 .zip(target)
@@ -302,11 +312,43 @@ impl<'a> Flexion<'a> {
             stats.update_ms += ms(t_update);
 
             if let Some(sub) = &sub {
-                self.solve_increment(sub, state, &mut next, &mut stats)?;
+                match self.solve_increment(sub, state, &mut next, &mut stats)? {
+                    None => {}
+                    Some(_) if halvings < MAX_HALVINGS => {
+                        halvings += 1;
+                        df *= 0.5;
+                        stats.halvings += 1;
+                        continue;
+                    }
+                    Some((cell, _)) => {
+                        let worst = skeleton
+                            .dofs
+                            .iter()
+                            .enumerate()
+                            .max_by(|a, b| {
+                                (target[a.0] - start[a.0])
+                                    .abs()
+                                    .total_cmp(&(target[b.0] - start[b.0]).abs())
+                            })
+                            .map(|(i, d)| (d.name.clone(), angles[i]))
+                            .unwrap_or_default();
+                        let c = flesh.mesh.cells[cell];
+                        let at = c.iter().map(|&n| flesh.mesh.nodes[n]).sum::<Vector3<f64>>() / 8.0;
+                        return Err(SimError::FleshCrushed {
+                            body: self.body.clone(),
+                            element: cell,
+                            rest_position_mm: [at.x * 1e3, at.y * 1e3, at.z * 1e3],
+                            joint: worst.0,
+                            angle: worst.1,
+                        });
+                    }
+                }
             }
+            stats.increments_taken += 1;
             state.positions = next;
             state.transforms = transforms;
             state.angles = angles;
+            done = f;
         }
         state.angles = target.to_vec();
         stats.total_ms = ms(t_all);
@@ -373,7 +415,7 @@ impl<'a> Flexion<'a> {
         state: &mut HandState,
         next: &mut [Vector3<f64>],
         stats: &mut KeyframeStats,
-    ) -> Result<(), SimError> {
+    ) -> Result<Option<(usize, f64)>, SimError> {
         let inverted = |cell: usize, relative_det: f64| SimError::InvertedElement {
             body: self.body.clone(),
             element: cell,
@@ -410,7 +452,20 @@ impl<'a> Flexion<'a> {
         stats.factorizations += 1;
         stats.relative_residual = stats.relative_residual.max(s.relative_residual);
         for (i, &n) in sub.nodes.iter().enumerate() {
-            let u = solution.node_displacement(i);
+            if !sub.partition.prescribed[3 * i] {
+                mesh.nodes[i] = state.positions[n] + solution.node_displacement(i);
+            } else {
+                mesh.nodes[i] = next[n];
+            }
+        }
+        // No cell may turn inside out: report it, and leave the state untouched.
+        for (local, cell) in mesh.cells.iter().enumerate() {
+            let q = relative_min_jacobian(&cell.map(|n| mesh.nodes[n]));
+            if q <= 0.0 {
+                return Ok(Some((sub.cells[local], q)));
+            }
+        }
+        for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {
                 state.reaction[n] += Vector3::new(
                     solution.reaction[3 * i],
@@ -418,18 +473,10 @@ impl<'a> Flexion<'a> {
                     solution.reaction[3 * i + 2],
                 );
             } else {
-                next[n] = state.positions[n] + u;
-            }
-            mesh.nodes[i] = next[n];
-        }
-        // No cell may turn inside out.
-        for (local, cell) in mesh.cells.iter().enumerate() {
-            let q = relative_min_jacobian(&cell.map(|n| mesh.nodes[n]));
-            if q <= 0.0 {
-                return Err(inverted(sub.cells[local], q));
+                next[n] = mesh.nodes[i];
             }
         }
-        Ok(())
+        Ok(None)
     }
 }
 

@@ -21,6 +21,26 @@ pub enum SimError {
         /// Its smallest relative Jacobian.
         relative_det: f64,
     },
+    /// A flexion increment would turn a flesh element inside out even after halving the step.
+    #[error(
+        "body \"{body}\": flesh element {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) would turn \
+         inside out as {joint} reaches {angle:.1}°, even with the increment halved four times: \
+         the flesh is crushed in a crease of the joint; use a coarser mesh resolution or a \
+         smaller joint angle",
+        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2]
+    )]
+    FleshCrushed {
+        /// The hand body.
+        body: String,
+        /// The element, numbered within the hand.
+        element: usize,
+        /// Its centre in the rest pose, mm.
+        rest_position_mm: [f64; 3],
+        /// The joint moving most.
+        joint: String,
+        /// Its angle at the failing increment, degrees.
+        angle: f64,
+    },
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
