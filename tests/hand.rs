@@ -308,3 +308,50 @@ fn the_display_skin_is_an_affine_combination_of_nodes() {
         }
     }
 }
+
+#[test]
+fn skinning_can_be_chosen_per_digit() {
+    let hand = hand();
+    let mut methods = [FleshMethod::Fem; 6];
+    methods[5] = FleshMethod::Skinning; // little finger
+    let target = [("index.pip", 60.0), ("little.pip", 60.0)];
+    let mixed = flex(
+        &target,
+        FlexionSettings {
+            methods,
+            ..Default::default()
+        },
+    );
+    let skinned = flex(
+        &target,
+        FlexionSettings {
+            methods: [FleshMethod::Skinning; 6],
+            ..Default::default()
+        },
+    );
+    let fem = flex(&target, FlexionSettings::default());
+    let mut little = (0.0f64, 0.0f64);
+    let mut index = (0.0f64, 0.0f64);
+    for (c, cell) in hand.flesh.mesh.cells.iter().enumerate() {
+        for &n in cell {
+            let (to_skin, to_fem) = (
+                (mixed.positions[n] - skinned.positions[n]).norm(),
+                (mixed.positions[n] - fem.positions[n]).norm(),
+            );
+            match hand.flesh.cell_digit[c] {
+                Some(4) => little = (little.0.max(to_skin), little.1.max(to_fem)),
+                Some(1) => index = (index.0.max(to_skin), index.1.max(to_fem)),
+                _ => {}
+            }
+        }
+    }
+    println!(
+        "little: to skinning {:.2e}, to FEM {:.2e}; index: {:.2e}, {:.2e}",
+        little.0, little.1, index.0, index.1
+    );
+    // The index's flesh is exactly the FEM one; the little finger's is the skinned one (to
+    // 0.03 mm where it meets the FEM palm, whose nodes follow incremental skinning), millimetres
+    // away from the FEM one.
+    assert!(little.1 > 1e-3 && little.0 < 1e-2 * little.1);
+    assert!(index.1 < 1e-12 && index.0 > 1e-4);
+}
