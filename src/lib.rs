@@ -42,7 +42,10 @@
 pub mod bench;
 pub mod export;
 pub mod fem;
+pub mod headless;
 pub mod mesh;
 pub mod pipeline;
+pub mod render;
 pub mod scene;
 pub mod sim;
+pub mod visual;

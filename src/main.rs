@@ -9,6 +9,9 @@ use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
 use prehensile::scene::{Scene, DEFAULT_SCENE};
 use std::path::PathBuf;
 
+mod render_cmd;
+use render_cmd::{OverlayArg, RenderArgs};
+
 #[derive(Parser)]
 #[command(
     name = "prehensile",
@@ -33,6 +36,39 @@ enum Command {
         /// Output folder (created if missing; files appear only when all are written).
         #[arg(long)]
         out: PathBuf,
+    },
+    /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
+    /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
+    Render {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
+        #[arg(long)]
+        out: PathBuf,
+        /// The frame to render (default 0).
+        #[arg(long, conflicts_with = "all")]
+        frame: Option<usize>,
+        /// Render every frame into the --out folder.
+        #[arg(long)]
+        all: bool,
+        /// Image width, pixels.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        /// Image height, pixels.
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Camera preset: three-quarter, front, side, top, below.
+        #[arg(long, default_value = "three-quarter")]
+        camera: String,
+        /// What colours the bodies or is drawn over them.
+        #[arg(long, value_enum, default_value = "stress")]
+        overlay: OverlayArg,
+        /// Displacements are multiplied by this for display.
+        #[arg(long, default_value_t = 1.0)]
+        scale: f64,
+        /// Also draw the edges of the simulation mesh.
+        #[arg(long)]
+        wireframe: bool,
     },
     /// Benchmarks; print a Markdown table.
     Bench {
@@ -92,6 +128,29 @@ fn run() -> Result<()> {
                 println!("wrote {}", path.display());
             }
         }
+        Some(Command::Render {
+            scene,
+            out,
+            frame,
+            all,
+            width,
+            height,
+            camera,
+            overlay,
+            scale,
+            wireframe,
+        }) => render_cmd::run(RenderArgs {
+            scene,
+            out,
+            frame,
+            all,
+            width,
+            height,
+            camera,
+            overlay,
+            scale,
+            wireframe,
+        })?,
         Some(Command::Bench { which }) => match which {
             BenchCommand::Solver {
                 sizes,
