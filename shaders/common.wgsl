@@ -27,7 +27,7 @@ struct Globals {
 @group(0) @binding(0) var<uniform> g: Globals;
 @group(0) @binding(1) var shadow_map: texture_depth_2d;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
-@group(0) @binding(3) var under_map: texture_depth_2d;
+@group(0) @binding(3) var under_map: texture_2d<f32>;
 @group(0) @binding(4) var colormap_tex: texture_2d<f32>;
 @group(0) @binding(5) var linear_sampler: sampler;
 

@@ -34,7 +34,7 @@ fn contact_occlusion(world: vec3<f32>) -> f32 {
         let a = f32(k) * 2.39996;
         let o = vec2<f32>(cos(a), sin(a)) * r * 0.11;
         let tc = clamp(vec2<i32>((uv + o) * size), vec2<i32>(0), vec2<i32>(i32(size) - 1));
-        let h = textureLoad(under_map, tc, 0) * g.params.w;
+        let h = textureLoad(under_map, tc, 0).r * g.params.w;
         let w = 1.0 - 0.5 * r;
         occ += w * (1.0 - smoothstep(0.0, reach, h));
         weight += w;

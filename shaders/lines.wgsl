@@ -9,9 +9,9 @@ struct Object {
 
 @vertex
 fn vs_main(@location(0) position: vec3<f32>) -> @builtin(position) vec4<f32> {
-    var clip = g.view_proj * vec4<f32>(position, 1.0);
-    clip.z = clip.z - 0.0006 * clip.w;
-    return clip;
+    // 0.3% of the way to the eye: far less than any element, enough to beat depth rounding.
+    let pulled = mix(position, g.eye.xyz, 0.003);
+    return g.view_proj * vec4<f32>(pulled, 1.0);
 }
 
 @fragment

@@ -198,17 +198,20 @@ impl Camera {
         perspective(self.fov_y, aspect, near, far)
     }
 
-    /// Near and far distances that enclose `bounds` (with a margin), for the depth buffer.
-    pub fn depth_range(&self, bounds: &Bounds) -> (f32, f32) {
+    /// Near and far distances for the depth buffer: far encloses `everything`; near sits well
+    /// in front of `objects` (what must never be clipped), and no closer than far / 10⁴.
+    pub fn depth_range(&self, objects: &Bounds, everything: &Bounds) -> (f32, f32) {
         let (_, _, forward) = self.basis();
-        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-        for c in bounds.corners() {
-            let d = (c - self.eye).dot(forward);
-            lo = lo.min(d);
-            hi = hi.max(d);
-        }
-        let far = (hi * 1.05).max(1e-3);
-        let near = (lo * 0.95).max(far * 1e-4);
+        let along = |b: &Bounds| {
+            b.corners()
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), c| {
+                    let d = (*c - self.eye).dot(forward);
+                    (lo.min(d), hi.max(d))
+                })
+        };
+        let far = (along(everything).1.max(along(objects).1) * 1.05).max(1e-3);
+        let near = (along(objects).0 * 0.3).max(far * 1e-4);
         (near, far)
     }
 

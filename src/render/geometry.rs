@@ -35,6 +35,62 @@ pub fn vertex_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> 
     n
 }
 
+/// Vertices of a surface split along its creases, so that smooth shading does not round off
+/// sharp edges (a box stays a box) while curved parts stay smooth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CreaseSplit {
+    /// For each drawn vertex, the input vertex it copies.
+    pub source: Vec<u32>,
+    /// The triangles over the drawn vertices.
+    pub indices: Vec<u32>,
+}
+
+/// Default crease: faces meeting at more than 50° are shaded apart.
+pub const CREASE_DEGREES: f32 = 50.0;
+
+/// Splits the vertices of a triangle surface where faces meet at more than `crease_degrees`:
+/// around each vertex, its triangles are grouped with the first group whose first triangle's
+/// normal lies within the crease angle of theirs; each group becomes a drawn vertex.
+/// Degenerate triangles join the vertex's first group.
+pub fn split_creases(positions: &[[f32; 3]], indices: &[u32], crease_degrees: f32) -> CreaseSplit {
+    let cos = crease_degrees.to_radians().cos();
+    let normals: Vec<Option<Vec3>> = indices
+        .chunks_exact(3)
+        .map(|t| {
+            let p = [t[0], t[1], t[2]].map(|i| Vec3::from(positions[i as usize]));
+            (p[1] - p[0]).cross(p[2] - p[0]).try_normalize()
+        })
+        .collect();
+    // Groups around each vertex: (normal of the first triangle, drawn vertex).
+    let mut groups: Vec<Vec<(Option<Vec3>, u32)>> = vec![Vec::new(); positions.len()];
+    let mut source = Vec::new();
+    let mut out = Vec::with_capacity(indices.len());
+    for (t, tri) in indices.chunks_exact(3).enumerate() {
+        let n = normals[t];
+        for &v in tri {
+            let around = &mut groups[v as usize];
+            let found = around.iter().find(|(g, _)| match (g, n) {
+                (Some(g), Some(n)) => g.dot(n) >= cos,
+                _ => true,
+            });
+            let drawn = match found {
+                Some(&(_, d)) => d,
+                None => {
+                    source.push(v);
+                    let d = (source.len() - 1) as u32;
+                    around.push((n, d));
+                    d
+                }
+            };
+            out.push(drawn);
+        }
+    }
+    CreaseSplit {
+        source,
+        indices: out,
+    }
+}
+
 /// Segments around an arrow's circumference.
 const ARROW_SIDES: usize = 20;
 
@@ -207,6 +263,38 @@ mod tests {
             assert!(f.dot(Vec3::from(nor[t[0] as usize])) > 0.0);
         }
         assert!(arrow_mesh(o, Vec3::ZERO, None).0.is_empty());
+    }
+
+    #[test]
+    fn creases_split_a_cube_but_not_a_sphere() {
+        // A unit cube: 8 corners, 12 triangles; every corner joins 3 faces at 90°.
+        let pos: Vec<[f32; 3]> = (0..8)
+            .map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32])
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let idx: Vec<u32> = quads
+            .iter()
+            .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
+            .collect();
+        let split = split_creases(&pos, &idx, CREASE_DEGREES);
+        assert_eq!(split.source.len(), 24);
+        let drawn: Vec<[f32; 3]> = split.source.iter().map(|&s| pos[s as usize]).collect();
+        let n = vertex_normals(&drawn, &split.indices);
+        // Every drawn normal is a face normal: one axis exactly.
+        for v in &n {
+            let max = v.iter().fold(0.0f32, |m, c| m.max(c.abs()));
+            assert!((max - 1.0).abs() < 1e-6, "{v:?}");
+        }
+        let (pos, idx) = uv_sphere(Vec3::ZERO, 1.0);
+        let split = split_creases(&pos, &idx, CREASE_DEGREES);
+        assert_eq!(split.source.len(), pos.len());
     }
 
     #[test]

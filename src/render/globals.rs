@@ -71,7 +71,7 @@ pub fn frame_globals(
             ));
         }
     }
-    let (near, far) = camera.depth_range(&everything);
+    let (near, far) = camera.depth_range(&objects, &everything);
     let view_proj = camera.projection(aspect, near, far) * camera.view();
 
     let key = key_direction();

@@ -3,7 +3,9 @@
 
 use super::draw_list::{Arrow, DrawList, Ground, Legend, LineSet, Surface};
 use super::error::RenderError;
-use super::geometry::{arrow_mesh, sort_back_to_front, vertex_normals_into};
+use super::geometry::{
+    arrow_mesh, sort_back_to_front, split_creases, vertex_normals_into, CREASE_DEGREES,
+};
 use super::pipelines::Pipelines;
 use super::Bounds;
 use glam::Vec3;
@@ -52,6 +54,10 @@ pub struct GpuSurface {
     indices: wgpu::Buffer,
     object: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
+    /// Input vertex of each drawn vertex (vertices are split along creases); `None`: the same.
+    source: Option<Vec<u32>>,
+    input_count: usize,
+    /// Drawn vertices and triangles.
     positions: Vec<[f32; 3]>,
     triangles: Vec<u32>,
     normals: Vec<[f32; 3]>,
@@ -77,6 +83,18 @@ impl GpuSurface {
                 )));
             }
         }
+        let (source, positions, triangles) = if normals.is_some() {
+            (None, surface.positions.clone(), surface.indices.clone())
+        } else {
+            let split = split_creases(&surface.positions, &surface.indices, CREASE_DEGREES);
+            let drawn = split
+                .source
+                .iter()
+                .map(|&v| surface.positions[v as usize])
+                .collect();
+            (Some(split.source), drawn, split.indices)
+        };
+        let n = positions.len();
         let usage = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST;
         // Buffers are never empty: wgpu rejects zero-sized bindings.
         let vertices = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -91,7 +109,7 @@ impl GpuSurface {
             usage,
             mapped_at_creation: false,
         });
-        let mut index_data = surface.indices.clone();
+        let mut index_data = triangles.clone();
         if index_data.is_empty() {
             index_data.extend([0, 0, 0]);
         }
@@ -114,8 +132,10 @@ impl GpuSurface {
             indices,
             object,
             bind_group,
-            positions: surface.positions.clone(),
-            triangles: surface.indices.clone(),
+            source,
+            input_count: surface.positions.len(),
+            positions,
+            triangles,
             normals: Vec::new(),
             interleaved: Vec::new(),
             color: surface.color,
@@ -128,7 +148,7 @@ impl GpuSurface {
             }
             None => s.refresh_normals(gpu.queue),
         }
-        let zeros = vec![0.0; n.max(1)];
+        let zeros = vec![0.0; s.input_count];
         s.write_scalars(gpu.queue, surface.scalars.as_deref().unwrap_or(&zeros));
         Ok(s)
     }
@@ -151,16 +171,25 @@ impl GpuSurface {
         }
     }
 
+    /// Writes per-input-vertex values, copied to the drawn vertices (non-finite ones as 0).
     fn write_scalars(&self, queue: &wgpu::Queue, values: &[f32]) {
-        let clean: Vec<f32> = values
-            .iter()
-            .map(|v| if v.is_finite() { *v } else { 0.0 })
-            .collect();
-        queue.write_buffer(&self.scalars, 0, bytemuck::cast_slice(&clean));
+        let clean = |v: f32| if v.is_finite() { v } else { 0.0 };
+        let drawn: Vec<f32> = match &self.source {
+            Some(src) => src.iter().map(|&i| clean(values[i as usize])).collect(),
+            None => values.iter().map(|&v| clean(v)).collect(),
+        };
+        if !drawn.is_empty() {
+            queue.write_buffer(&self.scalars, 0, bytemuck::cast_slice(&drawn));
+        }
     }
 
-    /// Number of vertices.
+    /// Number of vertices as given.
     pub fn vertex_count(&self) -> usize {
+        self.input_count
+    }
+
+    /// Number of vertices drawn (more than given where creases split them).
+    pub fn drawn_vertex_count(&self) -> usize {
         self.positions.len()
     }
 
@@ -181,14 +210,21 @@ impl GpuSurface {
         queue: &wgpu::Queue,
         positions: &[[f32; 3]],
     ) -> Result<(), RenderError> {
-        if positions.len() != self.positions.len() {
+        if positions.len() != self.input_count {
             return Err(RenderError::InvalidInput(format!(
                 "{} positions for a surface of {} vertices",
                 positions.len(),
-                self.positions.len()
+                self.input_count
             )));
         }
-        self.positions.copy_from_slice(positions);
+        match &self.source {
+            Some(src) => {
+                for (p, &i) in self.positions.iter_mut().zip(src) {
+                    *p = positions[i as usize];
+                }
+            }
+            None => self.positions.copy_from_slice(positions),
+        }
         self.refresh_normals(queue);
         Ok(())
     }
@@ -199,11 +235,11 @@ impl GpuSurface {
         queue: &wgpu::Queue,
         scalars: &[f32],
     ) -> Result<(), RenderError> {
-        if !self.has_scalars || scalars.len() != self.positions.len() {
+        if !self.has_scalars || scalars.len() != self.input_count {
             return Err(RenderError::InvalidInput(format!(
                 "{} scalars for a surface of {} vertices (uploaded with scalars: {})",
                 scalars.len(),
-                self.positions.len(),
+                self.input_count,
                 self.has_scalars
             )));
         }

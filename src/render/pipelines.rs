@@ -8,6 +8,8 @@ pub const MSAA_SAMPLES: u32 = 4;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Side of the key light's shadow map, texels.
 pub const SHADOW_MAP_SIZE: u32 = 2048;
+/// Format of the ground's under-map (heights as depth values, in a colour texture).
+pub const UNDER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Side of the ground's under-map, texels.
 pub const UNDER_MAP_SIZE: u32 = 512;
 
@@ -29,6 +31,7 @@ pub struct Pipelines {
     pub lines: wgpu::RenderPipeline,
     pub overlay: wgpu::RenderPipeline,
     pub shadow: wgpu::RenderPipeline,
+    pub under: wgpu::RenderPipeline,
     pub shadow_sampler: wgpu::Sampler,
     pub linear_sampler: wgpu::Sampler,
     pub nearest_sampler: wgpu::Sampler,
@@ -108,7 +111,7 @@ impl Pipelines {
                 uniform_entry(0, vf),
                 texture_entry(1, wgpu::TextureSampleType::Depth),
                 sampler_entry(2, wgpu::SamplerBindingType::Comparison),
-                texture_entry(3, wgpu::TextureSampleType::Depth),
+                texture_entry(3, wgpu::TextureSampleType::Float { filterable: false }),
                 texture_entry(4, wgpu::TextureSampleType::Float { filterable: true }),
                 sampler_entry(5, wgpu::SamplerBindingType::Filtering),
             ],
@@ -287,6 +290,38 @@ impl Pipelines {
         );
 
         let shadow_layout = layout(&[&light_layout]);
+        let position_at_stride = [Some(wgpu::VertexBufferLayout {
+            array_stride: SURFACE_STRIDE,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &POSITION_ATTRIBUTES,
+        })];
+        let under = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("under"),
+            layout: Some(&shadow_layout),
+            vertex: wgpu::VertexState {
+                module: &shadow,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &position_at_stride,
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shadow,
+                entry_point: Some("fs_under"),
+                compilation_options: Default::default(),
+                targets: &[Some(UNDER_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         let shadow = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("shadow"),
             layout: Some(&shadow_layout),
@@ -294,11 +329,7 @@ impl Pipelines {
                 module: &shadow,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: SURFACE_STRIDE,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &POSITION_ATTRIBUTES,
-                })],
+                buffers: &position_at_stride,
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(wgpu::DepthStencilState {
@@ -344,6 +375,7 @@ impl Pipelines {
             lines,
             overlay,
             shadow,
+            under,
         }
     }
 

@@ -9,7 +9,9 @@ use super::error::RenderError;
 use super::globals::frame_globals;
 use super::gpu_scene::{Gpu, GpuScene};
 use super::legend::legend_image;
-use super::pipelines::{Pipelines, DEPTH_FORMAT, MSAA_SAMPLES, SHADOW_MAP_SIZE, UNDER_MAP_SIZE};
+use super::pipelines::{
+    Pipelines, DEPTH_FORMAT, MSAA_SAMPLES, SHADOW_MAP_SIZE, UNDER_FORMAT, UNDER_MAP_SIZE,
+};
 use image::RgbaImage;
 use std::sync::{Arc, Mutex};
 
@@ -45,6 +47,7 @@ pub struct Renderer {
     under_light: (wgpu::Buffer, wgpu::BindGroup),
     shadow_view: wgpu::TextureView,
     under_view: wgpu::TextureView,
+    under_depth: wgpu::TextureView,
     colormap_texture: wgpu::Texture,
     colormap: Option<Colormap>,
     targets: Option<Targets>,
@@ -125,12 +128,29 @@ impl Renderer {
             1,
             true,
         );
-        let under_view = depth_texture(
+        let under_view = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("under map"),
+                size: wgpu::Extent3d {
+                    width: UNDER_MAP_SIZE,
+                    height: UNDER_MAP_SIZE,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: UNDER_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let under_depth = depth_texture(
             &device,
-            "under map",
+            "under map depth",
             (UNDER_MAP_SIZE, UNDER_MAP_SIZE),
             1,
-            true,
+            false,
         );
         let colormap_texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("colormap"),
@@ -191,6 +211,7 @@ impl Renderer {
             under_light,
             shadow_view,
             under_view,
+            under_depth,
             colormap_texture,
             colormap: None,
             targets: None,
@@ -475,15 +496,41 @@ impl Renderer {
         let translucent = scene.sorted_translucent(&self.queue, camera.eye);
 
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        for (view, light) in [
-            (&self.shadow_view, &self.key_light.1),
-            (&self.under_view, &self.under_light.1),
-        ] {
+        // The key light's shadow map (depth only), then the under-map (depth kept as colour).
+        let under_color = [Some(wgpu::RenderPassColorAttachment {
+            view: &self.under_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                store: wgpu::StoreOp::Store,
+            },
+        })];
+        let light_passes: [(
+            &wgpu::TextureView,
+            &[Option<wgpu::RenderPassColorAttachment>],
+            _,
+            _,
+        ); 2] = [
+            (
+                &self.shadow_view,
+                &[],
+                &self.pipelines.shadow,
+                &self.key_light.1,
+            ),
+            (
+                &self.under_depth,
+                &under_color,
+                &self.pipelines.under,
+                &self.under_light.1,
+            ),
+        ];
+        for (depth, color, pipeline, light) in light_passes {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow"),
-                color_attachments: &[],
+                label: Some("light view"),
+                color_attachments: color,
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
+                    view: depth,
                     depth_ops: Some(wgpu::Operations {
                         load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Store,
@@ -492,7 +539,7 @@ impl Renderer {
                 }),
                 ..Default::default()
             });
-            pass.set_pipeline(&self.pipelines.shadow);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, light, &[]);
             for s in scene.casters() {
                 s.draw_geometry(&mut pass);
