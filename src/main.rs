@@ -100,6 +100,13 @@ enum OrderingArg {
 }
 
 fn main() {
+    // Mesa's Vulkan device-select layer probes Wayland and X11 for the display's GPU and, with no
+    // display (headless), prints "XDG_RUNTIME_DIR is invalid" twice. Prehensile's headless
+    // rendering has no display to match, so the layer is skipped unless the user set
+    // NODEVICE_SELECT. Done first, while the process has a single thread.
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
     if let Err(e) = run() {
         eprintln!("error: {e:#}");
         std::process::exit(1);
