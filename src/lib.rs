@@ -46,6 +46,7 @@ pub mod headless;
 pub mod mesh;
 pub mod pipeline;
 pub mod render;
+pub mod render_bench;
 pub mod scene;
 pub mod sim;
 pub mod visual;

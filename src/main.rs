@@ -6,6 +6,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use prehensile::bench::{solver_rows, solver_table};
 use prehensile::fem::solve::FillOrdering;
 use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
+use prehensile::render::Renderer;
+use prehensile::render_bench::{frame_times, render_table, update_rows};
 use prehensile::scene::{Scene, DEFAULT_SCENE};
 use std::path::PathBuf;
 
@@ -91,6 +93,15 @@ enum BenchCommand {
         #[arg(long, default_value_t = 3)]
         repeats: usize,
     },
+    /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
+    Render {
+        /// Frames averaged per measurement.
+        #[arg(long, default_value_t = 10)]
+        frames: usize,
+        /// Bigger spheres (n × 2n quads) for the update cost, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "100,300")]
+        spheres: Vec<usize>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -174,6 +185,16 @@ fn run() -> Result<()> {
                 );
                 let rows = solver_rows(&sizes, ordering, repeats);
                 print!("{}", solver_table(&rows));
+            }
+            BenchCommand::Render { frames, spheres } => {
+                let frames = frames.max(1);
+                let t = std::time::Instant::now();
+                let mut renderer = Renderer::new_headless()?;
+                let renderer_ms = t.elapsed().as_secs_f64() * 1e3;
+                eprintln!("adapter: {}", renderer.adapter_summary());
+                let times = frame_times(renderer_ms, &mut renderer, frames)?;
+                let rows = update_rows(&mut renderer, &spheres, frames)?;
+                print!("{}", render_table(&times, &rows));
             }
         },
     }

@@ -350,7 +350,7 @@ mod tests {
         // Facets face outwards: the triangles' normals point away from the centre.
         let c = Vec3::splat(0.5);
         for t in surf.indices.chunks_exact(3) {
-            let p = t.map(|i| Vec3::from(surf.positions[i as usize]));
+            let p = [t[0], t[1], t[2]].map(|i| Vec3::from(surf.positions[i as usize]));
             let n = (p[1] - p[0]).cross(p[2] - p[0]);
             assert!(n.dot((p[0] + p[1] + p[2]) / 3.0 - c) > 0.0);
         }

@@ -51,14 +51,20 @@ pub const CREASE_DEGREES: f32 = 50.0;
 /// Splits the vertices of a triangle surface where faces meet at more than `crease_degrees`:
 /// around each vertex, its triangles are grouped with the first group whose first triangle's
 /// normal lies within the crease angle of theirs; each group becomes a drawn vertex.
-/// Degenerate triangles join the vertex's first group.
+/// Degenerate triangles (slivers) join the vertex's first group.
 pub fn split_creases(positions: &[[f32; 3]], indices: &[u32], crease_degrees: f32) -> CreaseSplit {
     let cos = crease_degrees.to_radians().cos();
     let normals: Vec<Option<Vec3>> = indices
         .chunks_exact(3)
         .map(|t| {
             let p = [t[0], t[1], t[2]].map(|i| Vec3::from(positions[i as usize]));
-            (p[1] - p[0]).cross(p[2] - p[0]).try_normalize()
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            let longest = (p[1] - p[0])
+                .length_squared()
+                .max((p[2] - p[1]).length_squared())
+                .max((p[0] - p[2]).length_squared());
+            // A sliver (area tiny against its longest edge) has no trustworthy direction.
+            (n.length() > 1e-6 * longest).then(|| n.normalize())
         })
         .collect();
     // Groups around each vertex: (normal of the first triangle, drawn vertex).
@@ -255,7 +261,7 @@ mod tests {
         );
         // Triangles face outwards: each face normal agrees with its vertices' normals.
         for t in idx.chunks_exact(3) {
-            let p = t.map(|i| Vec3::from(pos[i as usize]));
+            let p = [t[0], t[1], t[2]].map(|i| Vec3::from(pos[i as usize]));
             let f = (p[1] - p[0]).cross(p[2] - p[0]);
             if f.length() < 1e-12 {
                 continue;

@@ -33,7 +33,7 @@ fn check_indices(
     vertices: usize,
     what: &str,
 ) -> Result<(), RenderError> {
-    if indices.len() % group != 0 {
+    if !indices.len().is_multiple_of(group) {
         return Err(RenderError::InvalidInput(format!(
             "{what} has {} indices, not a multiple of {group}",
             indices.len()
