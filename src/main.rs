@@ -134,6 +134,7 @@ fn run() -> Result<()> {
             print_summary(&solved);
             println!(
                 "\n(headless commands: `prehensile solve SCENE.toml --out DIR`, \
+                 `prehensile render SCENE.toml --out frame.png`, \
                  `prehensile bench solver`; see --help)"
             );
         }
