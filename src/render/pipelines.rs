@@ -20,20 +20,35 @@ pub const SURFACE_STRIDE: u64 = 24;
 
 /// All pipelines and layouts.
 pub struct Pipelines {
+    /// Group 0 of the scene pipelines: frame uniforms, shadow map, under-map, colormap.
     pub globals_layout: wgpu::BindGroupLayout,
+    /// Group 1 of surfaces and lines: colour and flags.
     pub object_layout: wgpu::BindGroupLayout,
+    /// Group 0 of the light views: one view-projection matrix.
     pub light_layout: wgpu::BindGroupLayout,
+    /// Group 0 of the overlay: screen rectangle, image, sampler.
     pub overlay_layout: wgpu::BindGroupLayout,
+    /// Gradient background.
     pub background: wgpu::RenderPipeline,
+    /// Ground plane.
     pub ground: wgpu::RenderPipeline,
+    /// Opaque lit surfaces.
     pub opaque: wgpu::RenderPipeline,
+    /// Translucent lit surfaces (blended, no depth write, back faces culled).
     pub translucent: wgpu::RenderPipeline,
+    /// Wireframes.
     pub lines: wgpu::RenderPipeline,
+    /// Screen-space images (the legend).
     pub overlay: wgpu::RenderPipeline,
+    /// Depth-only key-light shadow map.
     pub shadow: wgpu::RenderPipeline,
+    /// Heights above the ground, seen from below.
     pub under: wgpu::RenderPipeline,
+    /// Comparison sampler of the shadow map.
     pub shadow_sampler: wgpu::Sampler,
+    /// Bilinear sampler (colormap).
     pub linear_sampler: wgpu::Sampler,
+    /// Nearest sampler (legend, pixel-exact).
     pub nearest_sampler: wgpu::Sampler,
 }
 
