@@ -310,3 +310,74 @@ fn rendering_is_repeatable() {
     let err = render_frame(&mut renderer(), &solved, 0, &opts, "nowhere", 160, 90).unwrap_err();
     assert!(err.to_string().contains("three-quarter"), "{err}");
 }
+
+/// Reads a texture of the headless format back (test-side copy of what the window path draws).
+fn read_texture(r: &Renderer, texture: &wgpu::Texture) -> Vec<u8> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = (w * 4).div_ceil(256) * 256;
+    let buffer = r.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (row * h) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = r.device().create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        texture.size(),
+    );
+    r.queue().submit([encoder.finish()]);
+    buffer.map_async(wgpu::MapMode::Read, .., |res| res.expect("map"));
+    r.wait_idle().unwrap();
+    let data = buffer.get_mapped_range(..).unwrap();
+    (0..h as usize)
+        .flat_map(|y| data[y * row as usize..y * row as usize + w as usize * 4].to_vec())
+        .collect()
+}
+
+#[test]
+fn window_path_draws_the_same_image_as_the_headless_path() {
+    // The interactive window renders into its own texture view with `Renderer::render`.
+    let solved =
+        solve_scene_file(&manifest().join("assets/scenes/solid-ball-on-table.toml")).unwrap();
+    let options = VisualOptions {
+        overlay: Overlay::Displacement,
+        ..Default::default()
+    };
+    let lists = prehensile::headless::draw_lists(&solved, &options).unwrap();
+    let camera = prehensile::headless::camera_for(&lists, "side", 1.5).unwrap();
+    let mut r = renderer();
+    let mut scene = r.upload(&lists[0]).unwrap();
+    let headless = r
+        .render_scene_to_rgba(&mut scene, &camera, 150, 100)
+        .unwrap();
+    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some("window stand-in"),
+        size: wgpu::Extent3d {
+            width: 150,
+            height: 100,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: prehensile::render::HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    r.render(&mut scene, &camera, &view, 150, 100).unwrap();
+    let window = read_texture(&r, &texture);
+    assert_eq!(window.len(), headless.as_raw().len());
+    assert!(window == *headless.as_raw(), "the two paths differ");
+    // And a bad size is an error, not a panic.
+    assert!(r.render(&mut scene, &camera, &view, 0, 100).is_err());
+}
