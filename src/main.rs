@@ -7,8 +7,13 @@ use prehensile::bench::{solver_rows, solver_table};
 use prehensile::bench_hand::{hand_rows, hand_tables};
 use prehensile::fem::solve::FillOrdering;
 use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
+use prehensile::render::Renderer;
+use prehensile::render_bench::{frame_times, render_table, update_rows};
 use prehensile::scene::{Scene, DEFAULT_SCENE};
 use std::path::PathBuf;
+
+mod render_cmd;
+use render_cmd::{OverlayArg, RenderArgs};
 
 #[derive(Parser)]
 #[command(
@@ -35,6 +40,39 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
+    /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
+    Render {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
+        #[arg(long)]
+        out: PathBuf,
+        /// The frame to render (default 0).
+        #[arg(long, conflicts_with = "all")]
+        frame: Option<usize>,
+        /// Render every frame into the --out folder.
+        #[arg(long)]
+        all: bool,
+        /// Image width, pixels.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        /// Image height, pixels.
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Camera preset: three-quarter, front, side, top, below.
+        #[arg(long, default_value = "three-quarter")]
+        camera: String,
+        /// What colours the bodies or is drawn over them.
+        #[arg(long, value_enum, default_value = "stress")]
+        overlay: OverlayArg,
+        /// Displacements are multiplied by this for display.
+        #[arg(long, default_value_t = 1.0)]
+        scale: f64,
+        /// Also draw the edges of the simulation mesh.
+        #[arg(long)]
+        wireframe: bool,
+    },
     /// Benchmarks; print a Markdown table.
     Bench {
         #[command(subcommand)]
@@ -60,11 +98,20 @@ enum BenchCommand {
     /// regions) and skinning, per mesh resolution.
     Hand {
         /// Mesh resolutions, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "0.75,1,1.5,2")]
+        #[arg(long, value_delimiter = ',', default_value = "0.75,1,1.25,1.5")]
         resolutions: Vec<f64>,
         /// Skip the whole-hand FEM region above this resolution.
-        #[arg(long, default_value_t = 1.5)]
+        #[arg(long, default_value_t = 1.25)]
         whole_limit: f64,
+    },
+    /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
+    Render {
+        /// Frames averaged per measurement.
+        #[arg(long, default_value_t = 10)]
+        frames: usize,
+        /// Bigger spheres (n × 2n quads) for the update cost, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "100,300")]
+        spheres: Vec<usize>,
     },
 }
 
@@ -75,6 +122,13 @@ enum OrderingArg {
 }
 
 fn main() {
+    // Mesa's Vulkan device-select layer probes Wayland and X11 for the display's GPU and, with no
+    // display (headless), prints "XDG_RUNTIME_DIR is invalid" twice. Prehensile's headless
+    // rendering has no display to match, so the layer is skipped unless the user set
+    // NODEVICE_SELECT. Done first, while the process has a single thread.
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
     if let Err(e) = run() {
         eprintln!("error: {e:#}");
         std::process::exit(1);
@@ -91,6 +145,7 @@ fn run() -> Result<()> {
             print_summary(&solved);
             println!(
                 "\n(headless commands: `prehensile solve SCENE.toml --out DIR`, \
+                 `prehensile render SCENE.toml --out frame.png`, \
                  `prehensile bench solver`; see --help)"
             );
         }
@@ -103,6 +158,29 @@ fn run() -> Result<()> {
                 println!("wrote {}", path.display());
             }
         }
+        Some(Command::Render {
+            scene,
+            out,
+            frame,
+            all,
+            width,
+            height,
+            camera,
+            overlay,
+            scale,
+            wireframe,
+        }) => render_cmd::run(RenderArgs {
+            scene,
+            out,
+            frame,
+            all,
+            width,
+            height,
+            camera,
+            overlay,
+            scale,
+            wireframe,
+        })?,
         Some(Command::Bench { which }) => match which {
             BenchCommand::Solver {
                 sizes,
@@ -129,6 +207,16 @@ fn run() -> Result<()> {
                     rayon::current_num_threads()
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
+            }
+            BenchCommand::Render { frames, spheres } => {
+                let frames = frames.max(1);
+                let t = std::time::Instant::now();
+                let mut renderer = Renderer::new_headless()?;
+                let renderer_ms = t.elapsed().as_secs_f64() * 1e3;
+                eprintln!("adapter: {}", renderer.adapter_summary());
+                let times = frame_times(renderer_ms, &mut renderer, frames)?;
+                let rows = update_rows(&mut renderer, &spheres, frames)?;
+                print!("{}", render_table(&times, &rows));
             }
         },
     }

@@ -1,7 +1,8 @@
-//! Output files: the JSON report, VTU meshes for ParaView, OBJ hand surfaces for Blender, and
-//! atomic writing of an output folder.
+//! Output files: the JSON report, VTU meshes for ParaView, OBJ hand surfaces for Blender, PNG
+//! images, and atomic writing of an output folder.
 
 pub mod hand_geometry;
 pub mod output;
+pub mod png;
 pub mod report;
 pub mod vtu;

@@ -1,0 +1,122 @@
+//! `prehensile render`: solve a scene and write PNG images of its frames, without a window.
+
+use anyhow::{bail, Context, Result};
+use clap::ValueEnum;
+use indicatif::{ProgressBar, ProgressStyle};
+use prehensile::export::png::write_png_atomic;
+use prehensile::headless::{camera_for, draw_lists};
+use prehensile::pipeline::solve_scene_file;
+use prehensile::render::Renderer;
+use prehensile::visual::{Overlay, VisualOptions};
+use std::path::{Path, PathBuf};
+
+/// The `--overlay` values.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum OverlayArg {
+    /// Contact pressure (needs contact).
+    Pressure,
+    /// Von Mises stress.
+    Stress,
+    /// Displacement magnitude.
+    Displacement,
+    /// Reaction force arrows.
+    Forces,
+    /// Plain bodies.
+    None,
+}
+
+impl From<OverlayArg> for Overlay {
+    fn from(o: OverlayArg) -> Self {
+        match o {
+            OverlayArg::Pressure => Overlay::Pressure,
+            OverlayArg::Stress => Overlay::Stress,
+            OverlayArg::Displacement => Overlay::Displacement,
+            OverlayArg::Forces => Overlay::Forces,
+            OverlayArg::None => Overlay::None,
+        }
+    }
+}
+
+/// What to render.
+pub struct RenderArgs {
+    pub scene: PathBuf,
+    pub out: PathBuf,
+    pub frame: Option<usize>,
+    pub all: bool,
+    pub width: u32,
+    pub height: u32,
+    pub camera: String,
+    pub overlay: OverlayArg,
+    pub scale: f64,
+    pub wireframe: bool,
+}
+
+pub fn run(args: RenderArgs) -> Result<()> {
+    let solved = solve_scene_file(&args.scene)?;
+    let options = VisualOptions {
+        overlay: args.overlay.into(),
+        displacement_scale: args.scale,
+        wireframe: args.wireframe,
+    };
+    let lists = draw_lists(&solved, &options).with_context(|| args.scene.display().to_string())?;
+    let camera = camera_for(
+        &lists,
+        &args.camera,
+        args.width as f32 / args.height.max(1) as f32,
+    )?;
+    let frames: Vec<usize> = if args.all {
+        (0..lists.len()).collect()
+    } else {
+        let k = args.frame.unwrap_or(0);
+        if k >= lists.len() {
+            bail!(
+                "frame {k} does not exist: the scene has {} frame(s), numbered from 0",
+                lists.len()
+            );
+        }
+        vec![k]
+    };
+    let mut renderer = Renderer::new_headless()?;
+    eprintln!("adapter: {}", renderer.adapter_summary());
+    let path_of = |k: usize| -> PathBuf {
+        if args.all {
+            args.out.join(format!("frame_{k:04}.png"))
+        } else {
+            args.out.clone()
+        }
+    };
+    let bar = if args.all {
+        let bar = ProgressBar::new(frames.len() as u64);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} frames {elapsed}")
+                .expect("valid template"),
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    for &k in &frames {
+        let image = renderer
+            .render_to_rgba(&lists[k], &camera, args.width, args.height)
+            .with_context(|| format!("rendering frame {k}"))?;
+        let path = path_of(k);
+        write_png(&path, &image)?;
+        bar.inc(1);
+        if !args.all {
+            println!("wrote {}", path.display());
+        }
+    }
+    bar.finish_and_clear();
+    if args.all {
+        println!(
+            "wrote {} frame(s) into {}",
+            frames.len(),
+            args.out.display()
+        );
+    }
+    Ok(())
+}
+
+fn write_png(path: &Path, image: &image::RgbaImage) -> Result<()> {
+    write_png_atomic(path, image).with_context(|| format!("writing {}", path.display()))
+}

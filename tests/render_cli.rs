@@ -1,0 +1,112 @@
+//! The `render` command end to end: PNG output, `--all`, and clear errors (never a panic) when
+//! there is no adapter or the overlay cannot be drawn.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("render-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn writes_a_png_of_the_asked_size_and_names_the_adapter() {
+    let dir = scratch("one");
+    let out = dir.join("ball.png");
+    let run = bin()
+        .args([
+            "render",
+            "assets/scenes/default.toml",
+            "--width",
+            "200",
+            "--height",
+            "120",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(stderr.contains("adapter: "), "{stderr}");
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (200, 120));
+    // Nothing but the image is left in the folder (the write went through a temporary file).
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+}
+
+#[test]
+fn all_frames_go_into_a_folder() {
+    let dir = scratch("all");
+    let run = bin()
+        .args([
+            "render",
+            "assets/scenes/block-press.toml",
+            "--all",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--overlay",
+            "forces",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(dir.join("frame_0000.png").is_file());
+}
+
+#[test]
+fn no_adapter_is_a_clear_error() {
+    // Vulkan only, with the loader pointed at no driver: nothing to render with.
+    let run = bin()
+        .args([
+            "render",
+            "assets/scenes/default.toml",
+            "--out",
+            "unused.png",
+        ])
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no graphics adapter found"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn pressure_without_contact_is_a_clear_error() {
+    let run = bin()
+        .args([
+            "render",
+            "assets/scenes/default.toml",
+            "--overlay",
+            "pressure",
+            "--out",
+            "unused.png",
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no contact in this scene"), "{stderr}");
+}

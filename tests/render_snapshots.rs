@@ -1,0 +1,383 @@
+//! Image regression tests: the real shaders, rendered headless (lavapipe in CI), compared with
+//! reference PNGs under tests/snapshots/ with a tolerance. On a mismatch the actual image and a
+//! difference image go to target/snapshot-failures/. `PREHENSILE_UPDATE_SNAPSHOTS=1` rewrites
+//! the references on purpose.
+//!
+//! Without any graphics adapter these tests FAIL (they never pass silently): install Mesa's
+//! software renderers (`.ci/run` does).
+
+use glam::Vec3;
+use image::{Rgba, RgbaImage};
+use prehensile::export::png::write_png_atomic;
+use prehensile::headless::render_frame;
+use prehensile::pipeline::solve_scene_file;
+use prehensile::render::{Camera, DrawList, Renderer, Surface};
+use prehensile::visual::{Overlay, VisualOptions};
+use std::path::PathBuf;
+use std::sync::{Mutex, OnceLock};
+
+const WIDTH: u32 = 480;
+const HEIGHT: u32 = 270;
+/// A pixel differs when one of its channels differs by more than this.
+const CHANNEL_TOLERANCE: u8 = 16;
+/// A snapshot fails when more than this fraction of its pixels differ.
+const MAX_DIFFERING: f64 = 0.01;
+
+/// One renderer for the whole test binary (creating pipelines costs time on a CPU renderer).
+fn renderer() -> std::sync::MutexGuard<'static, Renderer> {
+    static RENDERER: OnceLock<Result<Mutex<Renderer>, String>> = OnceLock::new();
+    match RENDERER.get_or_init(|| {
+        Renderer::new_headless()
+            .map(Mutex::new)
+            .map_err(|e| e.to_string())
+    }) {
+        Ok(r) => r.lock().unwrap_or_else(|e| e.into_inner()),
+        Err(e) => panic!(
+            "the render tests need a graphics adapter and found none: {e}\n\
+             (CI installs Mesa's lavapipe: apt-get install mesa-vulkan-drivers libvulkan1)"
+        ),
+    }
+}
+
+fn manifest() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn failures_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| manifest().join("target"))
+        .join("snapshot-failures")
+}
+
+/// Pixels whose largest channel difference exceeds the tolerance, and the difference image
+/// (the reference greyed, differing pixels in magenta).
+fn compare(reference: &RgbaImage, actual: &RgbaImage) -> (usize, RgbaImage) {
+    let mut diff = RgbaImage::new(reference.width(), reference.height());
+    let mut count = 0;
+    for (x, y, r) in reference.enumerate_pixels() {
+        let a = actual.get_pixel(x, y);
+        let d = (0..4).map(|k| r[k].abs_diff(a[k])).max().unwrap_or(0);
+        let grey = ((r[0] as u32 + r[1] as u32 + r[2] as u32) / 6) as u8;
+        if d > CHANNEL_TOLERANCE {
+            count += 1;
+            diff.put_pixel(x, y, Rgba([255, 0, 255, 255]));
+        } else {
+            diff.put_pixel(x, y, Rgba([grey, grey, grey, 255]));
+        }
+    }
+    (count, diff)
+}
+
+/// Compares `actual` with tests/snapshots/`name`.png (or rewrites it when asked to).
+fn check_snapshot(name: &str, actual: &RgbaImage) {
+    let reference_path = manifest()
+        .join("tests/snapshots")
+        .join(format!("{name}.png"));
+    if std::env::var("PREHENSILE_UPDATE_SNAPSHOTS").is_ok_and(|v| v == "1") {
+        write_png_atomic(&reference_path, actual).expect("write the reference");
+        eprintln!("updated {}", reference_path.display());
+        return;
+    }
+    let save_failure = |what: &str, img: &RgbaImage| -> PathBuf {
+        let p = failures_dir().join(format!("{name}-{what}.png"));
+        write_png_atomic(&p, img).expect("write the failure image");
+        p
+    };
+    let reference = match image::open(&reference_path) {
+        Ok(img) => img.to_rgba8(),
+        Err(e) => {
+            let p = save_failure("actual", actual);
+            panic!(
+                "no usable reference {} ({e}); the actual image is {}. Run with \
+                 PREHENSILE_UPDATE_SNAPSHOTS=1 to create it.",
+                reference_path.display(),
+                p.display()
+            );
+        }
+    };
+    if reference.dimensions() != actual.dimensions() {
+        let p = save_failure("actual", actual);
+        panic!(
+            "{name}: size {:?}, reference {:?}; actual image: {}",
+            actual.dimensions(),
+            reference.dimensions(),
+            p.display()
+        );
+    }
+    let (count, diff) = compare(&reference, actual);
+    let fraction = count as f64 / (reference.width() * reference.height()) as f64;
+    if fraction > MAX_DIFFERING {
+        let a = save_failure("actual", actual);
+        let d = save_failure("diff", &diff);
+        panic!(
+            "{name}: {count} pixels ({:.2}%) differ by more than {CHANNEL_TOLERANCE} (allowed \
+             {:.2}%).\n  actual: {}\n  diff:   {}\n  reference: {}\n(if the change is intended: \
+             PREHENSILE_UPDATE_SNAPSHOTS=1 cargo test --release --test render_snapshots)",
+            fraction * 100.0,
+            MAX_DIFFERING * 100.0,
+            a.display(),
+            d.display(),
+            reference_path.display()
+        );
+    }
+}
+
+fn scene_snapshot(name: &str, scene: &str, overlay: Overlay, wireframe: bool, camera: &str) {
+    let solved =
+        solve_scene_file(&manifest().join("assets/scenes").join(scene)).expect("the scene solves");
+    let options = VisualOptions {
+        overlay,
+        wireframe,
+        ..Default::default()
+    };
+    let image = render_frame(&mut renderer(), &solved, 0, &options, camera, WIDTH, HEIGHT)
+        .expect("renders");
+    check_snapshot(name, &image);
+}
+
+#[test]
+fn default_ball_stress() {
+    scene_snapshot(
+        "default-stress",
+        "default.toml",
+        Overlay::Stress,
+        false,
+        "three-quarter",
+    );
+}
+
+#[test]
+fn solid_ball_displacement() {
+    scene_snapshot(
+        "solid-ball-displacement",
+        "solid-ball-on-table.toml",
+        Overlay::Displacement,
+        false,
+        "three-quarter",
+    );
+}
+
+#[test]
+fn block_press_forces() {
+    scene_snapshot(
+        "block-press-forces",
+        "block-press.toml",
+        Overlay::Forces,
+        false,
+        "three-quarter",
+    );
+}
+
+#[test]
+fn default_ball_wireframe() {
+    scene_snapshot(
+        "default-wireframe",
+        "default.toml",
+        Overlay::None,
+        true,
+        "front",
+    );
+}
+
+#[test]
+fn comparison_counts_differing_pixels() {
+    let a = RgbaImage::from_pixel(10, 10, Rgba([100, 100, 100, 255]));
+    let mut b = a.clone();
+    b.put_pixel(3, 4, Rgba([100, 100, 100 + CHANNEL_TOLERANCE + 1, 255]));
+    b.put_pixel(5, 5, Rgba([100 + CHANNEL_TOLERANCE, 100, 100, 255]));
+    let (count, diff) = compare(&a, &b);
+    assert_eq!(count, 1);
+    assert_eq!(diff.get_pixel(3, 4).0, [255, 0, 255, 255]);
+    assert_eq!(diff.get_pixel(5, 5).0, [50, 50, 50, 255]);
+}
+
+/// A square of side 2 centred on `c`, facing +z, two triangles.
+fn square(c: Vec3, color: [f32; 4]) -> Surface {
+    let p = |dx: f32, dy: f32| [c.x + dx, c.y + dy, c.z];
+    Surface {
+        positions: vec![p(-1.0, -1.0), p(1.0, -1.0), p(1.0, 1.0), p(-1.0, 1.0)],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        scalars: None,
+        color,
+    }
+}
+
+fn top_camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 0.0, 10.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 30f32.to_radians(),
+    }
+}
+
+fn px(img: &RgbaImage, p: [f32; 2]) -> [u8; 4] {
+    img.get_pixel(p[0] as u32, p[1] as u32).0
+}
+
+#[test]
+fn projected_corner_lands_on_the_drawn_corner() {
+    // A red square seen from above: Camera::project of its corners must bound the red pixels.
+    let mut r = renderer();
+    let cam = top_camera();
+    let list = DrawList {
+        surfaces: vec![square(Vec3::new(0.5, 0.25, 0.0), [0.8, 0.05, 0.05, 1.0])],
+        ..Default::default()
+    };
+    let img = r.render_to_rgba(&list, &cam, 200, 100).unwrap();
+    let red = |c: [u8; 4]| c[0] as i32 > c[1] as i32 + 80 && c[0] as i32 > c[2] as i32 + 80;
+    let lo = cam.project(Vec3::new(-0.5, 1.25, 0.0), 200, 100).unwrap();
+    let hi = cam.project(Vec3::new(1.5, -0.75, 0.0), 200, 100).unwrap();
+    // Top-left corner (x = -0.5, y = 1.25) and bottom-right: just inside is red, just outside not.
+    assert!(
+        red(px(&img, [lo[0] + 2.0, lo[1] + 2.0])),
+        "{:?}",
+        px(&img, [lo[0] + 2.0, lo[1] + 2.0])
+    );
+    assert!(!red(px(&img, [lo[0] - 2.0, lo[1] - 2.0])));
+    assert!(red(px(&img, [hi[0] - 2.0, hi[1] - 2.0])));
+    assert!(!red(px(&img, [hi[0] + 2.0, hi[1] + 2.0])));
+    // The square spans 2 m at 10 m with a 30° field: 2 / (2·10·tan 15°) of the height.
+    let expected = 2.0 / (2.0 * 10.0 * 15f32.to_radians().tan()) * 100.0;
+    assert!(
+        ((hi[1] - lo[1]) - expected).abs() < 0.01,
+        "{} vs {expected}",
+        hi[1] - lo[1]
+    );
+}
+
+#[test]
+fn translucent_surface_shows_what_is_behind() {
+    let mut r = renderer();
+    let cam = top_camera();
+    let blue = square(Vec3::ZERO, [0.02, 0.05, 0.8, 1.0]);
+    let mut list = DrawList {
+        surfaces: vec![blue.clone()],
+        ..Default::default()
+    };
+    let centre = [100.0, 50.0];
+    let below = px(&r.render_to_rgba(&list, &cam, 200, 100).unwrap(), centre);
+    list.surfaces
+        .push(square(Vec3::new(0.0, 0.0, 1.0), [0.8, 0.05, 0.02, 0.5]));
+    let both = px(&r.render_to_rgba(&list, &cam, 200, 100).unwrap(), centre);
+    list.surfaces[1].color[3] = 1.0;
+    let red = px(&r.render_to_rgba(&list, &cam, 200, 100).unwrap(), centre);
+    // Half-transparent red over blue: redder than blue alone, bluer than opaque red.
+    assert!(
+        both[0] > below[0] + 40 && both[2] > red[2] + 40,
+        "{below:?} {both:?} {red:?}"
+    );
+}
+
+#[test]
+fn updated_positions_move_the_drawn_surface() {
+    let mut r = renderer();
+    let cam = top_camera();
+    let list = DrawList {
+        surfaces: vec![square(Vec3::new(-1.2, 0.0, 0.0), [0.8, 0.05, 0.05, 1.0])],
+        ..Default::default()
+    };
+    let mut scene = r.upload(&list).unwrap();
+    let red = |c: [u8; 4]| c[0] as i32 > c[1] as i32 + 80 && c[0] as i32 > c[2] as i32 + 80;
+    let left = cam.project(Vec3::new(-1.2, 0.0, 0.0), 200, 100).unwrap();
+    let right = cam.project(Vec3::new(1.2, 0.0, 0.0), 200, 100).unwrap();
+    let img = r.render_scene_to_rgba(&mut scene, &cam, 200, 100).unwrap();
+    assert!(red(px(&img, left)) && !red(px(&img, right)));
+    let moved: Vec<[f32; 3]> = list.surfaces[0]
+        .positions
+        .iter()
+        .map(|p| [p[0] + 2.4, p[1], p[2]])
+        .collect();
+    let gpu = r.queue().clone();
+    scene.surfaces[0].update_positions(&gpu, &moved).unwrap();
+    let img = r.render_scene_to_rgba(&mut scene, &cam, 200, 100).unwrap();
+    assert!(!red(px(&img, left)) && red(px(&img, right)));
+    assert!(scene.surfaces[0]
+        .update_positions(&gpu, &moved[..3])
+        .is_err());
+}
+
+#[test]
+fn rendering_is_repeatable() {
+    let solved = solve_scene_file(&manifest().join("assets/scenes/block-press.toml")).unwrap();
+    let opts = VisualOptions::default();
+    let a = render_frame(&mut renderer(), &solved, 0, &opts, "side", 160, 90).unwrap();
+    let b = render_frame(&mut renderer(), &solved, 0, &opts, "side", 160, 90).unwrap();
+    assert_eq!(compare(&a, &b).0, 0);
+    let err = render_frame(&mut renderer(), &solved, 3, &opts, "side", 160, 90).unwrap_err();
+    assert!(err.to_string().contains("frame 3 does not exist"), "{err}");
+    let err = render_frame(&mut renderer(), &solved, 0, &opts, "nowhere", 160, 90).unwrap_err();
+    assert!(err.to_string().contains("three-quarter"), "{err}");
+}
+
+/// Reads a texture of the headless format back (test-side copy of what the window path draws).
+fn read_texture(r: &Renderer, texture: &wgpu::Texture) -> Vec<u8> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = (w * 4).div_ceil(256) * 256;
+    let buffer = r.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (row * h) as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = r.device().create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        texture.size(),
+    );
+    r.queue().submit([encoder.finish()]);
+    buffer.map_async(wgpu::MapMode::Read, .., |res| res.expect("map"));
+    r.wait_idle().unwrap();
+    let data = buffer.get_mapped_range(..).unwrap();
+    (0..h as usize)
+        .flat_map(|y| data[y * row as usize..y * row as usize + w as usize * 4].to_vec())
+        .collect()
+}
+
+#[test]
+fn window_path_draws_the_same_image_as_the_headless_path() {
+    // The interactive window renders into its own texture view with `Renderer::render`.
+    let solved =
+        solve_scene_file(&manifest().join("assets/scenes/solid-ball-on-table.toml")).unwrap();
+    let options = VisualOptions {
+        overlay: Overlay::Displacement,
+        ..Default::default()
+    };
+    let lists = prehensile::headless::draw_lists(&solved, &options).unwrap();
+    let camera = prehensile::headless::camera_for(&lists, "side", 1.5).unwrap();
+    let mut r = renderer();
+    let mut scene = r.upload(&lists[0]).unwrap();
+    let headless = r
+        .render_scene_to_rgba(&mut scene, &camera, 150, 100)
+        .unwrap();
+    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some("window stand-in"),
+        size: wgpu::Extent3d {
+            width: 150,
+            height: 100,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: prehensile::render::HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    r.render(&mut scene, &camera, &view, 150, 100).unwrap();
+    let window = read_texture(&r, &texture);
+    assert_eq!(window.len(), headless.as_raw().len());
+    assert!(window == *headless.as_raw(), "the two paths differ");
+    // And a bad size is an error, not a panic.
+    assert!(r.render(&mut scene, &camera, &view, 0, 100).is_err());
+}
