@@ -72,6 +72,9 @@ enum Command {
         /// Also draw the edges of the simulation mesh.
         #[arg(long)]
         wireframe: bool,
+        /// Opacity of hand skin, 0–1 (below 1 the bones show through).
+        #[arg(long, default_value_t = 1.0)]
+        skin_opacity: f32,
     },
     /// Benchmarks; print a Markdown table.
     Bench {
@@ -169,6 +172,7 @@ fn run() -> Result<()> {
             overlay,
             scale,
             wireframe,
+            skin_opacity,
         }) => render_cmd::run(RenderArgs {
             scene,
             out,
@@ -180,6 +184,7 @@ fn run() -> Result<()> {
             overlay,
             scale,
             wireframe,
+            skin_opacity,
         })?,
         Some(Command::Bench { which }) => match which {
             BenchCommand::Solver {

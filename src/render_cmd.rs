@@ -49,6 +49,7 @@ pub struct RenderArgs {
     pub overlay: OverlayArg,
     pub scale: f64,
     pub wireframe: bool,
+    pub skin_opacity: f32,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -57,6 +58,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         overlay: args.overlay.into(),
         displacement_scale: args.scale,
         wireframe: args.wireframe,
+        skin_opacity: args.skin_opacity,
+        bones: true,
     };
     let lists = draw_lists(&solved, &options).with_context(|| args.scene.display().to_string())?;
     let camera = camera_for(

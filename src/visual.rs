@@ -6,6 +6,10 @@
 //!   a quadrilateral facet becomes two triangles, a collapsed one (a repeated node) one.
 //! - Overlays colour the bodies per vertex (nodal von Mises stress, displacement magnitude) or
 //!   add arrows (the reaction of each constraint, at the centroid of its nodes).
+//! - A hand is drawn as its smooth display skin (embedded in the flesh mesh, moved by its
+//!   displacement field; overlays interpolated onto it) and its posed bones; the skin may be
+//!   translucent so that the bones show through (the paper's Figure 2). The forces overlay adds,
+//!   per bone, the load the flesh puts on it (−R_u of equation (8)), from the bone's centre.
 //! - The ground plane lies under the lowest point of the deformed bodies, always: the scenes of
 //!   today have no table body (the table is a constraint), so the plane shows where "down" is
 //!   and receives the shadows. Arrows of supports below a body are drawn over it.
@@ -45,6 +49,10 @@ pub struct VisualOptions {
     pub displacement_scale: f64,
     /// Draw the edges of the simulation mesh's boundary facets.
     pub wireframe: bool,
+    /// Opacity of hand skin (1 opaque; below 1 the bones show through).
+    pub skin_opacity: f32,
+    /// Draw the bones of hands.
+    pub bones: bool,
 }
 
 impl Default for VisualOptions {
@@ -53,6 +61,8 @@ impl Default for VisualOptions {
             overlay: Overlay::None,
             displacement_scale: 1.0,
             wireframe: false,
+            skin_opacity: 1.0,
+            bones: true,
         }
     }
 }
@@ -134,6 +144,71 @@ pub fn body_surface(model: &Model, frame: &Frame, b: usize, scale: f64) -> (Surf
     )
 }
 
+/// Skin colour (linear RGB), and bone colour.
+const SKIN: [f32; 3] = [0.74, 0.42, 0.30];
+const BONE: [f32; 4] = [0.78, 0.72, 0.56, 1.0];
+
+/// Adds hand body `b` (skin, bones) to `list`; returns each bone's load (−R, N) with the bone's
+/// posed centre.
+fn hand_drawing(
+    model: &Model,
+    frame: &Frame,
+    b: usize,
+    options: &VisualOptions,
+    list: &mut DrawList,
+) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let body = &model.bodies[b];
+    let hand = body.hand.as_deref().expect("a hand body");
+    let scale = options.displacement_scale;
+    let nodes: Vec<Vector3<f64>> = body
+        .nodes
+        .clone()
+        .map(|n| deformed(model, frame, n, scale))
+        .collect();
+    let positions = hand.skin.positions(&nodes);
+    let nodal = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { body.nodes.clone().map(f).collect() };
+    let scalars = match options.overlay {
+        Overlay::Stress => Some(nodal(&|n| von_mises(&frame.stress.nodal[n]))),
+        Overlay::Displacement => Some(nodal(&|n| frame.solution.node_displacement(n).norm())),
+        _ => None,
+    }
+    .map(|v| {
+        hand.skin
+            .interpolate(&v)
+            .iter()
+            .map(|x| *x as f32)
+            .collect()
+    });
+    list.surfaces.push(Surface {
+        positions: positions.iter().map(to_f32).collect(),
+        indices: hand.skin.triangles().into_iter().flatten().collect(),
+        scalars,
+        color: [
+            SKIN[0],
+            SKIN[1],
+            SKIN[2],
+            options.skin_opacity.clamp(0.05, 1.0),
+        ],
+    });
+    let Some(h) = frame.hands.iter().find(|h| h.body == b) else {
+        return Vec::new();
+    };
+    let mut loads = Vec::new();
+    for (bone, (pos, tri)) in crate::export::hand_geometry::posed_bones(hand, h) {
+        if options.bones && options.skin_opacity < 1.0 {
+            list.surfaces.push(Surface {
+                positions: pos.iter().map(to_f32).collect(),
+                indices: tri.into_iter().flatten().collect(),
+                scalars: None,
+                color: BONE,
+            });
+        }
+        let centre = pos.iter().sum::<Vector3<f64>>() / pos.len().max(1) as f64;
+        loads.push((-h.bone_reactions[bone], centre));
+    }
+    loads
+}
+
 /// Edges of body `b`'s boundary facets (no diagonals), deformed, as a line set.
 pub fn body_wireframe(model: &Model, frame: &Frame, b: usize, scale: f64) -> LineSet {
     let mut edges = BTreeSet::new();
@@ -209,7 +284,15 @@ pub fn draw_list(
     }
     let scale = options.displacement_scale;
     let mut list = DrawList::default();
+    let mut bone_loads = Vec::new();
     for b in 0..model.bodies.len() {
+        if model.bodies[b].hand.is_some() {
+            bone_loads.extend(hand_drawing(model, frame, b, options, &mut list));
+            if options.wireframe {
+                list.lines.push(body_wireframe(model, frame, b, scale));
+            }
+            continue;
+        }
         let (mut surface, nodes) = body_surface(model, frame, b, scale);
         surface.scalars = match options.overlay {
             Overlay::Stress => Some(
@@ -264,9 +347,35 @@ pub fn draw_list(
         1.0
     };
     if options.overlay == Overlay::Forces {
-        let reactions = constraint_reactions(model, frame, scale);
-        let largest = reactions.iter().map(|r| r.1.norm()).fold(0.0, f64::max);
+        let mut reactions = constraint_reactions(model, frame, scale);
+        // Bone loads point away from the bone's centre: the arrow's tail sits on the bone.
+        let bone_arrows: Vec<(Vector3<f64>, Vector3<f64>)> = bone_loads;
+        let largest_bone = bone_arrows.iter().map(|r| r.0.norm()).fold(0.0, f64::max);
+        if largest_bone > 0.0 {
+            reactions.retain(|(name, _, _)| {
+                !model
+                    .constraints
+                    .iter()
+                    .any(|c| &c.name == name && model.bodies[c.body].hand.is_some())
+            });
+        }
+        let largest = reactions
+            .iter()
+            .map(|r| r.1.norm())
+            .fold(largest_bone, f64::max);
         if largest > 0.0 && largest.is_finite() {
+            for (force, at) in &bone_arrows {
+                let ratio = force.norm() / largest;
+                if ratio < 1e-3 {
+                    continue;
+                }
+                let v = force / largest * (0.7 * size as f64);
+                list.arrows.push(Arrow {
+                    origin: to_f32(at),
+                    vector: to_f32(&v),
+                    color: Colormap::Traffic.linear(ratio as f32),
+                });
+            }
             for (_, force, at) in &reactions {
                 let ratio = force.norm() / largest;
                 // The largest arrow is 70% of the scene radius; the tip touches the body.
@@ -335,6 +444,7 @@ mod tests {
             overlay: Overlay::Displacement,
             displacement_scale: 1.0,
             wireframe: true,
+            ..Default::default()
         };
         let list = draw_list(&s.model, &s.frames[0], &opts).unwrap();
         let surf = &list.surfaces[0];

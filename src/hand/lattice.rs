@@ -52,6 +52,13 @@ pub struct FleshMesh {
     pub skin_quads: Vec<[usize; 4]>,
     /// The cell each skin quadrilateral bounds.
     pub skin_cells: Vec<usize>,
+    /// Control net of the display skin: quads over `display_vertices` (the boundary of flesh,
+    /// bones and joint spaces together, outward normals).
+    pub display_quads: Vec<[usize; 4]>,
+    /// Rest positions of the control net's vertices (lattice points), m.
+    pub display_vertices: Vec<Vector3<f64>>,
+    /// The flesh cell each display quad is embedded in.
+    pub display_cells: Vec<usize>,
     /// Base lattice spacing, m.
     pub spacing: f64,
 }
@@ -60,8 +67,9 @@ pub struct FleshMesh {
 enum CellState {
     Outside,
     Bone(usize),
-    /// Between two bones that move relative to each other: the joint space, not flesh.
-    Joint,
+    /// Between two bones that move relative to each other: the joint space, not flesh (the
+    /// nearest bone kept for the display skin's regions).
+    Joint(usize),
     Kept(usize),
 }
 
@@ -343,7 +351,7 @@ pub fn mesh_flesh(
             if groups.any(|g| g != first) {
                 keep[c] = false;
                 let [i, j, k] = cell_lattice[c];
-                state[cell_id(i, j, k)] = CellState::Joint;
+                state[cell_id(i, j, k)] = CellState::Joint(cell_bone[c]);
             }
         }
     }
@@ -376,7 +384,7 @@ pub fn mesh_flesh(
             };
             let quad = HEX_FACES[f].map(|l| cells[c][l]);
             match neighbour {
-                CellState::Outside => {
+                CellState::Outside | CellState::Joint(_) => {
                     skin_quads.push(quad);
                     skin_cells.push(c);
                     for n in quad {
@@ -456,11 +464,16 @@ pub fn mesh_flesh(
             new_cell[c] = kept;
             cells[kept] = cells[c];
             cell_bone[kept] = cell_bone[c];
+            cell_lattice[kept] = cell_lattice[c];
             kept += 1;
+        } else {
+            let [i, j, k] = cell_lattice[c];
+            state[cell_id(i, j, k)] = CellState::Outside;
         }
     }
     cells.truncate(kept);
     cell_bone.truncate(kept);
+    cell_lattice.truncate(kept);
     for (q, &c) in skin_quads.iter().zip(&skin_cells) {
         if new_cell[c] != usize::MAX {
             quad_kept.push((*q, new_cell[c]));
@@ -497,8 +510,149 @@ pub fn mesh_flesh(
         }
     }
 
+    // The display skin's control net: the boundary of everything inside the skin (flesh, bones,
+    // joint spaces), so that a bone flush with the skin leaves no hole, each quad tied to the
+    // nearest flesh cell, in which its vertices will be embedded.
+    let mut sim_cell = vec![usize::MAX; nx * ny * nz];
+    for (c, &[i, j, k]) in cell_lattice.iter().enumerate() {
+        sim_cell[cell_id(i, j, k)] = c;
+    }
+    let solid = |st: CellState| match st {
+        CellState::Outside => None,
+        CellState::Kept(b) | CellState::Bone(b) | CellState::Joint(b) => Some(b),
+    };
+    let mut vertex_of = vec![u32::MAX; mx * my * (nz + 1) * 8];
+    let mut display_vertices = Vec::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let mut incident = [None; 8];
+                for (o, slot) in incident.iter_mut().enumerate() {
+                    let (a, b, c) = (o & 1, (o >> 1) & 1, (o >> 2) & 1);
+                    let (ci, cj, ck) = (i + a, j + b, k + c);
+                    if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
+                        continue;
+                    }
+                    *slot = solid(state[cell_id(ci - 1, cj - 1, ck - 1)]);
+                }
+                let mut group: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+                fn root(g: &[usize; 8], mut x: usize) -> usize {
+                    while g[x] != x {
+                        x = g[x];
+                    }
+                    x
+                }
+                for o1 in 0..8 {
+                    for bit in [1, 2, 4] {
+                        let o2 = o1 ^ bit;
+                        if let (Some(a), Some(b)) = (incident[o1], incident[o2]) {
+                            if compatible(a, b) {
+                                let (r1, r2) = (root(&group, o1), root(&group, o2));
+                                if r1 != r2 {
+                                    group[r2] = r1;
+                                }
+                            }
+                        }
+                    }
+                }
+                let base = lattice_node(i, j, k) * 8;
+                let mut id_of_root = [u32::MAX; 8];
+                for o in 0..8 {
+                    if incident[o].is_none() {
+                        continue;
+                    }
+                    let r = root(&group, o);
+                    if id_of_root[r] == u32::MAX {
+                        id_of_root[r] = display_vertices.len() as u32;
+                        display_vertices.push(point(i, j, k));
+                    }
+                    vertex_of[base + o] = id_of_root[r];
+                }
+            }
+        }
+    }
+    let mut display_quads = Vec::new();
+    let mut display_cells = Vec::new();
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                let Some(bone) = solid(state[cell_id(i, j, k)]) else {
+                    continue;
+                };
+                for (f, dir) in FACE_DIRS.iter().enumerate() {
+                    let (ni, nj, nk) = (i as i64 + dir[0], j as i64 + dir[1], k as i64 + dir[2]);
+                    let inside_grid = ni >= 0
+                        && nj >= 0
+                        && nk >= 0
+                        && ni < nx as i64
+                        && nj < ny as i64
+                        && nk < nz as i64;
+                    let neighbour = if inside_grid {
+                        solid(state[cell_id(ni as usize, nj as usize, nk as usize)])
+                    } else {
+                        None
+                    };
+                    if neighbour.is_some_and(|other| compatible(bone, other)) {
+                        continue;
+                    }
+                    let quad = HEX_FACES[f].map(|l| {
+                        let [a, b, c] = CORNERS[l];
+                        let octant = (1 - a) + 2 * (1 - b) + 4 * (1 - c);
+                        vertex_of[lattice_node(i + a, j + b, k + c) * 8 + octant] as usize
+                    });
+                    // The flesh cell to embed in: this one, or the nearest compatible one around.
+                    let here = sim_cell[cell_id(i, j, k)];
+                    let host = if here != usize::MAX {
+                        Some(here)
+                    } else {
+                        let mut best: Option<(i64, usize)> = None;
+                        for r in 1..=3i64 {
+                            for dk in -r..=r {
+                                for dj in -r..=r {
+                                    for di in -r..=r {
+                                        let (a, b, c) =
+                                            (i as i64 + di, j as i64 + dj, k as i64 + dk);
+                                        if a < 0
+                                            || b < 0
+                                            || c < 0
+                                            || a >= nx as i64
+                                            || b >= ny as i64
+                                            || c >= nz as i64
+                                        {
+                                            continue;
+                                        }
+                                        let id = cell_id(a as usize, b as usize, c as usize);
+                                        let sc = sim_cell[id];
+                                        if sc == usize::MAX || !compatible(bone, cell_bone[sc]) {
+                                            continue;
+                                        }
+                                        let d = di * di + dj * dj + dk * dk;
+                                        if best.is_none_or(|(bd, _)| d < bd) {
+                                            best = Some((d, sc));
+                                        }
+                                    }
+                                }
+                            }
+                            if best.is_some() {
+                                break;
+                            }
+                        }
+                        best.map(|b| b.1)
+                    };
+                    if let Some(host) = host {
+                        display_quads.push(quad);
+                        display_cells.push(host);
+                    }
+                }
+            }
+        }
+    }
+
     Ok(FleshMesh {
         mesh: Mesh { nodes, cells },
+        display_quads,
+        display_vertices,
+        display_cells,
         node_bone,
         cell_digit: cell_bone.iter().map(|&b| region_of(b)).collect(),
         skin_quads,

@@ -29,8 +29,16 @@ impl HandModel {
     /// Builds the hand of the given side at `resolution` (1 = default).
     pub fn new(side: Side, resolution: f64) -> Result<HandModel, MeshingError> {
         let skeleton = Skeleton::new(side);
-        let flesh = mesh_flesh(&skeleton, &SkinShape::new(side), resolution)?;
-        let skin = DisplaySkin::new(&flesh.skin_quads, flesh.mesh.nodes.len(), SKIN_LEVELS);
+        let shape = SkinShape::new(side);
+        let flesh = mesh_flesh(&skeleton, &shape, resolution)?;
+        let skin = DisplaySkin::embedded(
+            &flesh.display_quads,
+            &flesh.display_vertices,
+            &flesh.display_cells,
+            &flesh.mesh,
+            SKIN_LEVELS,
+            |p| shape.project(p),
+        );
         let weights = SkinningWeights::new(&skeleton, &flesh.mesh.nodes, &flesh.node_bone);
         Ok(HandModel {
             skeleton,

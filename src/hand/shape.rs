@@ -133,6 +133,24 @@ impl SkinShape {
         g
     }
 
+    /// The point of the skin nearest `p` (Newton steps along the gradient).
+    pub fn project(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        let mut q = *p;
+        for _ in 0..6 {
+            let g = self.gradient(&q);
+            let g2 = g.norm_squared();
+            if g2 < 1e-12 {
+                break;
+            }
+            let d = self.distance(&q);
+            q -= g * (d / g2);
+            if d.abs() < 1e-7 {
+                break;
+            }
+        }
+        q
+    }
+
     /// Axis-aligned bounds of the skin, m (padded by 2 mm).
     pub fn bounds(&self) -> (Vector3<f64>, Vector3<f64>) {
         let mut lo = Vector3::new(PALM.wrist_x, -PALM.half_width[1], -PALM.palmar);

@@ -3,7 +3,10 @@
 //! flesh and follows its displacement field at the cost of one sparse product per frame; the
 //! display resolution never costs simulation time.
 
-use nalgebra::Vector3;
+use crate::fem::hex8::{shape, shape_derivatives};
+use crate::mesh::Mesh;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// A smooth quad surface whose vertices are fixed linear combinations of simulation nodes.
@@ -163,6 +166,48 @@ impl DisplaySkin {
         skin
     }
 
+    /// A control net (`quads` over `vertices`, each quad tied to a cell of `mesh` by
+    /// `quad_cells`) subdivided `levels` times, then every display vertex moved onto the true
+    /// skin surface (`project` maps a point to its nearest skin point, at rest) and embedded in
+    /// the cell its quad is tied to: its weights become the trilinear shape functions of that
+    /// cell at the vertex's local coordinates (extrapolated outside the cell where the skin is).
+    /// The skin is then as smooth as the skin shape, whatever the lattice's steps, and follows
+    /// the flesh's displacement field.
+    pub fn embedded(
+        quads: &[[usize; 4]],
+        vertices: &[Vector3<f64>],
+        quad_cells: &[usize],
+        mesh: &Mesh,
+        levels: usize,
+        project: impl Fn(&Vector3<f64>) -> Vector3<f64> + Sync,
+    ) -> DisplaySkin {
+        let mut skin = DisplaySkin::new(quads, vertices.len(), levels);
+        let rest = skin.positions(vertices);
+        let mut cell_of = vec![usize::MAX; rest.len()];
+        let per_quad = 4usize.pow(levels as u32);
+        for (q, quad) in skin.quads.iter().enumerate() {
+            for &v in quad {
+                if cell_of[v as usize] == usize::MAX {
+                    cell_of[v as usize] = quad_cells[q / per_quad];
+                }
+            }
+        }
+        let embedded: Vec<[(u32, f64); 8]> = rest
+            .par_iter()
+            .enumerate()
+            .map(|(v, p)| {
+                let cell = mesh.cells[cell_of[v]];
+                let coords = cell.map(|n| mesh.nodes[n]);
+                let n = shape(&local_coordinates(&coords, &project(p)));
+                std::array::from_fn(|a| (cell[a] as u32, n[a]))
+            })
+            .collect();
+        skin.offsets = (0..=embedded.len()).map(|v| (8 * v) as u32).collect();
+        skin.nodes = embedded.iter().flatten().map(|e| e.0).collect();
+        skin.weights = embedded.iter().flatten().map(|e| e.1).collect();
+        skin
+    }
+
     /// Number of display vertices.
     pub fn vertex_count(&self) -> usize {
         self.offsets.len() - 1
@@ -182,6 +227,18 @@ impl DisplaySkin {
             .collect()
     }
 
+    /// Values at display vertices interpolated from values at nodes (same weights).
+    pub fn interpolate(&self, values: &[f64]) -> Vec<f64> {
+        (0..self.vertex_count())
+            .map(|v| {
+                let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
+                (a..b)
+                    .map(|i| values[self.nodes[i] as usize] * self.weights[i])
+                    .sum()
+            })
+            .collect()
+    }
+
     /// Triangles (two per quad), display vertex indices.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.quads
@@ -189,4 +246,27 @@ impl DisplaySkin {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect()
     }
+}
+
+/// Local coordinates ξ of point `x` in the trilinear cell `coords` (Newton; allowed up to 1
+/// outside the reference cube, where the point lies beyond the cell).
+fn local_coordinates(coords: &[Vector3<f64>; 8], x: &Vector3<f64>) -> Vector3<f64> {
+    let mut xi = Vector3::zeros();
+    for _ in 0..12 {
+        let n = shape(&xi);
+        let dn = shape_derivatives(&xi);
+        let mut r = -x;
+        let mut j = Matrix3::zeros();
+        for a in 0..8 {
+            r += coords[a] * n[a];
+            j += coords[a] * dn[a].transpose();
+        }
+        let Some(inv) = j.try_inverse() else { break };
+        let step = inv * r;
+        xi = (xi - step).map(|c| c.clamp(-2.0, 2.0));
+        if step.norm() < 1e-12 {
+            break;
+        }
+    }
+    xi
 }
