@@ -16,12 +16,12 @@ pub enum PipelineError {
     #[error(transparent)]
     Scene(#[from] SceneError),
     /// The solve failed.
-    #[error("{file}: {source}")]
+    #[error("{file}: {error}")]
     Sim {
         /// The scene file.
         file: String,
         /// Why.
-        source: SimError,
+        error: SimError,
     },
     /// Output could not be written.
     #[error("{dir}: cannot write the output: {source}")]
@@ -49,7 +49,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
     let model = Model::build(scene, file)?;
     let (times, frames) = solve_frames(&model).map_err(|source| PipelineError::Sim {
         file: file.to_string(),
-        source,
+        error: source,
     })?;
     let report = Report {
         scene: file.to_string(),

@@ -8,6 +8,7 @@
 use super::hex8::{element_stiffness, InvertedCell};
 use super::material::Material;
 use crate::mesh::Mesh;
+use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -167,17 +168,64 @@ pub fn assemble(
     mesh: &Mesh,
     materials: &[Material],
 ) -> Result<Stiffness, AssemblyError> {
+    assemble_with(pattern, mesh, materials, None).map(|(k, _)| k)
+}
+
+/// The warped (corotated) stiffness of an increment: each element's K_e turned by a rotation
+/// R_e, K̃ = Σ_e R_e K_e R_eᵀ, and the vector b = Σ_e R_e K_e x_e for the current positions x.
+/// The element forces f_e(y) = R_e K_e (R_eᵀ y_e − x_e) vanish when the element turns rigidly
+/// by R_e, so that K̃·y = b, solved for the new positions y, has no spurious strain from the
+/// rotation of flesh that turns with a bone (stiffness warping).
+pub fn assemble_warped(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+    rotations: &[Matrix3<f64>],
+) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
+    assert_eq!(rotations.len(), mesh.cell_count());
+    assemble_with(pattern, mesh, materials, Some(rotations)).map(|(k, b)| (k, b.unwrap()))
+}
+
+fn assemble_with(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+    rotations: Option<&[Matrix3<f64>]>,
+) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
     let mut values = vec![0.0; pattern.nnz()];
+    let mut rhs = rotations.map(|_| vec![0.0; pattern.dofs]);
     let shared = SharedValues(values.as_mut_ptr());
     let shared = &shared;
+    let shared_rhs = rhs.as_mut().map(|b| SharedValues(b.as_mut_ptr()));
+    let shared_rhs = &shared_rhs;
     for (index, colour) in pattern.colours.iter().enumerate() {
         // Colour 63 collects the cells that found no free colour: they may share nodes.
         let serial = index == 63;
         let add = |&c: &usize| -> Result<(), AssemblyError> {
             let cell = &mesh.cells[c];
-            let ke = element_stiffness(&mesh.cell_coords(c), &materials[c])
+            let coords = mesh.cell_coords(c);
+            let mut ke = element_stiffness(&coords, &materials[c])
                 .map_err(|inverted| AssemblyError { cell: c, inverted })?;
+            if let (Some(rot), Some(b)) = (rotations, shared_rhs) {
+                let r = rot[c];
+                for a in 0..8 {
+                    let mut f = Vector3::zeros();
+                    for bb in 0..8 {
+                        f += ke[a][bb] * coords[bb];
+                    }
+                    let f = r * f;
+                    for i in 0..3 {
+                        // SAFETY: as below, cells of one colour share no node.
+                        unsafe { *b.0.add(3 * cell[a] + i) += f[i] };
+                    }
+                }
+                for row in ke.iter_mut() {
+                    for block in row.iter_mut() {
+                        *block = r * *block * r.transpose();
+                    }
+                }
+            }
             let ranks = &pattern.ranks[c];
             for a in 0..8 {
                 for b in 0..8 {
@@ -206,10 +254,13 @@ pub fn assemble(
             colour.par_iter().try_for_each(add)?;
         }
     }
-    Ok(Stiffness {
-        pattern: pattern.clone(),
-        values,
-    })
+    Ok((
+        Stiffness {
+            pattern: pattern.clone(),
+            values,
+        },
+        rhs,
+    ))
 }
 
 impl Stiffness {

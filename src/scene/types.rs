@@ -1,7 +1,7 @@
 //! Serde types of the scene file.
 
 use crate::hand::{Blend, Side};
-use crate::sim::FleshMethod;
+use crate::sim::{FleshMethod, FlexionScheme};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -86,6 +86,9 @@ pub struct SolverSettings {
     /// Skinning blend: `"dual_quaternion"` (default) or `"linear"`.
     #[serde(default)]
     pub skinning: Option<Blend>,
+    /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
+    #[serde(default)]
+    pub flexion: Option<FlexionScheme>,
 }
 
 /// Name of a flexion region.

@@ -13,13 +13,13 @@
 //! follow their bones geometrically (the fast path).
 
 use super::statics::SimError;
-use crate::fem::assembly::{assemble, StiffnessPattern};
+use crate::fem::assembly::{assemble, assemble_warped, StiffnessPattern};
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::solve::{FillOrdering, PartitionedSolver};
 use crate::fem::{DofPartition, Material};
 use crate::hand::{Blend, HandModel};
 use crate::mesh::Mesh;
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, UnitQuaternion, Vector3};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -32,6 +32,21 @@ pub enum FleshMethod {
     Fem,
     /// Geometric skinning only.
     Skinning,
+}
+
+/// How an increment's stiffness treats the rotation of the flesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FlexionScheme {
+    /// The paper's scheme: K assembled on the current geometry, K·ΔU = 0 with the bones'
+    /// ΔU prescribed. A finite rotation is not a zero-energy motion of a linear increment, so
+    /// flesh that turns with a bone picks up O(θ²) spurious strain per increment.
+    UpdatedLagrangian,
+    /// The same increments with each element's stiffness turned by the rotation its nodes
+    /// follow (from the skinning blend of the bones' incremental motions): K̃ = Σ R K_e Rᵀ,
+    /// K̃·y = Σ R K_e x, so that flesh turning with a bone turns without strain.
+    #[default]
+    Corotational,
 }
 
 /// Which cells the FEM solves in an increment.
@@ -57,6 +72,8 @@ pub struct FlexionSettings {
     pub methods: [FleshMethod; 6],
     /// Skinning blend.
     pub blend: Blend,
+    /// Increment scheme.
+    pub scheme: FlexionScheme,
 }
 
 impl Default for FlexionSettings {
@@ -66,6 +83,7 @@ impl Default for FlexionSettings {
             region: FleshRegion::Local { radius: 0.025 },
             methods: [FleshMethod::Fem; 6],
             blend: Blend::DualQuaternion,
+            scheme: FlexionScheme::Corotational,
         }
     }
 }
@@ -312,7 +330,11 @@ impl<'a> Flexion<'a> {
             stats.update_ms += ms(t_update);
 
             if let Some(sub) = &sub {
-                match self.solve_increment(sub, state, &mut next, &mut stats)? {
+                let rotations = match self.settings.scheme {
+                    FlexionScheme::UpdatedLagrangian => None,
+                    FlexionScheme::Corotational => Some(cell_rotations(hand, sub, &delta)),
+                };
+                match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
                     None => {}
                     Some(_) if halvings < MAX_HALVINGS => {
                         halvings += 1;
@@ -321,19 +343,24 @@ impl<'a> Flexion<'a> {
                         continue;
                     }
                     Some((cell, _)) => {
+                        // Name the moving joint nearest the crushed cell.
+                        let c = flesh.mesh.cells[cell];
+                        let at = c.iter().map(|&n| flesh.mesh.nodes[n]).sum::<Vector3<f64>>() / 8.0;
+                        let now = c.iter().map(|&n| state.positions[n]).sum::<Vector3<f64>>() / 8.0;
                         let worst = skeleton
                             .dofs
                             .iter()
                             .enumerate()
-                            .max_by(|a, b| {
-                                (target[a.0] - start[a.0])
-                                    .abs()
-                                    .total_cmp(&(target[b.0] - start[b.0]).abs())
+                            .filter(|(i, _)| target[*i] != start[*i])
+                            .min_by(|a, b| {
+                                let d = |d: &crate::hand::JointDof| {
+                                    let p = state.transforms[d.bone] * Point3::from(d.center);
+                                    (p.coords - now).norm()
+                                };
+                                d(a.1).total_cmp(&d(b.1))
                             })
                             .map(|(i, d)| (d.name.clone(), angles[i]))
                             .unwrap_or_default();
-                        let c = flesh.mesh.cells[cell];
-                        let at = c.iter().map(|&n| flesh.mesh.nodes[n]).sum::<Vector3<f64>>() / 8.0;
                         return Err(SimError::FleshCrushed {
                             body: self.body.clone(),
                             element: cell,
@@ -414,6 +441,7 @@ impl<'a> Flexion<'a> {
         sub: &SubProblem,
         state: &mut HandState,
         next: &mut [Vector3<f64>],
+        rotations: Option<Vec<Matrix3<f64>>>,
         stats: &mut KeyframeStats,
     ) -> Result<Option<(usize, f64)>, SimError> {
         let inverted = |cell: usize, relative_det: f64| SimError::InvertedElement {
@@ -426,18 +454,30 @@ impl<'a> Flexion<'a> {
             cells: sub.mesh.cells.clone(),
         };
         let t = Instant::now();
-        let k = assemble(&sub.pattern, &mesh, &sub.materials)
-            .map_err(|e| inverted(sub.cells[e.cell], e.inverted.relative_det))?;
-        stats.assembly_ms += ms(t);
         let dofs = sub.nodes.len() * 3;
+        // Unknowns: the displacement increment (paper), or the new positions (corotational).
+        let absolute = rotations.is_some();
+        let (k, loads) = match &rotations {
+            None => (
+                assemble(&sub.pattern, &mesh, &sub.materials)
+                    .map_err(|e| inverted(sub.cells[e.cell], e.inverted.relative_det))?,
+                vec![0.0; dofs],
+            ),
+            Some(r) => assemble_warped(&sub.pattern, &mesh, &sub.materials, r)
+                .map_err(|e| inverted(sub.cells[e.cell], e.inverted.relative_det))?,
+        };
+        stats.assembly_ms += ms(t);
         let mut prescribed = vec![0.0; dofs];
         for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {
-                let du = next[n] - state.positions[n];
-                prescribed[3 * i..3 * i + 3].copy_from_slice(du.as_slice());
+                let value = if absolute {
+                    next[n]
+                } else {
+                    next[n] - state.positions[n]
+                };
+                prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
             }
         }
-        let loads = vec![0.0; dofs];
         let solution = self
             .solver
             .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
@@ -453,7 +493,8 @@ impl<'a> Flexion<'a> {
         stats.relative_residual = stats.relative_residual.max(s.relative_residual);
         for (i, &n) in sub.nodes.iter().enumerate() {
             if !sub.partition.prescribed[3 * i] {
-                mesh.nodes[i] = state.positions[n] + solution.node_displacement(i);
+                let u = solution.node_displacement(i);
+                mesh.nodes[i] = if absolute { u } else { state.positions[n] + u };
             } else {
                 mesh.nodes[i] = next[n];
             }
@@ -478,6 +519,40 @@ impl<'a> Flexion<'a> {
         }
         Ok(None)
     }
+}
+
+/// The rotation each cell of the sub-problem follows in an increment: the skinning blend of its
+/// nodes' bones' incremental rotations (quaternions on one hemisphere, averaged, normalised).
+fn cell_rotations(
+    hand: &HandModel,
+    sub: &SubProblem,
+    delta: &[Isometry3<f64>],
+) -> Vec<Matrix3<f64>> {
+    let node_rotation = |n: usize| -> Quaternion<f64> {
+        let mut sum = Quaternion::new(0.0, 0.0, 0.0, 0.0);
+        let first = delta[hand.weights.weights[n][0].0].rotation.into_inner();
+        for &(b, w) in &hand.weights.weights[n] {
+            let q = delta[b].rotation.into_inner();
+            let s = if q.dot(&first) < 0.0 { -w } else { w };
+            sum += q * s;
+        }
+        sum
+    };
+    sub.cells
+        .iter()
+        .map(|&c| {
+            let cell = hand.flesh.mesh.cells[c];
+            let first = node_rotation(cell[0]);
+            let mut sum = Quaternion::new(0.0, 0.0, 0.0, 0.0);
+            for &n in &cell {
+                let q = node_rotation(n);
+                sum += if q.dot(&first) < 0.0 { -q } else { q };
+            }
+            UnitQuaternion::new_normalize(sum)
+                .to_rotation_matrix()
+                .into_inner()
+        })
+        .collect()
 }
 
 fn ms(t: Instant) -> f64 {

@@ -7,7 +7,9 @@ mod motion;
 mod select;
 mod statics;
 
-pub use flexion::{FleshMethod, FleshRegion, Flexion, FlexionSettings, HandState, KeyframeStats};
+pub use flexion::{
+    FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState, KeyframeStats,
+};
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
 pub use motion::solve_frames;
 pub use statics::{solve_static, Frame, HandFrame, SimError};

@@ -616,6 +616,9 @@ fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, Stri
     if let Some(b) = s.skinning {
         out.blend = b;
     }
+    if let Some(f) = s.flexion {
+        out.scheme = f;
+    }
     Ok(out)
 }
 
