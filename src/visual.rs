@@ -172,11 +172,12 @@ fn hand_drawing(
         Overlay::Displacement => Some(nodal(&|n| frame.solution.node_displacement(n).norm())),
         _ => None,
     }
+    // Both fields are non-negative; the skin's weights extrapolate slightly past the cells.
     .map(|v| {
         hand.skin
             .interpolate(&v)
             .iter()
-            .map(|x| *x as f32)
+            .map(|x| x.max(0.0) as f32)
             .collect()
     });
     list.surfaces.push(Surface {

@@ -136,6 +136,53 @@ fn scene_snapshot(name: &str, scene: &str, overlay: Overlay, wireframe: bool, ca
     check_snapshot(name, &image);
 }
 
+/// The finger-flexion scene, solved once for the hand snapshots.
+fn finger_flexion() -> &'static prehensile::pipeline::Solved {
+    static SOLVED: OnceLock<prehensile::pipeline::Solved> = OnceLock::new();
+    SOLVED.get_or_init(|| {
+        solve_scene_file(&manifest().join("assets/scenes/finger-flexion.toml"))
+            .expect("the scene solves")
+    })
+}
+
+fn hand_snapshot(name: &str, frame: usize, options: VisualOptions, camera: &str) {
+    let image = render_frame(
+        &mut renderer(),
+        finger_flexion(),
+        frame,
+        &options,
+        camera,
+        WIDTH,
+        HEIGHT,
+    )
+    .expect("renders");
+    check_snapshot(name, &image);
+}
+
+#[test]
+fn rest_hand() {
+    hand_snapshot("hand-rest", 0, VisualOptions::default(), "three-quarter");
+}
+
+#[test]
+fn flexed_finger_with_bones_showing() {
+    let options = VisualOptions {
+        skin_opacity: 0.4,
+        ..Default::default()
+    };
+    hand_snapshot("hand-flexed-bones", 3, options, "front");
+}
+
+#[test]
+fn flexed_finger_bone_forces() {
+    let options = VisualOptions {
+        overlay: Overlay::Forces,
+        skin_opacity: 0.4,
+        ..Default::default()
+    };
+    hand_snapshot("hand-flexed-forces", 2, options, "front");
+}
+
 #[test]
 fn default_ball_stress() {
     scene_snapshot(
