@@ -63,7 +63,42 @@ pub fn camera_for(lists: &[DrawList], name: &str, aspect: f32) -> Result<Camera,
     })
 }
 
-/// Renders frame `frame` of a solved scene with the named camera.
+/// The camera called `name`: one of the scene's `[[camera]]`s, else a built-in preset framing
+/// all of `lists`.
+pub fn scene_camera(
+    solved: &Solved,
+    lists: &[DrawList],
+    name: &str,
+    aspect: f32,
+) -> Result<Camera, HeadlessError> {
+    if let Some(c) = solved.model.cameras.iter().find(|c| c.name == name) {
+        let v = |a: [f64; 3]| glam::Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
+        return Ok(Camera {
+            eye: v(c.eye),
+            target: v(c.target),
+            up: v(c.up),
+            fov_y: (c.fov_deg as f32).to_radians(),
+        });
+    }
+    camera_for(lists, name, aspect).map_err(|e| match e {
+        HeadlessError::UnknownCamera { name, known } => {
+            let mut all: Vec<String> = solved
+                .model
+                .cameras
+                .iter()
+                .map(|c| c.name.clone())
+                .collect();
+            all.push(known);
+            HeadlessError::UnknownCamera {
+                name,
+                known: all.join(", "),
+            }
+        }
+        other => other,
+    })
+}
+
+/// Renders frame `frame` of a solved scene with the named camera (a scene camera or a preset).
 pub fn render_frame(
     renderer: &mut Renderer,
     solved: &Solved,
@@ -80,6 +115,6 @@ pub fn render_frame(
         });
     }
     let lists = draw_lists(solved, options)?;
-    let cam = camera_for(&lists, camera, width as f32 / height.max(1) as f32)?;
+    let cam = scene_camera(solved, &lists, camera, width as f32 / height.max(1) as f32)?;
     Ok(renderer.render_to_rgba(&lists[frame], &cam, width, height)?)
 }

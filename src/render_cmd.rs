@@ -4,7 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
 use prehensile::export::png::write_png_atomic;
-use prehensile::headless::{camera_for, draw_lists};
+use prehensile::headless::{draw_lists, scene_camera};
 use prehensile::pipeline::solve_scene_file;
 use prehensile::render::Renderer;
 use prehensile::visual::{Overlay, VisualOptions};
@@ -62,7 +62,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         bones: true,
     };
     let lists = draw_lists(&solved, &options).with_context(|| args.scene.display().to_string())?;
-    let camera = camera_for(
+    let camera = scene_camera(
+        &solved,
         &lists,
         &args.camera,
         args.width as f32 / args.height.max(1) as f32,

@@ -32,6 +32,7 @@ fn the_finger_flexion_scene_reports_every_keyframe_and_exports_the_hand() {
     let solved =
         prehensile::pipeline::solve_scene_file("assets/scenes/finger-flexion.toml".as_ref())
             .unwrap();
+    assert_eq!(solved.model.cameras[0].name, "finger");
     let times: Vec<f64> = solved.report.frames.iter().map(|f| f.time).collect();
     assert_eq!(times, [0.0, 0.5, 1.0, 1.5]);
     let increments: Vec<usize> = solved
@@ -143,6 +144,9 @@ fn bad_poses_and_hand_constraints_are_refused_with_the_field_named() {
         e.contains("shape.hand") && e.contains("between 0.5 and 4"),
         "{e}"
     );
+    let e =
+        error_of("[[camera]]\nname = \"c\"\neye = [0, 0, 1]\ntarget = [0, 0, 0]\nfov_deg = 200\n");
+    assert!(e.contains("camera \"c\" (camera[0]).fov_deg"), "{e}");
     let e = error_of("[solver]\nflesh_digits = { pinky = \"skinning\" }\n");
     assert!(e.contains("solver.flesh_digits.pinky"), "{e}");
 }

@@ -36,6 +36,35 @@ pub struct Scene {
     /// Poses of hands at later times.
     #[serde(default)]
     pub keyframe: Vec<KeyframeDef>,
+    /// Named cameras of this scene (beside the built-in presets).
+    #[serde(default)]
+    pub camera: Vec<CameraDef>,
+}
+
+/// `[[camera]]`: a named view of the scene.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDef {
+    /// Name, used by `--camera`.
+    pub name: String,
+    /// Eye position, m.
+    pub eye: [f64; 3],
+    /// Point looked at, m.
+    pub target: [f64; 3],
+    /// Up direction (default `[0, 0, 1]`).
+    #[serde(default = "z_up")]
+    pub up: [f64; 3],
+    /// Vertical field of view, degrees (default 35).
+    #[serde(default = "default_fov")]
+    pub fov_deg: f64,
+}
+
+fn z_up() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+fn default_fov() -> f64 {
+    35.0
 }
 
 /// `[[keyframe]]`: a hand's pose at a time. Joints not named keep their previous angle.

@@ -126,6 +126,8 @@ pub struct Model {
     pub flexion: FlexionSettings,
     /// Keyframes in time order.
     pub keyframes: Vec<KeyframeModel>,
+    /// The scene's named cameras (validated).
+    pub cameras: Vec<crate::scene::CameraDef>,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -535,6 +537,33 @@ impl Model {
 
         let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
         let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
+        for (i, c) in scene.camera.iter().enumerate() {
+            let field = format!("camera \"{}\" (camera[{i}])", c.name);
+            if scene.camera[..i].iter().any(|o| o.name == c.name) {
+                return Err(err(field, "a camera of this name is defined twice".into()));
+            }
+            let (eye, target, up) = (
+                Vector3::from(c.eye),
+                Vector3::from(c.target),
+                Vector3::from(c.up),
+            );
+            if !(finite(&c.eye) && finite(&c.target) && finite(&c.up)) {
+                return Err(err(field, "eye, target and up must be finite".into()));
+            }
+            if (eye - target).norm() < 1e-9 || up.cross(&(eye - target)).norm() < 1e-12 {
+                return Err(err(
+                    field,
+                    "eye must differ from target, and up must not be along the view".into(),
+                ));
+            }
+            if !(1.0..=170.0).contains(&c.fov_deg) {
+                return Err(err(
+                    format!("{field}.fov_deg"),
+                    format!("must be between 1 and 170 degrees, got {}", c.fov_deg),
+                ));
+            }
+        }
+        let cameras = scene.camera.clone();
         let ordering = match scene.solver.ordering {
             Some(OrderingName::Amd) => FillOrdering::Amd,
             _ => FillOrdering::NestedDissection,
@@ -565,6 +594,7 @@ impl Model {
             ordering,
             flexion,
             keyframes,
+            cameras,
         })
     }
 
