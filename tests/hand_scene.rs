@@ -145,7 +145,7 @@ fn bad_poses_and_hand_constraints_are_refused_with_the_field_named() {
         "{e}"
     );
     let e =
-        error_of("[[camera]]\nname = \"c\"\neye = [0, 0, 1]\ntarget = [0, 0, 0]\nfov_deg = 200\n");
+        error_of("[[camera]]\nname = \"c\"\neye = [1, 0, 0]\ntarget = [0, 0, 0]\nfov_deg = 200\n");
     assert!(e.contains("camera \"c\" (camera[0]).fov_deg"), "{e}");
     let e = error_of("[solver]\nflesh_digits = { pinky = \"skinning\" }\n");
     assert!(e.contains("solver.flesh_digits.pinky"), "{e}");
