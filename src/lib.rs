@@ -41,6 +41,7 @@
 
 pub mod bench;
 pub mod bench_hand;
+pub mod contact;
 pub mod export;
 pub mod fem;
 pub mod hand;

@@ -278,6 +278,39 @@ impl PartitionedSolver {
     }
 }
 
+impl PartitionedSolver {
+    /// Solves K11·X = B in place with the factor of the last [`PartitionedSolver::solve`], for
+    /// `columns` right-hand sides stored column by column in `b` (each of length NBEQ, ordered as
+    /// the partition's free dofs). Costs substitutions only: this is what lets contact
+    /// constraints be added through a Schur complement without refactorizing.
+    pub fn solve_factored(&mut self, b: &mut [f64], columns: usize) -> Result<(), SolveError> {
+        let Some(analysis) = self.analysis.as_ref() else {
+            return Err(SolveError::Faer("no factorization to reuse".into()));
+        };
+        let neq = analysis.partition.free_count();
+        assert_eq!(b.len(), neq * columns);
+        if columns == 0 || neq == 0 {
+            return Ok(());
+        }
+        let par = faer::get_global_parallelism();
+        let llt = LltRef::new(&analysis.cholesky, &self.factor);
+        let req = analysis
+            .cholesky
+            .solve_in_place_scratch::<f64>(columns, par);
+        let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(b, neq, columns),
+            par,
+            MemStack::new_any(mem),
+        );
+        if b.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite("a solution with the reused factor"));
+        }
+        Ok(())
+    }
+}
+
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }

@@ -1,0 +1,11 @@
+//! Contact. Today: deformable bodies against rigid obstacles (a table plane, a rigid sphere),
+//! frictionless, enforced exactly at convergence by an active set of Lagrange multipliers solved
+//! through a Schur complement that reuses the stiffness factorization.
+
+mod lagrange;
+mod obstacle;
+
+pub use lagrange::{
+    solve_with_obstacles, ContactError, ContactPoint, ContactResult, ContactSettings,
+};
+pub use obstacle::Obstacle;
