@@ -144,6 +144,38 @@ pub fn body_surface(model: &Model, frame: &Frame, b: usize, scale: f64) -> (Surf
     )
 }
 
+/// A rigid sphere obstacle as a grey surface.
+fn rigid_sphere(center: &Vector3<f64>, radius: f64) -> Surface {
+    let (rings, around) = (24u32, 48u32);
+    let mut positions = Vec::new();
+    for i in 0..=rings {
+        let theta = std::f64::consts::PI * i as f64 / rings as f64;
+        for j in 0..around {
+            let phi = std::f64::consts::TAU * j as f64 / around as f64;
+            let d = Vector3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            positions.push(to_f32(&(center + d * radius)));
+        }
+    }
+    let mut indices = Vec::new();
+    for i in 0..rings {
+        for j in 0..around {
+            let (a, b) = (i * around + j, i * around + (j + 1) % around);
+            let (c, d) = (a + around, b + around);
+            indices.extend([a, c, d, a, d, b]);
+        }
+    }
+    Surface {
+        positions,
+        indices,
+        scalars: None,
+        color: [0.35, 0.36, 0.38, 1.0],
+    }
+}
+
 /// Skin colour (linear RGB), and bone colour.
 const SKIN: [f32; 3] = [0.74, 0.42, 0.30];
 const BONE: [f32; 4] = [0.78, 0.72, 0.56, 1.0];
@@ -280,9 +312,17 @@ pub fn draw_list(
             expected,
         });
     }
-    if options.overlay == Overlay::Pressure {
+    if options.overlay == Overlay::Pressure && frame.contact.is_none() {
         return Err(VisualError::NoContact);
     }
+    let pressure = frame.contact.as_ref().map(|c| {
+        let facets: Vec<crate::mesh::Facet> = model
+            .bodies
+            .iter()
+            .flat_map(|b| b.facets.iter().copied())
+            .collect();
+        crate::contact::nodal_pressure(&model.mesh.nodes, &facets, &c.contacts)
+    });
     let scale = options.displacement_scale;
     let mut list = DrawList::default();
     let mut bone_loads = Vec::new();
@@ -308,6 +348,9 @@ pub fn draw_list(
                     .map(|&n| frame.solution.node_displacement(n).norm() as f32)
                     .collect(),
             ),
+            Overlay::Pressure => pressure
+                .as_ref()
+                .map(|p| nodes.iter().map(|&n| p[n] as f32).collect()),
             _ => None,
         };
         list.surfaces.push(surface);
@@ -323,6 +366,12 @@ pub fn draw_list(
         .copied();
     let range = guard_range(finite_range(scalars).unwrap_or([0.0, 1.0]));
     list.legend = match options.overlay {
+        Overlay::Pressure => Some(Legend {
+            title: "contact pressure".into(),
+            unit: "Pa".into(),
+            range,
+            colormap: Colormap::Heat,
+        }),
         Overlay::Stress => Some(Legend {
             title: "von Mises stress".into(),
             unit: "Pa".into(),
@@ -395,10 +444,26 @@ pub fn draw_list(
             colormap: Colormap::Traffic,
         });
     }
+    // Rigid spheres are drawn; a horizontal obstacle plane is the ground.
+    for (_, o) in &model.obstacles {
+        if let crate::contact::Obstacle::Sphere { center, radius } = o {
+            list.surfaces.push(rigid_sphere(center, *radius));
+        }
+    }
+    let table = model
+        .obstacles
+        .iter()
+        .filter_map(|(_, o)| match o {
+            crate::contact::Obstacle::Plane { point, normal } if normal.z > 0.999 => {
+                Some(point.z as f32)
+            }
+            _ => None,
+        })
+        .fold(f32::INFINITY, f32::min);
     if bodies.is_valid() {
         let c = bodies.center();
         list.ground = Some(Ground {
-            height: bodies.min.z,
+            height: bodies.min.z.min(table),
             center: [c.x, c.y],
             extent: 4.0 * size,
         });

@@ -173,3 +173,41 @@ fn hertz_contact_of_a_ball_on_a_rigid_plane() {
     assert!(errors[2] < 0.07, "{errors:?}");
     assert!(peaks[0] > peaks[2] && peaks[2] < 0.12, "{peaks:?}");
 }
+
+#[test]
+fn the_ball_on_table_scene_balances_and_reports_its_tactile_map() {
+    let solved =
+        prehensile::pipeline::solve_scene_file("assets/scenes/ball-on-table.toml".as_ref())
+            .unwrap();
+    let f = &solved.report.frames[0];
+    let c = f.contact.as_ref().expect("a contact report");
+    let table = c.obstacles["table"].force;
+    let finger = f.constraints["finger"].reaction;
+    println!(
+        "table {table:?} N on {} nodes, finger {finger:?} N, {} iterations, {} substitutions, \
+         peak pressure {:.0} Pa, imbalance {:?}",
+        c.obstacles["table"].nodes,
+        c.iterations,
+        c.substitutions,
+        c.max_pressure,
+        f.equilibrium.imbalance
+    );
+    // Action and reaction: the table pushes up exactly what the finger pushes down.
+    assert!(table[2] > 10.0);
+    assert!((table[2] + finger[2]).abs() < 1e-9 * table[2]);
+    for i in 0..3 {
+        assert!(f.equilibrium.imbalance[i].abs() < 1e-9 * table[2]);
+    }
+    assert!(c.max_penetration <= 1e-9 * 0.1);
+    assert_eq!(c.factorizations, 1);
+    // Hertz: p0 = 3F/(2πa²) with a = (3FR/4E*)^(1/3) — the nodal tactile map comes within 20 %
+    // at this mesh (a pressure at nodes, averaged over their tributary areas, under-reads the peak).
+    let (r, e_star) = (0.05, 1.0e6 / (1.0 - 0.45 * 0.45));
+    let a = (3.0 * table[2] * r / (4.0 * e_star)).cbrt();
+    let p0 = 1.5 * table[2] / (std::f64::consts::PI * a * a);
+    assert!(
+        (c.max_pressure / p0 - 1.0).abs() < 0.2,
+        "{} vs {p0}",
+        c.max_pressure
+    );
+}

@@ -184,6 +184,17 @@ fn flexed_finger_bone_forces() {
 }
 
 #[test]
+fn ball_press_pressure_map() {
+    scene_snapshot(
+        "ball-on-table-pressure",
+        "ball-on-table.toml",
+        Overlay::Pressure,
+        false,
+        "under",
+    );
+}
+
+#[test]
 fn default_ball_stress() {
     scene_snapshot(
         "default-stress",

@@ -154,23 +154,30 @@ pub fn solve_with_obstacles(
         if active.is_empty() {
             break;
         }
+        // K11⁻¹ on the unit vectors of the new contact nodes' free dofs, all in one
+        // multi-column substitution with the existing factor.
+        let mut wanted: Vec<(usize, usize)> = Vec::new();
         for &(node, ..) in &active {
-            if columns.contains_key(&node) {
+            if columns.contains_key(&node) || wanted.iter().any(|w| w.0 == node) {
                 continue;
             }
-            let mut cols: [Option<Vec<f64>>; 3] = [None, None, None];
-            for (axis, col) in cols.iter_mut().enumerate() {
-                let d = 3 * node + axis;
-                if partition.prescribed[d] {
-                    continue;
+            for axis in 0..3 {
+                if !partition.prescribed[3 * node + axis] {
+                    wanted.push((node, axis));
                 }
-                let mut e = vec![0.0; neq];
-                e[partition.equation[d]] = 1.0;
-                solver.solve_factored(&mut e, 1)?;
-                substitutions += 1;
-                *col = Some(e);
             }
-            columns.insert(node, cols);
+        }
+        if !wanted.is_empty() {
+            let mut block = vec![0.0; neq * wanted.len()];
+            for (j, &(node, axis)) in wanted.iter().enumerate() {
+                block[j * neq + partition.equation[3 * node + axis]] = 1.0;
+            }
+            solver.solve_factored(&mut block, wanted.len())?;
+            substitutions += wanted.len();
+            for (j, &(node, axis)) in wanted.iter().enumerate() {
+                let entry = columns.entry(node).or_insert([None, None, None]);
+                entry[axis] = Some(block[j * neq..(j + 1) * neq].to_vec());
+            }
         }
         // Solve the Schur system; drop the most negative multiplier until all are compressive.
         loop {

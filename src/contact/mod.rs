@@ -4,8 +4,10 @@
 
 mod lagrange;
 mod obstacle;
+mod pressure;
 
 pub use lagrange::{
     solve_with_obstacles, ContactError, ContactPoint, ContactResult, ContactSettings,
 };
 pub use obstacle::Obstacle;
+pub use pressure::nodal_pressure;

@@ -138,6 +138,78 @@ pub struct FrameReport {
     /// Per hand body: pose, bone reactions, flesh volume, flexion cost.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub hands: BTreeMap<String, HandReport>,
+    /// Contact against the obstacles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactReport>,
+}
+
+/// Contact in a frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContactReport {
+    /// Per obstacle: the total force it exerts on the bodies (N) and the nodes touching it.
+    pub obstacles: BTreeMap<String, ObstacleReport>,
+    /// Active-set iterations.
+    pub iterations: usize,
+    /// Factorizations (one: constraints are added through the Schur complement).
+    pub factorizations: usize,
+    /// Substitutions with the reused factor.
+    pub substitutions: usize,
+    /// Largest penetration at convergence, m.
+    pub max_penetration: f64,
+    /// Largest contact pressure, Pa.
+    pub max_pressure: f64,
+    /// Time of the contact iterations, ms.
+    pub contact_ms: f64,
+}
+
+/// One obstacle's contact.
+#[derive(Clone, Debug, Serialize)]
+pub struct ObstacleReport {
+    /// Total force on the bodies, N.
+    pub force: [f64; 3],
+    /// Nodes in contact.
+    pub nodes: usize,
+}
+
+fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
+    let c = frame.contact.as_ref()?;
+    let mut obstacles: BTreeMap<String, ObstacleReport> = model
+        .obstacles
+        .iter()
+        .map(|(name, _)| {
+            (
+                name.clone(),
+                ObstacleReport {
+                    force: [0.0; 3],
+                    nodes: 0,
+                },
+            )
+        })
+        .collect();
+    for p in &c.contacts {
+        let o = obstacles
+            .get_mut(&model.obstacles[p.obstacle].0)
+            .expect("obstacle");
+        for i in 0..3 {
+            o.force[i] += p.force * p.normal[i];
+        }
+        o.nodes += 1;
+    }
+    let facets: Vec<crate::mesh::Facet> = model
+        .bodies
+        .iter()
+        .flat_map(|b| b.facets.iter().copied())
+        .collect();
+    let pressure = crate::contact::nodal_pressure(&model.mesh.nodes, &facets, &c.contacts);
+    Some(ContactReport {
+        obstacles,
+        iterations: c.iterations,
+        factorizations: c.factorizations,
+        substitutions: c.substitutions,
+        max_penetration: c.max_penetration,
+        max_pressure: pressure.iter().copied().fold(0.0, f64::max),
+        contact_ms: c.contact_ms,
+    })
 }
 
 /// A bone's reaction.
@@ -264,7 +336,13 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
     let applied: Vector3<f64> =
         model.loads.iter().map(|l| l.total).sum::<Vector3<f64>>() + model.gravity_total;
     let all: Vec<usize> = (0..sol.reaction.len()).collect();
-    let reactions = dof_vec(&all, &sol.reaction);
+    let mut reactions = dof_vec(&all, &sol.reaction);
+    if let Some(c) = &frame.contact {
+        // The obstacles' contact forces act like supports.
+        for p in &c.contacts {
+            reactions += p.normal * p.force;
+        }
+    }
     let max_displacement = (0..model.mesh.node_count())
         .map(|n| sol.node_displacement(n).norm())
         .fold(0.0, f64::max);
@@ -303,6 +381,7 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
             },
         },
         hands: hand_reports(model, frame),
+        contact: contact_report(model, frame),
     }
 }
 

@@ -39,6 +39,39 @@ pub struct Scene {
     /// Named cameras of this scene (beside the built-in presets).
     #[serde(default)]
     pub camera: Vec<CameraDef>,
+    /// Rigid obstacles (a table, a rigid ball) that bodies may touch but not enter.
+    #[serde(default)]
+    pub obstacle: Vec<ObstacleDef>,
+}
+
+/// `[[obstacle]]`: a rigid obstacle.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ObstacleDef {
+    /// Name (report key).
+    pub name: String,
+    /// Its geometry.
+    pub shape: ObstacleShape,
+}
+
+/// Geometry of a rigid obstacle.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ObstacleShape {
+    /// The half-space below a plane; bodies stay on the side the normal points to.
+    Plane {
+        /// A point of the plane, m.
+        point: [f64; 3],
+        /// Normal (normalised on reading), pointing out of the obstacle.
+        normal: [f64; 3],
+    },
+    /// A rigid ball; bodies stay outside.
+    Sphere {
+        /// Centre, m.
+        center: [f64; 3],
+        /// Radius, m.
+        radius: f64,
+    },
 }
 
 /// `[[camera]]`: a named view of the scene.
@@ -115,6 +148,13 @@ pub struct SolverSettings {
     /// Skinning blend: `"dual_quaternion"` (default) or `"linear"`.
     #[serde(default)]
     pub skinning: Option<Blend>,
+    /// Penetration allowed at the end of the contact iteration, m (default 1e-9 × the largest
+    /// body size).
+    #[serde(default)]
+    pub contact_tolerance: Option<f64>,
+    /// Most contact iterations (default 50).
+    #[serde(default)]
+    pub contact_max_iterations: Option<usize>,
     /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
     #[serde(default)]
     pub flexion: Option<FlexionScheme>,

@@ -3,6 +3,7 @@
 
 use super::flexion::{FleshRegion, FlexionSettings};
 use super::select::select;
+use crate::contact::{ContactSettings, Obstacle};
 use crate::fem::assembly::StiffnessPattern;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
@@ -11,7 +12,9 @@ use crate::fem::solve::FillOrdering;
 use crate::fem::{DofPartition, Material};
 use crate::hand::HandModel;
 use crate::mesh::{boundary_facets, box_mesh, shell_mesh, sphere_mesh, Facet, Mesh};
-use crate::scene::{FleshRegionName, OrderingName, Scene, SceneError, Shape, SolverSettings};
+use crate::scene::{
+    FleshRegionName, ObstacleShape, OrderingName, Scene, SceneError, Shape, SolverSettings,
+};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -128,6 +131,12 @@ pub struct Model {
     pub keyframes: Vec<KeyframeModel>,
     /// The scene's named cameras (validated).
     pub cameras: Vec<crate::scene::CameraDef>,
+    /// Rigid obstacles, by name.
+    pub obstacles: Vec<(String, Obstacle)>,
+    /// Nodes that may touch the obstacles: the boundary nodes of every body but hands.
+    pub contact_candidates: Vec<usize>,
+    /// Contact iteration settings.
+    pub contact: ContactSettings,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -564,6 +573,64 @@ impl Model {
             }
         }
         let cameras = scene.camera.clone();
+
+        // Rigid obstacles and the nodes that may touch them.
+        let mut obstacles = Vec::new();
+        for (i, o) in scene.obstacle.iter().enumerate() {
+            let field = format!("obstacle \"{}\" (obstacle[{i}])", o.name);
+            if scene.obstacle[..i].iter().any(|p| p.name == o.name) {
+                return Err(err(
+                    field,
+                    "an obstacle of this name is defined twice".into(),
+                ));
+            }
+            let obstacle = match &o.shape {
+                ObstacleShape::Plane { point, normal } => {
+                    let n = Vector3::from(*normal);
+                    if !(finite(point) && finite(normal)) || n.norm() < 1e-12 {
+                        return Err(err(
+                            format!("{field}.shape.plane"),
+                            "needs a finite point and a non-zero finite normal".into(),
+                        ));
+                    }
+                    Obstacle::Plane {
+                        point: Vector3::from(*point),
+                        normal: n.normalize(),
+                    }
+                }
+                ObstacleShape::Sphere { center, radius } => {
+                    if !(finite(center) && radius.is_finite() && *radius > 0.0) {
+                        return Err(err(
+                            format!("{field}.shape.sphere"),
+                            format!("needs a finite center and a radius > 0 (radius = {radius})"),
+                        ));
+                    }
+                    Obstacle::Sphere {
+                        center: Vector3::from(*center),
+                        radius: *radius,
+                    }
+                }
+            };
+            obstacles.push((o.name.clone(), obstacle));
+        }
+        let mut contact_candidates: Vec<usize> = bodies
+            .iter()
+            .filter(|b| b.hand.is_none())
+            .flat_map(|b| b.facets.iter().flat_map(|f| f.nodes))
+            .collect();
+        contact_candidates.sort_unstable();
+        contact_candidates.dedup();
+        let largest = bodies.iter().map(|b| b.size).fold(0.0, f64::max);
+        let contact = ContactSettings {
+            tolerance: scene.solver.contact_tolerance.unwrap_or(1e-9 * largest),
+            max_iterations: scene.solver.contact_max_iterations.unwrap_or(50),
+        };
+        if !(contact.tolerance.is_finite() && contact.tolerance >= 0.0) {
+            return Err(err(
+                "solver.contact_tolerance".into(),
+                format!("must be a length ≥ 0 m, got {}", contact.tolerance),
+            ));
+        }
         let ordering = match scene.solver.ordering {
             Some(OrderingName::Amd) => FillOrdering::Amd,
             _ => FillOrdering::NestedDissection,
@@ -595,6 +662,9 @@ impl Model {
             flexion,
             keyframes,
             cameras,
+            obstacles,
+            contact_candidates,
+            contact,
         })
     }
 

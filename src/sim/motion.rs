@@ -87,6 +87,7 @@ fn still_frame(model: &Model) -> Frame {
         assembly_ms: 0.0,
         stress_ms: 0.0,
         hands: Vec::new(),
+        contact: None,
     }
 }
 

@@ -2,6 +2,7 @@
 //! then recover stresses. The result is the frame's state.
 
 use super::model::Model;
+use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
 use crate::fem::assembly::assemble;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveError};
 use crate::fem::stress::{stress_field, StressField};
@@ -41,6 +42,9 @@ pub enum SimError {
         /// Its angle at the failing increment, degrees.
         angle: f64,
     },
+    /// Contact could not be resolved.
+    #[error(transparent)]
+    Contact(ContactError),
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
@@ -64,6 +68,8 @@ pub struct Frame {
     pub stress_ms: f64,
     /// The hands' state (empty without hands).
     pub hands: Vec<HandFrame>,
+    /// Contact against the obstacles (None without obstacles).
+    pub contact: Option<ContactResult>,
 }
 
 /// A hand in a frame.
@@ -99,28 +105,51 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
     let k = assemble(&model.pattern, &model.mesh, &model.cell_materials)
         .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
     let assembly_ms = t.elapsed().as_secs_f64() * 1e3;
-    let solution = solver
-        .solve(
+    let solve_error = |source: SolveError| {
+        let body = match &source {
+            SolveError::NotPositiveDefinite { node, .. } => {
+                model.bodies[model.body_of_node(*node)].name.clone()
+            }
+            _ => model
+                .bodies
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        };
+        SimError::Solve { body, source }
+    };
+    let (solution, contact) = if model.obstacles.is_empty() {
+        let solution = solver
+            .solve(
+                &k,
+                &model.partition,
+                &model.prescribed,
+                &model.load_vector,
+                &model.mesh.nodes,
+            )
+            .map_err(solve_error)?;
+        (solution, None)
+    } else {
+        let obstacles: Vec<Obstacle> = model.obstacles.iter().map(|o| o.1.clone()).collect();
+        let result = solve_with_obstacles(
+            solver,
             &k,
             &model.partition,
             &model.prescribed,
             &model.load_vector,
             &model.mesh.nodes,
+            &model.contact_candidates,
+            &obstacles,
+            model.contact,
         )
-        .map_err(|source| {
-            let body = match &source {
-                SolveError::NotPositiveDefinite { node, .. } => {
-                    model.bodies[model.body_of_node(*node)].name.clone()
-                }
-                _ => model
-                    .bodies
-                    .iter()
-                    .map(|b| b.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            };
-            SimError::Solve { body, source }
+        .map_err(|e| match e {
+            ContactError::Solve(source) => solve_error(source),
+            other => SimError::Contact(other),
         })?;
+        let solution = result.solution.clone();
+        (solution, Some(result))
+    };
     let t = Instant::now();
     let stress = stress_field(&model.mesh, &model.cell_materials, &solution.displacement)
         .map_err(|(c, e)| inverted(c, e.relative_det))?;
@@ -131,5 +160,6 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
         assembly_ms,
         stress_ms,
         hands: Vec::new(),
+        contact,
     })
 }
