@@ -92,6 +92,21 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
     for b in &bone_id {
         let _ = write!(s, "{b} ");
     }
+    if let Some(c) = &frame.contact {
+        // The tactile map.
+        let facets: Vec<crate::mesh::Facet> = model
+            .bodies
+            .iter()
+            .flat_map(|b| b.facets.iter().copied())
+            .collect();
+        let pressure = crate::contact::nodal_pressure(&mesh.nodes, &facets, &c.contacts);
+        s.push_str(
+            "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n",
+        );
+        for p in &pressure {
+            let _ = write!(s, "{p} ");
+        }
+    }
     s.push_str("\n</DataArray>\n</PointData>\n");
 
     s.push_str("<CellData Scalars=\"material_id\">\n");
