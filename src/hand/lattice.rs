@@ -204,33 +204,14 @@ pub fn mesh_flesh(
                         *slot = Some(bone);
                     }
                 }
-                let mut group: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-                fn root(g: &mut [usize; 8], mut x: usize) -> usize {
-                    while g[x] != x {
-                        x = g[x];
-                    }
-                    x
-                }
-                for o1 in 0..8 {
-                    for bit in [1, 2, 4] {
-                        let o2 = o1 ^ bit;
-                        if let (Some(a), Some(b)) = (incident[o1], incident[o2]) {
-                            if compatible(a, b) {
-                                let (r1, r2) = (root(&mut group, o1), root(&mut group, o2));
-                                if r1 != r2 {
-                                    group[r2] = r1;
-                                }
-                            }
-                        }
-                    }
-                }
+                let group = octant_groups(&incident, &compatible);
                 let base = lattice_node(i, j, k) * 8;
                 let mut id_of_root = [u32::MAX; 8];
                 for o in 0..8 {
                     if incident[o].is_none() {
                         continue;
                     }
-                    let r = root(&mut group, o);
+                    let r = group[o];
                     if id_of_root[r] == u32::MAX {
                         id_of_root[r] = nodes.len() as u32;
                         nodes.push(point(i, j, k));
@@ -405,7 +386,7 @@ pub fn mesh_flesh(
     let mut target: Vec<Option<Vector3<f64>>> = vec![None; nodes.len()];
     for n in 0..nodes.len() {
         if on_skin[n] && node_bone[n].is_none() {
-            let p = project(skin, rest[n]);
+            let p = skin.project(&rest[n]);
             if (p - rest[n]).norm() < h {
                 target[n] = Some(p);
             }
@@ -535,33 +516,14 @@ pub fn mesh_flesh(
                     }
                     *slot = solid(state[cell_id(ci - 1, cj - 1, ck - 1)]);
                 }
-                let mut group: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-                fn root(g: &[usize; 8], mut x: usize) -> usize {
-                    while g[x] != x {
-                        x = g[x];
-                    }
-                    x
-                }
-                for o1 in 0..8 {
-                    for bit in [1, 2, 4] {
-                        let o2 = o1 ^ bit;
-                        if let (Some(a), Some(b)) = (incident[o1], incident[o2]) {
-                            if compatible(a, b) {
-                                let (r1, r2) = (root(&group, o1), root(&group, o2));
-                                if r1 != r2 {
-                                    group[r2] = r1;
-                                }
-                            }
-                        }
-                    }
-                }
+                let group = octant_groups(&incident, &compatible);
                 let base = lattice_node(i, j, k) * 8;
                 let mut id_of_root = [u32::MAX; 8];
                 for o in 0..8 {
                     if incident[o].is_none() {
                         continue;
                     }
-                    let r = root(&group, o);
+                    let r = group[o];
                     if id_of_root[r] == u32::MAX {
                         id_of_root[r] = display_vertices.len() as u32;
                         display_vertices.push(point(i, j, k));
@@ -661,15 +623,32 @@ pub fn mesh_flesh(
     })
 }
 
-/// Newton projection of `p` onto the zero level set of the skin.
-fn project(skin: &SkinShape, mut p: Vector3<f64>) -> Vector3<f64> {
-    for _ in 0..4 {
-        let g = skin.gradient(&p);
-        let g2 = g.norm_squared();
-        if g2 < 1e-12 {
-            break;
+/// The eight cells around a lattice node (octant o = a + 2b + 4c, `None` where there is no
+/// cell) grouped by face adjacency between cells whose bones are `compatible`: the group
+/// representative of every octant. One node (or display vertex) is made per group.
+fn octant_groups(
+    incident: &[Option<usize>; 8],
+    compatible: &impl Fn(usize, usize) -> bool,
+) -> [usize; 8] {
+    let mut group: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
+    fn root(g: &[usize; 8], mut x: usize) -> usize {
+        while g[x] != x {
+            x = g[x];
         }
-        p -= g * (skin.distance(&p) / g2);
+        x
     }
-    p
+    for o1 in 0..8 {
+        for bit in [1, 2, 4] {
+            let o2 = o1 ^ bit;
+            if let (Some(a), Some(b)) = (incident[o1], incident[o2]) {
+                if compatible(a, b) {
+                    let (r1, r2) = (root(&group, o1), root(&group, o2));
+                    if r1 != r2 {
+                        group[r2] = r1;
+                    }
+                }
+            }
+        }
+    }
+    std::array::from_fn(|o| root(&group, o))
 }
