@@ -40,6 +40,7 @@
 //! ```
 
 pub mod bench;
+pub mod app;
 pub mod bench_hand;
 pub mod export;
 pub mod fem;

@@ -41,6 +41,9 @@ pub enum SimError {
         /// Its angle at the failing increment, degrees.
         angle: f64,
     },
+    /// A newer request made this solve stale: it stopped between two increments.
+    #[error("cancelled: a newer request replaced this solve")]
+    Cancelled,
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
