@@ -26,8 +26,14 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.label("range");
             let [lo, hi] = &mut d.fixed_range;
-            range_changed |= ui.add(DragValue::new(lo).speed(10.0)).changed();
-            range_changed |= ui.add(DragValue::new(hi).speed(10.0)).changed();
+            range_changed |= ui
+                .add(DragValue::new(lo).speed(10.0))
+                .on_hover_text("lower end of the colour range")
+                .changed();
+            range_changed |= ui
+                .add(DragValue::new(hi).speed(10.0))
+                .on_hover_text("upper end of the colour range")
+                .changed();
         });
     });
     if range_changed {

@@ -8,7 +8,8 @@ const EXPORT_SIZE: (u32, u32) = (1280, 720);
 pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.label("scene");
-        ui.text_edit_singleline(&mut state.scene_path);
+        ui.text_edit_singleline(&mut state.scene_path)
+            .on_hover_text("scene file to save to or load from");
     });
     ui.horizontal(|ui| {
         if ui.button("Save").clicked() {
@@ -26,7 +27,8 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     });
     ui.horizontal(|ui| {
         ui.label("export to");
-        ui.text_edit_singleline(&mut state.export_dir);
+        ui.text_edit_singleline(&mut state.export_dir)
+            .on_hover_text("folder receiving the exports");
     });
     let (w, h) = EXPORT_SIZE;
     ui.horizontal_wrapped(|ui| {

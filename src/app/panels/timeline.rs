@@ -39,6 +39,7 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             let mut t = state.timeline.keys[k].time;
             if ui
                 .add(DragValue::new(&mut t).speed(0.01).suffix(" s"))
+                .on_hover_text("time of the current key")
                 .changed()
             {
                 state.timeline.move_key(k, t);
@@ -92,9 +93,7 @@ fn strip(state: &mut ViewerState, ui: &mut egui::Ui) {
         }
     }
     let solved = state.timeline.frames.iter().flatten().count();
-    response
-        .clone()
-        .on_hover_text(format!("{solved} of {n} frames solved"));
+    let response = response.on_hover_text(format!("{solved} of {n} frames solved"));
     if response.clicked() {
         if let Some(p) = response.interact_pointer_pos() {
             let i = ((p.x - rect.min.x) / cell).floor() as usize;
