@@ -39,8 +39,8 @@
 //! assert!(pull[2] > 1.0e3 && pull[2] < 1.2e3);
 //! ```
 
-pub mod bench;
 pub mod app;
+pub mod bench;
 pub mod bench_hand;
 pub mod export;
 pub mod fem;

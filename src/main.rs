@@ -3,10 +3,11 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
+use prehensile::app::pose::Preset;
+use prehensile::app::{run_viewer, ViewOptions, ViewerError};
 use prehensile::bench::{solver_rows, solver_table};
 use prehensile::bench_hand::{hand_rows, hand_tables};
 use prehensile::fem::solve::FillOrdering;
-use prehensile::app::{run_viewer, ViewOptions, ViewerError};
 use prehensile::pipeline::{solve_scene_file, write_solved, Solved};
 use prehensile::render::Renderer;
 use prehensile::render_bench::{frame_times, render_table, update_rows};
@@ -52,6 +53,12 @@ enum Command {
         /// Window height, points.
         #[arg(long, default_value_t = 900.0)]
         height: f32,
+        /// Starting pose of the hands.
+        #[arg(long, value_enum)]
+        preset: Option<PresetArg>,
+        /// Starting overlay.
+        #[arg(long, value_enum)]
+        overlay: Option<OverlayArg>,
     },
     /// Solve a scene file; write report.json, one VTU per frame and frames.pvd into --out.
     Solve {
@@ -147,6 +154,14 @@ enum BenchCommand {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum PresetArg {
+    Rest,
+    Fist,
+    Pinch,
+    PowerGrasp,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum OrderingArg {
     NestedDissection,
     Amd,
@@ -177,12 +192,21 @@ fn run() -> Result<()> {
             exit_after_frames,
             width,
             height,
+            preset,
+            overlay,
         }) => view(
             scene,
             ViewOptions {
                 screenshot,
                 exit_after_frames,
                 size: [width, height],
+                preset: preset.map(|p| match p {
+                    PresetArg::Rest => Preset::Rest,
+                    PresetArg::Fist => Preset::Fist,
+                    PresetArg::Pinch => Preset::Pinch,
+                    PresetArg::PowerGrasp => Preset::PowerGrasp,
+                }),
+                overlay: overlay.map(Into::into),
             },
         )?,
         Some(Command::Solve { scene, out }) => {

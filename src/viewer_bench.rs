@@ -26,6 +26,7 @@ struct Row {
     first_ms: f64,
     frame_ms: Vec<f64>,
     solve_ms: Vec<f64>,
+    upload_ms: Vec<f64>,
     draw_ms: Vec<f64>,
 }
 
@@ -76,8 +77,7 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
     params.apply(&mut scene);
     let ctx = egui::Context::default();
     let port = ThreadSolver::spawn(Physics::new(), Arc::new(|| {}));
-    let mut state =
-        ViewerState::new(scene, "default", Box::new(port)).map_err(|e| anyhow!(e))?;
+    let mut state = ViewerState::new(scene, "default", Box::new(port)).map_err(|e| anyhow!(e))?;
     state.timeline_solving = false;
     let t = Instant::now();
     frames_until(&ctx, &mut state, Duration::from_secs(300), |s| {
@@ -95,11 +95,16 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         first_ms,
         frame_ms: Vec::new(),
         solve_ms: Vec::new(),
+        upload_ms: Vec::new(),
         draw_ms: Vec::new(),
     };
     for i in 0..changes {
         let angle = &mut state.pose[0].1[joint];
-        *angle = if i % 2 == 0 { *angle + 10.0 } else { *angle - 5.0 };
+        *angle = if i % 2 == 0 {
+            *angle + 10.0
+        } else {
+            *angle - 5.0
+        };
         state.pose_edited();
         let t = Instant::now();
         let before = state.latest_version();
@@ -111,6 +116,8 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         let shown = state.shown.as_ref().expect("shown");
         let t = Instant::now();
         let mut gpu = renderer.upload(&shown.solution.draw_list)?;
+        row.upload_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
         let bounds = shown
             .solution
             .draw_list
@@ -140,19 +147,20 @@ pub fn run(changes: usize) -> Result<String> {
     let mut renderer = Renderer::new_headless()?;
     eprintln!("adapter: {}", renderer.adapter_summary());
     let mut out = String::from(
-        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → frame shown ms (mean / max) | + 3D upload and draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|\n",
+        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|\n",
     );
     for tier in Tier::ALL {
         let row = tier_row(tier, changes, &mut renderer)?;
         let (fm, fp, fx) = stats(&row.frame_ms);
         let (sm, _, sx) = stats(&row.solve_ms);
+        let (um, _, _) = stats(&row.upload_ms);
         let (dm, _, _) = stats(&row.draw_ms);
         out.push_str(&format!(
-            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {sm:.0} / {sx:.0} | {dm:.0} | {:.0} |\n",
+            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
             row.tier.label(),
             row.first_ms,
             row.frame_ms.len(),
-            sm + dm
+            sm + um + dm
         ));
     }
     Ok(out)

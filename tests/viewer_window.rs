@@ -114,7 +114,14 @@ fn the_window_opens_under_xvfb_and_shows_the_default_scene() {
         bin()
             .args(["view", "--screenshot"])
             .arg(&shot)
-            .args(["--exit-after-frames", "20000", "--width", "1280", "--height", "800"])
+            .args([
+                "--exit-after-frames",
+                "20000",
+                "--width",
+                "1280",
+                "--height",
+                "800",
+            ])
             .env("DISPLAY", &display)
             .env_remove("WAYLAND_DISPLAY")
             .stdout(Stdio::piped())
@@ -142,7 +149,11 @@ fn the_window_opens_under_xvfb_and_shows_the_default_scene() {
     let image = image::open(&shot)
         .unwrap_or_else(|e| panic!("no screenshot {}: {e}\n{err}", shot.display()))
         .to_rgba8();
-    assert!(image.width() >= 1000 && image.height() >= 600, "{:?}", image.dimensions());
+    assert!(
+        image.width() >= 1000 && image.height() >= 600,
+        "{:?}",
+        image.dimensions()
+    );
     // Not blank: many distinct colours, and the middle of the window (the 3D view) varies.
     let mut colours = std::collections::HashSet::new();
     for p in image.pixels() {
@@ -192,7 +203,11 @@ fn a_stale_job_is_cancelled_between_increments_and_the_next_goes_on() {
     };
     // A newer version (2) exists: job 1 stops at its first increment.
     let latest = Arc::new(AtomicU64::new(2));
-    let out = run(&mut physics, &job(1, &target), &Cancel::new(latest.clone(), 1));
+    let out = run(
+        &mut physics,
+        &job(1, &target),
+        &Cancel::new(latest.clone(), 1),
+    );
     assert!(matches!(out.as_slice(), [Err(Failure::Cancelled)]));
     let out = run(&mut physics, &job(2, &target), &Cancel::new(latest, 2));
     let [Ok(solution)] = out.as_slice() else {
@@ -205,7 +220,11 @@ fn a_stale_job_is_cancelled_between_increments_and_the_next_goes_on() {
     // The next pose goes on from there: 60° → 70° is one increment.
     target[pip] = 70.0;
     let next = job(3, &target);
-    let out = run(&mut physics, &next, &Cancel::new(Arc::new(AtomicU64::new(3)), 3));
+    let out = run(
+        &mut physics,
+        &next,
+        &Cancel::new(Arc::new(AtomicU64::new(3)), 3),
+    );
     let [Ok(solution)] = out.as_slice() else {
         panic!("one frame")
     };

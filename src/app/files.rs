@@ -52,7 +52,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FileError> {
         _ => Path::new("."),
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let name = path.file_name().map_or("scene".into(), |n| n.to_string_lossy());
+    let name = path
+        .file_name()
+        .map_or("scene".into(), |n| n.to_string_lossy());
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
     std::fs::rename(&tmp, path).map_err(|e| {

@@ -159,11 +159,7 @@ mod tests {
     use super::*;
 
     fn scene() -> Scene {
-        Scene::parse(
-            include_str!("../../assets/scenes/hand-and-ball.toml"),
-            "t",
-        )
-        .unwrap()
+        Scene::parse(include_str!("../../assets/scenes/hand-and-ball.toml"), "t").unwrap()
     }
 
     #[test]
@@ -189,13 +185,19 @@ mod tests {
         assert!(!again.shell && (again.radius - 0.05).abs() < 1e-12);
         // No pressure on a solid ball; the hand keeps its flesh.
         assert_eq!(again.pressure, 0.0);
-        assert!(s.material.iter().any(|m| m.name == "flesh" && m.young == 5.0e4));
+        assert!(s
+            .material
+            .iter()
+            .any(|m| m.name == "flesh" && m.young == 5.0e4));
         // The support box still straddles the bottom of the ball.
         let Selection::Box { min, max } = &s.constraint[0].selection else {
             panic!("a box")
         };
         let bottom = again.center[2] - again.radius;
-        assert!(min[2] < bottom && max[2] > bottom, "{min:?} {max:?} {bottom}");
+        assert!(
+            min[2] < bottom && max[2] > bottom,
+            "{min:?} {max:?} {bottom}"
+        );
         assert!(min[0] < again.center[0] && max[0] > again.center[0]);
         // And the edited scene builds.
         crate::sim::Model::build(&s, "t").unwrap();

@@ -205,12 +205,7 @@ impl Physics {
 }
 
 impl Solve for Physics {
-    fn run(
-        &mut self,
-        job: &Job,
-        cancel: &Cancel,
-        emit: &mut dyn FnMut(Result<Solution, Failure>),
-    ) {
+    fn run(&mut self, job: &Job, cancel: &Cancel, emit: &mut dyn FnMut(Result<Solution, Failure>)) {
         if self.dirty {
             // The previous job panicked half-way: go back to the last frame delivered.
             self.states = self.last_good.clone();

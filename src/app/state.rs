@@ -120,12 +120,13 @@ pub struct ViewerState {
 }
 
 impl ViewerState {
-    /// The state for `scene` (called `name`), solving through `port`; sends the first job.
+    /// The state for `scene` (called `name`), solving through `port`; the first frame is
+    /// requested at the end of the first [`ViewerState::ui`] (or [`ViewerState::dispatch`]).
     pub fn new(scene: Scene, name: &str, port: Box<dyn SolverPort>) -> Result<Self, String> {
         let hands = hands_of(&scene);
         let timeline = Timeline::from_scene(&scene, &hands)?;
         let pose = timeline.keys[0].pose.clone();
-        let mut state = ViewerState {
+        Ok(ViewerState {
             ball: BallParams::from_scene(&scene),
             solver: SolverParams::from_scene(&scene),
             display: DisplayParams::default(),
@@ -155,9 +156,7 @@ impl ViewerState {
             pose_changed: true,
             scene_changed: false,
             range_changed: false,
-        };
-        state.dispatch();
-        Ok(state)
+        })
     }
 
     /// Replaces the scene (File → Load): new hands, timeline and model.

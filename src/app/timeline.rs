@@ -145,7 +145,10 @@ impl Timeline {
             return;
         }
         let lo = self.keys[k - 1].time + 1e-3;
-        let hi = self.keys.get(k + 1).map_or(f64::INFINITY, |n| n.time - 1e-3);
+        let hi = self
+            .keys
+            .get(k + 1)
+            .map_or(f64::INFINITY, |n| n.time - 1e-3);
         if lo <= hi {
             self.keys[k].time = time.clamp(lo, hi);
         }
@@ -202,11 +205,8 @@ mod tests {
     use crate::app::pose::hands_of;
 
     fn timeline() -> (Scene, Vec<HandInfo>, Timeline) {
-        let scene = Scene::parse(
-            include_str!("../../assets/scenes/hand-and-ball.toml"),
-            "t",
-        )
-        .unwrap();
+        let scene =
+            Scene::parse(include_str!("../../assets/scenes/hand-and-ball.toml"), "t").unwrap();
         let hands = hands_of(&scene);
         let t = Timeline::from_scene(&scene, &hands).unwrap();
         (scene, hands, t)
@@ -235,7 +235,10 @@ mod tests {
         assert_eq!(k, 2);
         assert!(t.keys[1].time < t.keys[2].time && t.keys[2].time < t.keys[3].time);
         t.move_key(2, 100.0);
-        assert!(t.keys[2].time < t.keys[3].time, "a key cannot pass its neighbour");
+        assert!(
+            t.keys[2].time < t.keys[3].time,
+            "a key cannot pass its neighbour"
+        );
         t.delete_key(2);
         assert_eq!(t.keys.len(), 3);
         t.delete_key(0);

@@ -7,8 +7,8 @@ use super::jobs::Solution;
 use super::state::SceneView;
 use crate::render::{Bounds, Camera, DrawList, GpuScene, Renderer, HEADLESS_FORMAT, PRESETS};
 use eframe::egui;
-use egui::{Color32, Rect, Sense};
 use eframe::egui_wgpu::RenderState;
+use egui::{Color32, Rect, Sense};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -205,7 +205,9 @@ impl SceneView for View3d {
         // Camera presets over the top-left corner of the view.
         let mut chosen = None;
         let mut overlay = ui.new_child(
-            egui::UiBuilder::new().max_rect(rect.shrink(8.0)).layout(egui::Layout::left_to_right(egui::Align::Min)),
+            egui::UiBuilder::new()
+                .max_rect(rect.shrink(8.0))
+                .layout(egui::Layout::left_to_right(egui::Align::Min)),
         );
         for (name, _) in PRESETS.iter().take(4) {
             if overlay.small_button(*name).clicked() {
@@ -237,7 +239,8 @@ impl SceneView for View3d {
                 .render_to_rgba(&s.draw_list, &cam, width, height),
             None => {
                 let scene = self.scene.as_mut().ok_or("nothing shown yet")?;
-                self.renderer.render_scene_to_rgba(scene, &cam, width, height)
+                self.renderer
+                    .render_scene_to_rgba(scene, &cam, width, height)
             }
         };
         self.dirty = true;

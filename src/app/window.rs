@@ -13,7 +13,8 @@ use std::sync::Arc;
 use thiserror::Error;
 
 /// The headless commands, for the no-display message.
-const HEADLESS: &str = "use the headless commands instead: `prehensile solve SCENE.toml --out DIR`, \
+const HEADLESS: &str =
+    "use the headless commands instead: `prehensile solve SCENE.toml --out DIR`, \
                         `prehensile render SCENE.toml --out frame.png`";
 
 /// Why the window could not run.
@@ -47,6 +48,10 @@ pub struct ViewOptions {
     pub exit_after_frames: Option<u64>,
     /// Inner window size, points.
     pub size: [f32; 2],
+    /// Starting pose.
+    pub preset: Option<super::pose::Preset>,
+    /// Starting overlay.
+    pub overlay: Option<crate::visual::Overlay>,
 }
 
 struct ViewerApp {
@@ -164,6 +169,14 @@ pub fn run_viewer(scene: Scene, name: &str, options: ViewOptions) -> Result<(), 
             let notify: Arc<dyn Fn() + Send + Sync> = Arc::new(move || ctx.request_repaint());
             let port = ThreadSolver::spawn(Physics::new(), notify);
             let mut state = ViewerState::new(scene, &name, Box::new(port))?;
+            if let Some(p) = options.preset {
+                for (h, (_, angles)) in state.hands.iter().zip(state.pose.iter_mut()) {
+                    *angles = p.angles(&h.skeleton);
+                }
+            }
+            if let Some(o) = options.overlay {
+                state.display.overlay = o;
+            }
             let view = View3d::new(render_state);
             eprintln!("adapter: {}", view.adapter_summary());
             state.view = Some(Box::new(view));

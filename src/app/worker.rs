@@ -42,24 +42,14 @@ impl Cancel {
 /// emits several.
 pub trait Solve: Send {
     /// Runs `job`, checking `cancel` as often as it can.
-    fn run(
-        &mut self,
-        job: &Job,
-        cancel: &Cancel,
-        emit: &mut dyn FnMut(Result<Solution, Failure>),
-    );
+    fn run(&mut self, job: &Job, cancel: &Cancel, emit: &mut dyn FnMut(Result<Solution, Failure>));
 }
 
 impl<F> Solve for F
 where
     F: FnMut(&Job, &Cancel, &mut dyn FnMut(Result<Solution, Failure>)) + Send,
 {
-    fn run(
-        &mut self,
-        job: &Job,
-        cancel: &Cancel,
-        emit: &mut dyn FnMut(Result<Solution, Failure>),
-    ) {
+    fn run(&mut self, job: &Job, cancel: &Cancel, emit: &mut dyn FnMut(Result<Solution, Failure>)) {
         self(job, cancel, emit)
     }
 }

@@ -8,7 +8,8 @@ mod select;
 mod statics;
 
 pub use flexion::{
-    CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState, KeyframeStats,
+    CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
+    KeyframeStats,
 };
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
 pub use motion::{compose, hand_frame, solve_frames, still_frame};

@@ -21,7 +21,9 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
                 ui.selectable_value(&mut d.overlay, o, label);
             }
         });
-    let mut range_changed = ui.checkbox(&mut d.auto_range, "automatic colour range").changed();
+    let mut range_changed = ui
+        .checkbox(&mut d.auto_range, "automatic colour range")
+        .changed();
     ui.add_enabled_ui(!d.auto_range, |ui| {
         ui.horizontal(|ui| {
             ui.label("range");

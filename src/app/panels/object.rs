@@ -51,7 +51,11 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         for (axis, c) in ["x", "y", "z"].iter().zip(ball.center.iter_mut()) {
             let mut mm = *c * 1e3;
             let r = ui
-                .add(DragValue::new(&mut mm).speed(0.5).prefix(format!("{axis} ")))
+                .add(
+                    DragValue::new(&mut mm)
+                        .speed(0.5)
+                        .prefix(format!("{axis} ")),
+                )
                 .on_hover_text(format!("ball centre {axis}, mm"));
             *c = mm * 1e-3;
             done |= committed(&r);

@@ -10,8 +10,10 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             ui.spinner();
             ui.label(format!("computing request {}…", state.latest_version()));
         });
-    } else if state.shown.is_some() {
+    } else if state.shown.is_some() && state.status.error.is_none() {
         ui.label(RichText::new("shown frame is current").color(Color32::LIGHT_GREEN));
+    } else if state.shown.is_some() {
+        ui.label(RichText::new("shown frame is the last good one").color(Color32::YELLOW));
     }
     if let Some(e) = &state.status.error {
         ui.label(RichText::new(format!("solver failed: {e}")).color(Color32::LIGHT_RED));

@@ -7,7 +7,11 @@ use egui::{Color32, DragValue, Sense, Slider, Stroke, Vec2};
 pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.strong("Timeline");
-        let play = if state.timeline.playing { "Pause" } else { "Play" };
+        let play = if state.timeline.playing {
+            "Pause"
+        } else {
+            "Play"
+        };
         if ui.button(play).clicked() {
             state.timeline.playing = !state.timeline.playing;
             state.timeline.elapsed = 0.0;
