@@ -39,6 +39,7 @@
 //! assert!(pull[2] > 1.0e3 && pull[2] < 1.2e3);
 //! ```
 
+pub mod app;
 pub mod bench;
 pub mod bench_hand;
 pub mod contact;

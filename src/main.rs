@@ -1,18 +1,21 @@
-//! The `prehensile` command line: solve scenes, run benchmarks. Without a subcommand it solves the
-//! built-in default scene and prints a summary (the viewer will take this place).
+//! The `prehensile` command line: the interactive viewer (the default), and the headless
+//! commands: solve scenes, render them to PNG, run benchmarks.
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
+use prehensile::app::pose::Preset;
+use prehensile::app::{run_viewer, ViewOptions, ViewerError};
 use prehensile::bench::{solver_rows, solver_table};
 use prehensile::bench_hand::{hand_rows, hand_tables};
 use prehensile::fem::solve::FillOrdering;
-use prehensile::pipeline::{solve_scene, solve_scene_file, write_solved, Solved};
+use prehensile::pipeline::{solve_scene_file, write_solved, Solved};
 use prehensile::render::Renderer;
 use prehensile::render_bench::{frame_times, render_table, update_rows};
 use prehensile::scene::{Scene, DEFAULT_SCENE};
 use std::path::PathBuf;
 
 mod render_cmd;
+mod viewer_bench;
 use render_cmd::{OverlayArg, RenderArgs};
 
 #[derive(Parser)]
@@ -22,8 +25,9 @@ use render_cmd::{OverlayArg, RenderArgs};
     about = "Finite element simulation of a hand grasping a deformable object (after Gourret, \
              Magnenat-Thalmann & Thalmann 1989)",
     long_about = "Finite element simulation of a hand grasping a deformable object.\n\n\
-                  Without a subcommand, solves the built-in default scene (a pressurised rubber \
-                  ball pressed at its top) and prints a summary."
+                  Without a subcommand, opens the viewer window on the built-in default scene (a \
+                  hand beside a pressurised rubber ball). Without a display, use the headless \
+                  commands: solve, render, bench."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -32,6 +36,30 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the interactive viewer on a scene (the default, on the built-in scene, when no
+    /// subcommand is given). Needs a display (X11; Wayland through XWayland).
+    View {
+        /// The scene (TOML); the built-in default scene when absent.
+        scene: Option<PathBuf>,
+        /// Write a PNG screenshot of the window once the first frame is solved, then close.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Close after this many frames (with --screenshot: take it then at the latest).
+        #[arg(long)]
+        exit_after_frames: Option<u64>,
+        /// Window width, points.
+        #[arg(long, default_value_t = 1600.0)]
+        width: f32,
+        /// Window height, points.
+        #[arg(long, default_value_t = 900.0)]
+        height: f32,
+        /// Starting pose of the hands.
+        #[arg(long, value_enum)]
+        preset: Option<PresetArg>,
+        /// Starting overlay.
+        #[arg(long, value_enum)]
+        overlay: Option<OverlayArg>,
+    },
     /// Solve a scene file; write report.json, one VTU per frame and frames.pvd into --out.
     Solve {
         /// The scene (TOML).
@@ -107,6 +135,13 @@ enum BenchCommand {
         #[arg(long, default_value_t = 1.25)]
         whole_limit: f64,
     },
+    /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
+    /// a slider change to the new frame on screen (default scene, headless).
+    Viewer {
+        /// Slider changes measured per tier.
+        #[arg(long, default_value_t = 5)]
+        changes: usize,
+    },
     /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
     Render {
         /// Frames averaged per measurement.
@@ -116,6 +151,14 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "100,300")]
         spheres: Vec<usize>,
     },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PresetArg {
+    Rest,
+    Fist,
+    Pinch,
+    PowerGrasp,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -142,16 +185,30 @@ fn run() -> Result<()> {
     faer::set_global_parallelism(faer::Par::rayon(0));
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            let scene = Scene::parse(DEFAULT_SCENE, "<built-in default scene>")?;
-            let solved = solve_scene(&scene, "<built-in default scene>")?;
-            print_summary(&solved);
-            println!(
-                "\n(headless commands: `prehensile solve SCENE.toml --out DIR`, \
-                 `prehensile render SCENE.toml --out frame.png`, \
-                 `prehensile bench solver`; see --help)"
-            );
-        }
+        None => view(None, ViewOptions::default())?,
+        Some(Command::View {
+            scene,
+            screenshot,
+            exit_after_frames,
+            width,
+            height,
+            preset,
+            overlay,
+        }) => view(
+            scene,
+            ViewOptions {
+                screenshot,
+                exit_after_frames,
+                size: [width, height],
+                preset: preset.map(|p| match p {
+                    PresetArg::Rest => Preset::Rest,
+                    PresetArg::Fist => Preset::Fist,
+                    PresetArg::Pinch => Preset::Pinch,
+                    PresetArg::PowerGrasp => Preset::PowerGrasp,
+                }),
+                overlay: overlay.map(Into::into),
+            },
+        )?,
         Some(Command::Solve { scene, out }) => {
             let solved = solve_scene_file(&scene)?;
             let written = write_solved(&solved, &out)
@@ -213,6 +270,13 @@ fn run() -> Result<()> {
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
             }
+            BenchCommand::Viewer { changes } => {
+                println!(
+                    "viewer benchmark: default scene, {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", viewer_bench::run(changes.max(1))?);
+            }
             BenchCommand::Render { frames, spheres } => {
                 let frames = frames.max(1);
                 let t = std::time::Instant::now();
@@ -226,6 +290,25 @@ fn run() -> Result<()> {
         },
     }
     Ok(())
+}
+
+/// Opens the viewer; without a display, one line naming the headless commands and exit code 2.
+fn view(scene: Option<PathBuf>, options: ViewOptions) -> Result<()> {
+    let (scene, name) = match scene {
+        Some(path) => (Scene::load(&path)?, path.display().to_string()),
+        None => (
+            Scene::parse(DEFAULT_SCENE, "<built-in default scene>")?,
+            "built-in default scene".to_string(),
+        ),
+    };
+    match run_viewer(scene, &name, options) {
+        Ok(()) => Ok(()),
+        Err(e @ ViewerError::NoDisplay { .. }) => {
+            eprintln!("prehensile: {e}");
+            std::process::exit(2);
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 fn print_summary(solved: &Solved) {

@@ -5,7 +5,7 @@
 use crate::headless::{camera_for, draw_lists};
 use crate::pipeline::solve_scene;
 use crate::render::{Camera, DrawList, RenderError, Renderer, Surface};
-use crate::scene::{Scene, DEFAULT_SCENE};
+use crate::scene::{Scene, BALL_SCENE};
 use crate::visual::{Overlay, VisualOptions};
 use std::time::Instant;
 
@@ -50,7 +50,7 @@ fn ms(t: Instant) -> f64 {
 
 /// The default scene's draw list with the stress overlay, and its camera.
 fn default_scene_list(aspect: f32) -> (DrawList, Camera) {
-    let scene = Scene::parse(DEFAULT_SCENE, "default").expect("the default scene parses");
+    let scene = Scene::parse(BALL_SCENE, "default").expect("the ball scene parses");
     let solved = solve_scene(&scene, "default").expect("the default scene solves");
     let options = VisualOptions {
         overlay: Overlay::Stress,

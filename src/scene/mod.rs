@@ -9,8 +9,13 @@ pub use types::*;
 
 use std::path::Path;
 
-/// The built-in default scene (a pressurised rubber ball squeezed between two plates).
-pub const DEFAULT_SCENE: &str = include_str!("../../assets/scenes/default.toml");
+/// The built-in default scene, what the viewer opens without a scene file: a right hand, fingers
+/// slightly curled, beside a pressurised rubber ball (`assets/scenes/hand-and-ball.toml`).
+pub const DEFAULT_SCENE: &str = include_str!("../../assets/scenes/hand-and-ball.toml");
+
+/// The pressurised rubber ball pressed at its top (`assets/scenes/default.toml`), the default
+/// scene before the viewer: the renderer's benchmark and image tests use it.
+pub const BALL_SCENE: &str = include_str!("../../assets/scenes/default.toml");
 
 impl Scene {
     /// Reads and parses a scene file.

@@ -181,6 +181,9 @@ struct SubProblem {
     materials: Vec<Material>,
 }
 
+/// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
+pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
+
 /// Moves a hand through keyframes.
 pub struct Flexion<'a> {
     hand: &'a HandModel,
@@ -188,6 +191,7 @@ pub struct Flexion<'a> {
     materials: Vec<Material>,
     settings: FlexionSettings,
     solver: PartitionedSolver,
+    cancel: Option<CancelCheck>,
 }
 
 impl<'a> Flexion<'a> {
@@ -205,7 +209,16 @@ impl<'a> Flexion<'a> {
             materials,
             settings,
             solver: PartitionedSolver::new(ordering),
+            cancel: None,
         }
+    }
+
+    /// Checks `cancel` before every increment: when it answers `true`, [`Flexion::move_to`]
+    /// returns [`SimError::Cancelled`], the state left at the last completed increment (a
+    /// consistent pose from which a later `move_to` can go on).
+    pub fn with_cancel(mut self, cancel: CancelCheck) -> Self {
+        self.cancel = Some(cancel);
+        self
     }
 
     fn cell_method(&self, c: usize) -> FleshMethod {
@@ -294,6 +307,9 @@ impl<'a> Flexion<'a> {
         let mut df = 1.0 / steps as f64;
         let mut halvings = 0;
         while done < 1.0 - 1e-12 {
+            if self.cancel.as_ref().is_some_and(|c| c()) {
+                return Err(SimError::Cancelled);
+            }
             let f = (done + df).min(1.0);
             let angles: Vec<f64> = start
                 .iter()

@@ -8,8 +8,9 @@ mod select;
 mod statics;
 
 pub use flexion::{
-    FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState, KeyframeStats,
+    CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
+    KeyframeStats,
 };
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
-pub use motion::solve_frames;
+pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};

@@ -68,7 +68,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
 }
 
 /// The frame of a model with nothing free (only hands): every displacement and reaction zero.
-fn still_frame(model: &Model) -> Frame {
+pub fn still_frame(model: &Model) -> Frame {
     let dofs = 3 * model.mesh.node_count();
     Frame {
         solution: Solution {
@@ -91,7 +91,8 @@ fn still_frame(model: &Model) -> Frame {
     }
 }
 
-fn hand_frame(
+/// The frame of hand body `body` in `state`, with what reaching it cost.
+pub fn hand_frame(
     model: &Model,
     body: usize,
     state: &HandState,
@@ -110,7 +111,7 @@ fn hand_frame(
 }
 
 /// The static frame with the hands' displacements, reactions and (rotation-free) stresses.
-fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Frame, SimError> {
+pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Frame, SimError> {
     let mut frame = still.clone();
     for h in &hands {
         let body = &model.bodies[h.body];

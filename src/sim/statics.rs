@@ -45,6 +45,9 @@ pub enum SimError {
     /// Contact could not be resolved.
     #[error(transparent)]
     Contact(ContactError),
+    /// A newer request made this solve stale: it stopped between two increments.
+    #[error("cancelled: a newer request replaced this solve")]
+    Cancelled,
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {

@@ -1,0 +1,89 @@
+//! What the window asks of the solver thread, and what comes back. Every request carries the
+//! version of the inputs it was made from; every result carries that version back, so that the
+//! window shows only the newest.
+
+use crate::render::DrawList;
+use crate::scene::Scene;
+use crate::sim::{Frame, Model};
+use crate::visual::VisualOptions;
+use std::sync::Arc;
+
+/// Joint angles (degrees) of every hand body, by body index.
+pub type Pose = Vec<(usize, Vec<f64>)>;
+
+/// A request to the solver thread.
+#[derive(Clone)]
+pub struct Job {
+    /// Version of the window's inputs this job was made from (strictly increasing).
+    pub version: u64,
+    /// The scene, with the object and solver edits of the panels applied.
+    pub scene: Arc<Scene>,
+    /// Changes whenever `scene` changes (the solver rebuilds its model then).
+    pub scene_revision: u64,
+    /// How to draw the result.
+    pub visual: VisualOptions,
+    /// What to compute.
+    pub target: Target,
+}
+
+/// What a job computes.
+#[derive(Clone)]
+pub enum Target {
+    /// The hands at this pose, reached by increments from the pose the solver holds (or from
+    /// `start`, the frame the window shows, when it did not come from the solver's own state).
+    Pose {
+        /// Joint angles of every hand.
+        pose: Pose,
+        /// The frame to start from (its hands' states), if not the solver's current one.
+        start: Option<Arc<Frame>>,
+    },
+    /// Timeline frames `first..first + poses.len()`, in order, from `start` (the pose of frame
+    /// `first - 1` as cached, or rest when `None`); one result per frame.
+    Timeline {
+        /// Index of the first frame to solve.
+        first: usize,
+        /// Hand states of frame `first - 1` (`None`: start from the scene's initial pose).
+        start: Option<Arc<Frame>>,
+        /// The poses of the frames to solve.
+        poses: Vec<Pose>,
+    },
+}
+
+/// A solved frame ready to show.
+#[derive(Clone)]
+pub struct Solution {
+    /// The model it belongs to.
+    pub model: Arc<Model>,
+    /// The frame.
+    pub frame: Arc<Frame>,
+    /// The draw list (built on the solver thread, so that the window never waits for it).
+    pub draw_list: Arc<DrawList>,
+    /// Wall time of the solve, ms.
+    pub solve_ms: f64,
+    /// Timeline frame index, for timeline jobs.
+    pub timeline_frame: Option<usize>,
+    /// The options the draw list was built with.
+    pub visual: VisualOptions,
+}
+
+/// Why a job produced no frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    /// A newer job replaced it.
+    Cancelled,
+    /// The solve failed (a typed error, shown in the status panel).
+    Error(String),
+    /// The solve panicked (caught; the solver thread goes on).
+    Panic(String),
+}
+
+/// What the solver thread sends back.
+#[derive(Clone)]
+pub struct JobResult {
+    /// The version of the job.
+    pub version: u64,
+    /// A frame, or why not.
+    pub outcome: Result<Solution, Failure>,
+    /// `true` on the job's last message (a timeline job sends one per frame).
+    pub finished: bool,
+}

@@ -1,0 +1,205 @@
+//! The Object panel's model: the scene's ball (the first shell or sphere body) as a few numbers
+//! — radius, Young's modulus, Poisson ratio, internal pressure, shell or solid, centre — and how
+//! an edit rewrites the scene: the body's shape, its own material, its pressure load, and the
+//! box selections and probe points on it, carried along with the ball's centre and radius.
+
+use crate::scene::{LoadDef, MaterialDef, Scene, Selection, Shape};
+
+/// Shell wall thickness as a fraction of the outer radius (the default ball's 4 mm of 35 mm).
+const WALL: f64 = 4.0 / 35.0;
+
+/// The ball as the Object panel shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BallParams {
+    /// Index of the body in the scene.
+    pub body: usize,
+    /// Outer radius, m.
+    pub radius: f64,
+    /// Young's modulus, Pa.
+    pub young: f64,
+    /// Poisson ratio.
+    pub poisson: f64,
+    /// Pressure on the cavity, Pa (shells only).
+    pub pressure: f64,
+    /// Hollow (shell) or solid.
+    pub shell: bool,
+    /// Centre, m.
+    pub center: [f64; 3],
+}
+
+impl BallParams {
+    /// The first ball (shell or sphere body) of `scene`, if any.
+    pub fn from_scene(scene: &Scene) -> Option<BallParams> {
+        let (body, def) = scene
+            .body
+            .iter()
+            .enumerate()
+            .find(|(_, b)| matches!(b.shape, Shape::Shell { .. } | Shape::Sphere { .. }))?;
+        let (center, radius, shell) = match def.shape {
+            Shape::Shell {
+                center,
+                outer_radius,
+                ..
+            } => (center, outer_radius, true),
+            Shape::Sphere { center, radius, .. } => (center, radius, false),
+            _ => unreachable!("matched above"),
+        };
+        let material = scene.material.iter().find(|m| m.name == def.material)?;
+        let pressure = scene
+            .load
+            .iter()
+            .find(|l| l.body == def.name && is_inner(&l.selection))
+            .and_then(|l| l.pressure)
+            .unwrap_or(0.0);
+        Some(BallParams {
+            body,
+            radius,
+            young: material.young,
+            poisson: material.poisson,
+            pressure,
+            shell,
+            center,
+        })
+    }
+
+    /// Writes these parameters into `scene` (which must be the scene they came from, possibly
+    /// already edited).
+    pub fn apply(&self, scene: &mut Scene) {
+        let Some(old) = BallParams::from_scene(scene) else {
+            return;
+        };
+        let name = scene.body[self.body].name.clone();
+        let material = format!("{name} material");
+        let density = scene
+            .material
+            .iter()
+            .find(|m| m.name == scene.body[self.body].material)
+            .map_or(1100.0, |m| m.density);
+        // The ball gets a material of its own, so that editing it changes no other body.
+        scene.material.retain(|m| m.name != material);
+        scene.material.push(MaterialDef {
+            name: material.clone(),
+            young: self.young,
+            poisson: self.poisson,
+            density,
+        });
+        let body = &mut scene.body[self.body];
+        body.material = material;
+        body.shape = if self.shell {
+            let (cells, layers) = match body.shape {
+                Shape::Shell { cells, layers, .. } => (cells, layers),
+                _ => (12, 2),
+            };
+            Shape::Shell {
+                center: self.center,
+                inner_radius: self.radius * (1.0 - WALL),
+                outer_radius: self.radius,
+                cells,
+                layers,
+            }
+        } else {
+            let cells = match body.shape {
+                Shape::Sphere { cells, .. } => cells,
+                _ => 8,
+            };
+            Shape::Sphere {
+                center: self.center,
+                radius: self.radius,
+                cells,
+            }
+        };
+        // Carry every point and box on the ball along with its centre and radius.
+        let s = self.radius / old.radius;
+        let map = |p: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| self.center[i] + (p[i] - old.center[i]) * s)
+        };
+        let carry = |sel: &mut Selection| match sel {
+            Selection::Point(p) => *p = map(*p),
+            Selection::Box { min, max } => {
+                *min = map(*min);
+                *max = map(*max);
+            }
+            _ => {}
+        };
+        for c in scene.constraint.iter_mut().filter(|c| c.body == name) {
+            carry(&mut c.selection);
+        }
+        for r in scene.region.iter_mut().filter(|r| r.body == name) {
+            carry(&mut r.selection);
+        }
+        for p in scene.probe.iter_mut().filter(|p| p.body == name) {
+            p.point = map(p.point);
+        }
+        for l in scene.load.iter_mut().filter(|l| l.body == name) {
+            carry(&mut l.selection);
+        }
+        // The internal pressure: on the cavity of a shell; a solid ball has none.
+        scene
+            .load
+            .retain(|l| !(l.body == name && is_inner(&l.selection)));
+        if self.shell && self.pressure != 0.0 {
+            scene.load.push(LoadDef {
+                name: Some("air".into()),
+                body: name,
+                selection: Selection::Surface("inner".into()),
+                pressure: Some(self.pressure),
+                force: None,
+                traction: None,
+            });
+        }
+    }
+}
+
+fn is_inner(s: &Selection) -> bool {
+    matches!(s, Selection::Surface(name) if name == "inner")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        Scene::parse(include_str!("../../assets/scenes/hand-and-ball.toml"), "t").unwrap()
+    }
+
+    #[test]
+    fn reads_the_default_ball() {
+        let b = BallParams::from_scene(&scene()).unwrap();
+        assert_eq!(b.body, 1);
+        assert!((b.radius - 0.035).abs() < 1e-12 && b.shell);
+        assert_eq!(b.young, 2.0e6);
+        assert_eq!(b.pressure, 3.0e4);
+    }
+
+    #[test]
+    fn edits_move_the_support_and_keep_the_hand_material() {
+        let mut s = scene();
+        let mut b = BallParams::from_scene(&s).unwrap();
+        b.radius = 0.05;
+        b.young = 1.0e9;
+        b.center[0] += 0.01;
+        b.shell = false;
+        b.apply(&mut s);
+        let again = BallParams::from_scene(&s).unwrap();
+        assert_eq!(again.young, 1.0e9);
+        assert!(!again.shell && (again.radius - 0.05).abs() < 1e-12);
+        // No pressure on a solid ball; the hand keeps its flesh.
+        assert_eq!(again.pressure, 0.0);
+        assert!(s
+            .material
+            .iter()
+            .any(|m| m.name == "flesh" && m.young == 5.0e4));
+        // The support box still straddles the bottom of the ball.
+        let Selection::Box { min, max } = &s.constraint[0].selection else {
+            panic!("a box")
+        };
+        let bottom = again.center[2] - again.radius;
+        assert!(
+            min[2] < bottom && max[2] > bottom,
+            "{min:?} {max:?} {bottom}"
+        );
+        assert!(min[0] < again.center[0] && max[0] > again.center[0]);
+        // And the edited scene builds.
+        crate::sim::Model::build(&s, "t").unwrap();
+    }
+}

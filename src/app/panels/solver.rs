@@ -1,0 +1,53 @@
+//! Solver: tier, contact method (not yet), tolerance, increment size, mesh resolution.
+
+use super::super::settings::Tier;
+use super::super::state::ViewerState;
+use super::committed;
+use egui::{DragValue, Slider};
+
+pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
+    let s = &mut state.solver;
+    let mut done = false;
+    ui.label("tier");
+    for t in Tier::ALL {
+        done |= ui.radio_value(&mut s.tier, t, t.label()).changed();
+    }
+    ui.add_enabled_ui(false, |ui| {
+        egui::ComboBox::from_label("contact method")
+            .selected_text("none")
+            .show_ui(ui, |_| {});
+    })
+    .response
+    .on_disabled_hover_text("contact lands with issue 4");
+    ui.horizontal(|ui| {
+        ui.label("tolerance");
+        let r = ui
+            .add(
+                DragValue::new(&mut s.tolerance)
+                    .speed(0.0)
+                    .range(1e-14..=1e-2)
+                    .custom_formatter(|v, _| format!("{v:.0e}")),
+            )
+            .on_hover_text("largest relative residual accepted; larger ones are flagged");
+        if r.clicked() {
+            s.tolerance = if s.tolerance <= 1e-12 {
+                1e-4
+            } else {
+                s.tolerance * 0.01
+            };
+        }
+    });
+    let r = ui.add(
+        Slider::new(&mut s.max_step_deg, 1.0..=45.0)
+            .text("max step")
+            .suffix("°"),
+    );
+    done |= committed(&r);
+    let r = ui
+        .add(Slider::new(&mut s.resolution, 0.5..=2.0).text("mesh resolution"))
+        .on_hover_text("hand lattice: 3.2 mm / resolution (1.6 mm on the finger-tip pads)");
+    done |= committed(&r);
+    if done {
+        state.scene_changed = true;
+    }
+}

@@ -1,0 +1,144 @@
+//! The Joints panel's model: the hands of the scene (their skeletons give joint names and
+//! limits without meshing anything), their angles, and the pose presets.
+
+use super::jobs::Pose;
+use crate::hand::Skeleton;
+use crate::scene::{Scene, Shape};
+
+/// A hand body of the scene.
+#[derive(Clone, Debug)]
+pub struct HandInfo {
+    /// Body index.
+    pub body: usize,
+    /// Body name.
+    pub name: String,
+    /// Its skeleton (joint names and limits).
+    pub skeleton: Skeleton,
+}
+
+/// The hands of `scene`.
+pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
+    scene
+        .body
+        .iter()
+        .enumerate()
+        .filter_map(|(b, def)| match def.shape {
+            Shape::Hand { side, .. } => Some(HandInfo {
+                body: b,
+                name: def.name.clone(),
+                skeleton: Skeleton::new(side),
+            }),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The digit a joint belongs to (the part of its name before the first dot).
+pub fn digit_of(joint: &str) -> &str {
+    joint.split('.').next().unwrap_or(joint)
+}
+
+/// A named pose preset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// Every joint at zero.
+    Rest,
+    /// A closed fist (as far as the flesh of the palm crease allows without self-contact).
+    Fist,
+    /// Thumb and index tips brought together.
+    Pinch,
+    /// Fingers and thumb wrapped as around a ball.
+    PowerGrasp,
+}
+
+impl Preset {
+    /// Every preset.
+    pub const ALL: [Preset; 4] = [
+        Preset::Rest,
+        Preset::Fist,
+        Preset::Pinch,
+        Preset::PowerGrasp,
+    ];
+
+    /// Button label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Preset::Rest => "Rest",
+            Preset::Fist => "Fist",
+            Preset::Pinch => "Pinch",
+            Preset::PowerGrasp => "Power grasp",
+        }
+    }
+
+    /// The angle of `joint` (degrees) in this preset, before clamping to its limits. The thumb
+    /// stays at CMC flexion 0: at resolution 1 the thenar crease crushes past about 9° of CMC
+    /// flexion without self-contact (issue 4); each preset is reached from rest without a
+    /// crushed cell (checked with `prehensile solve`).
+    fn angle(self, joint: &str) -> f64 {
+        let finger = |mcp: f64, pip: f64, dip: f64| match joint.rsplit('.').next() {
+            Some("flex") => mcp,
+            Some("pip") => pip,
+            Some("dip") => dip,
+            _ => 0.0,
+        };
+        let thumb = |cmc_flex: f64, cmc_abd: f64, mcp: f64, ip: f64| match joint {
+            "thumb.cmc.flex" => cmc_flex,
+            "thumb.cmc.abd" => cmc_abd,
+            "thumb.mcp" => mcp,
+            "thumb.ip" => ip,
+            _ => 0.0,
+        };
+        let is_thumb = digit_of(joint) == "thumb";
+        match self {
+            Preset::Rest => 0.0,
+            Preset::Fist if is_thumb => thumb(0.0, 30.0, 10.0, 20.0),
+            Preset::Fist => finger(75.0, 90.0, 50.0),
+            Preset::Pinch if is_thumb => thumb(0.0, 35.0, 0.0, 15.0),
+            Preset::Pinch if digit_of(joint) == "index" => finger(40.0, 45.0, 20.0),
+            Preset::Pinch => finger(10.0, 15.0, 5.0),
+            Preset::PowerGrasp if is_thumb => thumb(0.0, 30.0, 10.0, 10.0),
+            Preset::PowerGrasp => finger(45.0, 50.0, 30.0),
+        }
+    }
+
+    /// The joint angles of this preset for `skeleton`, within its limits.
+    pub fn angles(self, skeleton: &Skeleton) -> Vec<f64> {
+        skeleton
+            .dofs
+            .iter()
+            .map(|d| self.angle(&d.name).clamp(d.limits.min, d.limits.max))
+            .collect()
+    }
+}
+
+/// The pose of every hand at rest.
+pub fn rest_pose(hands: &[HandInfo]) -> Pose {
+    hands
+        .iter()
+        .map(|h| (h.body, h.skeleton.rest_angles()))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hand::Side;
+
+    #[test]
+    fn presets_stay_within_limits_and_differ() {
+        let s = Skeleton::new(Side::Right);
+        let mut seen = Vec::new();
+        for p in Preset::ALL {
+            let a = p.angles(&s);
+            assert_eq!(a.len(), 20);
+            for (d, v) in s.dofs.iter().zip(&a) {
+                assert!(*v >= d.limits.min && *v <= d.limits.max, "{} {v}", d.name);
+            }
+            assert!(!seen.contains(&a), "{p:?} repeats another preset");
+            seen.push(a);
+        }
+        let fist = Preset::Fist.angles(&s);
+        let pip = s.dofs.iter().position(|d| d.name == "index.pip").unwrap();
+        assert_eq!(fist[pip], 90.0);
+    }
+}

@@ -1,0 +1,153 @@
+//! The Solver and Display panels' models: the solver tier and its settings (written into the
+//! scene's `[solver]` table and hand bodies), and how frames are drawn.
+
+use crate::scene::{Scene, Shape};
+use crate::sim::{FleshMethod, FlexionScheme};
+use crate::visual::{Overlay, VisualOptions};
+
+/// How the hands' flesh is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tier {
+    /// Geometric skinning only (the fast path, no mechanics).
+    Skinning,
+    /// The paper's linear increments on the updated geometry.
+    UpdatedLagrangian,
+    /// Corotated linear increments (the default).
+    Corotational,
+}
+
+impl Tier {
+    /// Every tier, fastest first.
+    pub const ALL: [Tier; 3] = [Tier::Skinning, Tier::UpdatedLagrangian, Tier::Corotational];
+
+    /// The label shown in the Solver panel.
+    pub fn label(self) -> &'static str {
+        match self {
+            Tier::Skinning => "skinning",
+            Tier::UpdatedLagrangian => "incremental (updated Lagrangian)",
+            Tier::Corotational => "corotational",
+        }
+    }
+}
+
+/// The Solver panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverParams {
+    /// The tier.
+    pub tier: Tier,
+    /// Largest relative residual accepted before the status panel flags a solve.
+    pub tolerance: f64,
+    /// Largest joint rotation per increment, degrees.
+    pub max_step_deg: f64,
+    /// Hand mesh resolution (0.5 … 4; 1 is the default 3.2 mm lattice).
+    pub resolution: f64,
+}
+
+impl SolverParams {
+    /// The settings of `scene`.
+    pub fn from_scene(scene: &Scene) -> Self {
+        let s = &scene.solver;
+        let tier = match (s.flesh, s.flexion) {
+            (Some(FleshMethod::Skinning), _) => Tier::Skinning,
+            (_, Some(FlexionScheme::UpdatedLagrangian)) => Tier::UpdatedLagrangian,
+            _ => Tier::Corotational,
+        };
+        let resolution = scene
+            .body
+            .iter()
+            .find_map(|b| match b.shape {
+                Shape::Hand { resolution, .. } => Some(resolution),
+                _ => None,
+            })
+            .unwrap_or(1.0);
+        SolverParams {
+            tier,
+            tolerance: 1e-8,
+            max_step_deg: s.max_step_deg.unwrap_or(10.0),
+            resolution,
+        }
+    }
+
+    /// Writes these settings into `scene`.
+    pub fn apply(&self, scene: &mut Scene) {
+        let s = &mut scene.solver;
+        s.max_step_deg = Some(self.max_step_deg);
+        match self.tier {
+            Tier::Skinning => s.flesh = Some(FleshMethod::Skinning),
+            Tier::UpdatedLagrangian | Tier::Corotational => {
+                s.flesh = Some(FleshMethod::Fem);
+                s.flexion = Some(if self.tier == Tier::Corotational {
+                    FlexionScheme::Corotational
+                } else {
+                    FlexionScheme::UpdatedLagrangian
+                });
+            }
+        }
+        for b in &mut scene.body {
+            if let Shape::Hand { resolution, .. } = &mut b.shape {
+                *resolution = self.resolution;
+            }
+        }
+    }
+}
+
+/// What the Display panel's overlay menu offers.
+pub const OVERLAYS: [(Overlay, &str); 4] = [
+    (Overlay::Stress, "von Mises stress"),
+    (Overlay::Displacement, "displacement"),
+    (Overlay::Forces, "forces"),
+    (Overlay::None, "none"),
+];
+
+/// The Display panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DisplayParams {
+    /// Skin opacity (1 opaque).
+    pub skin_opacity: f32,
+    /// Draw bones (when the skin is translucent).
+    pub bones: bool,
+    /// Draw the simulation mesh's edges.
+    pub wireframe: bool,
+    /// The overlay.
+    pub overlay: Overlay,
+    /// Colour range from the data (`true`) or `fixed`.
+    pub auto_range: bool,
+    /// The fixed colour range, in the overlay's unit.
+    pub fixed_range: [f32; 2],
+}
+
+impl Default for DisplayParams {
+    fn default() -> Self {
+        DisplayParams {
+            skin_opacity: 0.6,
+            bones: true,
+            wireframe: false,
+            overlay: Overlay::None,
+            auto_range: true,
+            fixed_range: [0.0, 1.0e4],
+        }
+    }
+}
+
+impl DisplayParams {
+    /// The options the draw list is built with.
+    pub fn visual(&self) -> VisualOptions {
+        VisualOptions {
+            overlay: self.overlay,
+            displacement_scale: 1.0,
+            wireframe: self.wireframe,
+            skin_opacity: self.skin_opacity,
+            bones: self.bones,
+        }
+    }
+
+    /// The colour range to draw with, given the automatic one: never NaN, never empty.
+    pub fn range(&self, auto: [f32; 2]) -> [f32; 2] {
+        let r = if self.auto_range {
+            auto
+        } else {
+            self.fixed_range
+        };
+        crate::render::guard_range(r)
+    }
+}

@@ -1,0 +1,424 @@
+//! The viewer's state and its traffic with the solver thread: the inputs of the panels (scene
+//! with its edits, pose, solver and display settings, timeline), the frame shown, and the rules
+//! that keep them apart — every change sends a job with a new version, only the newest result is
+//! shown, a failure keeps the last good frame.
+//!
+//! The panels (`super::panels`) draw and edit this state; the 3D view is behind [`SceneView`] and
+//! the solver behind [`SolverPort`], so that both can be replaced by test doubles.
+
+use super::jobs::{Failure, Job, JobResult, Pose, Solution, Target};
+use super::object::BallParams;
+use super::pose::{hands_of, HandInfo};
+use super::settings::{DisplayParams, SolverParams};
+use super::timeline::Timeline;
+use super::worker::SolverPort;
+use crate::scene::Scene;
+use crate::visual::VisualOptions;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// The 3D view: draws solutions (the window's uses the project's renderer).
+pub trait SceneView {
+    /// Shows `solution`'s draw list with the colour `range`.
+    fn show_solution(&mut self, solution: &Solution, range: [f32; 2]);
+    /// Changes the colour range of what is shown.
+    fn set_range(&mut self, range: [f32; 2]);
+    /// Draws the view into `ui` (the central panel), handling camera input.
+    fn ui(&mut self, ui: &mut egui::Ui);
+    /// Renders `solution` (or, with `None`, what is shown) off screen at `width`×`height` with
+    /// the view's camera, for export.
+    fn capture(
+        &mut self,
+        solution: Option<&Solution>,
+        width: u32,
+        height: u32,
+    ) -> Result<image::RgbaImage, String>;
+}
+
+/// Where the frame shown came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// The pose of the sliders.
+    Interactive,
+    /// A cached timeline frame.
+    Timeline(usize),
+}
+
+/// The frame on screen.
+#[derive(Clone)]
+pub struct Shown {
+    /// Version of the job that computed it.
+    pub version: u64,
+    /// The solution.
+    pub solution: Solution,
+    /// Where it came from.
+    pub source: Source,
+}
+
+/// Counters and the last failure, for the Status panel.
+#[derive(Clone, Debug, Default)]
+pub struct Status {
+    /// The last failure (error or panic) not yet followed by a good frame.
+    pub error: Option<String>,
+    /// Results shown.
+    pub shown: usize,
+    /// Results discarded because a newer request had been made.
+    pub discarded: usize,
+    /// Jobs cancelled by a newer request.
+    pub cancelled: usize,
+    /// A short message (saved, exported, ...).
+    pub message: Option<String>,
+}
+
+/// Everything the window shows and edits.
+pub struct ViewerState {
+    /// The scene with the panels' edits applied (keyframes as loaded or saved).
+    pub scene: Scene,
+    /// Name of the scene (its file, or "built-in default scene").
+    pub scene_name: String,
+    /// Path the File panel saves to and loads from.
+    pub scene_path: String,
+    /// Folder the exports go to.
+    pub export_dir: String,
+    /// The hands of the scene.
+    pub hands: Vec<HandInfo>,
+    /// The pose of the sliders.
+    pub pose: Pose,
+    /// The ball of the Object panel, if the scene has one.
+    pub ball: Option<BallParams>,
+    /// The Solver panel.
+    pub solver: SolverParams,
+    /// The Display panel.
+    pub display: DisplayParams,
+    /// Keys and cached frames.
+    pub timeline: Timeline,
+    /// Solve frames of the timeline in the background when idle.
+    pub timeline_solving: bool,
+    /// Counters and failures.
+    pub status: Status,
+    /// The frame on screen.
+    pub shown: Option<Shown>,
+    /// The 3D view (none in UI tests).
+    pub view: Option<Box<dyn SceneView>>,
+    port: Box<dyn SolverPort>,
+    scene_revision: u64,
+    next_version: u64,
+    /// The newest pose job: only its result is shown.
+    pose_version: Option<u64>,
+    /// The timeline job whose frames are accepted.
+    timeline_job: Option<u64>,
+    /// The newest job not finished.
+    in_flight: Option<u64>,
+    /// A timeline frame failed: no more automatic timeline jobs until something changes.
+    timeline_failed: bool,
+    /// The draw options last asked for the shown frame (to ask once per change).
+    redraw_asked: Option<(u64, VisualOptions)>,
+    /// Set by the panels during a frame, acted on at its end.
+    pub(crate) pose_changed: bool,
+    pub(crate) scene_changed: bool,
+    pub(crate) range_changed: bool,
+}
+
+impl ViewerState {
+    /// The state for `scene` (called `name`), solving through `port`; the first frame is
+    /// requested at the end of the first [`ViewerState::ui`] (or [`ViewerState::dispatch`]).
+    pub fn new(scene: Scene, name: &str, port: Box<dyn SolverPort>) -> Result<Self, String> {
+        let hands = hands_of(&scene);
+        let timeline = Timeline::from_scene(&scene, &hands)?;
+        let pose = timeline.keys[0].pose.clone();
+        Ok(ViewerState {
+            ball: BallParams::from_scene(&scene),
+            solver: SolverParams::from_scene(&scene),
+            display: DisplayParams::default(),
+            scene_name: name.to_string(),
+            scene_path: if name.ends_with(".toml") {
+                name.to_string()
+            } else {
+                "scene.toml".to_string()
+            },
+            export_dir: "export".to_string(),
+            hands,
+            pose,
+            timeline,
+            timeline_solving: true,
+            scene,
+            status: Status::default(),
+            shown: None,
+            view: None,
+            port,
+            scene_revision: 0,
+            next_version: 1,
+            pose_version: None,
+            timeline_job: None,
+            in_flight: None,
+            timeline_failed: false,
+            redraw_asked: None,
+            pose_changed: true,
+            scene_changed: false,
+            range_changed: false,
+        })
+    }
+
+    /// Replaces the scene (File → Load): new hands, timeline and model.
+    pub fn replace_scene(&mut self, scene: Scene, name: &str) -> Result<(), String> {
+        let hands = hands_of(&scene);
+        let timeline = Timeline::from_scene(&scene, &hands)?;
+        self.pose = timeline.keys[0].pose.clone();
+        self.timeline = timeline;
+        self.hands = hands;
+        self.ball = BallParams::from_scene(&scene);
+        self.solver = SolverParams::from_scene(&scene);
+        self.scene = scene;
+        self.scene_name = name.to_string();
+        self.scene_revision += 1;
+        self.timeline_failed = false;
+        self.pose_changed = true;
+        Ok(())
+    }
+
+    /// Tells the state that `pose` was edited (as a joint slider does): a pose job goes out at
+    /// the end of the frame.
+    pub fn pose_edited(&mut self) {
+        self.pose_changed = true;
+    }
+
+    /// The scene with the current keys written in (what File → Save writes).
+    pub fn scene_with_keys(&self) -> Scene {
+        let mut scene = self.scene.clone();
+        self.timeline.write_to(&mut scene, &self.hands);
+        scene
+    }
+
+    /// `true` while a job whose result would replace the shown frame is outstanding.
+    pub fn computing(&self) -> bool {
+        self.pose_changed || self.pose_version.is_some_and(|v| self.in_flight == Some(v))
+    }
+
+    /// The version of the newest job submitted (0 before any).
+    pub fn latest_version(&self) -> u64 {
+        self.next_version - 1
+    }
+
+    fn submit(&mut self, target: Target) -> u64 {
+        let version = self.next_version;
+        self.next_version += 1;
+        self.port.submit(Job {
+            version,
+            scene: Arc::new(self.scene.clone()),
+            scene_revision: self.scene_revision,
+            visual: self.display.visual(),
+            target,
+        });
+        self.in_flight = Some(version);
+        version
+    }
+
+    /// The frame to start a pose job from: the shown one if it came from the timeline.
+    fn start_frame(&self) -> Option<Arc<crate::sim::Frame>> {
+        self.shown
+            .as_ref()
+            .filter(|s| matches!(s.source, Source::Timeline(_)))
+            .map(|s| s.solution.frame.clone())
+    }
+
+    /// Sends what the changes of this frame call for (at most one job).
+    pub fn dispatch(&mut self) {
+        if self.scene_changed {
+            self.scene_changed = false;
+            if let Some(ball) = &self.ball {
+                ball.apply(&mut self.scene);
+            }
+            self.solver.apply(&mut self.scene);
+            self.scene_revision += 1;
+            self.timeline.invalidate_from(0);
+            self.timeline_failed = false;
+            self.pose_changed = true;
+        }
+        if self.range_changed {
+            self.range_changed = false;
+            let range = self.current_range();
+            if let Some(view) = &mut self.view {
+                view.set_range(range);
+            }
+        }
+        if self.pose_changed {
+            self.pose_changed = false;
+            let start = self.start_frame();
+            let v = self.submit(Target::Pose {
+                pose: self.pose.clone(),
+                start,
+            });
+            self.pose_version = Some(v);
+            return;
+        }
+        let visual = self.display.visual();
+        if let Some(shown) = &self.shown {
+            let asked = Some((shown.version, visual));
+            if shown.solution.visual != visual && self.redraw_asked != asked {
+                self.redraw_asked = asked;
+                let pose = shown
+                    .solution
+                    .frame
+                    .hands
+                    .iter()
+                    .map(|h| (h.body, h.angles.clone()))
+                    .collect();
+                let start = Some(shown.solution.frame.clone());
+                let v = self.submit(Target::Pose { pose, start });
+                self.pose_version = Some(v);
+                return;
+            }
+        }
+        if self.in_flight.is_none() && self.timeline_solving && !self.timeline_failed {
+            if let Some(first) = self.timeline.first_unsolved() {
+                let start = match first {
+                    0 => None,
+                    k => self.timeline.frames[k - 1]
+                        .as_ref()
+                        .map(|s| s.frame.clone()),
+                };
+                let poses = self.timeline.keys[first..]
+                    .iter()
+                    .map(|k| k.pose.clone())
+                    .collect();
+                let v = self.submit(Target::Timeline {
+                    first,
+                    start,
+                    poses,
+                });
+                self.timeline_job = Some(v);
+            }
+        }
+    }
+
+    /// The colour range for the shown draw list.
+    pub fn current_range(&self) -> [f32; 2] {
+        let auto = self
+            .shown
+            .as_ref()
+            .and_then(|s| s.solution.draw_list.legend.as_ref())
+            .map_or([0.0, 1.0], |l| l.range);
+        self.display.range(auto)
+    }
+
+    fn show(&mut self, version: u64, solution: Solution, source: Source) {
+        self.shown = Some(Shown {
+            version,
+            solution,
+            source,
+        });
+        self.status.shown += 1;
+        let range = self.current_range();
+        if let (Some(view), Some(shown)) = (&mut self.view, &self.shown) {
+            view.show_solution(&shown.solution, range);
+        }
+    }
+
+    /// Takes the results that arrived and shows the newest.
+    pub fn receive(&mut self) {
+        for r in self.port.poll() {
+            self.take(r);
+        }
+    }
+
+    fn take(&mut self, r: JobResult) {
+        if r.finished && self.in_flight == Some(r.version) {
+            self.in_flight = None;
+        }
+        let newest_pose = self.pose_version == Some(r.version);
+        let timeline = self.timeline_job == Some(r.version);
+        match r.outcome {
+            Ok(solution) => {
+                if let Some(i) = solution.timeline_frame {
+                    if !timeline || i >= self.timeline.frames.len() {
+                        self.status.discarded += 1;
+                        return;
+                    }
+                    self.timeline.frames[i] = Some(solution.clone());
+                    let showing_key = self
+                        .shown
+                        .as_ref()
+                        .is_none_or(|s| s.source != Source::Interactive);
+                    if i == self.timeline.current && showing_key && !self.computing() {
+                        self.show(r.version, solution, Source::Timeline(i));
+                    }
+                } else if newest_pose {
+                    self.status.error = None;
+                    self.show(r.version, solution, Source::Interactive);
+                } else {
+                    self.status.discarded += 1;
+                }
+            }
+            Err(Failure::Cancelled) => self.status.cancelled += 1,
+            Err(Failure::Error(e)) if newest_pose || timeline => {
+                if timeline {
+                    self.timeline_failed = true;
+                    self.status.error = Some(format!("timeline: {e}"));
+                } else {
+                    self.status.error = Some(e);
+                }
+            }
+            Err(Failure::Panic(p)) if newest_pose || timeline => {
+                self.timeline_failed |= timeline;
+                self.status.error = Some(format!(
+                    "the solver panicked: {p} (the last good frame stays on screen)"
+                ));
+            }
+            Err(_) => self.status.discarded += 1,
+        }
+    }
+
+    /// Shows key `k` of the timeline (its cached frame if solved) and puts the sliders there.
+    pub fn scrub_to(&mut self, k: usize) {
+        if k >= self.timeline.keys.len() {
+            return;
+        }
+        self.timeline.current = k;
+        self.pose = self.timeline.keys[k].pose.clone();
+        if let Some(solution) = self.timeline.frames[k].clone() {
+            let version = self.latest_version();
+            self.pose_version = None;
+            self.show(version, solution, Source::Timeline(k));
+        }
+    }
+
+    /// The per-frame work that is not drawing: results, playback, then the jobs the panels'
+    /// changes call for.
+    pub fn step(&mut self, dt: f64) {
+        self.receive();
+        if self.timeline.advance(dt) {
+            let k = self.timeline.current;
+            self.scrub_to(k);
+        }
+    }
+
+    /// The bone forces of the shown frame: (hand, bone, |force| N), largest first per hand.
+    pub fn bone_forces(&self) -> Vec<(String, String, f64)> {
+        let Some(shown) = &self.shown else {
+            return Vec::new();
+        };
+        let model = &shown.solution.model;
+        let mut out = Vec::new();
+        for h in &shown.solution.frame.hands {
+            let Some(hand) = model.bodies.get(h.body).and_then(|b| b.hand.as_deref()) else {
+                continue;
+            };
+            let mut rows: Vec<(String, String, f64)> = hand
+                .skeleton
+                .bones
+                .iter()
+                .zip(&h.bone_reactions)
+                .map(|(b, r)| (model.bodies[h.body].name.clone(), b.name.clone(), r.norm()))
+                .filter(|r| r.2.is_finite())
+                .collect();
+            rows.sort_by(|a, b| b.2.total_cmp(&a.2));
+            out.extend(rows);
+        }
+        out
+    }
+
+    /// Where File → Save writes.
+    pub fn scene_file(&self) -> PathBuf {
+        PathBuf::from(&self.scene_path)
+    }
+}

@@ -1,0 +1,249 @@
+//! The 3D view of the window: the project's [`Renderer`], on egui's wgpu device, draws the shown
+//! draw list into an offscreen texture registered with egui, redrawn only when the frame, the
+//! camera or the size changed. Drag to orbit, right-drag (or shift-drag) to pan, scroll to
+//! zoom, double-click to frame the bodies again.
+
+use super::jobs::Solution;
+use super::state::SceneView;
+use crate::render::{Bounds, Camera, DrawList, GpuScene, Renderer, HEADLESS_FORMAT, PRESETS};
+use eframe::egui;
+use eframe::egui_wgpu::RenderState;
+use egui::{Color32, Rect, Sense};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Offscreen target registered with egui.
+struct Target {
+    view: wgpu::TextureView,
+    id: egui::TextureId,
+    size: (u32, u32),
+}
+
+/// The window's 3D view.
+pub struct View3d {
+    renderer: Renderer,
+    render_state: RenderState,
+    scene: Option<GpuScene>,
+    list: Option<Arc<DrawList>>,
+    camera: Option<Camera>,
+    bounds: Option<Bounds>,
+    target: Option<Target>,
+    dirty: bool,
+    /// Milliseconds of the last redraw of the 3D texture (encoding and submission).
+    pub last_render_ms: f64,
+    /// Last error of the renderer, shown over the view.
+    pub error: Option<String>,
+}
+
+impl View3d {
+    /// A view drawing with a renderer on `render_state`'s device.
+    pub fn new(render_state: &RenderState) -> Self {
+        let renderer = Renderer::from_device(
+            render_state.device.clone(),
+            render_state.queue.clone(),
+            render_state.adapter.get_info(),
+            HEADLESS_FORMAT,
+        );
+        View3d {
+            renderer,
+            render_state: render_state.clone(),
+            scene: None,
+            list: None,
+            camera: None,
+            bounds: None,
+            target: None,
+            dirty: true,
+            last_render_ms: 0.0,
+            error: None,
+        }
+    }
+
+    /// The adapter, for the log.
+    pub fn adapter_summary(&self) -> String {
+        self.renderer.adapter_summary()
+    }
+
+    fn frame_camera(&mut self, preset: &str) {
+        if let (Some(b), Some(t)) = (&self.bounds, &self.target) {
+            let aspect = t.size.0 as f32 / t.size.1.max(1) as f32;
+            self.camera = Camera::preset(preset, b, aspect);
+            self.dirty = true;
+        }
+    }
+
+    fn ensure_target(&mut self, size: (u32, u32)) {
+        if self.target.as_ref().is_some_and(|t| t.size == size) {
+            return;
+        }
+        let device = &self.render_state.device;
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("3d view"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HEADLESS_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let mut egui_renderer = self.render_state.renderer.write();
+        let id = match &self.target {
+            Some(old) => {
+                egui_renderer.update_egui_texture_from_wgpu_texture(
+                    device,
+                    &view,
+                    wgpu::FilterMode::Linear,
+                    old.id,
+                );
+                old.id
+            }
+            None => egui_renderer.register_native_texture(device, &view, wgpu::FilterMode::Linear),
+        };
+        self.target = Some(Target { view, id, size });
+        self.dirty = true;
+    }
+
+    fn redraw(&mut self) {
+        let (Some(scene), Some(camera), Some(t)) = (&mut self.scene, &self.camera, &self.target)
+        else {
+            return;
+        };
+        let start = Instant::now();
+        match self
+            .renderer
+            .render(scene, camera, &t.view, t.size.0, t.size.1)
+        {
+            Ok(()) => self.error = None,
+            Err(e) => self.error = Some(e.to_string()),
+        }
+        self.last_render_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.dirty = false;
+    }
+
+    fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
+        let Some(camera) = &mut self.camera else {
+            return;
+        };
+        let d = response.drag_delta();
+        let height = rect.height().max(1.0);
+        let pan = response.dragged_by(egui::PointerButton::Secondary)
+            || (response.dragged() && ui.input(|i| i.modifiers.shift));
+        if d != egui::Vec2::ZERO {
+            if pan {
+                camera.pan(d.x / height, -d.y / height);
+            } else if response.dragged_by(egui::PointerButton::Primary) {
+                camera.orbit(-d.x * 0.008, d.y * 0.008);
+            }
+            self.dirty = true;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                camera.zoom((-scroll * 0.002).exp());
+                self.dirty = true;
+            }
+        }
+        if response.double_clicked() {
+            self.frame_camera("three-quarter");
+        }
+    }
+}
+
+impl SceneView for View3d {
+    fn show_solution(&mut self, solution: &Solution, range: [f32; 2]) {
+        let list = solution.draw_list.clone();
+        match self.renderer.upload(&list) {
+            Ok(mut scene) => {
+                if let Some(legend) = &mut scene.legend {
+                    legend.range = range;
+                }
+                self.scene = Some(scene);
+                self.error = None;
+            }
+            Err(e) => self.error = Some(e.to_string()),
+        }
+        if self.bounds.is_none() {
+            self.bounds = list.bounds();
+            self.camera = None;
+        }
+        self.list = Some(list);
+        self.dirty = true;
+    }
+
+    fn set_range(&mut self, range: [f32; 2]) {
+        if let Some(legend) = self.scene.as_mut().and_then(|s| s.legend.as_mut()) {
+            legend.range = range;
+            self.dirty = true;
+        }
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui) {
+        let rect = ui.available_rect_before_wrap();
+        let ppp = ui.ctx().pixels_per_point();
+        let size = (
+            ((rect.width() * ppp).round() as u32).clamp(16, 4096),
+            ((rect.height() * ppp).round() as u32).clamp(16, 4096),
+        );
+        self.ensure_target(size);
+        if self.camera.is_none() {
+            self.frame_camera("three-quarter");
+        }
+        let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        self.handle_input(ui, &response, rect);
+        if self.dirty {
+            self.redraw();
+        }
+        if let Some(t) = &self.target {
+            let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            ui.painter().image(t.id, rect, uv, Color32::WHITE);
+        }
+        // Camera presets over the top-left corner of the view.
+        let mut chosen = None;
+        let mut overlay = ui.new_child(
+            egui::UiBuilder::new()
+                .max_rect(rect.shrink(8.0))
+                .layout(egui::Layout::left_to_right(egui::Align::Min)),
+        );
+        for (name, _) in PRESETS.iter().take(4) {
+            if overlay.small_button(*name).clicked() {
+                chosen = Some(*name);
+            }
+        }
+        if let Some(name) = chosen {
+            self.frame_camera(name);
+        }
+        if let Some(e) = &self.error {
+            overlay.colored_label(Color32::LIGHT_RED, e);
+        }
+        if self.list.is_none() {
+            overlay.label("solving the first frame…");
+        }
+    }
+
+    fn capture(
+        &mut self,
+        solution: Option<&Solution>,
+        width: u32,
+        height: u32,
+    ) -> Result<image::RgbaImage, String> {
+        // The view's camera; the export's aspect may differ from the view's.
+        let cam = self.camera.ok_or("nothing shown yet")?;
+        let out = match solution {
+            Some(s) => self
+                .renderer
+                .render_to_rgba(&s.draw_list, &cam, width, height),
+            None => {
+                let scene = self.scene.as_mut().ok_or("nothing shown yet")?;
+                self.renderer
+                    .render_scene_to_rgba(scene, &cam, width, height)
+            }
+        };
+        self.dirty = true;
+        out.map_err(|e| e.to_string())
+    }
+}

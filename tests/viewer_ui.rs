@@ -1,0 +1,280 @@
+//! The viewer's real widgets driven headlessly (egui_kittest, through AccessKit as a screen reader
+//! would): a joint slider sends a solve request and its result replaces the shown frame; a stale
+//! result is discarded; a panicking solve leaves the window alive and says so; editing a key
+//! keeps the timeline frames before it.
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use prehensile::app::jobs::{Failure, Job, Solution, Target};
+use prehensile::app::testing::{tiny_solution, FakePort};
+use prehensile::app::worker::{Cancel, ThreadSolver};
+use prehensile::app::ViewerState;
+use prehensile::scene::{Scene, DEFAULT_SCENE};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+fn scene() -> Scene {
+    Scene::parse(DEFAULT_SCENE, "default").unwrap()
+}
+
+fn harness(state: ViewerState) -> Harness<'static, ViewerState> {
+    Harness::builder()
+        .with_size([1600.0, 900.0])
+        .build_ui_state(|ui, state: &mut ViewerState| state.ui(ui), state)
+}
+
+/// The slider labelled `label` (its value box has the same label).
+fn slider<'a>(h: &'a Harness<'static, ViewerState>, label: &'a str) -> egui_kittest::Node<'a> {
+    h.get_by_role_and_label(egui::Role::Slider, label)
+}
+
+fn joint(state: &ViewerState, name: &str) -> usize {
+    state.hands[0]
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == name)
+        .unwrap()
+}
+
+/// The x of the first vertex drawn: tells the fake solutions apart.
+fn shown_x(state: &ViewerState) -> Option<f32> {
+    state
+        .shown
+        .as_ref()
+        .map(|s| s.solution.draw_list.surfaces[0].positions[0][0])
+}
+
+fn pose_jobs(port: &FakePort) -> Vec<Job> {
+    port.jobs()
+        .into_iter()
+        .filter(|j| matches!(j.target, Target::Pose { .. }))
+        .collect()
+}
+
+fn pose_angle(job: &Job, joint: usize) -> f64 {
+    match &job.target {
+        Target::Pose { pose, .. } => pose[0].1[joint],
+        _ => panic!("not a pose job"),
+    }
+}
+
+/// A state on the default scene whose first request (version 1) is answered with a frame at x = 0.
+fn answered() -> (FakePort, Harness<'static, ViewerState>) {
+    let port = FakePort::new();
+    let mut state = ViewerState::new(scene(), "default", Box::new(port.clone())).unwrap();
+    state.timeline_solving = false;
+    let mut h = harness(state);
+    assert_eq!(
+        pose_jobs(&port).len(),
+        1,
+        "the first frame is requested at start"
+    );
+    port.answer_frame(1, 0.0, None);
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    (port, h)
+}
+
+#[test]
+fn moving_a_joint_slider_requests_a_solve_and_shows_its_result() {
+    let (port, mut h) = answered();
+    let pip = joint(h.state(), "index.pip");
+    slider(&h, "index.pip").set_value_accesskit(40.0);
+    h.step();
+    let jobs = pose_jobs(&port);
+    assert_eq!(jobs.len(), 2, "one request for the slider change");
+    let job = jobs.last().unwrap();
+    assert_eq!(pose_angle(job, pip), 40.0);
+    assert!(job.version > 1);
+    assert!(
+        h.state().computing(),
+        "the status says the frame is being computed"
+    );
+    // The old frame stays until the result arrives, then the new one is shown.
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    port.answer_frame(job.version, 5.0, None);
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(5.0));
+    assert_eq!(h.state().shown.as_ref().unwrap().version, job.version);
+    assert!(!h.state().computing());
+    h.get_by_label("shown frame is current");
+}
+
+#[test]
+fn a_stale_result_is_discarded() {
+    let (port, mut h) = answered();
+    slider(&h, "index.pip").set_value_accesskit(30.0);
+    h.step();
+    slider(&h, "index.pip").set_value_accesskit(60.0);
+    h.step();
+    let jobs = pose_jobs(&port);
+    assert_eq!(jobs.len(), 3);
+    let (older, newer) = (jobs[1].version, jobs[2].version);
+    assert!(newer > older);
+    // The result of the superseded request arrives late: it is not shown.
+    port.answer_frame(older, 3.0, None);
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    assert_eq!(h.state().status.discarded, 1);
+    assert!(h.state().computing());
+    port.answer_frame(newer, 6.0, None);
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(6.0));
+}
+
+#[test]
+fn a_failed_solve_keeps_the_last_good_frame_and_says_why() {
+    let (port, mut h) = answered();
+    slider(&h, "index.pip").set_value_accesskit(100.0);
+    h.step();
+    let v = pose_jobs(&port).last().unwrap().version;
+    port.answer_failure(
+        v,
+        Failure::Error("flesh element 12 would turn inside out".into()),
+    );
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    h.get_by_label_contains("flesh element 12 would turn inside out");
+}
+
+#[test]
+fn a_panicking_solve_leaves_the_ui_alive_and_says_so() {
+    let pip = {
+        let s = scene();
+        let hands = prehensile::app::pose::hands_of(&s);
+        hands[0]
+            .skeleton
+            .dofs
+            .iter()
+            .position(|d| d.name == "index.pip")
+            .unwrap()
+    };
+    // The real solver thread, with a solve that panics past 50° at the index PIP.
+    let solve = move |job: &Job, _: &Cancel, emit: &mut dyn FnMut(Result<Solution, Failure>)| {
+        if let Target::Pose { pose, .. } = &job.target {
+            if pose[0].1[pip] > 50.0 {
+                panic!("index.pip beyond 50° (test double)");
+            }
+            let mut s = tiny_solution(pose[0].1[pip] as f32, None);
+            s.visual = job.visual;
+            emit(Ok(s));
+        }
+    };
+    let port = ThreadSolver::spawn(solve, Arc::new(|| {}));
+    let mut state = ViewerState::new(scene(), "default", Box::new(port)).unwrap();
+    state.timeline_solving = false;
+    let mut h = harness(state);
+    let wait = |h: &mut Harness<'static, ViewerState>, done: &dyn Fn(&ViewerState) -> bool| {
+        let start = Instant::now();
+        while !done(h.state()) {
+            assert!(start.elapsed() < Duration::from_secs(30), "no answer");
+            std::thread::sleep(Duration::from_millis(5));
+            h.step();
+        }
+    };
+    wait(&mut h, &|s| s.shown.is_some());
+    let good = shown_x(h.state()).unwrap();
+    slider(&h, "index.pip").set_value_accesskit(80.0);
+    h.step();
+    wait(&mut h, &|s| s.status.error.is_some());
+    let error = h.state().status.error.clone().unwrap();
+    assert!(
+        error.contains("panicked") && error.contains("beyond 50°"),
+        "{error}"
+    );
+    h.get_by_label_contains("the solver panicked");
+    assert_eq!(shown_x(h.state()), Some(good), "the last good frame stays");
+    // The thread survived: the next request is solved and clears the failure.
+    slider(&h, "index.pip").set_value_accesskit(20.0);
+    h.step();
+    wait(&mut h, &|s| shown_x(s) == Some(20.0));
+    assert!(h.state().status.error.is_none());
+}
+
+#[test]
+fn editing_a_key_keeps_the_frames_before_it() {
+    let port = FakePort::new();
+    let state = ViewerState::new(scene(), "default", Box::new(port.clone())).unwrap();
+    let mut h = harness(state);
+    port.answer_frame(1, 0.0, None);
+    h.step();
+    // Idle with unsolved keys: the timeline is requested from key 0, from rest.
+    let job = port.jobs().last().unwrap().clone();
+    let Target::Timeline {
+        first,
+        start,
+        poses,
+    } = &job.target
+    else {
+        panic!("a timeline job")
+    };
+    assert_eq!((*first, start.is_none(), poses.len()), (0, true, 3));
+    for i in 0..3 {
+        port.answer_frame(job.version, 10.0 + i as f32, Some(i));
+    }
+    h.step();
+    assert_eq!(h.state().timeline.first_unsolved(), None);
+    // Scrub to key 2, move the index PIP, and set the key: only key 2's frame is dropped.
+    h.state_mut().scrub_to(2);
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(12.0));
+    slider(&h, "index.pip").set_value_accesskit(70.0);
+    h.step();
+    h.get_by_label("Set key to current pose").click();
+    h.step();
+    let frames = &h.state().timeline.frames;
+    assert!(frames[0].is_some() && frames[1].is_some() && frames[2].is_none());
+    // The pose request is answered; then the timeline resumes at key 2 from frame 1.
+    let v = pose_jobs(&port).last().unwrap().version;
+    port.answer_frame(v, 7.0, None);
+    h.step();
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    let Target::Timeline {
+        first,
+        start,
+        poses,
+    } = &job.target
+    else {
+        panic!("a timeline job")
+    };
+    assert_eq!((*first, poses.len()), (2, 1));
+    let start = start.as_ref().expect("starts from the cached frame 1");
+    let frame1 = &h.state().timeline.frames[1].as_ref().unwrap().frame;
+    assert!(Arc::ptr_eq(start, frame1));
+    let pip = joint(h.state(), "index.pip");
+    assert_eq!(poses[0][0].1[pip], 70.0);
+}
+
+#[test]
+fn presets_and_reset_move_the_sliders_and_request_frames() {
+    let (port, mut h) = answered();
+    let pip = joint(h.state(), "index.pip");
+    h.get_by_label("Fist").click();
+    h.step();
+    let job = pose_jobs(&port).last().unwrap().clone();
+    assert_eq!(pose_angle(&job, pip), 90.0);
+    assert_eq!(h.state().pose[0].1[pip], 90.0);
+    h.get_by_label("Reset").click();
+    h.step();
+    let job = pose_jobs(&port).last().unwrap().clone();
+    assert_eq!(pose_angle(&job, pip), 15.0, "the scene's initial pose");
+}
+
+#[test]
+fn object_edits_rebuild_the_scene_ball() {
+    let (port, mut h) = answered();
+    let before = port.jobs().last().unwrap().scene_revision;
+    slider(&h, "Young's modulus").set_value_accesskit(1.0e9);
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    assert!(job.scene_revision > before, "a new model");
+    let ball = job.scene.material.iter().find(|m| m.young == 1.0e9);
+    assert!(ball.is_some(), "the ball's material is in the scene sent");
+    assert!(job
+        .scene
+        .material
+        .iter()
+        .any(|m| m.name == "flesh" && m.young == 5.0e4));
+}
