@@ -3,7 +3,7 @@
 
 use prehensile::pipeline::solve_scene_file;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 fn bin() -> Command {
