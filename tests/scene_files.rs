@@ -3,7 +3,7 @@
 
 use prehensile::pipeline::solve_scene_file;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 fn bin() -> Command {
@@ -335,13 +335,32 @@ fn a_missing_scene_file_is_a_clear_error() {
 }
 
 #[test]
-fn the_default_command_solves_the_built_in_scene() {
-    let result = bin().output().unwrap();
-    assert!(result.status.success());
+fn the_built_in_default_scene_is_the_hand_and_ball_and_solves() {
+    // Without a subcommand the viewer opens on it (tests/viewer_window.rs); here it is solved.
+    assert_eq!(
+        prehensile::scene::DEFAULT_SCENE,
+        std::fs::read_to_string("assets/scenes/hand-and-ball.toml").unwrap()
+    );
+    let dir = scratch("built-in");
+    let out = dir.join("out");
+    let result = bin()
+        .args(["solve", "assets/scenes/hand-and-ball.toml", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
     let text = String::from_utf8_lossy(&result.stdout);
     assert!(
-        text.contains("constraint finger") && text.contains("probe equator"),
+        text.contains("constraint support") && text.contains("hand hand"),
         "{text}"
     );
-    assert!(!Path::new("report.json").exists());
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    // The initial pose and two keyframes; the hand and the ball do not touch.
+    assert_eq!(report["frames"].as_array().unwrap().len(), 3);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -44,7 +44,11 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         ui.label(format!("{increments} / {factorizations}"));
         ui.end_row();
         ui.label("residual");
-        let text = format!("{residual:.1e}");
+        let text = if residual.is_finite() {
+            format!("{residual:.1e}")
+        } else {
+            "—".to_string()
+        };
         if residual.is_finite() && residual <= state.solver.tolerance {
             ui.label(text);
         } else {
