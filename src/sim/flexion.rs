@@ -80,7 +80,7 @@ impl Default for FlexionSettings {
     fn default() -> Self {
         FlexionSettings {
             max_step_deg: 10.0,
-            region: FleshRegion::Local { radius: 0.025 },
+            region: FleshRegion::Local { radius: 0.012 },
             methods: [FleshMethod::Fem; 6],
             blend: Blend::DualQuaternion,
             scheme: FlexionScheme::Corotational,
@@ -251,33 +251,67 @@ impl<'a> Flexion<'a> {
         stats.increments = steps;
         const MAX_HALVINGS: usize = 4;
 
-        // Cells solved by FEM, chosen at the start of the keyframe.
-        let centers: Vec<Vector3<f64>> = skeleton
-            .dofs
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| start[*i] != target[*i])
-            .map(|(_, d)| (state.transforms[d.bone] * Point3::from(d.center)).coords)
-            .collect();
-        let active: Vec<bool> = (0..flesh.mesh.cells.len())
-            .map(|c| {
-                if self.cell_method(c) != FleshMethod::Fem {
-                    return false;
+        // Cells solved by FEM, chosen at the start of the keyframe: those within `radius` of a
+        // cell whose nodes do not all move by one and the same bone motion over the keyframe
+        // (a joint's blend zone, or the seam between flesh following different bones, like
+        // the thumb's web). Everywhere else skinning moves the flesh rigidly, as FEM would.
+        let centre = |c: usize| {
+            flesh.mesh.cells[c]
+                .iter()
+                .map(|&n| state.positions[n])
+                .sum::<Vector3<f64>>()
+                / 8.0
+        };
+        let active: Vec<bool> = match self.settings.region {
+            FleshRegion::Whole => (0..flesh.mesh.cells.len())
+                .map(|c| self.cell_method(c) == FleshMethod::Fem)
+                .collect(),
+            FleshRegion::Local { radius } => {
+                let end = skeleton.transforms(target);
+                let motion: Vec<Isometry3<f64>> = end
+                    .iter()
+                    .zip(&state.transforms)
+                    .map(|(e, s)| e * s.inverse())
+                    .collect();
+                // Bones grouped by their motion over the keyframe.
+                let mut class = vec![usize::MAX; motion.len()];
+                let mut reps: Vec<usize> = Vec::new();
+                for b in 0..motion.len() {
+                    let same = reps.iter().find(|&&r| {
+                        let d = motion[r].inverse() * motion[b];
+                        d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12
+                    });
+                    class[b] = match same {
+                        Some(&r) => class[r],
+                        None => {
+                            reps.push(b);
+                            reps.len() - 1
+                        }
+                    };
                 }
-                match self.settings.region {
-                    FleshRegion::Whole => true,
-                    FleshRegion::Local { radius } => {
+                let node_class = |n: usize| -> Option<usize> {
+                    let w = &hand.weights.weights[n];
+                    let first = class[w[0].0];
+                    w.iter().all(|e| class[e.0] == first).then_some(first)
+                };
+                let seams: Vec<Vector3<f64>> = (0..flesh.mesh.cells.len())
+                    .filter(|&c| {
                         let cell = &flesh.mesh.cells[c];
-                        let mid = cell
-                            .iter()
-                            .map(|&n| state.positions[n])
-                            .sum::<Vector3<f64>>()
-                            / 8.0;
-                        centers.iter().any(|j| (mid - j).norm() < radius)
-                    }
-                }
-            })
-            .collect();
+                        let first = node_class(cell[0]);
+                        first.is_none() || cell.iter().any(|&n| node_class(n) != first)
+                    })
+                    .map(centre)
+                    .collect();
+                (0..flesh.mesh.cells.len())
+                    .map(|c| {
+                        self.cell_method(c) == FleshMethod::Fem && {
+                            let mid = centre(c);
+                            seams.iter().any(|j| (mid - j).norm() < radius)
+                        }
+                    })
+                    .collect()
+            }
+        };
         let sub = self.sub_problem(&active);
         if let Some(sub) = &sub {
             stats.fem_cells = sub.cells.len();

@@ -702,7 +702,7 @@ fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, Stri
         };
         out.methods[i] = m;
     }
-    let radius = s.flesh_region_radius.unwrap_or(0.025);
+    let radius = s.flesh_region_radius.unwrap_or(0.012);
     if !(radius.is_finite() && radius > 0.0) {
         return Err((
             "solver.flesh_region_radius".into(),
