@@ -289,12 +289,11 @@ fn the_local_region_agrees_with_the_whole_hand_and_skinning_does_not() {
     let (l, w, k) = (skin(&local), skin(&whole), skin(&skinned));
     let (lw, kw) = (max_distance(&l, &w), max_distance(&k, &w));
     println!("skin distance to whole-hand FEM: local region {lw:.3e} m, skinning {kw:.3e} m");
-    // The two FEM regions differ by about a millimetre (the whole-hand solve also distorts the
-    // flesh that merely turns with a bone, by O(θ²) per increment; the local one moves it
-    // rigidly); skinning is several times farther from either.
-    assert!(lw < 1.5e-3, "local vs whole {lw}");
+    // The two FEM regions differ by a few hundredths of a millimetre (corotated increments,
+    // measured 0.019 mm); skinning is hundreds of times farther from either.
+    assert!(lw < 1.0e-4, "local vs whole {lw}");
     assert!(
-        kw > 3.0 * lw,
+        kw > 50.0 * lw,
         "skinning differs from FEM at the crease: {kw}"
     );
 }
