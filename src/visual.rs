@@ -315,14 +315,7 @@ pub fn draw_list(
     if options.overlay == Overlay::Pressure && frame.contact.is_none() {
         return Err(VisualError::NoContact);
     }
-    let pressure = frame.contact.as_ref().map(|c| {
-        let facets: Vec<crate::mesh::Facet> = model
-            .bodies
-            .iter()
-            .flat_map(|b| b.facets.iter().copied())
-            .collect();
-        crate::contact::nodal_pressure(&model.mesh.nodes, &facets, &c.contacts)
-    });
+    let pressure = crate::sim::contact_pressure(model, frame);
     let scale = options.displacement_scale;
     let mut list = DrawList::default();
     let mut bone_loads = Vec::new();

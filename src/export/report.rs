@@ -195,12 +195,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         }
         o.nodes += 1;
     }
-    let facets: Vec<crate::mesh::Facet> = model
-        .bodies
-        .iter()
-        .flat_map(|b| b.facets.iter().copied())
-        .collect();
-    let pressure = crate::contact::nodal_pressure(&model.mesh.nodes, &facets, &c.contacts);
+    let pressure = crate::sim::contact_pressure(model, frame).unwrap_or_default();
     Some(ContactReport {
         obstacles,
         iterations: c.iterations,

@@ -92,14 +92,8 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
     for b in &bone_id {
         let _ = write!(s, "{b} ");
     }
-    if let Some(c) = &frame.contact {
+    if let Some(pressure) = crate::sim::contact_pressure(model, frame) {
         // The tactile map.
-        let facets: Vec<crate::mesh::Facet> = model
-            .bodies
-            .iter()
-            .flat_map(|b| b.facets.iter().copied())
-            .collect();
-        let pressure = crate::contact::nodal_pressure(&mesh.nodes, &facets, &c.contacts);
         s.push_str(
             "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n",
         );

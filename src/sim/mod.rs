@@ -6,6 +6,7 @@ mod model;
 mod motion;
 mod select;
 mod statics;
+mod tactile;
 
 pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
@@ -14,3 +15,4 @@ pub use flexion::{
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
 pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
+pub use tactile::contact_pressure;
