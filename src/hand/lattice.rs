@@ -187,41 +187,15 @@ pub fn mesh_flesh(
     // Nodes: one per lattice node and group of face-connected compatible incident cells.
     let (mx, my) = (nx + 1, ny + 1);
     let lattice_node = |i: usize, j: usize, k: usize| i + mx * (j + my * k);
-    let mut node_of = vec![u32::MAX; mx * my * (nz + 1) * 8];
-    let mut nodes = Vec::new();
-    let mut node_lattice = Vec::new();
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                let mut incident = [None; 8];
-                for (o, slot) in incident.iter_mut().enumerate() {
-                    let (a, b, c) = (o & 1, (o >> 1) & 1, (o >> 2) & 1);
-                    let (ci, cj, ck) = (i + a, j + b, k + c);
-                    if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
-                        continue;
-                    }
-                    if let CellState::Kept(bone) = state[cell_id(ci - 1, cj - 1, ck - 1)] {
-                        *slot = Some(bone);
-                    }
-                }
-                let group = octant_groups(&incident, &compatible);
-                let base = lattice_node(i, j, k) * 8;
-                let mut id_of_root = [u32::MAX; 8];
-                for o in 0..8 {
-                    if incident[o].is_none() {
-                        continue;
-                    }
-                    let r = group[o];
-                    if id_of_root[r] == u32::MAX {
-                        id_of_root[r] = nodes.len() as u32;
-                        nodes.push(point(i, j, k));
-                        node_lattice.push([i, j, k]);
-                    }
-                    node_of[base + o] = id_of_root[r];
-                }
-            }
-        }
-    }
+    let (node_lattice, node_of) =
+        split_lattice_nodes([nx, ny, nz], &compatible, |c| match state[c] {
+            CellState::Kept(bone) => Some(bone),
+            _ => None,
+        });
+    let mut nodes: Vec<Vector3<f64>> = node_lattice
+        .iter()
+        .map(|&[i, j, k]| point(i, j, k))
+        .collect();
 
     // Cells.
     let mut cells = Vec::new();
@@ -502,37 +476,12 @@ pub fn mesh_flesh(
         CellState::Outside => None,
         CellState::Kept(b) | CellState::Bone(b) | CellState::Joint(b) => Some(b),
     };
-    let mut vertex_of = vec![u32::MAX; mx * my * (nz + 1) * 8];
-    let mut display_vertices = Vec::new();
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                let mut incident = [None; 8];
-                for (o, slot) in incident.iter_mut().enumerate() {
-                    let (a, b, c) = (o & 1, (o >> 1) & 1, (o >> 2) & 1);
-                    let (ci, cj, ck) = (i + a, j + b, k + c);
-                    if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
-                        continue;
-                    }
-                    *slot = solid(state[cell_id(ci - 1, cj - 1, ck - 1)]);
-                }
-                let group = octant_groups(&incident, &compatible);
-                let base = lattice_node(i, j, k) * 8;
-                let mut id_of_root = [u32::MAX; 8];
-                for o in 0..8 {
-                    if incident[o].is_none() {
-                        continue;
-                    }
-                    let r = group[o];
-                    if id_of_root[r] == u32::MAX {
-                        id_of_root[r] = display_vertices.len() as u32;
-                        display_vertices.push(point(i, j, k));
-                    }
-                    vertex_of[base + o] = id_of_root[r];
-                }
-            }
-        }
-    }
+    let (vertex_lattice, vertex_of) =
+        split_lattice_nodes([nx, ny, nz], &compatible, |c| solid(state[c]));
+    let display_vertices: Vec<Vector3<f64>> = vertex_lattice
+        .iter()
+        .map(|&[i, j, k]| point(i, j, k))
+        .collect();
     let mut display_quads = Vec::new();
     let mut display_cells = Vec::new();
     for k in 0..nz {
@@ -621,6 +570,49 @@ pub fn mesh_flesh(
         skin_cells,
         spacing: h,
     })
+}
+
+/// One node per lattice node and group of face-connected, `compatible` incident cells (cells
+/// are numbered i + nx·(j + ny·k); `bone_of(cell)` is `None` for a cell that is not there).
+/// Returns the lattice position of every node, and the node of every (lattice node, octant)
+/// pair (`u32::MAX` where the octant holds no cell), indexed (lattice node)·8 + octant.
+fn split_lattice_nodes(
+    [nx, ny, nz]: [usize; 3],
+    compatible: &impl Fn(usize, usize) -> bool,
+    bone_of: impl Fn(usize) -> Option<usize>,
+) -> (Vec<[usize; 3]>, Vec<u32>) {
+    let (mx, my) = (nx + 1, ny + 1);
+    let mut node_of = vec![u32::MAX; mx * my * (nz + 1) * 8];
+    let mut positions = Vec::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let mut incident = [None; 8];
+                for (o, slot) in incident.iter_mut().enumerate() {
+                    let (ci, cj, ck) = (i + (o & 1), j + ((o >> 1) & 1), k + ((o >> 2) & 1));
+                    if ci == 0 || cj == 0 || ck == 0 || ci > nx || cj > ny || ck > nz {
+                        continue;
+                    }
+                    *slot = bone_of(ci - 1 + nx * (cj - 1 + ny * (ck - 1)));
+                }
+                let group = octant_groups(&incident, compatible);
+                let base = (i + mx * (j + my * k)) * 8;
+                let mut id_of_root = [u32::MAX; 8];
+                for o in 0..8 {
+                    if incident[o].is_none() {
+                        continue;
+                    }
+                    let r = group[o];
+                    if id_of_root[r] == u32::MAX {
+                        id_of_root[r] = positions.len() as u32;
+                        positions.push([i, j, k]);
+                    }
+                    node_of[base + o] = id_of_root[r];
+                }
+            }
+        }
+    }
+    (positions, node_of)
 }
 
 /// The eight cells around a lattice node (octant o = a + 2b + 4c, `None` where there is no
