@@ -4,7 +4,9 @@
 //! classic alternative (and shrinks flexed joints, the "candy wrapper").
 
 use super::skeleton::Skeleton;
-use nalgebra::{DualQuaternion, Isometry3, Point3, UnitDualQuaternion, Vector3};
+use nalgebra::{
+    DualQuaternion, Isometry3, Point3, Quaternion, UnitDualQuaternion, UnitQuaternion, Vector3,
+};
 
 /// How bone motions are blended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
@@ -74,6 +76,19 @@ impl SkinningWeights {
             })
             .collect();
         SkinningWeights { weights }
+    }
+
+    /// The rotation node `n` follows under `motions`: its bones' rotations weighted, on one
+    /// hemisphere, normalised.
+    pub fn blended_rotation(&self, n: usize, motions: &[Isometry3<f64>]) -> UnitQuaternion<f64> {
+        let w = &self.weights[n];
+        let first = motions[w[0].0].rotation.into_inner();
+        let mut sum = Quaternion::new(0.0, 0.0, 0.0, 0.0);
+        for &(b, wb) in w {
+            let q = motions[b].rotation.into_inner();
+            sum += q * if q.dot(&first) < 0.0 { -wb } else { wb };
+        }
+        UnitQuaternion::new_normalize(sum)
     }
 
     /// Moves `points` (one per node) by the blended bone motions `motions`.

@@ -578,24 +578,20 @@ fn cell_rotations(
     sub: &SubProblem,
     delta: &[Isometry3<f64>],
 ) -> Vec<Matrix3<f64>> {
-    let node_rotation = |n: usize| -> Quaternion<f64> {
-        let mut sum = Quaternion::new(0.0, 0.0, 0.0, 0.0);
-        let first = delta[hand.weights.weights[n][0].0].rotation.into_inner();
-        for &(b, w) in &hand.weights.weights[n] {
-            let q = delta[b].rotation.into_inner();
-            let s = if q.dot(&first) < 0.0 { -w } else { w };
-            sum += q * s;
-        }
-        sum
-    };
-    sub.cells
+    // Once per node of the region (a node is shared by up to eight cells).
+    let node: Vec<Quaternion<f64>> = sub
+        .nodes
         .iter()
-        .map(|&c| {
-            let cell = hand.flesh.mesh.cells[c];
-            let first = node_rotation(cell[0]);
+        .map(|&n| hand.weights.blended_rotation(n, delta).into_inner())
+        .collect();
+    sub.mesh
+        .cells
+        .iter()
+        .map(|cell| {
+            let first = node[cell[0]];
             let mut sum = Quaternion::new(0.0, 0.0, 0.0, 0.0);
-            for &n in &cell {
-                let q = node_rotation(n);
+            for &n in cell {
+                let q = node[n];
                 sum += if q.dot(&first) < 0.0 { -q } else { q };
             }
             UnitQuaternion::new_normalize(sum)
