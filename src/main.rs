@@ -70,40 +70,7 @@ enum Command {
     },
     /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
     /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
-    Render {
-        /// The scene (TOML).
-        scene: PathBuf,
-        /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
-        #[arg(long)]
-        out: PathBuf,
-        /// The frame to render (default 0).
-        #[arg(long, conflicts_with = "all")]
-        frame: Option<usize>,
-        /// Render every frame into the --out folder.
-        #[arg(long)]
-        all: bool,
-        /// Image width, pixels.
-        #[arg(long, default_value_t = 1280)]
-        width: u32,
-        /// Image height, pixels.
-        #[arg(long, default_value_t = 720)]
-        height: u32,
-        /// Camera preset: three-quarter, front, side, top, below.
-        #[arg(long, default_value = "three-quarter")]
-        camera: String,
-        /// What colours the bodies or is drawn over them.
-        #[arg(long, value_enum, default_value = "stress")]
-        overlay: OverlayArg,
-        /// Displacements are multiplied by this for display.
-        #[arg(long, default_value_t = 1.0)]
-        scale: f64,
-        /// Also draw the edges of the simulation mesh.
-        #[arg(long)]
-        wireframe: bool,
-        /// Opacity of hand skin, 0–1 (below 1 the bones show through).
-        #[arg(long, default_value_t = 1.0)]
-        skin_opacity: f32,
-    },
+    Render(RenderArgs),
     /// Benchmarks; print a Markdown table.
     Bench {
         #[command(subcommand)]
@@ -218,31 +185,7 @@ fn run() -> Result<()> {
                 println!("wrote {}", path.display());
             }
         }
-        Some(Command::Render {
-            scene,
-            out,
-            frame,
-            all,
-            width,
-            height,
-            camera,
-            overlay,
-            scale,
-            wireframe,
-            skin_opacity,
-        }) => render_cmd::run(RenderArgs {
-            scene,
-            out,
-            frame,
-            all,
-            width,
-            height,
-            camera,
-            overlay,
-            scale,
-            wireframe,
-            skin_opacity,
-        })?,
+        Some(Command::Render(args)) => render_cmd::run(args)?,
         Some(Command::Bench { which }) => match which {
             BenchCommand::Solver {
                 sizes,

@@ -37,18 +37,40 @@ impl From<OverlayArg> for Overlay {
     }
 }
 
-/// What to render.
+/// What to render (the `render` subcommand's arguments).
+#[derive(clap::Args)]
 pub struct RenderArgs {
+    /// The scene (TOML).
     pub scene: PathBuf,
+    /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
+    #[arg(long)]
     pub out: PathBuf,
+    /// The frame to render (default 0).
+    #[arg(long, conflicts_with = "all")]
     pub frame: Option<usize>,
+    /// Render every frame into the --out folder.
+    #[arg(long)]
     pub all: bool,
+    /// Image width, pixels.
+    #[arg(long, default_value_t = 1280)]
     pub width: u32,
+    /// Image height, pixels.
+    #[arg(long, default_value_t = 720)]
     pub height: u32,
+    /// Camera: a preset (three-quarter, front, side, top, below) or a `[[camera]]` of the scene.
+    #[arg(long, default_value = "three-quarter")]
     pub camera: String,
+    /// What colours the bodies or is drawn over them.
+    #[arg(long, value_enum, default_value = "stress")]
     pub overlay: OverlayArg,
+    /// Displacements are multiplied by this for display.
+    #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
+    /// Also draw the edges of the simulation mesh.
+    #[arg(long)]
     pub wireframe: bool,
+    /// Opacity of hand skin, 0–1 (below 1 the bones show through).
+    #[arg(long, default_value_t = 1.0)]
     pub skin_opacity: f32,
 }
 
