@@ -152,20 +152,7 @@ impl Renderer {
             1,
             false,
         );
-        let colormap_texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("colormap"),
-            size: wgpu::Extent3d {
-                width: 256,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8UnormSrgb,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let colormap_texture = sampled_rgba_texture(&device, "colormap", 256, 1);
         let colormap_view = colormap_texture.create_view(&Default::default());
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
@@ -371,20 +358,7 @@ impl Renderer {
         }
         let image = legend_image(legend, height);
         let (w, h) = (image.width().min(width), image.height().min(height));
-        let texture = self.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("legend"),
-            size: wgpu::Extent3d {
-                width: image.width(),
-                height: image.height(),
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8UnormSrgb,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let texture = sampled_rgba_texture(&self.device, "legend", image.width(), image.height());
         self.queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -678,4 +652,27 @@ impl Renderer {
             .map(|_| ())
             .map_err(|e| RenderError::Gpu(e.to_string()))
     }
+}
+
+/// An sRGB RGBA texture that shaders sample and the queue writes into.
+fn sampled_rgba_texture(
+    device: &wgpu::Device,
+    label: &str,
+    width: u32,
+    height: u32,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
 }
