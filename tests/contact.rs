@@ -12,6 +12,10 @@ use std::sync::Arc;
 const SETTINGS: ContactSettings = ContactSettings {
     tolerance: 1e-12,
     max_iterations: 50,
+    method: prehensile::contact::ContactMethod::Lagrange,
+    change_tolerance: 1e-9,
+    relaxation: prehensile::contact::Relaxation::Aitken,
+    search_depth: 0.01,
 };
 
 /// Solves `mesh` with the dofs for which `fix` returns a value prescribed, against `obstacles`.

@@ -7,7 +7,8 @@ use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::fem::solve::PartitionedSolver;
 use crate::sim::{
-    compose, hand_frame, solve_static, still_frame, Flexion, Frame, HandState, KeyframeStats,
+    frame_with_hands, hand_frame, solve_static, still_frame, Flexion, Frame, HandState,
+    KeyframeStats,
     Model, SimError,
 };
 use crate::visual::draw_list;
@@ -117,7 +118,7 @@ impl Physics {
             };
             hands.push(hand_frame(model, *b, state, stats));
         }
-        compose(model, still, hands)
+        frame_with_hands(model, Some(still), hands)
     }
 
     fn deliver(

@@ -1,101 +1,450 @@
-//! Frictionless contact against rigid obstacles, exact at convergence: an active set of
-//! Lagrange multipliers solved through the Schur complement of the factored stiffness.
+//! Contact exact at convergence: an active set of Lagrange multipliers solved through the Schur
+//! complement of the stiffness, factored once, with Coulomb friction.
 //!
-//! With K11 factored once (equation (7) without contact, U⁰), each active contact i adds the
-//! linearised constraint nᵢ·uᵢ ≥ bᵢ = nᵢ·(cᵢ − Xᵢ) (node i stays on the outer side of the
-//! obstacle's surface at its nearest point cᵢ) and a multiplier λᵢ ≥ 0, the normal contact force:
+//! With K11 factored once (equation (7) without contact, U⁰), each active contact j adds the
+//! linearised constraint g_j(U) = n·Σ_k w_k (X_k + U_k) − n·a ≥ 0, where the terms are the node
+//! (w = 1) and either a rigid obstacle's nearest point a, or the nodes of the facet it touches
+//! (w = −h_i, Figure 5): the gap between the node and the point C. Its multiplier λ_j ≥ 0 is the
+//! normal contact force:
 //!
-//!   K·U = R + Cᵀλ,  C·U = b on the active set  ⇒  S·λ = b − C·U⁰,  S = C·K11⁻¹·Cᵀ,
+//!   K·U = R + Cᵀλ,  C·U = b on the active set  ⇒  (C·K11⁻¹·Cᵀ)·λ = b − C·U⁰,
 //!   U = U⁰ + K11⁻¹·Cᵀ·λ.
 //!
-//! K11⁻¹ applied to the unit vectors of a contact node's dofs is computed once per node by
-//! substitution with the existing factor (no refactorization). Nodes that penetrate join the set,
-//! nodes whose multiplier turns negative (pulled, not pushed) leave it, until the set is stable:
-//! then no node penetrates by more than the tolerance and every contact force is compressive.
+//! K11⁻¹·C_jᵀ is one substitution with the existing factor per constraint row (no
+//! refactorization). Friction adds two tangential rows per contact: sticking contacts hold the
+//! node's tangential position relative to the facet from the moment it touched; a contact whose
+//! tangential multiplier exceeds μ·λ_n slips, and its tangential force becomes μ·λ_n against the
+//! sliding (the column of its normal multiplier takes the friction along, which makes the
+//! system unsymmetric: it is solved by LU). Nodes that penetrate join the set, contacts whose
+//! normal force would pull leave it, stick and slip are switched, until nothing changes: then no
+//! node penetrates by more than the tolerance and every contact force is compressive and inside
+//! the friction cone.
 
 use super::obstacle::Obstacle;
+use super::point::{
+    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
+};
+use super::problem::{ContactProblem, Penetration};
 use crate::fem::assembly::Stiffness;
-use crate::fem::solve::{PartitionedSolver, Solution, SolveError};
+use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
-use nalgebra::{DMatrix, DVector, Vector3};
-use std::collections::HashMap;
+use nalgebra::{DMatrix, DVector, Vector2, Vector3};
 use std::time::Instant;
-use thiserror::Error;
 
-/// Settings of the contact iteration.
-#[derive(Clone, Copy, Debug)]
-pub struct ContactSettings {
-    /// Penetration allowed at convergence, m.
-    pub tolerance: f64,
-    /// Most active-set iterations.
-    pub max_iterations: usize,
+/// One active contact, its geometry frozen when it joined.
+struct Row {
+    node: usize,
+    master: Master,
+    source: usize,
+    terms: Vec<(usize, f64)>,
+    /// n, t1, t2.
+    basis: [Vector3<f64>; 3],
+    /// Normal bound: n·Σ w U ≥ b.
+    bound: f64,
+    /// Tangential position Σ w U in (t1, t2) when it joined.
+    reference: Vector2<f64>,
+    mu: f64,
+    state: Adhesion,
+    /// Direction of the friction force on the node in (t1, t2) while slipping.
+    slip: Vector2<f64>,
+    /// K11⁻¹·C_aᵀ over the free equations for axis a = n (and t1, t2 with friction).
+    columns: Vec<Vec<f64>>,
 }
 
-/// One node in contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactPoint {
-    /// The node.
-    pub node: usize,
-    /// The obstacle.
-    pub obstacle: usize,
-    /// Outward normal of the obstacle at the contact, unit.
-    pub normal: Vector3<f64>,
-    /// Normal contact force on the node, N (≥ 0; the force vector is `force · normal`).
-    pub force: f64,
-    /// Gap at convergence, m (≥ −tolerance).
-    pub gap: f64,
+impl Row {
+    fn new(p: &Penetration, problem: &ContactProblem, u: &[f64], mu: f64) -> Row {
+        let mut terms = vec![(p.node, 1.0)];
+        if let Master::Facet { nodes, weights, .. } = p.master {
+            terms.extend(nodes.iter().zip(weights).map(|(&n, h)| (n, -h)));
+        }
+        let n = p.normal;
+        let helper = if n.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let t1 = n.cross(&helper).normalize();
+        let t2 = n.cross(&t1);
+        let mut row = Row {
+            node: p.node,
+            master: p.master,
+            source: p.source,
+            terms,
+            basis: [n, t1, t2],
+            bound: 0.0,
+            reference: Vector2::zeros(),
+            mu,
+            state: if mu > 0.0 {
+                Adhesion::Stick
+            } else {
+                Adhesion::Frictionless
+            },
+            slip: Vector2::zeros(),
+            columns: Vec::new(),
+        };
+        let x: Vector3<f64> = row
+            .terms
+            .iter()
+            .map(|&(k, w)| problem.positions[k] * w)
+            .sum();
+        row.bound = n.dot(&p.anchor) - n.dot(&x);
+        row.reference = Vector2::new(row.apply(1, u), row.apply(2, u));
+        row
+    }
+
+    /// basis[axis]·Σ w v_k over the full dof vector `v`.
+    fn apply(&self, axis: usize, v: &[f64]) -> f64 {
+        let d = &self.basis[axis];
+        self.terms
+            .iter()
+            .map(|&(k, w)| w * (d.x * v[3 * k] + d.y * v[3 * k + 1] + d.z * v[3 * k + 2]))
+            .sum()
+    }
+
+    /// The same over free equations only (`eq` maps dofs to equations).
+    fn apply_free(&self, axis: usize, v: &[f64], partition: &DofPartition) -> f64 {
+        let d = &self.basis[axis];
+        let mut s = 0.0;
+        for &(k, w) in &self.terms {
+            for a in 0..3 {
+                if !partition.prescribed[3 * k + a] {
+                    s += w * d[a] * v[partition.equation[3 * k + a]];
+                }
+            }
+        }
+        s
+    }
+
+    /// C_aᵀ scattered into free equations.
+    fn scatter(&self, axis: usize, out: &mut [f64], partition: &DofPartition) -> bool {
+        let d = &self.basis[axis];
+        let mut any = false;
+        for &(k, w) in &self.terms {
+            for a in 0..3 {
+                if !partition.prescribed[3 * k + a] && w * d[a] != 0.0 {
+                    out[partition.equation[3 * k + a]] += w * d[a];
+                    any = true;
+                }
+            }
+        }
+        any
+    }
+
+    fn key(&self) -> (usize, usize) {
+        (self.node, self.source)
+    }
 }
 
-/// The solved contact problem.
-#[derive(Clone, Debug)]
-pub struct ContactResult {
-    /// Displacements and support reactions (contact forces excluded).
-    pub solution: Solution,
-    /// Active contacts.
-    pub contacts: Vec<ContactPoint>,
-    /// Active-set iterations.
-    pub iterations: usize,
-    /// Factorizations (one: the stiffness is factored once).
-    pub factorizations: usize,
-    /// Substitutions with the reused factor (three per contact node).
-    pub substitutions: usize,
-    /// Largest penetration at convergence, m (0 when none).
-    pub max_penetration: f64,
-    /// Time spent in the contact iterations (after the first solve), ms.
-    pub contact_ms: f64,
+/// Solves the contact problem by the active set (see the module documentation).
+pub fn solve_lagrange(
+    solver: &mut PartitionedSolver,
+    problem: &ContactProblem,
+    settings: &ContactSettings,
+) -> Result<ContactResult, ContactError> {
+    let partition = problem.partition;
+    let base = solver.solve(
+        problem.k,
+        partition,
+        problem.prescribed,
+        problem.loads,
+        problem.positions,
+    )?;
+    let t = Instant::now();
+    let u0 = base.displacement.clone();
+    let neq = partition.free_count();
+    let mut rows: Vec<Row> = Vec::new();
+    let mut lambda = DVector::zeros(0);
+    let mut u = u0.clone();
+    let mut substitutions = 0;
+    let mut iterations = 0;
+    loop {
+        iterations += 1;
+        if iterations > settings.max_iterations {
+            return Err(ContactError::NotConverged {
+                method: ContactMethod::Lagrange.name(),
+                iterations: settings.max_iterations,
+                active: rows.len(),
+                penetration: problem.max_penetration(&u, settings),
+                tolerance: settings.tolerance,
+                change: 0.0,
+            });
+        }
+        // Join: nodes that penetrate, one contact per node and source.
+        let found = problem.penetrations(&u, settings, -settings.tolerance, false);
+        let mut fresh: Vec<Row> = Vec::new();
+        for p in &found {
+            let key = (p.node, p.source);
+            if rows.iter().chain(&fresh).any(|r| r.key() == key) {
+                continue;
+            }
+            let mu = (problem.friction)(p.node, &p.master);
+            fresh.push(Row::new(p, problem, &u, mu));
+        }
+        if fresh.is_empty() && iterations > 1 {
+            break;
+        }
+        // K11⁻¹·C_aᵀ for the new rows, in one multi-column substitution.
+        let mut wanted: Vec<(usize, usize)> = Vec::new();
+        let mut block: Vec<f64> = Vec::new();
+        let mut keep: Vec<bool> = Vec::new();
+        for (r, row) in fresh.iter().enumerate() {
+            let axes = if row.mu > 0.0 { 3 } else { 1 };
+            let start = block.len();
+            let mut any = false;
+            for axis in 0..axes {
+                let mut col = vec![0.0; neq];
+                any |= row.scatter(axis, &mut col, partition);
+                block.extend(col);
+                wanted.push((r, axis));
+            }
+            if !any {
+                // Nothing of this contact can move: it cannot be enforced.
+                block.truncate(start);
+                wanted.truncate(wanted.len() - axes);
+            }
+            keep.push(any);
+        }
+        if !wanted.is_empty() {
+            solver.solve_factored(&mut block, wanted.len())?;
+            substitutions += wanted.len();
+            for (j, &(r, _)) in wanted.iter().enumerate() {
+                fresh[r].columns.push(block[j * neq..(j + 1) * neq].to_vec());
+            }
+        }
+        rows.extend(fresh.into_iter().zip(keep).filter(|(_, k)| *k).map(|(r, _)| r));
+        if rows.is_empty() {
+            if iterations > 1 {
+                break;
+            }
+            continue;
+        }
+        lambda = settle(&mut rows, &u0, &mut u, partition)?;
+    }
+    if rows.is_empty() {
+        u = u0.clone();
+    }
+    // Reactions at the prescribed dofs: K·U − R − Cᵀλ (a contact force on a prescribed node
+    // goes straight into its support).
+    let contacts = contact_points(&rows, &lambda, problem, &u);
+    let mut contact_force = vec![0.0; u.len()];
+    for c in &contacts {
+        for (n, f) in c.nodal_forces() {
+            for a in 0..3 {
+                contact_force[3 * n + a] += f[a];
+            }
+        }
+    }
+    let ku = problem.k.mul(&u);
+    let mut solution = base;
+    for d in 0..u.len() {
+        solution.reaction[d] = if partition.prescribed[d] {
+            ku[d] - problem.loads[d] - contact_force[d]
+        } else {
+            0.0
+        };
+    }
+    solution.displacement = u;
+    let max_penetration = problem.max_penetration(&solution.displacement, settings);
+    Ok(ContactResult {
+        solution,
+        contacts,
+        method: ContactMethod::Lagrange,
+        iterations,
+        factorizations: 1,
+        substitutions,
+        max_penetration,
+        contact_ms: t.elapsed().as_secs_f64() * 1e3,
+        last_change: 0.0,
+        stopped_by_threshold: false,
+        region_cells: 0,
+    })
 }
 
-/// Why contact could not be resolved.
-#[derive(Debug, Error)]
-pub enum ContactError {
-    /// The linear solve failed.
-    #[error(transparent)]
-    Solve(#[from] SolveError),
-    /// The active set did not settle.
-    #[error(
-        "contact did not converge in {iterations} iterations: {active} nodes active, largest \
-         penetration {penetration:.3e} m (tolerance {tolerance:.1e} m); raise the iteration limit \
-         or refine the mesh where the bodies touch"
-    )]
-    NotConverged {
-        /// Iterations done.
-        iterations: usize,
-        /// Active nodes at the end.
-        active: usize,
-        /// Largest penetration, m.
-        penetration: f64,
-        /// Tolerance, m.
-        tolerance: f64,
-    },
-    /// The constraints are dependent (e.g. a node prescribed and in contact).
-    #[error(
-        "the contact constraints are not independent (Schur complement not positive definite)"
-    )]
-    Singular,
+/// The multipliers of the rows: releases pulling contacts and switches stick and slip until
+/// the set is consistent; updates `u`. Returns λ in row order: λ_n, then (λ_t1, λ_t2) for a
+/// sticking row.
+fn settle(
+    rows: &mut Vec<Row>,
+    u0: &[f64],
+    u: &mut [f64],
+    partition: &DofPartition,
+) -> Result<DVector<f64>, ContactError> {
+    const MAX_SWITCHES: usize = 200;
+    for _ in 0..MAX_SWITCHES {
+        if rows.is_empty() {
+            u.copy_from_slice(u0);
+            return Ok(DVector::zeros(0));
+        }
+        // Unknowns: (row, axis) for the normal of every row and the tangents of sticking rows.
+        let mut unknowns: Vec<(usize, usize)> = Vec::new();
+        for (r, row) in rows.iter().enumerate() {
+            unknowns.push((r, 0));
+            if row.state == Adhesion::Stick {
+                unknowns.push((r, 1));
+                unknowns.push((r, 2));
+            }
+        }
+        let neq = rows[0].columns[0].len();
+        // The effective column of each unknown.
+        let columns: Vec<Vec<f64>> = unknowns
+            .iter()
+            .map(|&(r, axis)| {
+                let row = &rows[r];
+                let mut col = row.columns[axis].clone();
+                if axis == 0 && row.state == Adhesion::Slip {
+                    for (t, s) in [(1, row.slip.x), (2, row.slip.y)] {
+                        for (c, w) in col.iter_mut().zip(&row.columns[t]) {
+                            *c += row.mu * s * w;
+                        }
+                    }
+                }
+                col
+            })
+            .collect();
+        let m = unknowns.len();
+        let a = DMatrix::from_fn(m, m, |i, j| {
+            let (r, axis) = unknowns[i];
+            rows[r].apply_free(axis, &columns[j], partition)
+        });
+        let rhs = DVector::from_fn(m, |i, _| {
+            let (r, axis) = unknowns[i];
+            let row = &rows[r];
+            let target = match axis {
+                0 => row.bound,
+                1 => row.reference.x,
+                _ => row.reference.y,
+            };
+            target - row.apply(axis, u0)
+        });
+        let lu = a.clone().lu();
+        let lambda = match lu.solve(&rhs) {
+            Some(l) if l.iter().all(|v| v.is_finite()) => l,
+            _ => {
+                // Nearly dependent rows (a node and the facet it touches both in contact):
+                // a relative shift of 1e-12 of the diagonal.
+                let scale = (0..m).map(|i| a[(i, i)].abs()).fold(0.0, f64::max);
+                let shifted = a + DMatrix::identity(m, m) * (1e-12 * scale);
+                match shifted.lu().solve(&rhs) {
+                    Some(l) if l.iter().all(|v| v.is_finite()) => l,
+                    _ => return Err(ContactError::Singular { active: rows.len() }),
+                }
+            }
+        };
+        u.copy_from_slice(u0);
+        for (j, col) in columns.iter().enumerate() {
+            for (e, &d) in partition.free.iter().enumerate() {
+                u[d] += lambda[j] * col[e];
+            }
+        }
+        debug_assert_eq!(neq, partition.free.len());
+        // Release the most pulling contact.
+        let worst = unknowns
+            .iter()
+            .enumerate()
+            .filter(|(_, &(_, axis))| axis == 0)
+            .map(|(j, &(r, _))| (r, lambda[j]))
+            .fold(None, |acc: Option<(usize, f64)>, (r, l)| match acc {
+                Some((_, best)) if best <= l => acc,
+                _ => Some((r, l)),
+            });
+        if let Some((r, l)) = worst {
+            if l < 0.0 {
+                rows.remove(r);
+                continue;
+            }
+        }
+        // Stick → slip where the tangential force leaves the cone; slip → stick where the node
+        // would slide along its friction force; slip directions follow the sliding.
+        let mut changed = false;
+        let mut j = 0;
+        for row in rows.iter_mut() {
+            let ln = lambda[j];
+            match row.state {
+                Adhesion::Stick => {
+                    let lt = Vector2::new(lambda[j + 1], lambda[j + 2]);
+                    if lt.norm() > row.mu * ln * (1.0 + 1e-9) {
+                        row.state = Adhesion::Slip;
+                        row.slip = lt / lt.norm();
+                        changed = true;
+                    }
+                    j += 3;
+                }
+                Adhesion::Slip => {
+                    let s = Vector2::new(row.apply(1, u), row.apply(2, u)) - row.reference;
+                    if s.norm() > 0.0 {
+                        let along = -s / s.norm();
+                        if s.dot(&row.slip) > 0.0 {
+                            row.state = Adhesion::Stick;
+                            changed = true;
+                        } else if (along - row.slip).norm() > 1e-6 {
+                            row.slip = along;
+                            changed = true;
+                        }
+                    }
+                    j += 1;
+                }
+                Adhesion::Frictionless => j += 1,
+            }
+        }
+        if !changed {
+            return Ok(lambda);
+        }
+    }
+    Err(ContactError::NotConverged {
+        method: "lagrange (stick/slip switching)",
+        iterations: MAX_SWITCHES,
+        active: rows.len(),
+        penetration: 0.0,
+        tolerance: 0.0,
+        change: 0.0,
+    })
+}
+
+fn contact_points(
+    rows: &[Row],
+    lambda: &DVector<f64>,
+    problem: &ContactProblem,
+    u: &[f64],
+) -> Vec<ContactPoint> {
+    let mut out = Vec::new();
+    let mut j = 0;
+    for row in rows {
+        let ln = lambda[j];
+        let [n, t1, t2] = row.basis;
+        let tangential = match row.state {
+            Adhesion::Stick => {
+                let t = t1 * lambda[j + 1] + t2 * lambda[j + 2];
+                j += 3;
+                t
+            }
+            Adhesion::Slip => {
+                j += 1;
+                (t1 * row.slip.x + t2 * row.slip.y) * (row.mu * ln)
+            }
+            Adhesion::Frictionless => {
+                j += 1;
+                Vector3::zeros()
+            }
+        };
+        let gap = match row.master {
+            Master::Obstacle(o) => problem.obstacles[o].nearest(&problem.position(u, row.node)).0,
+            Master::Facet { .. } => row.apply(0, u) - row.bound,
+        };
+        out.push(ContactPoint {
+            node: row.node,
+            master: row.master,
+            normal: n,
+            force: ln,
+            tangential,
+            adhesion: row.state,
+            gap,
+        });
+    }
+    out
 }
 
 /// Solves K·U = R with the prescribed dofs of `partition` and the nodes `candidates` kept out of
-/// `obstacles`.
+/// `obstacles`, frictionless.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_with_obstacles(
     solver: &mut PartitionedSolver,
@@ -108,189 +457,18 @@ pub fn solve_with_obstacles(
     obstacles: &[Obstacle],
     settings: ContactSettings,
 ) -> Result<ContactResult, ContactError> {
-    let base = solver.solve(k, partition, prescribed, loads, positions)?;
-    let t = Instant::now();
-    let u0 = base.displacement.clone();
-    let neq = partition.free_count();
-    // K11⁻¹·e for the free dofs of a node, cached: column per local axis (None if prescribed).
-    let mut columns: HashMap<usize, [Option<Vec<f64>>; 3]> = HashMap::new();
-    let mut substitutions = 0;
-    let mut active: Vec<(usize, usize, Vector3<f64>, f64)> = Vec::new(); // node, obstacle, n, b
-    let mut u = u0.clone();
-    let mut lambda = DVector::zeros(0);
-    let mut iterations = 0;
-    loop {
-        iterations += 1;
-        if iterations > settings.max_iterations {
-            let penetration = max_penetration(&u, positions, candidates, obstacles);
-            return Err(ContactError::NotConverged {
-                iterations: settings.max_iterations,
-                active: active.len(),
-                penetration,
-                tolerance: settings.tolerance,
-            });
-        }
-        // Join: nodes that penetrate an obstacle.
-        let mut joined = false;
-        for &node in candidates {
-            if (0..3).all(|i| partition.prescribed[3 * node + i]) {
-                continue;
-            }
-            let x = positions[node] + Vector3::new(u[3 * node], u[3 * node + 1], u[3 * node + 2]);
-            for (o, obstacle) in obstacles.iter().enumerate() {
-                if active.iter().any(|a| a.0 == node && a.1 == o) {
-                    continue;
-                }
-                let (gap, n, c) = obstacle.nearest(&x);
-                if gap < -settings.tolerance {
-                    active.push((node, o, n, n.dot(&(c - positions[node]))));
-                    joined = true;
-                }
-            }
-        }
-        if !joined && iterations > 1 {
-            break;
-        }
-        if active.is_empty() {
-            break;
-        }
-        // K11⁻¹ on the unit vectors of the new contact nodes' free dofs, all in one
-        // multi-column substitution with the existing factor.
-        let mut wanted: Vec<(usize, usize)> = Vec::new();
-        for &(node, ..) in &active {
-            if columns.contains_key(&node) || wanted.iter().any(|w| w.0 == node) {
-                continue;
-            }
-            for axis in 0..3 {
-                if !partition.prescribed[3 * node + axis] {
-                    wanted.push((node, axis));
-                }
-            }
-        }
-        if !wanted.is_empty() {
-            let mut block = vec![0.0; neq * wanted.len()];
-            for (j, &(node, axis)) in wanted.iter().enumerate() {
-                block[j * neq + partition.equation[3 * node + axis]] = 1.0;
-            }
-            solver.solve_factored(&mut block, wanted.len())?;
-            substitutions += wanted.len();
-            for (j, &(node, axis)) in wanted.iter().enumerate() {
-                let entry = columns.entry(node).or_insert([None, None, None]);
-                entry[axis] = Some(block[j * neq..(j + 1) * neq].to_vec());
-            }
-        }
-        // Solve the Schur system; drop the most negative multiplier until all are compressive.
-        loop {
-            let m = active.len();
-            let w: Vec<Vec<f64>> = active
-                .iter()
-                .map(|&(node, _, n, _)| {
-                    let mut wj = vec![0.0; neq];
-                    for (axis, col) in columns[&node].iter().enumerate() {
-                        if let Some(col) = col {
-                            for (x, c) in wj.iter_mut().zip(col) {
-                                *x += n[axis] * c;
-                            }
-                        }
-                    }
-                    wj
-                })
-                .collect();
-            let c_dot = |i: usize, v: &[f64]| -> f64 {
-                let (node, _, n, _) = active[i];
-                (0..3)
-                    .filter(|&a| !partition.prescribed[3 * node + a])
-                    .map(|a| n[a] * v[partition.equation[3 * node + a]])
-                    .sum()
-            };
-            let s = DMatrix::from_fn(m, m, |i, j| c_dot(i, &w[j]));
-            let r = DVector::from_fn(m, |i, _| {
-                let (node, _, n, b) = active[i];
-                b - (0..3).map(|a| n[a] * u0[3 * node + a]).sum::<f64>()
-            });
-            let Some(chol) = s.clone().cholesky() else {
-                return Err(ContactError::Singular);
-            };
-            lambda = chol.solve(&r);
-            let (worst, value) =
-                lambda.iter().enumerate().fold(
-                    (0, 0.0),
-                    |acc, (i, &l)| if l < acc.1 { (i, l) } else { acc },
-                );
-            if value < 0.0 {
-                active.remove(worst);
-                if active.is_empty() {
-                    lambda = DVector::zeros(0);
-                    break;
-                }
-                continue;
-            }
-            u = u0.clone();
-            for (j, wj) in w.iter().enumerate() {
-                for (e, &d) in partition.free.iter().enumerate() {
-                    u[d] += lambda[j] * wj[e];
-                }
-            }
-            break;
-        }
-        if active.is_empty() {
-            u = u0.clone();
-        }
-    }
-    // Reactions at the prescribed dofs (contact forces act on free dofs only).
-    let ku = k.mul(&u);
-    let mut solution = base;
-    for d in 0..u.len() {
-        solution.reaction[d] = if partition.prescribed[d] {
-            ku[d] - loads[d]
-        } else {
-            0.0
-        };
-    }
-    solution.displacement = u;
-    let contacts = active
-        .iter()
-        .zip(lambda.iter())
-        .map(|(&(node, o, n, _), &force)| {
-            let x = positions[node]
-                + Vector3::new(
-                    solution.displacement[3 * node],
-                    solution.displacement[3 * node + 1],
-                    solution.displacement[3 * node + 2],
-                );
-            ContactPoint {
-                node,
-                obstacle: o,
-                normal: n,
-                force,
-                gap: obstacles[o].nearest(&x).0,
-            }
-        })
-        .collect();
-    let max_penetration = max_penetration(&solution.displacement, positions, candidates, obstacles);
-    Ok(ContactResult {
-        solution,
-        contacts,
-        iterations,
-        factorizations: 1,
-        substitutions,
-        max_penetration,
-        contact_ms: t.elapsed().as_secs_f64() * 1e3,
-    })
-}
-
-fn max_penetration(
-    u: &[f64],
-    positions: &[Vector3<f64>],
-    candidates: &[usize],
-    obstacles: &[Obstacle],
-) -> f64 {
-    let mut worst: f64 = 0.0;
-    for &node in candidates {
-        let x = positions[node] + Vector3::new(u[3 * node], u[3 * node + 1], u[3 * node + 2]);
-        for o in obstacles {
-            worst = worst.max(-o.nearest(&x).0);
-        }
-    }
-    worst
+    let problem = ContactProblem {
+        k,
+        partition,
+        prescribed,
+        loads,
+        positions,
+        obstacles,
+        obstacle_candidates: candidates,
+        surfaces: &[],
+        pairs: &[],
+        friction: &|_, _| 0.0,
+        stop: None,
+    };
+    solve_lagrange(solver, &problem, &settings)
 }

@@ -1,13 +1,23 @@
-//! Contact. Today: deformable bodies against rigid obstacles (a table plane, a rigid sphere),
-//! frictionless, enforced exactly at convergence by an active set of Lagrange multipliers solved
-//! through a Schur complement that reuses the stiffness factorization.
+//! Contact: deformable bodies against rigid obstacles (a table plane, a rigid sphere) and against
+//! each other (node to facet, both ways), by the paper's repel–prescribe–release iteration or by
+//! an active set of Lagrange multipliers solved through a Schur complement that reuses the
+//! stiffness factorization, with Coulomb friction; and the tactile map.
 
 mod lagrange;
 mod obstacle;
+mod paper;
+mod point;
 mod pressure;
+mod problem;
+mod surface;
 
-pub use lagrange::{
-    solve_with_obstacles, ContactError, ContactPoint, ContactResult, ContactSettings,
-};
+pub use lagrange::{solve_lagrange, solve_with_obstacles};
 pub use obstacle::Obstacle;
+pub use paper::solve_paper;
+pub use point::{
+    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
+    Relaxation,
+};
 pub use pressure::nodal_pressure;
+pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};
+pub use surface::{project_on_triangle, winding_number, ContactSurface, Projection};

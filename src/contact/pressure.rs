@@ -1,7 +1,8 @@
-//! The tactile map: contact pressure at the surface nodes, the nodal contact force divided by the
+//! The tactile map: contact pressure at the surface nodes, the nodal normal contact force (on
+//! both sides of a contact: the node, and the facet's nodes by their shares h_i) divided by the
 //! node's share of the boundary facets' area (a quarter of each quad it belongs to).
 
-use super::lagrange::ContactPoint;
+use super::point::ContactPoint;
 use crate::mesh::Facet;
 use nalgebra::Vector3;
 
@@ -24,8 +25,10 @@ pub fn nodal_pressure(
     }
     let mut pressure = vec![0.0; nodes.len()];
     for c in contacts {
-        if area[c.node] > 0.0 {
-            pressure[c.node] += c.force / area[c.node];
+        for (n, f) in c.nodal_normal_forces() {
+            if area[n] > 0.0 {
+                pressure[n] += f / area[n];
+            }
         }
     }
     pressure

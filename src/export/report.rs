@@ -187,11 +187,13 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         })
         .collect();
     for p in &c.contacts {
+        let Some(index) = p.obstacle() else { continue };
         let o = obstacles
-            .get_mut(&model.obstacles[p.obstacle].0)
+            .get_mut(&model.obstacles[index].0)
             .expect("obstacle");
+        let f = p.force_vector();
         for i in 0..3 {
-            o.force[i] += p.force * p.normal[i];
+            o.force[i] += f[i];
         }
         o.nodes += 1;
     }
@@ -334,8 +336,8 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
     let mut reactions = dof_vec(&all, &sol.reaction);
     if let Some(c) = &frame.contact {
         // The obstacles' contact forces act like supports.
-        for p in &c.contacts {
-            reactions += p.normal * p.force;
+        for p in c.contacts.iter().filter(|p| p.obstacle().is_some()) {
+            reactions += p.force_vector();
         }
     }
     let max_displacement = (0..model.mesh.node_count())

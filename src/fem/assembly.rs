@@ -283,3 +283,24 @@ impl Stiffness {
         y
     }
 }
+
+impl Stiffness {
+    /// Adds `value` to the diagonal entry of dof `d`.
+    pub fn add_to_diagonal(&mut self, d: usize, value: f64) {
+        let p = &self.pattern;
+        let k = (p.col_ptr[d]..p.col_ptr[d + 1])
+            .rev()
+            .find(|&k| p.row_idx[k] == d)
+            .expect("every dof has a diagonal entry");
+        self.values[k] += value;
+    }
+
+    /// The diagonal entry of dof `d`.
+    pub fn diagonal(&self, d: usize) -> f64 {
+        let p = &self.pattern;
+        (p.col_ptr[d]..p.col_ptr[d + 1])
+            .rev()
+            .find(|&k| p.row_idx[k] == d)
+            .map_or(0.0, |k| self.values[k])
+    }
+}

@@ -103,6 +103,15 @@ impl Solution {
             self.displacement[3 * n + 2],
         )
     }
+
+    /// Reaction at node `n` (zero at its free dofs).
+    pub fn reaction_at(&self, n: usize) -> Vector3<f64> {
+        Vector3::new(
+            self.reaction[3 * n],
+            self.reaction[3 * n + 1],
+            self.reaction[3 * n + 2],
+        )
+    }
 }
 
 /// Symbolic analysis of K11 for one partition of one pattern.
@@ -133,6 +142,11 @@ impl PartitionedSolver {
             factor: Vec::new(),
             scratch: Vec::new(),
         }
+    }
+
+    /// The fill-reducing ordering it uses.
+    pub fn ordering(&self) -> FillOrdering {
+        self.ordering
     }
 
     /// Solves K·U = R with the dofs marked in `partition` held at `prescribed_values`

@@ -175,3 +175,24 @@ pub mod limits {
         max: 80.0,
     };
 }
+
+/// Default muscle force threshold of a bone, N: the largest reaction its muscles can hold before
+/// the grasp is "not realisable". Approximate adult maxima: fingertip press forces of about
+/// 40 N (index, middle), 30 N (ring), 25 N (little) and 60 N for the thumb tip (pinch), larger
+/// towards the palm, where more muscles act with longer lever arms.
+pub fn bone_threshold(name: &str) -> f64 {
+    let (digit, bone) = name.split_once('.').unwrap_or((name, ""));
+    let tip = match digit {
+        "thumb" => 60.0,
+        "index" | "middle" => 40.0,
+        "ring" => 30.0,
+        "little" => 25.0,
+        _ => return 300.0,
+    };
+    match bone {
+        "distal" => tip,
+        "middle" => 1.3 * tip,
+        "proximal" => 1.6 * tip,
+        _ => 2.5 * tip,
+    }
+}

@@ -42,6 +42,29 @@ pub struct Scene {
     /// Rigid obstacles (a table, a rigid ball) that bodies may touch but not enter.
     #[serde(default)]
     pub obstacle: Vec<ObstacleDef>,
+    /// Coulomb friction coefficients by pair of materials or obstacles.
+    #[serde(default)]
+    pub friction: Vec<FrictionDef>,
+}
+
+/// The friction coefficient between two materials (or a material and an obstacle).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionDef {
+    /// Two names: materials, or a material and an obstacle (order does not matter).
+    pub between: [String; 2],
+    /// Coulomb coefficient μ ≥ 0: sliding starts when F_t ≥ μ·F_n.
+    pub mu: f64,
+}
+
+/// `contact_relaxation`: `"aitken"` or a fixed factor in (0, 1].
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum RelaxationDef {
+    /// A fixed factor ω.
+    Factor(f64),
+    /// A name (`"aitken"`).
+    Name(String),
 }
 
 /// `[[obstacle]]`: a rigid obstacle.
@@ -155,6 +178,21 @@ pub struct SolverSettings {
     /// Most contact iterations (default 50).
     #[serde(default)]
     pub contact_max_iterations: Option<usize>,
+    /// Contact method: `"lagrange"` (default) or `"paper"`.
+    #[serde(default)]
+    pub contact: Option<crate::contact::ContactMethod>,
+    /// Relaxation of the paper's method's transferred forces.
+    #[serde(default)]
+    pub contact_relaxation: Option<RelaxationDef>,
+    /// Convergence of the paper's method: largest displacement change between iterations, m.
+    #[serde(default)]
+    pub contact_change_tolerance: Option<f64>,
+    /// Deepest penetration contact detection looks for, m.
+    #[serde(default)]
+    pub contact_search: Option<f64>,
+    /// Default Coulomb friction coefficient of every contact (default 0).
+    #[serde(default)]
+    pub friction: Option<f64>,
     /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
     #[serde(default)]
     pub flexion: Option<FlexionScheme>,
@@ -208,6 +246,10 @@ pub struct BodyDef {
     /// A hand's initial pose: joint angles in degrees by name (rest when absent).
     #[serde(default)]
     pub pose: Option<BTreeMap<String, f64>>,
+    /// A hand's muscle force thresholds by bone (N), e.g. `{ "index.distal" = 20 }`, over the
+    /// defaults from human finger strength.
+    #[serde(default)]
+    pub bone_thresholds: Option<BTreeMap<String, f64>>,
 }
 
 fn one() -> f64 {

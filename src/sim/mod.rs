@@ -2,9 +2,12 @@
 //! that produce the state: the static solve of a frame, and the incremental flexion of a hand.
 
 mod flexion;
+mod grasp;
 mod model;
 mod motion;
+pub mod outcome;
 mod select;
+mod stabilize;
 mod statics;
 mod tactile;
 
@@ -13,6 +16,7 @@ pub use flexion::{
     KeyframeStats,
 };
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
+pub use grasp::{frame_with_hands, solve_grasp};
 pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
 pub use tactile::contact_pressure;

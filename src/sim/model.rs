@@ -3,7 +3,7 @@
 
 use super::flexion::{FleshRegion, FlexionSettings};
 use super::select::select;
-use crate::contact::{ContactSettings, Obstacle};
+use crate::contact::{ContactSettings, Obstacle, Relaxation};
 use crate::fem::assembly::StiffnessPattern;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
@@ -13,7 +13,8 @@ use crate::fem::{DofPartition, Material};
 use crate::hand::HandModel;
 use crate::mesh::{boundary_facets, box_mesh, shell_mesh, sphere_mesh, Facet, Mesh};
 use crate::scene::{
-    FleshRegionName, ObstacleShape, OrderingName, Scene, SceneError, Shape, SolverSettings,
+    FleshRegionName, ObstacleShape, OrderingName, RelaxationDef, Scene, SceneError, Shape,
+    SolverSettings,
 };
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -43,6 +44,11 @@ pub struct BodyModel {
     pub hand: Option<Arc<HandModel>>,
     /// A hand's joint angles at time 0 (its `pose`), degrees; empty for other bodies.
     pub initial_angles: Vec<f64>,
+    /// A hand's muscle force threshold of every bone, N; empty for other bodies.
+    pub thresholds: Vec<f64>,
+    /// Held by nothing but contact (no prescribed displacement): stabilised by weak ground
+    /// springs, and checked to be held after the solve.
+    pub floating: bool,
 }
 
 /// A keyframe: the full joint angles of one hand at a time.
@@ -137,6 +143,12 @@ pub struct Model {
     pub contact_candidates: Vec<usize>,
     /// Contact iteration settings.
     pub contact: ContactSettings,
+    /// Radius around the contact within which hand flesh is solved with it, m.
+    pub contact_region: f64,
+    /// Coulomb friction: the default μ and (name, name, μ) by pair of materials or obstacles.
+    pub friction: (f64, Vec<(String, String, f64)>),
+    /// A cell of every node.
+    pub node_cell: Vec<usize>,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -268,8 +280,22 @@ impl Model {
                 size: (hi - lo).max(),
                 volume,
                 mass: 0.0,
+                thresholds: match &hand {
+                    Some(h) => thresholds(h, b.bone_thresholds.as_ref())
+                        .map_err(|m| err(format!("{field}.bone_thresholds"), m))?,
+                    None => {
+                        if b.bone_thresholds.is_some() {
+                            return Err(err(
+                                format!("{field}.bone_thresholds"),
+                                "only a hand has bones".into(),
+                            ));
+                        }
+                        Vec::new()
+                    }
+                },
                 hand,
                 initial_angles,
+                floating: false,
             });
             cell_material.extend(std::iter::repeat_n(material, body_mesh.cell_count()));
             cell_body.extend(std::iter::repeat_n(i, body_mesh.cell_count()));
@@ -509,7 +535,9 @@ impl Model {
             });
         }
 
-        // Every piece of every body must be held against rigid motion.
+        // Every piece of every body must be held against rigid motion, or (a body with no
+        // support at all, in a scene with obstacles or hands) be held by contact.
+        let mut floating = Vec::new();
         let (piece, pieces) = mesh.connected_pieces();
         let mut piece_nodes: Vec<Vec<usize>> = vec![Vec::new(); pieces];
         for (n, &p) in piece.iter().enumerate() {
@@ -521,6 +549,12 @@ impl Model {
             body_pieces.dedup();
             for (k, &p) in body_pieces.iter().enumerate() {
                 let free = free_rigid_motions(&piece_nodes[p], &mesh.nodes, |d| prescribed_mask[d]);
+                let untouched = body.nodes.clone().all(|n| (0..3).all(|a| !prescribed_mask[3 * n + a]));
+                let holders = !scene.obstacle.is_empty() || bodies.iter().any(|o| o.hand.is_some());
+                if !free.is_empty() && untouched && body_pieces.len() == 1 && holders && body.hand.is_none() {
+                    floating.push(b);
+                    continue;
+                }
                 if !free.is_empty() {
                     let which = if body_pieces.len() > 1 {
                         format!(
@@ -544,6 +578,9 @@ impl Model {
             }
         }
 
+        for &b in &floating {
+            bodies[b].floating = true;
+        }
         let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
         let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
         for (i, c) in scene.camera.iter().enumerate() {
@@ -621,15 +658,14 @@ impl Model {
         contact_candidates.sort_unstable();
         contact_candidates.dedup();
         let largest = bodies.iter().map(|b| b.size).fold(0.0, f64::max);
-        let contact = ContactSettings {
-            tolerance: scene.solver.contact_tolerance.unwrap_or(1e-9 * largest),
-            max_iterations: scene.solver.contact_max_iterations.unwrap_or(50),
-        };
-        if !(contact.tolerance.is_finite() && contact.tolerance >= 0.0) {
-            return Err(err(
-                "solver.contact_tolerance".into(),
-                format!("must be a length ≥ 0 m, got {}", contact.tolerance),
-            ));
+        let contact = contact_settings(&scene.solver, largest).map_err(|(f, m)| err(f, m))?;
+        let contact_region = 0.012;
+        let friction = friction_table(scene).map_err(|(f, m)| err(f, m))?;
+        let mut node_cell = vec![usize::MAX; mesh.node_count()];
+        for (c, cell) in mesh.cells.iter().enumerate().rev() {
+            for &n in cell {
+                node_cell[n] = c;
+            }
         }
         let ordering = match scene.solver.ordering {
             Some(OrderingName::Amd) => FillOrdering::Amd,
@@ -665,7 +701,29 @@ impl Model {
             obstacles,
             contact_candidates,
             contact,
+            contact_region,
+            friction,
+            node_cell,
         })
+    }
+
+    /// A cell that contains node `n`.
+    pub fn node_cell(&self, n: usize) -> Option<usize> {
+        self.node_cell.get(n).copied().filter(|&c| c != usize::MAX)
+    }
+
+    /// The name of material `m` ("" when out of range).
+    pub fn material_name(&self, m: usize) -> &str {
+        self.material_names.get(m).map_or("", |s| s.as_str())
+    }
+
+    /// Coulomb coefficient between two materials (or a material and an obstacle).
+    pub fn friction_between(&self, a: &str, b: &str) -> f64 {
+        self.friction
+            .1
+            .iter()
+            .find(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
+            .map_or(self.friction.0, |p| p.2)
     }
 
     /// Index of the body that owns node `n`.
@@ -675,6 +733,115 @@ impl Model {
             .position(|b| b.nodes.contains(&n))
             .unwrap_or(0)
     }
+}
+
+/// The muscle force thresholds of a hand's bones: the defaults, overridden by name.
+fn thresholds(
+    hand: &HandModel,
+    given: Option<&std::collections::BTreeMap<String, f64>>,
+) -> Result<Vec<f64>, String> {
+    let bones = &hand.skeleton.bones;
+    let mut out: Vec<f64> = bones
+        .iter()
+        .map(|b| crate::hand::anatomy::bone_threshold(&b.name))
+        .collect();
+    for (name, &value) in given.into_iter().flatten() {
+        let b = hand.skeleton.bone_index(name).ok_or_else(|| {
+            format!(
+                "no bone \"{name}\"; the bones are {}",
+                hand.skeleton.bone_names()
+            )
+        })?;
+        if !(value.is_finite() && value > 0.0) {
+            return Err(format!("\"{name}\": a threshold is a force > 0 N, got {value}"));
+        }
+        out[b] = value;
+    }
+    Ok(out)
+}
+
+/// The contact settings of `[solver]`.
+fn contact_settings(s: &SolverSettings, largest: f64) -> Result<ContactSettings, (String, String)> {
+    let mut out = ContactSettings {
+        tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
+        max_iterations: s.contact_max_iterations.unwrap_or(50),
+        method: s.contact.unwrap_or_default(),
+        ..ContactSettings::default()
+    };
+    if !(out.tolerance.is_finite() && out.tolerance >= 0.0) {
+        return Err((
+            "solver.contact_tolerance".into(),
+            format!("must be a length ≥ 0 m, got {}", out.tolerance),
+        ));
+    }
+    if out.max_iterations == 0 {
+        return Err((
+            "solver.contact_max_iterations".into(),
+            "must be at least 1".into(),
+        ));
+    }
+    if let Some(c) = s.contact_change_tolerance {
+        if !(c.is_finite() && c > 0.0) {
+            return Err((
+                "solver.contact_change_tolerance".into(),
+                format!("must be a length > 0 m, got {c}"),
+            ));
+        }
+        out.change_tolerance = c;
+    }
+    if let Some(d) = s.contact_search {
+        if !(d.is_finite() && d > 0.0) {
+            return Err((
+                "solver.contact_search".into(),
+                format!("must be a length > 0 m, got {d}"),
+            ));
+        }
+        out.search_depth = d;
+    }
+    out.relaxation = match &s.contact_relaxation {
+        None => Relaxation::Aitken,
+        Some(RelaxationDef::Name(n)) if n == "aitken" => Relaxation::Aitken,
+        Some(RelaxationDef::Factor(w)) if w.is_finite() && *w > 0.0 && *w <= 1.0 => {
+            Relaxation::Fixed(*w)
+        }
+        Some(other) => {
+            return Err((
+                "solver.contact_relaxation".into(),
+                format!("must be \"aitken\" or a factor in (0, 1], got {other:?}"),
+            ))
+        }
+    };
+    Ok(out)
+}
+
+/// The friction coefficients: `[solver] friction` and the `[[friction]]` pairs.
+fn friction_table(scene: &Scene) -> Result<(f64, Vec<(String, String, f64)>), (String, String)> {
+    let default = scene.solver.friction.unwrap_or(0.0);
+    if !(default.is_finite() && default >= 0.0) {
+        return Err((
+            "solver.friction".into(),
+            format!("μ must be ≥ 0, got {default}"),
+        ));
+    }
+    let mut pairs = Vec::new();
+    for (i, f) in scene.friction.iter().enumerate() {
+        let field = format!("friction[{i}]");
+        for name in &f.between {
+            let known = scene.material.iter().any(|m| &m.name == name)
+                || scene.obstacle.iter().any(|o| &o.name == name);
+            if !known {
+                return Err((
+                    format!("{field}.between"),
+                    format!("\"{name}\" is neither a material nor an obstacle"),
+                ));
+            }
+        }
+        if !(f.mu.is_finite() && f.mu >= 0.0) {
+            return Err((format!("{field}.mu"), format!("μ must be ≥ 0, got {}", f.mu)));
+        }
+        pairs.push((f.between[0].clone(), f.between[1].clone(), f.mu));
+    }
+    Ok((default, pairs))
 }
 
 /// The flexion settings of `[solver]`.

@@ -3,6 +3,7 @@
 //! per distinct time (time 0 first).
 
 use super::flexion::{Flexion, HandState};
+use super::grasp::frame_with_hands;
 use super::model::Model;
 use super::statics::{solve_static, Frame, HandFrame, SimError};
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
@@ -11,16 +12,20 @@ use nalgebra::Matrix3;
 
 /// Solves every frame of the model.
 pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
-    let still = if model.partition.free_count() == 0 {
-        still_frame(model)
-    } else {
-        solve_static(model, &mut PartitionedSolver::new(model.ordering))?
-    };
     let hands: Vec<usize> = (0..model.bodies.len())
         .filter(|&b| model.bodies[b].hand.is_some())
         .collect();
+    // The static frame of the other bodies, unless one of them can only be held by a hand.
+    let floating = model.bodies.iter().any(|b| b.floating);
+    let still = if model.partition.free_count() == 0 {
+        Some(still_frame(model))
+    } else if floating && !hands.is_empty() {
+        None
+    } else {
+        Some(solve_static(model, &mut PartitionedSolver::new(model.ordering))?)
+    };
     if hands.is_empty() {
-        return Ok((vec![0.0], vec![still]));
+        return Ok((vec![0.0], vec![still.expect("solved")]));
     }
     let mut steppers = Vec::new();
     let mut states = Vec::new();
@@ -44,7 +49,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
         states.push(state);
     }
     let mut times = vec![0.0];
-    frames.push(compose(model, &still, hand_frames.clone())?);
+    frames.push(frame_with_hands(model, still.as_ref(), hand_frames.clone())?);
     let mut k = 0;
     while k < model.keyframes.len() {
         let time = model.keyframes[k].time;
@@ -57,10 +62,10 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
             k += 1;
         }
         if time == 0.0 {
-            frames[0] = compose(model, &still, current.clone())?;
+            frames[0] = frame_with_hands(model, still.as_ref(), current.clone())?;
         } else {
             times.push(time);
-            frames.push(compose(model, &still, current.clone())?);
+            frames.push(frame_with_hands(model, still.as_ref(), current.clone())?);
         }
         hand_frames = current;
     }
@@ -99,14 +104,22 @@ pub fn hand_frame(
     stats: super::flexion::KeyframeStats,
 ) -> HandFrame {
     let hand = model.bodies[body].hand.as_deref().unwrap();
+    let bone_reactions = state.bone_reactions(hand);
     HandFrame {
         body,
         angles: state.angles.clone(),
         positions: state.positions.clone(),
-        bone_reactions: state.bone_reactions(hand),
+        bone_reactions: bone_reactions.clone(),
         reaction: state.reaction.clone(),
         volume: state.flesh_volume(hand),
         stats,
+        contact_force: vec![nalgebra::Vector3::zeros(); hand.skeleton.bones.len()],
+        overloads: super::outcome::overloads(
+            hand,
+            &state.transforms,
+            &bone_reactions,
+            &model.bodies[body].thresholds,
+        ),
     }
 }
 

@@ -92,6 +92,10 @@ pub struct HandFrame {
     pub volume: f64,
     /// What reaching this frame's pose cost.
     pub stats: super::flexion::KeyframeStats,
+    /// Contact force on the flesh following each bone, N (zero without contact).
+    pub contact_force: Vec<nalgebra::Vector3<f64>>,
+    /// Bones whose reaction overruns their muscle force threshold: the grasp is not realisable.
+    pub overloads: Vec<super::outcome::Overload>,
 }
 
 /// Solves the static equilibrium of the model (equation (5) partitioned as (6)–(8)).
@@ -105,8 +109,9 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
         }
     };
     let t = Instant::now();
-    let k = assemble(&model.pattern, &model.mesh, &model.cell_materials)
+    let mut k = assemble(&model.pattern, &model.mesh, &model.cell_materials)
         .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
+    let springs = super::stabilize::stabilize(model, &mut k, &model.partition);
     let assembly_ms = t.elapsed().as_secs_f64() * 1e3;
     let solve_error = |source: SolveError| {
         let body = match &source {
@@ -150,6 +155,7 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
             ContactError::Solve(source) => solve_error(source),
             other => SimError::Contact(other),
         })?;
+        super::stabilize::check_held(model, &springs, &result).map_err(SimError::Contact)?;
         let solution = result.solution.clone();
         (solution, Some(result))
     };

@@ -1,0 +1,252 @@
+//! What a contact solve produces: contact points with their normal and friction forces, and the
+//! settings and errors shared by the contact methods.
+
+use crate::fem::solve::{Solution, SolveError};
+use nalgebra::Vector3;
+use thiserror::Error;
+
+/// How contact is resolved (`[solver] contact = "..."`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactMethod {
+    /// Active set of Lagrange multipliers through the Schur complement of the factored stiffness:
+    /// exact non-penetration at convergence, one factorization, Coulomb friction.
+    #[default]
+    Lagrange,
+    /// The paper's six-step iteration: repel and prescribe, solve, transfer the reactions, release,
+    /// solve again; repeated until the displacements stop changing.
+    Paper,
+}
+
+impl ContactMethod {
+    /// The scene name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactMethod::Lagrange => "lagrange",
+            ContactMethod::Paper => "paper",
+        }
+    }
+}
+
+/// How the paper's iteration relaxes the contact forces it transfers (step 4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Relaxation {
+    /// A fixed factor ω (1 = the published procedure, unrelaxed).
+    Fixed(f64),
+    /// Aitken's dynamic factor, recomputed every iteration from the last two force changes.
+    Aitken,
+}
+
+/// Settings of the contact iteration.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactSettings {
+    /// Penetration allowed at convergence, m.
+    pub tolerance: f64,
+    /// Most iterations.
+    pub max_iterations: usize,
+    /// Method.
+    pub method: ContactMethod,
+    /// Largest change of any displacement between two iterations of the paper's method at
+    /// convergence, m.
+    pub change_tolerance: f64,
+    /// Relaxation of the paper's method.
+    pub relaxation: Relaxation,
+    /// Farthest a node may be behind a facet and still be found penetrating it, m.
+    pub search_depth: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings {
+            tolerance: 1e-9,
+            max_iterations: 50,
+            method: ContactMethod::Lagrange,
+            change_tolerance: 1e-7,
+            relaxation: Relaxation::Aitken,
+            search_depth: 0.01,
+        }
+    }
+}
+
+/// What a contact node pushes against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Master {
+    /// A rigid obstacle (its index).
+    Obstacle(usize),
+    /// A triangle of another body's surface: the force on the node, −R_C, is shared by the
+    /// triangle's nodes as h_i·R_C (Figure 5).
+    Facet {
+        /// The body.
+        body: usize,
+        /// Its nodes.
+        nodes: [usize; 3],
+        /// Barycentric weights h_i of the contact point C.
+        weights: [f64; 3],
+    },
+}
+
+/// Friction state of a contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Adhesion {
+    /// μ = 0.
+    Frictionless,
+    /// The tangential force holds the node: |F_t| < μ·F_n.
+    Stick,
+    /// The node slides: |F_t| = μ·F_n, against the sliding.
+    Slip,
+}
+
+/// One node in contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    /// The node (the "slave").
+    pub node: usize,
+    /// What it touches.
+    pub master: Master,
+    /// Outward unit normal of the master surface at the contact.
+    pub normal: Vector3<f64>,
+    /// Normal contact force on the node, N (≥ 0; along `normal`).
+    pub force: f64,
+    /// Friction force on the node, N (tangential).
+    pub tangential: Vector3<f64>,
+    /// Friction state.
+    pub adhesion: Adhesion,
+    /// Gap at convergence, m (≥ −tolerance).
+    pub gap: f64,
+}
+
+impl ContactPoint {
+    /// The rigid obstacle touched, if any.
+    pub fn obstacle(&self) -> Option<usize> {
+        match self.master {
+            Master::Obstacle(o) => Some(o),
+            Master::Facet { .. } => None,
+        }
+    }
+
+    /// The total contact force on the node, N.
+    pub fn force_vector(&self) -> Vector3<f64> {
+        self.normal * self.force + self.tangential
+    }
+
+    /// Every node's share of this contact's force: the node's own force, and the equal and
+    /// opposite force shared among the master facet's nodes (R_i = h_i·R_C).
+    pub fn nodal_forces(&self) -> Vec<(usize, Vector3<f64>)> {
+        let f = self.force_vector();
+        let mut out = vec![(self.node, f)];
+        if let Master::Facet { nodes, weights, .. } = self.master {
+            for (n, h) in nodes.iter().zip(weights) {
+                out.push((*n, -f * h));
+            }
+        }
+        out
+    }
+
+    /// Every node's share of the normal force magnitude (for the tactile map), N.
+    pub fn nodal_normal_forces(&self) -> Vec<(usize, f64)> {
+        let mut out = vec![(self.node, self.force)];
+        if let Master::Facet { nodes, weights, .. } = self.master {
+            for (n, h) in nodes.iter().zip(weights) {
+                out.push((*n, self.force * h));
+            }
+        }
+        out
+    }
+}
+
+/// The solved contact problem.
+#[derive(Clone, Debug)]
+pub struct ContactResult {
+    /// Displacements and support reactions (contact forces excluded).
+    pub solution: Solution,
+    /// Active contacts.
+    pub contacts: Vec<ContactPoint>,
+    /// Method used.
+    pub method: ContactMethod,
+    /// Iterations.
+    pub iterations: usize,
+    /// Factorizations of a stiffness matrix.
+    pub factorizations: usize,
+    /// Substitutions with an existing factor.
+    pub substitutions: usize,
+    /// Largest penetration at convergence, m (0 when none).
+    pub max_penetration: f64,
+    /// Time spent in the contact iterations (after the first solve), ms.
+    pub contact_ms: f64,
+    /// Largest displacement change in the last iteration, m (paper's method; 0 otherwise).
+    pub last_change: f64,
+    /// The iteration was stopped because a bone's reaction overran its threshold.
+    pub stopped_by_threshold: bool,
+    /// Hand cells solved with the contact (0 without a hand).
+    pub region_cells: usize,
+}
+
+/// Why contact could not be resolved.
+#[derive(Debug, Error)]
+pub enum ContactError {
+    /// The linear solve failed.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    /// The active set did not settle.
+    #[error(
+        "contact did not converge in {iterations} iterations ({method}): {active} nodes active, \
+         largest penetration {penetration:.3e} m (tolerance {tolerance:.1e} m), last change \
+         {change:.3e} m; raise solver.contact_max_iterations or refine the mesh where the bodies \
+         touch"
+    )]
+    NotConverged {
+        /// Method.
+        method: &'static str,
+        /// Iterations done.
+        iterations: usize,
+        /// Active nodes at the end.
+        active: usize,
+        /// Largest penetration, m.
+        penetration: f64,
+        /// Tolerance, m.
+        tolerance: f64,
+        /// Largest displacement change of the last iteration, m.
+        change: f64,
+    },
+    /// The constraints are dependent (e.g. a node prescribed and in contact).
+    #[error(
+        "the contact constraints are not independent (Schur complement singular): {active} \
+         contacts"
+    )]
+    Singular {
+        /// Active contacts.
+        active: usize,
+    },
+    /// A body is held by nothing: after contact it still moves rigidly.
+    #[error(
+        "body \"{body}\" is not held: {held:.1} % of the forces on it are carried by nothing \
+         (it {motion}); give it supports, or close the grasp so that contact and friction hold it"
+    )]
+    NotHeld {
+        /// The body.
+        body: String,
+        /// Share of the load not carried, %.
+        held: f64,
+        /// What it does ("falls", "slides").
+        motion: String,
+    },
+    /// A node of one body is deep inside another beyond what contact detection reaches.
+    #[error(
+        "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\", deeper than \
+         contact can resolve (search depth {search_mm:.1} mm): move the bodies apart or raise \
+         solver.contact_search"
+    )]
+    TooDeep {
+        /// The penetrating body.
+        body: String,
+        /// Its node.
+        node: usize,
+        /// The penetrated body.
+        other: String,
+        /// Estimated depth, mm.
+        depth_mm: f64,
+        /// The search depth, mm.
+        search_mm: f64,
+    },
+}

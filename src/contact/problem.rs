@@ -1,0 +1,156 @@
+//! A contact problem: the linear system of equation (5) with its prescribed dofs, and what may
+//! touch what (nodes against rigid obstacles, nodes of one body against the facets of another),
+//! with the detection shared by the contact methods.
+
+use super::obstacle::Obstacle;
+use super::point::{ContactSettings, Master};
+use super::surface::{ContactSurface, SurfaceBvh};
+use crate::fem::assembly::Stiffness;
+use crate::fem::DofPartition;
+use nalgebra::Vector3;
+
+/// The nodes `slaves` may not enter the surface `surface`.
+#[derive(Clone, Debug)]
+pub struct SurfacePair {
+    /// Candidate nodes (global).
+    pub slaves: Vec<usize>,
+    /// Index into [`ContactProblem::surfaces`].
+    pub surface: usize,
+    /// The paper's direction (object nodes repelled from the skin): the pairs its method uses.
+    pub primary: bool,
+}
+
+/// The friction coefficient μ of a node against a master.
+pub type FrictionLaw<'a> = &'a (dyn Fn(usize, &Master) -> f64 + Sync);
+
+/// Decides, from the reactions at the prescribed dofs after a solve, whether to stop (a bone's
+/// reaction overran its threshold).
+pub type StopCheck<'a> = &'a (dyn Fn(&[f64]) -> bool + Sync);
+
+/// A linear problem K·U = R with prescribed dofs, and its possible contacts.
+pub struct ContactProblem<'a> {
+    /// Stiffness (rest geometry of each body, or its current geometry for an increment).
+    pub k: &'a Stiffness,
+    /// Prescribed dofs.
+    pub partition: &'a DofPartition,
+    /// Prescribed values (read at prescribed dofs).
+    pub prescribed: &'a [f64],
+    /// Loads R.
+    pub loads: &'a [f64],
+    /// Reference positions X: the displacement U is measured from them.
+    pub positions: &'a [Vector3<f64>],
+    /// Rigid obstacles.
+    pub obstacles: &'a [Obstacle],
+    /// Nodes that may touch the obstacles.
+    pub obstacle_candidates: &'a [usize],
+    /// Deformable surfaces.
+    pub surfaces: &'a [ContactSurface],
+    /// Which nodes may touch which surface.
+    pub pairs: &'a [SurfacePair],
+    /// Coulomb friction coefficient of each contact.
+    pub friction: FrictionLaw<'a>,
+    /// Threshold check for the paper's iteration.
+    pub stop: Option<StopCheck<'a>>,
+}
+
+/// A penetration found at the current displacements.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Penetration {
+    /// The node.
+    pub node: usize,
+    /// What it penetrates.
+    pub master: Master,
+    /// Which obstacle (`o`) or pair (`obstacles + p`) found it.
+    pub source: usize,
+    /// Outward normal of the master.
+    pub normal: Vector3<f64>,
+    /// Signed gap, m (negative inside).
+    pub gap: f64,
+    /// Fixed point of the master for an obstacle (its nearest point), zero for a facet.
+    pub anchor: Vector3<f64>,
+}
+
+impl ContactProblem<'_> {
+    /// Current position of node `n` with displacements `u`.
+    pub fn position(&self, u: &[f64], n: usize) -> Vector3<f64> {
+        self.positions[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
+    }
+
+    /// Every node behind an obstacle or a facet by more than `tolerance` (and less than the
+    /// search depth), at displacements `u`; only the paper's pairs when `primary_only`.
+    pub(crate) fn penetrations(
+        &self,
+        u: &[f64],
+        settings: &ContactSettings,
+        threshold: f64,
+        primary_only: bool,
+    ) -> Vec<Penetration> {
+        let current: Vec<Vector3<f64>> = (0..self.positions.len())
+            .map(|n| self.position(u, n))
+            .collect();
+        let mut out = Vec::new();
+        let free = |n: usize| (0..3).any(|a| !self.partition.prescribed[3 * n + a]);
+        for &node in self.obstacle_candidates {
+            for (o, obstacle) in self.obstacles.iter().enumerate() {
+                let (gap, normal, anchor) = obstacle.nearest(&current[node]);
+                if gap < threshold && free(node) {
+                    out.push(Penetration {
+                        node,
+                        master: Master::Obstacle(o),
+                        source: o,
+                        normal,
+                        gap,
+                        anchor,
+                    });
+                }
+            }
+        }
+        let hierarchies: Vec<SurfaceBvh> = self
+            .surfaces
+            .iter()
+            .map(|s| s.hierarchy(&current, settings.search_depth))
+            .collect();
+        for (p, pair) in self.pairs.iter().enumerate() {
+            if primary_only && !pair.primary {
+                continue;
+            }
+            let surface = &self.surfaces[pair.surface];
+            for &node in &pair.slaves {
+                let Some(proj) =
+                    hierarchies[pair.surface].project(&current[node], &current, |t| {
+                        t.contains(&node)
+                    })
+                else {
+                    continue;
+                };
+                if proj.gap < threshold && proj.gap > -settings.search_depth {
+                    let movable = free(node) || proj.nodes.iter().any(|&n| free(n));
+                    if !movable {
+                        continue;
+                    }
+                    out.push(Penetration {
+                        node,
+                        master: Master::Facet {
+                            body: surface.body,
+                            nodes: proj.nodes,
+                            weights: proj.weights,
+                        },
+                        source: self.obstacles.len() + p,
+                        normal: proj.normal,
+                        gap: proj.gap,
+                        anchor: Vector3::zeros(),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// Largest penetration at `u` over every candidate, m (0 when none).
+    pub fn max_penetration(&self, u: &[f64], settings: &ContactSettings) -> f64 {
+        self.penetrations(u, settings, 0.0, false)
+            .iter()
+            .map(|p| -p.gap)
+            .fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,242 @@
+//! A contact surface: the boundary facets of a body split into triangles (the paper uses
+//! triangles for the fingers "because the four surface points are generally not in the same
+//! plane"), with a bounding-volume hierarchy (parry3d-f64) over their current positions, and the
+//! projection of a point onto the nearest facet: the point C of Figure 5, its barycentric weights
+//! h_i (the interpolation functions at C, so that a force R_C is shared as R_i = h_i·R_C) and the
+//! facet normal n_F.
+
+use nalgebra::Vector3;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Vec3;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+
+/// Triangles over global node indices, outward normals.
+#[derive(Clone, Debug)]
+pub struct ContactSurface {
+    /// The body (model index) the facets belong to.
+    pub body: usize,
+    /// Triangles, counter-clockwise seen from outside.
+    pub triangles: Vec<[usize; 3]>,
+}
+
+/// The projection of a point onto a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// The triangle's nodes.
+    pub nodes: [usize; 3],
+    /// Barycentric weights h_i of the projection point C (sum 1, each ≥ 0).
+    pub weights: [f64; 3],
+    /// Outward unit normal n_F of the facet.
+    pub normal: Vector3<f64>,
+    /// Signed gap (x − C)·n_F, m: negative when the point is behind the facet (penetrating).
+    pub gap: f64,
+    /// Distance |x − C|, m.
+    pub distance: f64,
+}
+
+impl ContactSurface {
+    /// The surface of quadrilaterals `quads` (outward, repeated nodes allowed): each quad split
+    /// along its shorter diagonal at `positions`.
+    pub fn from_quads(body: usize, quads: &[[usize; 4]], positions: &[Vector3<f64>]) -> Self {
+        let mut triangles = Vec::with_capacity(2 * quads.len());
+        for q in quads {
+            let mut distinct: Vec<usize> = Vec::with_capacity(4);
+            for &n in q {
+                if distinct.last() != Some(&n) && distinct.first() != Some(&n) {
+                    distinct.push(n);
+                }
+            }
+            match distinct.len() {
+                3 => triangles.push([distinct[0], distinct[1], distinct[2]]),
+                4 => {
+                    let d02 = (positions[q[2]] - positions[q[0]]).norm();
+                    let d13 = (positions[q[3]] - positions[q[1]]).norm();
+                    if d02 <= d13 {
+                        triangles.push([q[0], q[1], q[2]]);
+                        triangles.push([q[0], q[2], q[3]]);
+                    } else {
+                        triangles.push([q[0], q[1], q[3]]);
+                        triangles.push([q[1], q[2], q[3]]);
+                    }
+                }
+                _ => {}
+            }
+        }
+        ContactSurface { body, triangles }
+    }
+
+    /// The nodes of the surface, sorted, without repeats.
+    pub fn nodes(&self) -> Vec<usize> {
+        let mut n: Vec<usize> = self.triangles.iter().flatten().copied().collect();
+        n.sort_unstable();
+        n.dedup();
+        n
+    }
+
+    /// A hierarchy over the triangles at `positions`, each box grown by `margin` (m).
+    pub fn hierarchy(&self, positions: &[Vector3<f64>], margin: f64) -> SurfaceBvh<'_> {
+        let boxes: Vec<Aabb> = self
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|n| positions[n]);
+                let lo = p[0].inf(&p[1]).inf(&p[2]);
+                let hi = p[0].sup(&p[1]).sup(&p[2]);
+                Aabb::new(
+                    Vec3::new(lo.x - margin, lo.y - margin, lo.z - margin),
+                    Vec3::new(hi.x + margin, hi.y + margin, hi.z + margin),
+                )
+            })
+            .collect();
+        SurfaceBvh {
+            surface: self,
+            bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+        }
+    }
+}
+
+/// A surface with its bounding-volume hierarchy at one set of positions.
+pub struct SurfaceBvh<'a> {
+    surface: &'a ContactSurface,
+    bvh: Bvh,
+}
+
+impl SurfaceBvh<'_> {
+    /// The nearest facet to `x` among those whose grown box contains `x`, unless `skip` says
+    /// the facet must be ignored (e.g. it contains the point's own node).
+    pub fn project(
+        &self,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        skip: impl Fn(&[usize; 3]) -> bool,
+    ) -> Option<Projection> {
+        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
+        let mut best: Option<Projection> = None;
+        for leaf in self.bvh.intersect_aabb(&q) {
+            let nodes = self.surface.triangles[leaf as usize];
+            if skip(&nodes) {
+                continue;
+            }
+            let p = nodes.map(|n| positions[n]);
+            let Some(proj) = project_on_triangle(x, &p) else {
+                continue;
+            };
+            if best.is_none_or(|b| proj.distance < b.distance) {
+                best = Some(Projection { nodes, ..proj });
+            }
+        }
+        best
+    }
+}
+
+/// Closest point of triangle `p` to `x` (Ericson, Real-Time Collision Detection §5.1.5), with
+/// its barycentric weights, the facet normal and the signed gap; `None` for a flat triangle.
+pub fn project_on_triangle(x: &Vector3<f64>, p: &[Vector3<f64>; 3]) -> Option<Projection> {
+    let (a, b, c) = (p[0], p[1], p[2]);
+    let normal = (b - a).cross(&(c - a));
+    let area2 = normal.norm();
+    if area2 <= 0.0 || !area2.is_finite() {
+        return None;
+    }
+    let normal = normal / area2;
+    let ab = b - a;
+    let ac = c - a;
+    let ap = x - a;
+    let d1 = ab.dot(&ap);
+    let d2 = ac.dot(&ap);
+    let weights = if d1 <= 0.0 && d2 <= 0.0 {
+        [1.0, 0.0, 0.0]
+    } else {
+        let bp = x - b;
+        let d3 = ab.dot(&bp);
+        let d4 = ac.dot(&bp);
+        let cp = x - c;
+        let d5 = ab.dot(&cp);
+        let d6 = ac.dot(&cp);
+        let vc = d1 * d4 - d3 * d2;
+        let vb = d5 * d2 - d1 * d6;
+        let va = d3 * d6 - d5 * d4;
+        if d3 >= 0.0 && d4 <= d3 {
+            [0.0, 1.0, 0.0]
+        } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+            let v = d1 / (d1 - d3);
+            [1.0 - v, v, 0.0]
+        } else if d6 >= 0.0 && d5 <= d6 {
+            [0.0, 0.0, 1.0]
+        } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+            let w = d2 / (d2 - d6);
+            [1.0 - w, 0.0, w]
+        } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+            let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+            [0.0, 1.0 - w, w]
+        } else {
+            let denom = 1.0 / (va + vb + vc);
+            let v = vb * denom;
+            let w = vc * denom;
+            [1.0 - v - w, v, w]
+        }
+    };
+    let point = a * weights[0] + b * weights[1] + c * weights[2];
+    Some(Projection {
+        nodes: [0, 1, 2],
+        weights,
+        normal,
+        gap: (x - point).dot(&normal),
+        distance: (x - point).norm(),
+    })
+}
+
+/// Generalised winding number of the closed surface around `x` (≈ 1 inside, ≈ 0 outside), from
+/// the solid angles of its triangles (Van Oosterom–Strackee).
+pub fn winding_number(x: &Vector3<f64>, surface: &ContactSurface, positions: &[Vector3<f64>]) -> f64 {
+    let mut total = 0.0;
+    for t in &surface.triangles {
+        let a = positions[t[0]] - x;
+        let b = positions[t[1]] - x;
+        let c = positions[t[2]] - x;
+        let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+        let num = a.dot(&b.cross(&c));
+        let den = la * lb * lc + a.dot(&b) * lc + b.dot(&c) * la + c.dot(&a) * lb;
+        total += 2.0 * num.atan2(den);
+    }
+    total / (4.0 * std::f64::consts::PI)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projection_inside_edge_and_vertex() {
+        let p = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+        ];
+        let q = project_on_triangle(&Vector3::new(0.25, 0.25, -0.5), &p).unwrap();
+        assert!((q.weights[0] - 0.5).abs() < 1e-15 && (q.weights[1] - 0.25).abs() < 1e-15);
+        assert!((q.gap + 0.5).abs() < 1e-15);
+        let e = project_on_triangle(&Vector3::new(0.5, -1.0, 0.0), &p).unwrap();
+        assert_eq!(e.weights, [0.5, 0.5, 0.0]);
+        let v = project_on_triangle(&Vector3::new(2.0, -1.0, 0.3), &p).unwrap();
+        assert_eq!(v.weights, [0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn winding_number_of_a_tetrahedron() {
+        let pos = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+        ];
+        let s = ContactSurface {
+            body: 0,
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        };
+        let inside = winding_number(&Vector3::new(0.1, 0.1, 0.1), &s, &pos);
+        let outside = winding_number(&Vector3::new(1.0, 1.0, 1.0), &s, &pos);
+        assert!((inside - 1.0).abs() < 1e-12, "{inside}");
+        assert!(outside.abs() < 1e-12, "{outside}");
+    }
+}
