@@ -16,6 +16,7 @@ const SETTINGS: ContactSettings = ContactSettings {
     change_tolerance: 1e-9,
     relaxation: prehensile::contact::Relaxation::Aitken,
     search_depth: 0.01,
+    pairs: prehensile::contact::PairSides::SkinNodes,
 };
 
 /// Solves `mesh` with the dofs for which `fix` returns a value prescribed, against `obstacles`.

@@ -157,6 +157,18 @@ pub fn solve_lagrange(
     let mut u = u0.clone();
     let mut substitutions = 0;
     let mut iterations = 0;
+    // Candidates: every contact possible on the reference geometry (U = 0), within the search
+    // depth, its facet, weights and normal frozen there (small sliding).
+    let zero = vec![0.0; u.len()];
+    let mut pool: Vec<Row> = Vec::new();
+    for p in problem.penetrations(&zero, settings, settings.search_depth, settings.pairs) {
+        if pool.iter().all(|r| r.key() != (p.node, p.source)) {
+            let mu = (problem.friction)(p.node, &p.master);
+            pool.push(Row::new(&p, problem, &zero, mu));
+        }
+    }
+    let mut refreshes = 0;
+    const MAX_REFRESH: usize = 3;
     loop {
         iterations += 1;
         if iterations > settings.max_iterations {
@@ -169,25 +181,58 @@ pub fn solve_lagrange(
                 change: 0.0,
             });
         }
-        // Join: nodes that penetrate, one contact per node and source.
-        let found = problem.penetrations(&u, settings, -settings.tolerance, false);
+        // Join: candidates whose linearised gap is closed beyond the tolerance.
         let mut fresh: Vec<Row> = Vec::new();
-        for p in &found {
-            let key = (p.node, p.source);
-            if rows.iter().chain(&fresh).any(|r| r.key() == key) {
-                continue;
+        let mut i = 0;
+        while i < pool.len() {
+            if pool[i].apply(0, &u) - pool[i].bound < -settings.tolerance {
+                let mut row = pool.swap_remove(i);
+                row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
+                fresh.push(row);
+            } else {
+                i += 1;
             }
-            let mu = (problem.friction)(p.node, &p.master);
-            fresh.push(Row::new(p, problem, &u, mu));
         }
-        if fresh.is_empty() && iterations > 1 {
-            break;
+        if fresh.is_empty() {
+            // The linearised problem is solved. Where a node still penetrates on the current
+            // geometry (it slid onto another facet, or the facet turned), its constraint is
+            // renewed there, a few rounds at most.
+            if refreshes >= MAX_REFRESH {
+                break;
+            }
+            refreshes += 1;
+            for p in problem.penetrations(&u, settings, -settings.tolerance, settings.pairs) {
+                let key = (p.node, p.source);
+                let same_facet = |r: &Row| r.key() == key && r.master == p.master;
+                if let Some(i) = rows.iter().position(|r| r.key() == key) {
+                    if same_facet(&rows[i]) || matches!(p.master, Master::Obstacle(_)) {
+                        continue;
+                    }
+                    let old = rows.remove(i);
+                    let mut row = Row::new(&p, problem, &u, old.mu);
+                    row.reference = old.reference;
+                    fresh.push(row);
+                } else {
+                    pool.retain(|r| r.key() != key);
+                    let mu = (problem.friction)(p.node, &p.master);
+                    let mut row = Row::new(&p, problem, &u, mu);
+                    row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
+                    fresh.push(row);
+                }
+            }
+            if fresh.is_empty() {
+                break;
+            }
         }
         // K11⁻¹·C_aᵀ for the new rows, in one multi-column substitution.
         let mut wanted: Vec<(usize, usize)> = Vec::new();
         let mut block: Vec<f64> = Vec::new();
         let mut keep: Vec<bool> = Vec::new();
         for (r, row) in fresh.iter().enumerate() {
+            if !row.columns.is_empty() {
+                keep.push(true);
+                continue;
+            }
             let axes = if row.mu > 0.0 { 3 } else { 1 };
             let start = block.len();
             let mut any = false;
@@ -213,12 +258,9 @@ pub fn solve_lagrange(
         }
         rows.extend(fresh.into_iter().zip(keep).filter(|(_, k)| *k).map(|(r, _)| r));
         if rows.is_empty() {
-            if iterations > 1 {
-                break;
-            }
             continue;
         }
-        lambda = settle(&mut rows, &u0, &mut u, partition)?;
+        lambda = settle(&mut rows, &mut pool, &u0, &mut u, partition)?;
     }
     if rows.is_empty() {
         u = u0.clone();
@@ -245,6 +287,16 @@ pub fn solve_lagrange(
     }
     solution.displacement = u;
     let max_penetration = problem.max_penetration(&solution.displacement, settings);
+    if max_penetration > settings.penetration_limit() {
+        return Err(ContactError::NotConverged {
+            method: ContactMethod::Lagrange.name(),
+            iterations,
+            active: rows.len(),
+            penetration: max_penetration,
+            tolerance: settings.penetration_limit(),
+            change: 0.0,
+        });
+    }
     Ok(ContactResult {
         solution,
         contacts,
@@ -265,6 +317,7 @@ pub fn solve_lagrange(
 /// sticking row.
 fn settle(
     rows: &mut Vec<Row>,
+    released: &mut Vec<Row>,
     u0: &[f64],
     u: &mut [f64],
     partition: &DofPartition,
@@ -347,9 +400,23 @@ fn settle(
                 Some((_, best)) if best <= l => acc,
                 _ => Some((r, l)),
             });
+        if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
+            let neg = unknowns
+                .iter()
+                .enumerate()
+                .filter(|(j, &(_, a))| a == 0 && lambda[*j] < 0.0)
+                .count();
+            eprintln!("settle: {} rows, {m} unknowns, {neg} pulling, worst {worst:?}", rows.len());
+        }
         if let Some((r, l)) = worst {
             if l < 0.0 {
-                rows.remove(r);
+                let mut row = rows.remove(r);
+                row.state = if row.mu > 0.0 {
+                    Adhesion::Stick
+                } else {
+                    Adhesion::Frictionless
+                };
+                released.push(row);
                 continue;
             }
         }

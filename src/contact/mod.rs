@@ -16,7 +16,7 @@ pub use obstacle::Obstacle;
 pub use paper::solve_paper;
 pub use point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
-    Relaxation,
+    PairSides, Relaxation,
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};

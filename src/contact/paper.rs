@@ -21,7 +21,7 @@
 
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
-    Relaxation,
+    PairSides, Relaxation,
 };
 use super::problem::{ContactProblem, Penetration};
 use crate::fem::solve::PartitionedSolver;
@@ -70,7 +70,8 @@ pub fn solve_paper(
     while iterations < settings.max_iterations {
         iterations += 1;
         // Step 2: repel penetrating nodes (and keep those already in contact on the facet).
-        let found = problem.penetrations(&u, settings, settings.search_depth, true);
+        let found =
+            problem.penetrations(&u, settings, settings.search_depth, PairSides::ObjectNodes);
         let mut now: BTreeMap<usize, Penetration> = BTreeMap::new();
         for p in found {
             if in_skin(p.node) {

@@ -28,6 +28,20 @@ impl ContactMethod {
     }
 }
 
+/// Which side of a contact between a hand and an object is checked node against facet
+/// (`[solver] contact_pairs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PairSides {
+    /// Skin nodes against object facets (the finer side: the default).
+    #[default]
+    SkinNodes,
+    /// Object nodes against skin facets (the paper's direction).
+    ObjectNodes,
+    /// Both ways.
+    Both,
+}
+
 /// How the paper's iteration relaxes the contact forces it transfers (step 4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Relaxation {
@@ -53,6 +67,17 @@ pub struct ContactSettings {
     pub relaxation: Relaxation,
     /// Farthest a node may be behind a facet and still be found penetrating it, m.
     pub search_depth: f64,
+    /// Which nodes the Lagrange method checks against which facets.
+    pub pairs: PairSides,
+}
+
+impl ContactSettings {
+    /// Largest penetration accepted on the current geometry after the linearised contact has
+    /// converged (the geometry moves while contact is linearised about the start): the
+    /// tolerance, or 5 % of the search depth when larger.
+    pub fn penetration_limit(&self) -> f64 {
+        self.tolerance.max(0.05 * self.search_depth)
+    }
 }
 
 impl Default for ContactSettings {
@@ -64,6 +89,7 @@ impl Default for ContactSettings {
             change_tolerance: 1e-7,
             relaxation: Relaxation::Aitken,
             search_depth: 0.01,
+            pairs: PairSides::SkinNodes,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! with the detection shared by the contact methods.
 
 use super::obstacle::Obstacle;
-use super::point::{ContactSettings, Master};
+use super::point::{ContactSettings, Master, PairSides};
 use super::surface::{ContactSurface, SurfaceBvh};
 use crate::fem::assembly::Stiffness;
 use crate::fem::DofPartition;
@@ -18,6 +18,9 @@ pub struct SurfacePair {
     pub surface: usize,
     /// The paper's direction (object nodes repelled from the skin): the pairs its method uses.
     pub primary: bool,
+    /// The surface the slave nodes lie on: a node only meets facets that face it (their
+    /// normals opposed), so a node through a thin wall is not pushed out of its far side.
+    pub slave_surface: Option<usize>,
 }
 
 /// The friction coefficient μ of a node against a master.
@@ -77,13 +80,13 @@ impl ContactProblem<'_> {
     }
 
     /// Every node behind an obstacle or a facet by more than `tolerance` (and less than the
-    /// search depth), at displacements `u`; only the paper's pairs when `primary_only`.
+    /// search depth), at displacements `u`, over the pairs of `sides`.
     pub(crate) fn penetrations(
         &self,
         u: &[f64],
         settings: &ContactSettings,
         threshold: f64,
-        primary_only: bool,
+        sides: PairSides,
     ) -> Vec<Penetration> {
         let current: Vec<Vector3<f64>> = (0..self.positions.len())
             .map(|n| self.position(u, n))
@@ -111,18 +114,43 @@ impl ContactProblem<'_> {
             .map(|s| s.hierarchy(&current, settings.search_depth))
             .collect();
         for (p, pair) in self.pairs.iter().enumerate() {
-            if primary_only && !pair.primary {
+            let wanted = match sides {
+                PairSides::Both => true,
+                PairSides::ObjectNodes => pair.primary,
+                PairSides::SkinNodes => !pair.primary,
+            };
+            if !wanted {
                 continue;
             }
             let surface = &self.surfaces[pair.surface];
+            let normals = pair
+                .slave_surface
+                .map(|s| self.surfaces[s].node_normals(self.positions));
             for &node in &pair.slaves {
-                let Some(proj) =
-                    hierarchies[pair.surface].project(&current[node], &current, |t| {
-                        t.contains(&node)
-                    })
+                let facing = |t: &[usize; 3]| -> bool {
+                    let Some(normals) = &normals else { return true };
+                    let Some(m) = normals.get(&node) else { return true };
+                    let n = (current[t[1]] - current[t[0]]).cross(&(current[t[2]] - current[t[0]]));
+                    n.dot(m) < 0.0
+                };
+                // Inside or outside: the side of the nearest facet of all. The facet it is
+                // pushed out of: the nearest of those that face it.
+                let bvh = &hierarchies[pair.surface];
+                let Some(nearest) = bvh.project(&current[node], &current, |t| t.contains(&node))
                 else {
                     continue;
                 };
+                if nearest.gap >= threshold {
+                    continue;
+                }
+                // Outside, by a facet that does not face it (the far side of a thin finger, a
+                // crease): nothing to touch. Inside: out through the nearest facet (a node
+                // past the middle of a thin wall leaves by the far side: keep increments
+                // shallower than half a wall).
+                if nearest.gap >= 0.0 && !facing(&nearest.nodes) {
+                    continue;
+                }
+                let proj = nearest;
                 if proj.gap < threshold && proj.gap > -settings.search_depth {
                     let movable = free(node) || proj.nodes.iter().any(|&n| free(n));
                     if !movable {
@@ -148,9 +176,21 @@ impl ContactProblem<'_> {
 
     /// Largest penetration at `u` over every candidate, m (0 when none).
     pub fn max_penetration(&self, u: &[f64], settings: &ContactSettings) -> f64 {
-        self.penetrations(u, settings, 0.0, false)
-            .iter()
-            .map(|p| -p.gap)
-            .fold(0.0, f64::max)
+        let found = self.penetrations(u, settings, 0.0, settings.pairs);
+        if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
+            for p in found.iter().filter(|p| p.gap < -1e-4) {
+                let x = self.position(u, p.node);
+                eprintln!(
+                    "penetrating node {} at {:?} (ref {:?}) gap {:.3e} normal {:?} {:?}",
+                    p.node,
+                    x.as_slice(),
+                    self.positions[p.node].as_slice(),
+                    p.gap,
+                    p.normal.as_slice(),
+                    p.master
+                );
+            }
+        }
+        found.iter().map(|p| -p.gap).fold(0.0, f64::max)
     }
 }

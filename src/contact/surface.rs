@@ -73,6 +73,28 @@ impl ContactSurface {
         n
     }
 
+    /// Unit normal at every node of the surface (area-weighted mean of its triangles'), at
+    /// `positions`.
+    pub fn node_normals(
+        &self,
+        positions: &[Vector3<f64>],
+    ) -> std::collections::HashMap<usize, Vector3<f64>> {
+        let mut out: std::collections::HashMap<usize, Vector3<f64>> = Default::default();
+        for t in &self.triangles {
+            let n = (positions[t[1]] - positions[t[0]]).cross(&(positions[t[2]] - positions[t[0]]));
+            for &v in t {
+                *out.entry(v).or_insert_with(Vector3::zeros) += n;
+            }
+        }
+        for n in out.values_mut() {
+            let l = n.norm();
+            if l > 0.0 {
+                *n /= l;
+            }
+        }
+        out
+    }
+
     /// A hierarchy over the triangles at `positions`, each box grown by `margin` (m).
     pub fn hierarchy(&self, positions: &[Vector3<f64>], margin: f64) -> SurfaceBvh<'_> {
         let boxes: Vec<Aabb> = self

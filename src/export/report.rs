@@ -146,8 +146,23 @@ pub struct FrameReport {
 /// Contact in a frame.
 #[derive(Clone, Debug, Serialize)]
 pub struct ContactReport {
+    /// Method (`lagrange` or `paper`).
+    pub method: crate::contact::ContactMethod,
     /// Per obstacle: the total force it exerts on the bodies (N) and the nodes touching it.
     pub obstacles: BTreeMap<String, ObstacleReport>,
+    /// Per pair of bodies in contact (`"hand/ball"`): the force the first exerts on the second,
+    /// N (the second exerts the opposite: action equals reaction), and the contacts.
+    pub bodies: BTreeMap<String, ObstacleReport>,
+    /// Contacts sticking and slipping (Coulomb friction).
+    pub sticking: usize,
+    /// Contacts slipping.
+    pub slipping: usize,
+    /// The paper's iteration stopped because a bone's reaction overran its threshold.
+    pub stopped_by_threshold: bool,
+    /// Largest displacement change in the last iteration of the paper's method, m.
+    pub last_change: f64,
+    /// Hand cells solved with the contact.
+    pub region_cells: usize,
     /// Active-set iterations.
     pub iterations: usize,
     /// Factorizations (one: constraints are added through the Schur complement).
@@ -186,6 +201,23 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
             )
         })
         .collect();
+    let mut bodies: BTreeMap<String, ObstacleReport> = BTreeMap::new();
+    for p in &c.contacts {
+        if let crate::contact::Master::Facet { body, .. } = p.master {
+            // The force on the node's body from the facet's body.
+            let a = model.body_of_node(p.node);
+            let key = format!("{}/{}", model.bodies[body].name, model.bodies[a].name);
+            let entry = bodies.entry(key).or_insert(ObstacleReport {
+                force: [0.0; 3],
+                nodes: 0,
+            });
+            let f = p.force_vector();
+            for i in 0..3 {
+                entry.force[i] += f[i];
+            }
+            entry.nodes += 1;
+        }
+    }
     for p in &c.contacts {
         let Some(index) = p.obstacle() else { continue };
         let o = obstacles
@@ -198,8 +230,16 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         o.nodes += 1;
     }
     let pressure = crate::sim::contact_pressure(model, frame).unwrap_or_default();
+    let count = |a: crate::contact::Adhesion| c.contacts.iter().filter(|p| p.adhesion == a).count();
     Some(ContactReport {
+        method: c.method,
         obstacles,
+        bodies,
+        sticking: count(crate::contact::Adhesion::Stick),
+        slipping: count(crate::contact::Adhesion::Slip),
+        stopped_by_threshold: c.stopped_by_threshold,
+        last_change: c.last_change,
+        region_cells: c.region_cells,
         iterations: c.iterations,
         factorizations: c.factorizations,
         substitutions: c.substitutions,
@@ -235,6 +275,22 @@ pub struct HandReport {
     pub volume_change: f64,
     /// Increments, factorizations and timings of the motion into this frame.
     pub motion: crate::sim::KeyframeStats,
+    /// Total contact force on each part of the hand (palm, thumb … little), N, and its
+    /// magnitude: the tactile summary.
+    pub contact: BTreeMap<String, PartContact>,
+    /// Can the muscles hold this grasp? False when a bone's reaction overruns its threshold.
+    pub realisable: bool,
+    /// The bones over their thresholds, worst first, with what the animator should change.
+    pub overloads: Vec<crate::sim::outcome::Overload>,
+}
+
+/// The contact force on one part of a hand.
+#[derive(Clone, Debug, Serialize)]
+pub struct PartContact {
+    /// Force, N.
+    pub force: [f64; 3],
+    /// Its magnitude, N.
+    pub magnitude: f64,
 }
 
 /// The report entries of the hands of a frame.
@@ -283,6 +339,28 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     flesh_volume: h.volume,
                     volume_change: h.volume / body.volume - 1.0,
                     motion: h.stats.clone(),
+                    contact: {
+                        let mut parts = vec![Vector3::zeros(); crate::sim::outcome::PARTS.len()];
+                        for (b, f) in h.contact_force.iter().enumerate() {
+                            parts[crate::sim::outcome::part_of_bone(hand, b)] += f;
+                        }
+                        crate::sim::outcome::PARTS
+                            .iter()
+                            .zip(parts)
+                            .filter(|(_, f)| f.norm() > 0.0)
+                            .map(|(name, f)| {
+                                (
+                                    name.to_string(),
+                                    PartContact {
+                                        force: arr(f),
+                                        magnitude: f.norm(),
+                                    },
+                                )
+                            })
+                            .collect()
+                    },
+                    realisable: h.overloads.is_empty(),
+                    overloads: h.overloads.clone(),
                 },
             )
         })

@@ -52,6 +52,9 @@ pub struct FleshMesh {
     pub skin_quads: Vec<[usize; 4]>,
     /// The cell each skin quadrilateral bounds.
     pub skin_cells: Vec<usize>,
+    /// Whether each skin quadrilateral is on the outer skin (towards outside or another digit),
+    /// not a wall of a joint space: the surface that can touch objects.
+    pub skin_outer: Vec<bool>,
     /// Control net of the display skin: quads over `display_vertices` (the boundary of flesh,
     /// bones and joint spaces together, outward normals).
     pub display_quads: Vec<[usize; 4]>,
@@ -326,6 +329,7 @@ pub fn mesh_flesh(
     // Skin quads: faces towards outside cells, or towards a cell of another digit.
     let mut skin_quads = Vec::new();
     let mut skin_cells = Vec::new();
+    let mut skin_outer = Vec::new();
     let mut on_skin = vec![false; nodes.len()];
     for (c, &[i, j, k]) in cell_lattice.iter().enumerate() {
         for (f, dir) in FACE_DIRS.iter().enumerate() {
@@ -342,6 +346,7 @@ pub fn mesh_flesh(
                 CellState::Outside | CellState::Joint(_) => {
                     skin_quads.push(quad);
                     skin_cells.push(c);
+                    skin_outer.push(matches!(neighbour, CellState::Outside));
                     for n in quad {
                         on_skin[n] = true;
                     }
@@ -349,6 +354,7 @@ pub fn mesh_flesh(
                 CellState::Kept(other) if !compatible(cell_bone[c], other) => {
                     skin_quads.push(quad);
                     skin_cells.push(c);
+                    skin_outer.push(true);
                 }
                 _ => {}
             }
@@ -429,12 +435,13 @@ pub fn mesh_flesh(
     cells.truncate(kept);
     cell_bone.truncate(kept);
     cell_lattice.truncate(kept);
-    for (q, &c) in skin_quads.iter().zip(&skin_cells) {
+    for ((q, &c), &outer) in skin_quads.iter().zip(&skin_cells).zip(&skin_outer) {
         if new_cell[c] != usize::MAX {
-            quad_kept.push((*q, new_cell[c]));
+            quad_kept.push(((*q, new_cell[c]), outer));
         }
     }
-    let (mut skin_quads, skin_cells): (Vec<[usize; 4]>, Vec<usize>) = quad_kept.into_iter().unzip();
+    let (kept, skin_outer): (Vec<([usize; 4], usize)>, Vec<bool>) = quad_kept.into_iter().unzip();
+    let (mut skin_quads, skin_cells): (Vec<[usize; 4]>, Vec<usize>) = kept.into_iter().unzip();
 
     // Drop the nodes no cell uses any more.
     let mut new_index = vec![usize::MAX; nodes.len()];
@@ -568,6 +575,7 @@ pub fn mesh_flesh(
         cell_digit: cell_bone.iter().map(|&b| region_of(b)).collect(),
         skin_quads,
         skin_cells,
+        skin_outer,
         spacing: h,
     })
 }

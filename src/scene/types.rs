@@ -190,6 +190,9 @@ pub struct SolverSettings {
     /// Deepest penetration contact detection looks for, m.
     #[serde(default)]
     pub contact_search: Option<f64>,
+    /// Which side is checked node against facet: `"skin_nodes"`, `"object_nodes"`, `"both"`.
+    #[serde(default)]
+    pub contact_pairs: Option<crate::contact::PairSides>,
     /// Default Coulomb friction coefficient of every contact (default 0).
     #[serde(default)]
     pub friction: Option<f64>,

@@ -75,7 +75,9 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
             .flesh
             .skin_quads
             .iter()
-            .map(|q| q.map(|n| n + body.nodes.start))
+            .zip(&hand.flesh.skin_outer)
+            .filter(|(_, &outer)| outer)
+            .map(|(q, _)| q.map(|n| n + body.nodes.start))
             .collect();
         surfaces.push(ContactSurface::from_quads(h.body, &quads, &x));
     }
@@ -121,11 +123,13 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
                 slaves: object_nodes,
                 surface: i,
                 primary: true,
+                slave_surface: Some(s),
             });
             pairs.push(SurfacePair {
                 slaves: skin_near,
                 surface: s,
                 primary: false,
+                slave_surface: Some(i),
             });
         }
     }
@@ -257,6 +261,21 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
     }
     .map_err(|e| contact_error(model, e))?;
+    if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
+        for c in &result.contacts {
+            let p = x[c.node];
+            if let Master::Facet { nodes, .. } = c.master {
+                let q = (x[nodes[0]] + x[nodes[1]] + x[nodes[2]]) / 3.0;
+                eprintln!("  facet centre [{:.4} {:.4} {:.4}]", q.x, q.y, q.z);
+            }
+            eprintln!(
+                "contact node {} body {} at [{:.4} {:.4} {:.4}] n [{:.2} {:.2} {:.2}] f {:.3e} gap {:.2e} {:?}",
+                c.node,
+                model.body_of_node(c.node),
+                p.x, p.y, p.z, c.normal.x, c.normal.y, c.normal.z, c.force, c.gap, c.master
+            );
+        }
+    }
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
     too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
 
@@ -395,8 +414,9 @@ fn too_deep(
                     })
                     .map(|q| q.distance)
                     .fold(f64::INFINITY, f64::min);
-                // Every node within the search depth was kept out to the tolerance.
-                if depth <= 2.0 * model.contact.tolerance + 1e-6 {
+                // Nodes within the search depth are the contact's (or, when only the object's
+                // nodes are checked, the discretisation's); deeper ones were never found.
+                if depth <= 0.5 * model.contact.search_depth {
                     continue;
                 }
                 let hand_body = model.body_of_node(n);

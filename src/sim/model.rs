@@ -766,6 +766,7 @@ fn contact_settings(s: &SolverSettings, largest: f64) -> Result<ContactSettings,
         tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
         max_iterations: s.contact_max_iterations.unwrap_or(50),
         method: s.contact.unwrap_or_default(),
+        pairs: s.contact_pairs.unwrap_or_default(),
         ..ContactSettings::default()
     };
     if !(out.tolerance.is_finite() && out.tolerance >= 0.0) {
