@@ -181,6 +181,9 @@ fn run() -> Result<()> {
             let written = write_solved(&solved, &out)
                 .with_context(|| format!("writing {}", out.display()))?;
             print_summary(&solved);
+            for w in &solved.report.warnings {
+                eprintln!("warning: {w}");
+            }
             for path in written {
                 println!("wrote {}", path.display());
             }

@@ -54,6 +54,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
     let report = Report {
         scene: file.to_string(),
         model: model_summary(&model),
+        warnings: model.warnings.clone(),
         frames: frames
             .iter()
             .zip(&times)

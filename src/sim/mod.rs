@@ -2,11 +2,13 @@
 //! that produce the state: the static solve of a frame, and the incremental flexion of a hand.
 
 mod flexion;
+mod linear_tier;
 mod model;
 mod motion;
 mod select;
 mod statics;
 mod tactile;
+mod tier;
 
 pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
@@ -16,3 +18,4 @@ pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, Pro
 pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
 pub use tactile::contact_pressure;
+pub use tier::STEP_WARNING_DEG;
