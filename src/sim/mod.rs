@@ -9,6 +9,7 @@ mod select;
 mod statics;
 mod tactile;
 mod tier;
+mod validity;
 
 pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
@@ -19,3 +20,4 @@ pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
 pub use tactile::contact_pressure;
 pub use tier::STEP_WARNING_DEG;
+pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};
