@@ -211,7 +211,7 @@ fn run() -> Result<()> {
                 whole_limit,
             } => {
                 println!(
-                    "hand benchmark: index PIP 0° → 90° in 10° increments (linear tier: keyframes 30°, 60°, 90°); {} threads",
+                    "hand benchmark: index PIP 0° → 90° in 10° increments (linear tier: keyframes every 15°); {} threads",
                     rayon::current_num_threads()
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));

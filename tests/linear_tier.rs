@@ -241,3 +241,57 @@ fn a_linear_tier_scene_solves_through_its_keyframes() {
     let h = &solved.report.frames[2].hands["hand"];
     assert!(h.volume_change > 0.01, "swells: {}", h.volume_change);
 }
+
+#[test]
+fn the_viewer_keeps_the_linear_factor_between_changes() {
+    use prehensile::app::jobs::{Failure, Job, Solution, Target};
+    use prehensile::app::physics::Physics;
+    use prehensile::app::worker::{Cancel, Solve};
+    use prehensile::scene::{TierName, DEFAULT_SCENE};
+    use std::sync::atomic::AtomicU64;
+    use std::sync::Arc;
+    let mut scene = Scene::parse(DEFAULT_SCENE, "default").unwrap();
+    scene.solver.tier = Some(TierName::Linear);
+    scene.solver.flexion = None;
+    let scene = Arc::new(scene);
+    let hands = prehensile::app::pose::hands_of(&scene);
+    let pip = hands[0]
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "index.pip")
+        .unwrap();
+    let mut physics = Physics::new();
+    let mut factorizations = Vec::new();
+    for (version, angle) in [(1u64, 20.0), (2, 40.0)] {
+        let mut target = hands[0].skeleton.rest_angles();
+        target[pip] = angle;
+        let job = Job {
+            version,
+            scene: scene.clone(),
+            scene_revision: 1,
+            visual: prehensile::visual::VisualOptions::default(),
+            target: Target::Pose {
+                pose: vec![(hands[0].body, target)],
+                start: None,
+            },
+        };
+        let mut out: Vec<Result<Solution, Failure>> = Vec::new();
+        let cancel = Cancel::new(Arc::new(AtomicU64::new(version)), version);
+        physics.run(&job, &cancel, &mut |r| out.push(r));
+        let [Ok(solution)] = out.as_slice() else {
+            panic!(
+                "one frame: {:?}",
+                out.iter().map(|r| r.is_ok()).collect::<Vec<_>>()
+            )
+        };
+        let stats = &solution.frame.hands[0].stats;
+        println!(
+            "PIP {angle}°: {:.1} ms, {} factorizations",
+            stats.total_ms, stats.factorizations
+        );
+        factorizations.push(stats.factorizations);
+    }
+    // The first change factors K, the second only substitutes.
+    assert_eq!(factorizations, [1, 0]);
+}

@@ -1,12 +1,29 @@
-//! The linear tier's row of `prehensile bench hand`: the index PIP through keyframes at 30° and
-//! 60° (then 90°) with the linear tier (rest geometry, one factorization, one solve per
-//! keyframe) against the corotated increments: time per keyframe and the distance between them.
+//! The linear tier's row of `prehensile bench hand`: the index PIP through keyframes every 15°
+//! up to 90° with the linear tier (rest geometry, one factorization, one solve per keyframe)
+//! and with the corotated increments: time per keyframe, the distance between the two, and how
+//! far the linear tier gets before a crease cell turns inside out.
 
 use super::{distances, FLESH};
 use crate::fem::solve::FillOrdering;
 use crate::hand::{HandModel, Pose};
 use crate::sim::{Flexion, FlexionScheme, FlexionSettings, HandState, KeyframeStats};
 use std::fmt::Write;
+
+/// Keyframe angles of the index PIP, degrees.
+const ANGLES: [f64; 6] = [15.0, 30.0, 45.0, 60.0, 75.0, 90.0];
+
+/// The two tiers compared at one angle.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// PIP angle, degrees.
+    pub angle: f64,
+    /// Flesh nodes: largest distance between the two, m.
+    pub node_gap: f64,
+    /// Display skin: (max, RMS) distance, m.
+    pub skin_gap: (f64, f64),
+    /// Relative flesh volume change: linear, corotational.
+    pub volume_change: [f64; 2],
+}
 
 /// The linear tier against the corotated increments at one resolution.
 #[derive(Clone, Debug)]
@@ -15,26 +32,23 @@ pub struct LinearRow {
     pub resolution: f64,
     /// Free dofs of the linear tier's factor (the whole FEM flesh).
     pub free_dofs: usize,
-    /// First keyframe (PIP 30°): assembly, ordering, factorization, solve, ms.
+    /// First keyframe: assembly, ordering, factorization, solve, ms.
     pub first_ms: f64,
-    /// Second keyframe (PIP 60°): substitutions with the kept factor, ms.
+    /// Mean of the later keyframes (substitutions with the kept factor), ms.
     pub keyframe_ms: f64,
-    /// The corotated increments' mean keyframe (30° in three increments), ms.
+    /// The corotated increments' mean keyframe (15°, two increments), ms.
     pub corotational_ms: f64,
-    /// At PIP 60°, flesh nodes: largest distance to the corotated result, m.
-    pub node_gap: f64,
-    /// At PIP 60°, display skin: (max, RMS) distance to the corotated result, m.
-    pub skin_gap: (f64, f64),
-    /// Relative flesh volume change at PIP 60°: linear, corotational.
-    pub volume_change: [f64; 2],
-    /// What the linear tier does at PIP 90° (`"solved"`, or the error).
-    pub at_90: String,
+    /// At 30° and at the largest angle the linear tier reaches.
+    pub at: Vec<Comparison>,
+    /// Why the linear tier stopped before 90° (None when it reached it).
+    pub stopped: Option<String>,
 }
 
+/// Steps through [`ANGLES`] until an error: the states and stats reached, and the error.
 fn keyframes(
     hand: &HandModel,
     scheme: FlexionScheme,
-) -> (Flexion<'_>, HandState, Vec<KeyframeStats>) {
+) -> (Vec<(HandState, KeyframeStats)>, Option<String>) {
     let mut stepper = Flexion::new(
         hand,
         "hand",
@@ -46,48 +60,54 @@ fn keyframes(
         FillOrdering::NestedDissection,
     );
     let mut state = HandState::rest(hand);
-    let stats = [30.0, 60.0]
-        .iter()
-        .map(|&a| {
-            let target = pip(hand, &state, a);
-            stepper.move_to(&mut state, &target).expect("flexion")
-        })
-        .collect();
-    (stepper, state, stats)
-}
-
-fn pip(hand: &HandModel, state: &HandState, angle: f64) -> Vec<f64> {
-    let pose: Pose = [("index.pip".to_string(), angle)].into_iter().collect();
-    hand.skeleton
-        .apply_pose(&state.angles, &pose)
-        .expect("pose")
+    let mut out = Vec::new();
+    for a in ANGLES {
+        let pose: Pose = [("index.pip".to_string(), a)].into_iter().collect();
+        let target = hand
+            .skeleton
+            .apply_pose(&state.angles, &pose)
+            .expect("pose");
+        match stepper.move_to(&mut state, &target) {
+            Ok(stats) => out.push((state.clone(), stats)),
+            Err(e) => return (out, Some(e.to_string())),
+        }
+    }
+    (out, None)
 }
 
 /// Measures the linear tier on `hand` (built at `resolution`).
 pub fn linear_row(hand: &HandModel, resolution: f64) -> LinearRow {
-    let (mut stepper, linear, ls) = keyframes(hand, FlexionScheme::Linear);
-    let (_, corot, cs) = keyframes(hand, FlexionScheme::Corotational);
+    let (linear, stopped) = keyframes(hand, FlexionScheme::Linear);
+    let (corot, _) = keyframes(hand, FlexionScheme::Corotational);
     let v0 = HandState::rest(hand).flesh_volume(hand);
     let skin = |s: &HandState| hand.skin.positions(&s.positions);
-    let mut state = linear.clone();
-    let target = pip(hand, &state, 90.0);
-    let at_90 = match stepper.move_to(&mut state, &target) {
-        Ok(_) => "solved".to_string(),
-        Err(e) => e.to_string(),
+    let compare = |k: usize| {
+        let (l, c) = (&linear[k].0, &corot[k].0);
+        Comparison {
+            angle: ANGLES[k],
+            node_gap: distances(&l.positions, &c.positions).0,
+            skin_gap: distances(&skin(l), &skin(c)),
+            volume_change: [
+                l.flesh_volume(hand) / v0 - 1.0,
+                c.flesh_volume(hand) / v0 - 1.0,
+            ],
+        }
     };
+    let mut at: Vec<Comparison> = [1, linear.len().saturating_sub(1)]
+        .into_iter()
+        .filter(|&k| k < linear.len())
+        .map(compare)
+        .collect();
+    at.dedup_by(|a, b| a.angle == b.angle);
+    let later = &linear[1.min(linear.len())..];
     LinearRow {
         resolution,
-        free_dofs: ls[0].free_dofs,
-        first_ms: ls[0].total_ms,
-        keyframe_ms: ls[1].total_ms,
-        corotational_ms: cs.iter().map(|s| s.total_ms).sum::<f64>() / cs.len() as f64,
-        node_gap: distances(&linear.positions, &corot.positions).0,
-        skin_gap: distances(&skin(&linear), &skin(&corot)),
-        volume_change: [
-            linear.flesh_volume(hand) / v0 - 1.0,
-            corot.flesh_volume(hand) / v0 - 1.0,
-        ],
-        at_90,
+        free_dofs: linear.first().map_or(0, |l| l.1.free_dofs),
+        first_ms: linear.first().map_or(0.0, |l| l.1.total_ms),
+        keyframe_ms: later.iter().map(|l| l.1.total_ms).sum::<f64>() / later.len().max(1) as f64,
+        corotational_ms: corot.iter().map(|c| c.1.total_ms).sum::<f64>() / corot.len() as f64,
+        at,
+        stopped,
     }
 }
 
@@ -95,33 +115,37 @@ pub fn linear_row(hand: &HandModel, resolution: f64) -> LinearRow {
 pub fn linear_table(rows: &[LinearRow]) -> String {
     let mut s = String::from(
         "\n| resolution | linear: free dofs | linear: first keyframe ms (factorization) | linear: \
-         ms / keyframe | corotational: ms / 30° keyframe | PIP 60°: node gap mm | skin gap max \
-         / RMS mm | volume change linear / corotational | PIP 90° (linear) |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         ms / keyframe | corotational: ms / 15° keyframe | PIP | node gap mm | skin gap max / \
+         RMS mm | volume change linear / corotational | linear tier reaches |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
-        let at_90 = if r.at_90 == "solved" {
-            "solved".to_string()
-        } else if r.at_90.contains("inside out") {
-            "a crease cell turns inside out".to_string()
-        } else {
-            r.at_90.clone()
+        let reach = match &r.stopped {
+            None => "90°".to_string(),
+            Some(_) => format!(
+                "{}° (then a crease cell turns inside out)",
+                r.at.last().map_or(0.0, |c| c.angle)
+            ),
         };
-        let _ = writeln!(
-            s,
-            "| {} | {} | {:.0} | {:.1} | {:.1} | {:.2} | {:.2} / {:.3} | {:+.3} % / {:+.3} % | {} |",
-            r.resolution,
-            r.free_dofs,
-            r.first_ms,
-            r.keyframe_ms,
-            r.corotational_ms,
-            r.node_gap * 1e3,
-            r.skin_gap.0 * 1e3,
-            r.skin_gap.1 * 1e3,
-            r.volume_change[0] * 100.0,
-            r.volume_change[1] * 100.0,
-            at_90
-        );
+        for c in &r.at {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.0} | {:.1} | {:.1} | {}° | {:.2} | {:.2} / {:.3} | {:+.3} % / \
+                 {:+.3} % | {} |",
+                r.resolution,
+                r.free_dofs,
+                r.first_ms,
+                r.keyframe_ms,
+                r.corotational_ms,
+                c.angle,
+                c.node_gap * 1e3,
+                c.skin_gap.0 * 1e3,
+                c.skin_gap.1 * 1e3,
+                c.volume_change[0] * 100.0,
+                c.volume_change[1] * 100.0,
+                reach
+            );
+        }
     }
     s
 }

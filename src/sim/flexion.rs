@@ -201,6 +201,7 @@ pub struct Flexion<'a> {
     materials: Vec<Material>,
     settings: FlexionSettings,
     solver: PartitionedSolver,
+    ordering: FillOrdering,
     cancel: Option<CancelCheck>,
     /// The linear tier's factored rest stiffness, built by its first keyframe.
     linear: Option<LinearTier>,
@@ -221,6 +222,7 @@ impl<'a> Flexion<'a> {
             materials,
             settings,
             solver: PartitionedSolver::new(ordering),
+            ordering,
             cancel: None,
             linear: None,
         }
@@ -232,6 +234,20 @@ impl<'a> Flexion<'a> {
     pub fn with_cancel(mut self, cancel: CancelCheck) -> Self {
         self.cancel = Some(cancel);
         self
+    }
+
+    /// Reuses the linear tier's factored stiffness of an earlier stepper (see
+    /// [`Flexion::take_linear_factor`]); it must come from a stepper of the same hand, flesh
+    /// materials and settings.
+    pub fn with_linear_factor(mut self, factor: Option<LinearTier>) -> Self {
+        self.linear = factor;
+        self
+    }
+
+    /// Hands over the linear tier's factored stiffness, if a linear keyframe built it, so that
+    /// a later stepper skips the factorization.
+    pub fn take_linear_factor(&mut self) -> Option<LinearTier> {
+        self.linear.take()
     }
 
     fn cell_method(&self, c: usize) -> FleshMethod {
@@ -250,10 +266,15 @@ impl<'a> Flexion<'a> {
             }
             let tier = match self.linear.take() {
                 Some(tier) => tier,
-                None => LinearTier::new(self.hand, &self.body, &self.materials, &self.settings)?,
+                None => LinearTier::new(
+                    self.hand,
+                    &self.body,
+                    &self.materials,
+                    &self.settings,
+                    self.ordering,
+                )?,
             };
-            let tier = self.linear.insert(tier);
-            return tier.move_to(self.hand, &mut self.solver, state, target);
+            return self.linear.insert(tier).move_to(self.hand, state, target);
         }
         let t_all = Instant::now();
         let hand = self.hand;

@@ -24,14 +24,16 @@ use super::flexion::{
 use super::statics::SimError;
 use crate::fem::assembly::{assemble, Stiffness};
 use crate::fem::hex8::relative_min_jacobian;
-use crate::fem::solve::{PartitionedSolver, SolveError};
+use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::Material;
 use crate::hand::{Blend, HandModel};
 use nalgebra::{Point3, Vector3};
 use std::time::Instant;
 
-/// The factored rest stiffness of a hand's FEM flesh.
-pub(super) struct LinearTier {
+/// The factored rest stiffness of a hand's FEM flesh: built by a stepper's first linear
+/// keyframe, reusable by later steppers of the same hand, materials and settings
+/// ([`super::Flexion::take_linear_factor`], [`super::Flexion::with_linear_factor`]).
+pub struct LinearTier {
     body: String,
     blend: Blend,
     /// The FEM cells (every cell whose method is FEM) on the rest geometry; `None` when the
@@ -39,6 +41,8 @@ pub(super) struct LinearTier {
     sub: Option<SubProblem>,
     /// K of `sub` on the rest geometry.
     k: Option<Stiffness>,
+    /// Holds the factor of `k`'s K11 once `factored`.
+    solver: PartitionedSolver,
     /// Whether the solver holds the factor of `k`'s K11.
     factored: bool,
     /// Free nodes outside the FEM cells: they follow skinning from rest.
@@ -54,6 +58,7 @@ impl LinearTier {
         body: &str,
         materials: &[Material],
         settings: &FlexionSettings,
+        ordering: FillOrdering,
     ) -> Result<LinearTier, SimError> {
         let flesh = &hand.flesh;
         let method = |c: usize| settings.methods[flesh.cell_digit[c].map_or(0, |d| d + 1)];
@@ -87,6 +92,7 @@ impl LinearTier {
             blend: settings.blend,
             sub,
             k,
+            solver: PartitionedSolver::new(ordering),
             factored: false,
             skinned,
             assembly_ms: t.elapsed().as_secs_f64() * 1e3,
@@ -94,11 +100,10 @@ impl LinearTier {
     }
 
     /// Moves `state` to the joint angles `target` (degrees) in one linear solve from rest;
-    /// `hand` is the one the tier was built for, `solver` keeps the factor between keyframes.
+    /// `hand` is the one the tier was built for.
     pub(super) fn move_to(
         &mut self,
         hand: &HandModel,
-        solver: &mut PartitionedSolver,
         state: &mut HandState,
         target: &[f64],
     ) -> Result<KeyframeStats, SimError> {
@@ -158,7 +163,8 @@ impl LinearTier {
             };
             let ku = if !self.factored {
                 // First keyframe: factor K11 (kept by the solver) and solve.
-                let solution = solver
+                let solution = self
+                    .solver
                     .solve(k, &sub.partition, &u, &vec![0.0; dofs], &sub.mesh.nodes)
                     .map_err(solve_error)?;
                 let s = &solution.stats;
@@ -177,7 +183,7 @@ impl LinearTier {
                 let ku = k.mul(&u);
                 let rhs: Vec<f64> = sub.partition.free.iter().map(|&d| -ku[d]).collect();
                 let mut x = rhs.clone();
-                solver.solve_factored(&mut x, 1).map_err(solve_error)?;
+                self.solver.solve_factored(&mut x, 1).map_err(solve_error)?;
                 for (e, &d) in sub.partition.free.iter().enumerate() {
                     u[d] = x[e];
                 }
