@@ -1,7 +1,10 @@
 //! `prehensile bench hand`: the index finger flexed 0° → 90° at the PIP joint in 10° increments,
 //! at several mesh resolutions — milliseconds per increment and per keyframe for the local and
 //! whole-hand FEM regions, the skinning fast path for the same pose, and how far skinning is from
-//! the FEM result.
+//! the FEM result; and the linear tier against the corotated increments (`linear`).
+
+mod linear;
+pub use linear::{linear_row, linear_table, LinearRow};
 
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
@@ -38,10 +41,12 @@ pub struct HandRow {
     pub linear_distance: (f64, f64),
     /// Relative flesh volume change: FEM (local), dual quaternion, linear blend.
     pub volume_change: [f64; 3],
+    /// The linear tier against the corotated increments.
+    pub linear: LinearRow,
 }
 
 /// Flesh of the benchmark.
-const FLESH: Material = Material {
+pub(crate) const FLESH: Material = Material {
     young: 5.0e4,
     poisson: 0.45,
     density: 1050.0,
@@ -65,7 +70,7 @@ fn run(hand: &HandModel, settings: FlexionSettings) -> (HandState, KeyframeStats
     (state, stats)
 }
 
-fn distances(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> (f64, f64) {
+pub(crate) fn distances(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> (f64, f64) {
     let d: Vec<f64> = a.iter().zip(b).map(|(p, q)| (p - q).norm()).collect();
     let max = d.iter().copied().fold(0.0, f64::max);
     let rms = (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt();
@@ -118,6 +123,7 @@ pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
                 dq.flesh_volume(&hand) / v0 - 1.0,
                 lb.flesh_volume(&hand) / v0 - 1.0,
             ],
+            linear: linear_row(&hand, resolution),
         });
     }
     rows
@@ -175,5 +181,7 @@ pub fn hand_tables(rows: &[HandRow]) -> String {
             r.local.total_ms / r.skinning_ms.max(1e-9)
         );
     }
+    let linear: Vec<LinearRow> = rows.iter().map(|r| r.linear.clone()).collect();
+    s.push_str(&linear_table(&linear));
     s
 }

@@ -181,6 +181,9 @@ fn run() -> Result<()> {
             let written = write_solved(&solved, &out)
                 .with_context(|| format!("writing {}", out.display()))?;
             print_summary(&solved);
+            for w in &solved.report.warnings {
+                eprintln!("warning: {w}");
+            }
             for path in written {
                 println!("wrote {}", path.display());
             }
@@ -208,7 +211,7 @@ fn run() -> Result<()> {
                 whole_limit,
             } => {
                 println!(
-                    "hand benchmark: index PIP 0° → 90° in 10° increments; {} threads",
+                    "hand benchmark: index PIP 0° → 90° in 10° increments (linear tier: keyframes every 15°); {} threads",
                     rayon::current_num_threads()
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));

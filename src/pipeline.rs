@@ -5,7 +5,7 @@ use crate::export::output::OutputSet;
 use crate::export::report::{frame_report, model_summary, Report};
 use crate::export::vtu::{collection_pvd, frame_vtu};
 use crate::scene::{Scene, SceneError};
-use crate::sim::{solve_frames, Frame, Model, SimError};
+use crate::sim::{small_strain_warnings, solve_frames, Frame, Model, SimError};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -54,6 +54,12 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
     let report = Report {
         scene: file.to_string(),
         model: model_summary(&model),
+        warnings: model
+            .warnings
+            .iter()
+            .cloned()
+            .chain(small_strain_warnings(&model, &frames))
+            .collect(),
         frames: frames
             .iter()
             .zip(&times)

@@ -8,8 +8,7 @@ use super::worker::{Cancel, Solve};
 use crate::fem::solve::PartitionedSolver;
 use crate::sim::{
     frame_with_hands, hand_frame, solve_static, still_frame, Flexion, Frame, HandState,
-    KeyframeStats,
-    Model, SimError,
+    KeyframeStats, LinearTier, Model, SimError,
 };
 use crate::visual::draw_list;
 use std::sync::Arc;
@@ -17,6 +16,10 @@ use std::time::Instant;
 
 /// Hand states by hand body index.
 type States = Vec<(usize, HandState)>;
+
+/// The linear tier's factored stiffness by hand body index, kept for the model's life so that
+/// a change costs one solve, not a factorization.
+type LinearFactors = Vec<(usize, LinearTier)>;
 
 /// The model and states kept between jobs.
 #[derive(Default)]
@@ -29,6 +32,8 @@ pub struct Physics {
     last_good: States,
     /// Set while a job changes `states`; still set at the next job means the last one panicked.
     dirty: bool,
+    /// The linear tier's factors of the current model.
+    linear: LinearFactors,
 }
 
 fn error(e: impl std::fmt::Display) -> Failure {
@@ -82,6 +87,7 @@ impl Physics {
             };
             self.states = rest_states(&model);
             self.last_good = self.states.clone();
+            self.linear.clear();
             self.still = Some(still);
             self.model = Some(Arc::new(model));
             self.revision = Some(job.scene_revision);
@@ -96,6 +102,7 @@ impl Physics {
         states: &mut States,
         pose: &Pose,
         cancel: &Cancel,
+        linear: &mut LinearFactors,
     ) -> Result<Frame, SimError> {
         let mut hands = Vec::new();
         for (b, state) in states.iter_mut() {
@@ -111,8 +118,18 @@ impl Physics {
                         model.flexion.clone(),
                         model.ordering,
                     )
-                    .with_cancel(Arc::new(move || c.is_stale()));
-                    stepper.move_to(state, target)?
+                    .with_cancel(Arc::new(move || c.is_stale()))
+                    .with_linear_factor(
+                        linear
+                            .iter()
+                            .position(|(lb, _)| lb == b)
+                            .map(|i| linear.swap_remove(i).1),
+                    );
+                    let result = stepper.move_to(state, target);
+                    if let Some(factor) = stepper.take_linear_factor() {
+                        linear.push((*b, factor));
+                    }
+                    result?
                 }
                 None => KeyframeStats::default(),
             };
@@ -156,7 +173,14 @@ impl Physics {
         }
         let still = self.still.as_ref().expect("built with the model");
         self.dirty = true;
-        let result = Self::move_hands(&model, still, &mut self.states, pose, cancel);
+        let result = Self::move_hands(
+            &model,
+            still,
+            &mut self.states,
+            pose,
+            cancel,
+            &mut self.linear,
+        );
         self.dirty = false;
         match result {
             Ok(frame) => {
@@ -194,7 +218,14 @@ impl Physics {
                 return Err(Failure::Cancelled);
             }
             let started = Instant::now();
-            let frame = match Self::move_hands(&model, still, &mut states, pose, cancel) {
+            let frame = match Self::move_hands(
+                &model,
+                still,
+                &mut states,
+                pose,
+                cancel,
+                &mut self.linear,
+            ) {
                 Ok(f) => f,
                 Err(SimError::Cancelled) => return Err(Failure::Cancelled),
                 Err(e) => return Err(error(e)),

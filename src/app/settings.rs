@@ -1,7 +1,7 @@
 //! The Solver and Display panels' models: the solver tier and its settings (written into the
 //! scene's `[solver]` table and hand bodies), and how frames are drawn.
 
-use crate::scene::{Scene, Shape};
+use crate::scene::{Scene, Shape, TierName};
 use crate::sim::{FleshMethod, FlexionScheme};
 use crate::visual::{Overlay, VisualOptions};
 
@@ -10,6 +10,8 @@ use crate::visual::{Overlay, VisualOptions};
 pub enum Tier {
     /// Geometric skinning only (the fast path, no mechanics).
     Skinning,
+    /// Linear elasticity on the rest geometry: one factorization, one solve per pose.
+    Linear,
     /// The paper's linear increments on the updated geometry.
     UpdatedLagrangian,
     /// Corotated linear increments (the default).
@@ -18,14 +20,30 @@ pub enum Tier {
 
 impl Tier {
     /// Every tier, fastest first.
-    pub const ALL: [Tier; 3] = [Tier::Skinning, Tier::UpdatedLagrangian, Tier::Corotational];
+    pub const ALL: [Tier; 4] = [
+        Tier::Skinning,
+        Tier::Linear,
+        Tier::UpdatedLagrangian,
+        Tier::Corotational,
+    ];
 
     /// The label shown in the Solver panel.
     pub fn label(self) -> &'static str {
         match self {
             Tier::Skinning => "skinning",
+            Tier::Linear => "linear (rest geometry, factored once)",
             Tier::UpdatedLagrangian => "incremental (updated Lagrangian)",
             Tier::Corotational => "corotational",
+        }
+    }
+
+    /// The scene's `[solver] tier` value.
+    pub fn scene_name(self) -> TierName {
+        match self {
+            Tier::Skinning => TierName::Skinning,
+            Tier::Linear => TierName::Linear,
+            Tier::UpdatedLagrangian => TierName::Incremental,
+            Tier::Corotational => TierName::Corotational,
         }
     }
 }
@@ -47,9 +65,13 @@ impl SolverParams {
     /// The settings of `scene`.
     pub fn from_scene(scene: &Scene) -> Self {
         let s = &scene.solver;
-        let tier = match (s.flesh, s.flexion) {
-            (Some(FleshMethod::Skinning), _) => Tier::Skinning,
-            (_, Some(FlexionScheme::UpdatedLagrangian)) => Tier::UpdatedLagrangian,
+        let tier = match (s.tier, s.flesh, s.flexion) {
+            (Some(TierName::Skinning), _, _) | (None, Some(FleshMethod::Skinning), _) => {
+                Tier::Skinning
+            }
+            (Some(TierName::Linear), _, _) | (None, _, Some(FlexionScheme::Linear)) => Tier::Linear,
+            (Some(TierName::Incremental), _, _)
+            | (None, _, Some(FlexionScheme::UpdatedLagrangian)) => Tier::UpdatedLagrangian,
             _ => Tier::Corotational,
         };
         let resolution = scene
@@ -72,14 +94,16 @@ impl SolverParams {
     pub fn apply(&self, scene: &mut Scene) {
         let s = &mut scene.solver;
         s.max_step_deg = Some(self.max_step_deg);
+        // `tier` is written with `flesh` and `flexion` agreeing with it.
+        s.tier = Some(self.tier.scene_name());
         match self.tier {
             Tier::Skinning => s.flesh = Some(FleshMethod::Skinning),
-            Tier::UpdatedLagrangian | Tier::Corotational => {
+            Tier::Linear | Tier::UpdatedLagrangian | Tier::Corotational => {
                 s.flesh = Some(FleshMethod::Fem);
-                s.flexion = Some(if self.tier == Tier::Corotational {
-                    FlexionScheme::Corotational
-                } else {
-                    FlexionScheme::UpdatedLagrangian
+                s.flexion = Some(match self.tier {
+                    Tier::Linear => FlexionScheme::Linear,
+                    Tier::UpdatedLagrangian => FlexionScheme::UpdatedLagrangian,
+                    _ => FlexionScheme::Corotational,
                 });
             }
         }

@@ -15,6 +15,8 @@ pub struct Report {
     pub scene: String,
     /// Sizes of the model.
     pub model: ModelSummary,
+    /// Warnings about the settings (e.g. flexion increments above 10°); empty when none.
+    pub warnings: Vec<String>,
     /// One entry per solved frame.
     pub frames: Vec<FrameReport>,
 }

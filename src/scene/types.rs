@@ -199,6 +199,26 @@ pub struct SolverSettings {
     /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
     #[serde(default)]
     pub flexion: Option<FlexionScheme>,
+    /// Speed against accuracy for the hands, in one key: `"skinning"`, `"linear"`,
+    /// `"incremental"`, `"corotational"` or `"nonlinear"` (sets `flesh` and `flexion`).
+    #[serde(default)]
+    pub tier: Option<TierName>,
+}
+
+/// `[solver] tier`: how the hands' flesh is solved, fastest first.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum TierName {
+    /// Geometric skinning, no mechanics (`flesh = "skinning"`).
+    Skinning,
+    /// Linear elasticity on the rest geometry, factored once (`flexion = "linear"`).
+    Linear,
+    /// The paper's updated-Lagrangian increments (`flexion = "updated_lagrangian"`).
+    Incremental,
+    /// Corotated increments (`flexion = "corotational"`, the default).
+    Corotational,
+    /// Large-strain hyperelasticity (not yet available for the hand).
+    Nonlinear,
 }
 
 /// Name of a flexion region.

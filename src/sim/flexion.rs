@@ -12,6 +12,7 @@
 //! (exactly rigid away from joints, where the FEM solution is rigid too); digits set to skinning
 //! follow their bones geometrically (the fast path).
 
+use super::linear_tier::LinearTier;
 use super::statics::SimError;
 use crate::fem::assembly::{assemble, assemble_warped, StiffnessPattern};
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
@@ -47,6 +48,11 @@ pub enum FlexionScheme {
     /// K̃·y = Σ R K_e x, so that flesh turning with a bone turns without strain.
     #[default]
     Corotational,
+    /// No increments: small-strain linear elasticity on the rest geometry, K factored once per
+    /// hand and each keyframe one solve with the bones' total displacement from rest prescribed
+    /// (`super::linear_tier`). Fast, but a finite rotation is strain to it: flesh that turns
+    /// with a bone swells.
+    Linear,
 }
 
 /// Which cells the FEM solves in an increment.
@@ -172,13 +178,17 @@ pub struct KeyframeStats {
 }
 
 /// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
-struct SubProblem {
-    nodes: Vec<usize>,
-    mesh: Mesh,
-    cells: Vec<usize>,
-    pattern: Arc<StiffnessPattern>,
-    partition: DofPartition,
-    materials: Vec<Material>,
+pub(super) struct SubProblem {
+    /// Hand node of each local node.
+    pub(super) nodes: Vec<usize>,
+    /// The active cells on local nodes, at rest.
+    pub(super) mesh: Mesh,
+    /// Hand cell of each local cell.
+    pub(super) cells: Vec<usize>,
+    pub(super) pattern: Arc<StiffnessPattern>,
+    /// Prescribed: bone nodes and nodes shared with cells outside the region.
+    pub(super) partition: DofPartition,
+    pub(super) materials: Vec<Material>,
 }
 
 /// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
@@ -191,7 +201,10 @@ pub struct Flexion<'a> {
     materials: Vec<Material>,
     settings: FlexionSettings,
     solver: PartitionedSolver,
+    ordering: FillOrdering,
     cancel: Option<CancelCheck>,
+    /// The linear tier's factored rest stiffness, built by its first keyframe.
+    linear: Option<LinearTier>,
 }
 
 impl<'a> Flexion<'a> {
@@ -209,7 +222,9 @@ impl<'a> Flexion<'a> {
             materials,
             settings,
             solver: PartitionedSolver::new(ordering),
+            ordering,
             cancel: None,
+            linear: None,
         }
     }
 
@@ -219,6 +234,20 @@ impl<'a> Flexion<'a> {
     pub fn with_cancel(mut self, cancel: CancelCheck) -> Self {
         self.cancel = Some(cancel);
         self
+    }
+
+    /// Reuses the linear tier's factored stiffness of an earlier stepper (see
+    /// [`Flexion::take_linear_factor`]); it must come from a stepper of the same hand, flesh
+    /// materials and settings.
+    pub fn with_linear_factor(mut self, factor: Option<LinearTier>) -> Self {
+        self.linear = factor;
+        self
+    }
+
+    /// Hands over the linear tier's factored stiffness, if a linear keyframe built it, so that
+    /// a later stepper skips the factorization.
+    pub fn take_linear_factor(&mut self) -> Option<LinearTier> {
+        self.linear.take()
     }
 
     fn cell_method(&self, c: usize) -> FleshMethod {
@@ -231,6 +260,22 @@ impl<'a> Flexion<'a> {
         state: &mut HandState,
         target: &[f64],
     ) -> Result<KeyframeStats, SimError> {
+        if self.settings.scheme == FlexionScheme::Linear {
+            if self.cancel.as_ref().is_some_and(|c| c()) {
+                return Err(SimError::Cancelled);
+            }
+            let tier = match self.linear.take() {
+                Some(tier) => tier,
+                None => LinearTier::new(
+                    self.hand,
+                    &self.body,
+                    &self.materials,
+                    &self.settings,
+                    self.ordering,
+                )?,
+            };
+            return self.linear.insert(tier).move_to(self.hand, state, target);
+        }
         let t_all = Instant::now();
         let hand = self.hand;
         let skeleton = &hand.skeleton;
@@ -383,6 +428,7 @@ impl<'a> Flexion<'a> {
                 let rotations = match self.settings.scheme {
                     FlexionScheme::UpdatedLagrangian => None,
                     FlexionScheme::Corotational => Some(cell_rotations(hand, sub, &delta)),
+                    FlexionScheme::Linear => unreachable!("the linear tier returned above"),
                 };
                 match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
                     None => {}
@@ -433,58 +479,70 @@ impl<'a> Flexion<'a> {
     }
 
     fn sub_problem(&self, active: &[bool]) -> Option<SubProblem> {
-        let flesh = &self.hand.flesh;
-        let cells: Vec<usize> = (0..active.len()).filter(|&c| active[c]).collect();
-        if cells.is_empty() {
-            return None;
-        }
-        let mut local = vec![usize::MAX; flesh.mesh.nodes.len()];
-        let mut nodes = Vec::new();
-        let mut hexes = Vec::with_capacity(cells.len());
-        for &c in &cells {
-            hexes.push(flesh.mesh.cells[c].map(|n| {
-                if local[n] == usize::MAX {
-                    local[n] = nodes.len();
-                    nodes.push(n);
-                }
-                local[n]
-            }));
-        }
-        // Prescribed: bone nodes, and nodes shared with cells outside the region.
-        let mut boundary = vec![false; flesh.mesh.nodes.len()];
-        for (c, cell) in flesh.mesh.cells.iter().enumerate() {
-            if !active[c] {
-                for &n in cell {
-                    boundary[n] = true;
-                }
-            }
-        }
-        let mut mask = vec![false; nodes.len() * 3];
-        for (i, &n) in nodes.iter().enumerate() {
-            if flesh.node_bone[n].is_some() || boundary[n] {
-                mask[3 * i..3 * i + 3].fill(true);
-            }
-        }
-        let partition = DofPartition::new(mask);
-        if partition.free_count() == 0 {
-            return None;
-        }
-        let mesh = Mesh {
-            nodes: nodes.iter().map(|&n| flesh.mesh.nodes[n]).collect(),
-            cells: hexes,
-        };
-        let pattern = Arc::new(StiffnessPattern::new(&mesh));
-        let materials = cells.iter().map(|&c| self.materials[c]).collect();
-        Some(SubProblem {
-            nodes,
-            mesh,
-            cells,
-            pattern,
-            partition,
-            materials,
-        })
+        sub_problem(self.hand, &self.materials, active)
     }
+}
 
+/// The FEM sub-problem of the `active` cells of `hand`, on the rest geometry: bone nodes and
+/// nodes shared with inactive cells are prescribed. `None` when nothing is free.
+pub(super) fn sub_problem(
+    hand: &HandModel,
+    cell_materials: &[Material],
+    active: &[bool],
+) -> Option<SubProblem> {
+    let flesh = &hand.flesh;
+    let cells: Vec<usize> = (0..active.len()).filter(|&c| active[c]).collect();
+    if cells.is_empty() {
+        return None;
+    }
+    let mut local = vec![usize::MAX; flesh.mesh.nodes.len()];
+    let mut nodes = Vec::new();
+    let mut hexes = Vec::with_capacity(cells.len());
+    for &c in &cells {
+        hexes.push(flesh.mesh.cells[c].map(|n| {
+            if local[n] == usize::MAX {
+                local[n] = nodes.len();
+                nodes.push(n);
+            }
+            local[n]
+        }));
+    }
+    // Prescribed: bone nodes, and nodes shared with cells outside the region.
+    let mut boundary = vec![false; flesh.mesh.nodes.len()];
+    for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+        if !active[c] {
+            for &n in cell {
+                boundary[n] = true;
+            }
+        }
+    }
+    let mut mask = vec![false; nodes.len() * 3];
+    for (i, &n) in nodes.iter().enumerate() {
+        if flesh.node_bone[n].is_some() || boundary[n] {
+            mask[3 * i..3 * i + 3].fill(true);
+        }
+    }
+    let partition = DofPartition::new(mask);
+    if partition.free_count() == 0 {
+        return None;
+    }
+    let mesh = Mesh {
+        nodes: nodes.iter().map(|&n| flesh.mesh.nodes[n]).collect(),
+        cells: hexes,
+    };
+    let pattern = Arc::new(StiffnessPattern::new(&mesh));
+    let materials = cells.iter().map(|&c| cell_materials[c]).collect();
+    Some(SubProblem {
+        nodes,
+        mesh,
+        cells,
+        pattern,
+        partition,
+        materials,
+    })
+}
+
+impl Flexion<'_> {
     /// One increment on the FEM region: equations (7)–(8) on the current geometry.
     fn solve_increment(
         &mut self,

@@ -3,6 +3,7 @@
 
 mod flexion;
 mod grasp;
+mod linear_tier;
 mod model;
 mod motion;
 pub mod outcome;
@@ -10,13 +11,18 @@ mod select;
 mod stabilize;
 mod statics;
 mod tactile;
+mod tier;
+mod validity;
 
 pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
     KeyframeStats,
 };
+pub use linear_tier::LinearTier;
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
 pub use grasp::{frame_with_hands, solve_grasp};
 pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
 pub use tactile::contact_pressure;
+pub use tier::STEP_WARNING_DEG;
+pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

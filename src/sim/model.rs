@@ -149,6 +149,8 @@ pub struct Model {
     pub friction: (f64, Vec<(String, String, f64)>),
     /// A cell of every node.
     pub node_cell: Vec<usize>,
+    /// Warnings about the settings (the model is usable; `report.json` lists them).
+    pub warnings: Vec<String>,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -583,6 +585,8 @@ impl Model {
         }
         let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
         let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
+        let has_hand = bodies.iter().any(|b| b.hand.is_some());
+        let warnings = super::tier::flexion_warnings(&flexion, has_hand);
         for (i, c) in scene.camera.iter().enumerate() {
             let field = format!("camera \"{}\" (camera[{i}])", c.name);
             if scene.camera[..i].iter().any(|o| o.name == c.name) {
@@ -704,6 +708,7 @@ impl Model {
             contact_region,
             friction,
             node_cell,
+            warnings,
         })
     }
 
@@ -860,6 +865,7 @@ fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, Stri
     if let Some(m) = s.flesh {
         out.methods = [m; 6];
     }
+    super::tier::apply_tier(s, &mut out)?;
     const PARTS: [&str; 6] = ["palm", "thumb", "index", "middle", "ring", "little"];
     for (name, &m) in &s.flesh_digits {
         let Some(i) = PARTS.iter().position(|p| p == name) else {

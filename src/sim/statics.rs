@@ -42,6 +42,27 @@ pub enum SimError {
         /// Its angle at the failing increment, degrees.
         angle: f64,
     },
+    /// The linear tier's one solve from rest turns a flesh element inside out (no increment to
+    /// halve: the rotation is too large for small-strain elasticity on the rest geometry).
+    #[error(
+        "body \"{body}\": the linear tier (small strain on the rest geometry) turns flesh element \
+         {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) inside out as {joint} reaches \
+         {angle:.1}°: a rotation this large is outside linear elasticity; use tier \
+         \"corotational\" or \"incremental\"",
+        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2]
+    )]
+    LinearTierInverted {
+        /// The hand body.
+        body: String,
+        /// The element, numbered within the hand.
+        element: usize,
+        /// Its centre in the rest pose, mm.
+        rest_position_mm: [f64; 3],
+        /// The moved joint nearest to it.
+        joint: String,
+        /// That joint's angle, degrees.
+        angle: f64,
+    },
     /// Contact could not be resolved.
     #[error(transparent)]
     Contact(ContactError),
