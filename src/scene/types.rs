@@ -158,6 +158,12 @@ pub struct SolverSettings {
     /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
     #[serde(default)]
     pub flexion: Option<FlexionScheme>,
+    /// Element of the linear static solve: `"hex8"` (default) or `"incompatible_modes"`.
+    #[serde(default)]
+    pub element: Option<crate::fem::ElementKind>,
+    /// Static solve: `"linear"` (default) or `"nonlinear"` (Neo-Hookean, Newton–Raphson).
+    #[serde(default)]
+    pub tier: Option<crate::fem::newton::StaticTier>,
 }
 
 /// Name of a flexion region.

@@ -6,6 +6,7 @@ mod model;
 mod motion;
 mod select;
 mod statics;
+mod statics_nonlinear;
 mod tactile;
 
 pub use flexion::{

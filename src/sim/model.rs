@@ -137,6 +137,10 @@ pub struct Model {
     pub contact_candidates: Vec<usize>,
     /// Contact iteration settings.
     pub contact: ContactSettings,
+    /// Element of the linear static solve (`[solver] element`).
+    pub element: crate::fem::ElementKind,
+    /// Linear or nonlinear static solve (`[solver] tier`).
+    pub tier: crate::fem::newton::StaticTier,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -665,6 +669,8 @@ impl Model {
             obstacles,
             contact_candidates,
             contact,
+            element: scene.solver.element.unwrap_or_default(),
+            tier: scene.solver.tier.unwrap_or_default(),
         })
     }
 
