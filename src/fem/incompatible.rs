@@ -24,6 +24,9 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 type Coupling = SMatrix<f64, 24, 9>;
 type Internal = SMatrix<f64, 9, 9>;
+/// At one Gauss point, the physical gradients of the eight nodal shape functions and of the three
+/// incompatible modes.
+type PointGradients = ([Vector3<f64>; 8], [Vector3<f64>; 3]);
 
 /// The block ∂f_a/∂u_b of ∫ Bᵀ D B for gradients g_a, g_b of an isotropic material:
 /// λ g_a g_bᵀ + μ g_b g_aᵀ + μ (g_a·g_b) I.
@@ -40,7 +43,7 @@ struct Parts {
     /// ∫ B_αᵀ D B_α, 9 × 9.
     internal: Internal,
     /// Per Gauss point: physical gradients of the nodal shape functions and of the three modes.
-    gradients: [([Vector3<f64>; 8], [Vector3<f64>; 3]); 8],
+    gradients: [PointGradients; 8],
 }
 
 fn parts(coords: &[Vector3<f64>; 8], material: &Material) -> Result<Parts, InvertedCell> {

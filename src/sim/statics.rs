@@ -60,7 +60,7 @@ pub enum SimError {
         /// The inverted element, numbered within its body, if one is to blame.
         element: Option<usize>,
         /// Why.
-        source: crate::fem::NonlinearError,
+        source: Box<crate::fem::NonlinearError>,
     },
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]

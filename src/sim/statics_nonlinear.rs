@@ -75,7 +75,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
         SimError::Nonlinear {
             body,
             element,
-            source,
+            source: Box::new(source),
         }
     })?;
     let solve_ms = t.elapsed().as_secs_f64() * 1e3;
