@@ -41,6 +41,7 @@
 
 pub mod app;
 pub mod bench;
+pub mod bench_elements;
 pub mod bench_hand;
 pub mod contact;
 pub mod export;

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use prehensile::app::pose::Preset;
 use prehensile::app::{run_viewer, ViewOptions, ViewerError};
 use prehensile::bench::{solver_rows, solver_table};
+use prehensile::bench_elements::{element_rows, element_table};
 use prehensile::bench_hand::{hand_rows, hand_tables};
 use prehensile::fem::solve::FillOrdering;
 use prehensile::pipeline::{solve_scene_file, write_solved, Solved};
@@ -91,6 +92,12 @@ enum BenchCommand {
         /// Assembly repetitions (the best time is kept).
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+    },
+    /// Cantilever tip error against Timoshenko and time: hex8, incompatible modes, nonlinear.
+    Elements {
+        /// Elements through the thickness (mesh 8k × k × k), comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,4")]
+        resolutions: Vec<usize>,
     },
     /// Index finger flexed 0° → 90° at the PIP in 10° increments: FEM (local and whole-hand
     /// regions) and skinning, per mesh resolution.
@@ -205,6 +212,13 @@ fn run() -> Result<()> {
                 );
                 let rows = solver_rows(&sizes, ordering, repeats);
                 print!("{}", solver_table(&rows));
+            }
+            BenchCommand::Elements { resolutions } => {
+                println!(
+                    "element benchmark: cantilever 8×1×1 m, E = 1 MPa, ν = 0.3, tip load 1 N; {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", element_table(&element_rows(&resolutions)));
             }
             BenchCommand::Hand {
                 resolutions,

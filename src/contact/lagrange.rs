@@ -253,10 +253,18 @@ pub fn solve_lagrange(
             solver.solve_factored(&mut block, wanted.len())?;
             substitutions += wanted.len();
             for (j, &(r, _)) in wanted.iter().enumerate() {
-                fresh[r].columns.push(block[j * neq..(j + 1) * neq].to_vec());
+                fresh[r]
+                    .columns
+                    .push(block[j * neq..(j + 1) * neq].to_vec());
             }
         }
-        rows.extend(fresh.into_iter().zip(keep).filter(|(_, k)| *k).map(|(r, _)| r));
+        rows.extend(
+            fresh
+                .into_iter()
+                .zip(keep)
+                .filter(|(_, k)| *k)
+                .map(|(r, _)| r),
+        );
         if rows.is_empty() {
             continue;
         }
@@ -406,7 +414,10 @@ fn settle(
                 .enumerate()
                 .filter(|(j, &(_, a))| a == 0 && lambda[*j] < 0.0)
                 .count();
-            eprintln!("settle: {} rows, {m} unknowns, {neg} pulling, worst {worst:?}", rows.len());
+            eprintln!(
+                "settle: {} rows, {m} unknowns, {neg} pulling, worst {worst:?}",
+                rows.len()
+            );
         }
         if let Some((r, l)) = worst {
             if l < 0.0 {
@@ -494,7 +505,11 @@ fn contact_points(
             }
         };
         let gap = match row.master {
-            Master::Obstacle(o) => problem.obstacles[o].nearest(&problem.position(u, row.node)).0,
+            Master::Obstacle(o) => {
+                problem.obstacles[o]
+                    .nearest(&problem.position(u, row.node))
+                    .0
+            }
             Master::Facet { .. } => row.apply(0, u) - row.bound,
         };
         out.push(ContactPoint {

@@ -129,7 +129,9 @@ impl ContactProblem<'_> {
             for &node in &pair.slaves {
                 let facing = |t: &[usize; 3]| -> bool {
                     let Some(normals) = &normals else { return true };
-                    let Some(m) = normals.get(&node) else { return true };
+                    let Some(m) = normals.get(&node) else {
+                        return true;
+                    };
                     let n = (current[t[1]] - current[t[0]]).cross(&(current[t[2]] - current[t[0]]));
                     n.dot(m) < 0.0
                 };

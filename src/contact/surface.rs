@@ -210,7 +210,11 @@ pub fn project_on_triangle(x: &Vector3<f64>, p: &[Vector3<f64>; 3]) -> Option<Pr
 
 /// Generalised winding number of the closed surface around `x` (≈ 1 inside, ≈ 0 outside), from
 /// the solid angles of its triangles (Van Oosterom–Strackee).
-pub fn winding_number(x: &Vector3<f64>, surface: &ContactSurface, positions: &[Vector3<f64>]) -> f64 {
+pub fn winding_number(
+    x: &Vector3<f64>,
+    surface: &ContactSurface,
+    positions: &[Vector3<f64>],
+) -> f64 {
     let mut total = 0.0;
     for t in &surface.triangles {
         let a = positions[t[0]] - x;

@@ -5,11 +5,13 @@
 //! cell, where each of its node-pair blocks lands. Cells are coloured so that no two cells of a
 //! colour share a node; a colour is then assembled in parallel without locks.
 
-use super::hex8::{element_stiffness, InvertedCell};
+use super::hex8::{element_stiffness, ElementStiffness, InvertedCell};
+use super::incompatible;
 use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Where the blocks of each cell go in the upper triangle of K; computed once per mesh.
@@ -171,6 +173,38 @@ pub fn assemble(
     assemble_with(pattern, mesh, materials, None).map(|(k, _)| k)
 }
 
+/// Which linear element stiffness [`assemble_kind`] uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElementKind {
+    /// The trilinear hexahedron with 2×2×2 Gauss points ([`element_stiffness`]): locks in
+    /// bending when there are few elements through the thickness.
+    #[default]
+    Hex8,
+    /// The hexahedron with Wilson–Taylor incompatible modes, condensed per element
+    /// ([`super::incompatible::element_stiffness`]): bends without shear locking.
+    IncompatibleModes,
+}
+
+/// As [`assemble`], with the element stiffness of `kind`.
+pub fn assemble_kind(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+    kind: ElementKind,
+) -> Result<Stiffness, AssemblyError> {
+    if kind == ElementKind::Hex8 {
+        return assemble(pattern, mesh, materials);
+    }
+    assert_eq!(materials.len(), mesh.cell_count());
+    scatter(pattern, mesh, false, &|c| {
+        incompatible::element_stiffness(&mesh.cell_coords(c), &materials[c])
+            .map(|k| (k, None))
+            .map_err(|inverted| AssemblyError { cell: c, inverted })
+    })
+    .map(|(k, _)| k)
+}
+
 /// The warped (corotated) stiffness of an increment: each element's K_e turned by a rotation
 /// R_e, K̃ = Σ_e R_e K_e R_eᵀ, and the vector b = Σ_e R_e K_e x_e for the current positions x.
 /// The element forces f_e(y) = R_e K_e (R_eᵀ y_e − x_e) vanish when the element turns rigidly
@@ -193,8 +227,54 @@ fn assemble_with(
     rotations: Option<&[Matrix3<f64>]>,
 ) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
+    scatter(pattern, mesh, rotations.is_some(), &|c| {
+        let coords = mesh.cell_coords(c);
+        let mut ke = element_stiffness(&coords, &materials[c])
+            .map_err(|inverted| AssemblyError { cell: c, inverted })?;
+        let Some(rot) = rotations else {
+            return Ok((ke, None));
+        };
+        let r = rot[c];
+        let mut f = [Vector3::zeros(); 8];
+        for a in 0..8 {
+            for bb in 0..8 {
+                f[a] += ke[a][bb] * coords[bb];
+            }
+            f[a] = r * f[a];
+        }
+        for row in ke.iter_mut() {
+            for block in row.iter_mut() {
+                *block = r * *block * r.transpose();
+            }
+        }
+        Ok((ke, Some(f)))
+    })
+}
+
+/// What an element routine hands to [`assemble_elements`]: its stiffness (3×3 blocks) and,
+/// optionally, a nodal vector to sum into a global one.
+pub type ElementContribution = (ElementStiffness, Option<[Vector3<f64>; 8]>);
+
+/// Assembles Σ_e K_e, and Σ_e f_e when `with_vector`, from any element routine `element(c)`
+/// (linear, incompatible modes, or a hyperelastic tangent): the same colour-parallel scatter as
+/// [`assemble`].
+pub fn assemble_elements<E: Send>(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    with_vector: bool,
+    element: &(dyn Fn(usize) -> Result<ElementContribution, E> + Sync),
+) -> Result<(Stiffness, Option<Vec<f64>>), E> {
+    scatter(pattern, mesh, with_vector, element)
+}
+
+fn scatter<E: Send>(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    with_vector: bool,
+    element: &(dyn Fn(usize) -> Result<ElementContribution, E> + Sync),
+) -> Result<(Stiffness, Option<Vec<f64>>), E> {
     let mut values = vec![0.0; pattern.nnz()];
-    let mut rhs = rotations.map(|_| vec![0.0; pattern.dofs]);
+    let mut rhs = with_vector.then(|| vec![0.0; pattern.dofs]);
     let shared = SharedValues(values.as_mut_ptr());
     let shared = &shared;
     let shared_rhs = rhs.as_mut().map(|b| SharedValues(b.as_mut_ptr()));
@@ -202,27 +282,14 @@ fn assemble_with(
     for (index, colour) in pattern.colours.iter().enumerate() {
         // Colour 63 collects the cells that found no free colour: they may share nodes.
         let serial = index == 63;
-        let add = |&c: &usize| -> Result<(), AssemblyError> {
+        let add = |&c: &usize| -> Result<(), E> {
             let cell = &mesh.cells[c];
-            let coords = mesh.cell_coords(c);
-            let mut ke = element_stiffness(&coords, &materials[c])
-                .map_err(|inverted| AssemblyError { cell: c, inverted })?;
-            if let (Some(rot), Some(b)) = (rotations, shared_rhs) {
-                let r = rot[c];
+            let (ke, fe) = element(c)?;
+            if let (Some(f), Some(b)) = (fe, shared_rhs) {
                 for a in 0..8 {
-                    let mut f = Vector3::zeros();
-                    for bb in 0..8 {
-                        f += ke[a][bb] * coords[bb];
-                    }
-                    let f = r * f;
                     for i in 0..3 {
                         // SAFETY: as below, cells of one colour share no node.
-                        unsafe { *b.0.add(3 * cell[a] + i) += f[i] };
-                    }
-                }
-                for row in ke.iter_mut() {
-                    for block in row.iter_mut() {
-                        *block = r * *block * r.transpose();
+                        unsafe { *b.0.add(3 * cell[a] + i) += f[a][i] };
                     }
                 }
             }

@@ -1,19 +1,27 @@
-//! The finite element core: the 8-node hexahedron, isotropic linear elastic materials, loads,
-//! sparse assembly of the stiffness K of equation (5), and the partitioned solve of
-//! equations (6)–(8).
+//! The finite element core: the 8-node hexahedron (standard, or with incompatible modes),
+//! isotropic linear elastic materials, loads, sparse assembly of the stiffness K of equation (5),
+//! the partitioned solve of equations (6)–(8), and the nonlinear tier: a Neo-Hookean total
+//! Lagrangian hexahedron solved by Newton–Raphson with load stepping.
 
 pub mod assembly;
 pub mod hex8;
+pub mod hex8_hyperelastic;
+pub mod hyperelastic;
+pub mod hyperelastic_body;
+pub mod incompatible;
 pub mod loads;
 pub mod material;
 pub mod memory;
+pub mod newton;
 pub mod ordering;
 pub mod partition;
 pub mod rigid;
 pub mod solve;
 pub mod stress;
 
-pub use assembly::{Stiffness, StiffnessPattern};
+pub use assembly::{ElementKind, Stiffness, StiffnessPattern};
+pub use hex8_hyperelastic::Volumetric;
 pub use material::Material;
+pub use newton::{solve_nonlinear, NewtonSettings, NonlinearError, NonlinearSolution};
 pub use partition::DofPartition;
 pub use solve::{PartitionedSolver, Solution, SolveError, SolveStats};

@@ -1,7 +1,9 @@
 //! Cauchy stress (small strain: σ = λ tr(ε) I + 2μ ε) at the Gauss points, extrapolated to the
 //! corners of each cell and averaged at the nodes, and the von Mises equivalent stress.
 
+use super::assembly::ElementKind;
 use super::hex8::{gauss_biot_strains, gauss_strains, shape, InvertedCell, NODE_SIGNS};
+use super::incompatible;
 use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, Vector3};
@@ -60,6 +62,35 @@ pub fn stress_field_with(
             Ok(strains.map(|e| cauchy_stress(&e, &materials[c])))
         })
         .collect::<Result<_, _>>()?;
+    Ok(from_gauss(mesh, gauss))
+}
+
+/// Small-strain stresses of `u` computed with the strains of the element `kind` (with
+/// [`ElementKind::IncompatibleModes`], including the recovered internal modes).
+pub fn stress_field_kind(
+    mesh: &Mesh,
+    materials: &[Material],
+    u: &[f64],
+    kind: ElementKind,
+) -> Result<StressField, (usize, InvertedCell)> {
+    if kind == ElementKind::Hex8 {
+        return stress_field(mesh, materials, u);
+    }
+    let gauss: Vec<[Matrix3<f64>; 8]> = (0..mesh.cell_count())
+        .into_par_iter()
+        .map(|c| {
+            let ue = mesh.cells[c].map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
+            let strains = incompatible::gauss_strains(&mesh.cell_coords(c), &ue, &materials[c])
+                .map_err(|e| (c, e))?;
+            Ok(strains.map(|e| cauchy_stress(&e, &materials[c])))
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(from_gauss(mesh, gauss))
+}
+
+/// The field of given Gauss-point stresses (any constitutive law, e.g. the Cauchy stress of the
+/// nonlinear tier): extrapolated to the corners, averaged at the nodes, von Mises per cell.
+pub fn from_gauss(mesh: &Mesh, gauss: Vec<[Matrix3<f64>; 8]>) -> StressField {
     // Corner a sits at √3·NODE_SIGNS[a] in the coordinates of the Gauss-point lattice.
     let s3 = 3f64.sqrt();
     let extrapolate: [[f64; 8]; 8] =
@@ -85,9 +116,9 @@ pub fn stress_field_with(
         .iter()
         .map(|g| von_mises(&(g.iter().sum::<Matrix3<f64>>() / 8.0)))
         .collect();
-    Ok(StressField {
+    StressField {
         gauss,
         nodal,
         cell_von_mises,
-    })
+    }
 }

@@ -203,6 +203,9 @@ pub struct SolverSettings {
     /// `"incremental"`, `"corotational"` or `"nonlinear"` (sets `flesh` and `flexion`).
     #[serde(default)]
     pub tier: Option<TierName>,
+    /// Element of the linear static solve: `"hex8"` (default) or `"incompatible_modes"`.
+    #[serde(default)]
+    pub element: Option<crate::fem::ElementKind>,
 }
 
 /// `[solver] tier`: how the hands' flesh is solved, fastest first.

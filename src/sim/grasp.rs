@@ -244,7 +244,11 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         prescribed: &model.prescribed,
         loads: &model.load_vector,
         positions: &x,
-        obstacles: &model.obstacles.iter().map(|o| o.1.clone()).collect::<Vec<_>>(),
+        obstacles: &model
+            .obstacles
+            .iter()
+            .map(|o| o.1.clone())
+            .collect::<Vec<_>>(),
         obstacle_candidates: &model.contact_candidates,
         surfaces: &surfaces,
         pairs: &pairs,
@@ -396,7 +400,9 @@ fn too_deep(
             .triangles
             .iter()
             .flatten()
-            .fold(Vector3::repeat(f64::NEG_INFINITY), |m, &n| m.sup(&current[n]));
+            .fold(Vector3::repeat(f64::NEG_INFINITY), |m, &n| {
+                m.sup(&current[n])
+            });
         for &n in near_skin {
             let p = current[n];
             if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
@@ -409,9 +415,7 @@ fn too_deep(
                 let depth = s
                     .triangles
                     .iter()
-                    .filter_map(|t| {
-                        crate::contact::project_on_triangle(&p, &t.map(|m| current[m]))
-                    })
+                    .filter_map(|t| crate::contact::project_on_triangle(&p, &t.map(|m| current[m])))
                     .map(|q| q.distance)
                     .fold(f64::INFINITY, f64::min);
                 // Nodes within the search depth are the contact's (or, when only the object's

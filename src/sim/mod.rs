@@ -10,6 +10,7 @@ pub mod outcome;
 mod select;
 mod stabilize;
 mod statics;
+mod statics_nonlinear;
 mod tactile;
 mod tier;
 mod validity;
@@ -18,9 +19,9 @@ pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
     KeyframeStats,
 };
+pub use grasp::{frame_with_hands, solve_grasp};
 pub use linear_tier::LinearTier;
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};
-pub use grasp::{frame_with_hands, solve_grasp};
 pub use motion::{compose, hand_frame, solve_frames, still_frame};
 pub use statics::{solve_static, Frame, HandFrame, SimError};
 pub use tactile::contact_pressure;

@@ -98,6 +98,9 @@ pub struct ProbeModel {
     pub node: usize,
 }
 
+/// Coulomb friction: the default μ, and (name, name, μ) by pair of materials or obstacles.
+pub type FrictionTable = (f64, Vec<(String, String, f64)>);
+
 /// The compiled scene.
 #[derive(Debug)]
 pub struct Model {
@@ -146,11 +149,15 @@ pub struct Model {
     /// Radius around the contact within which hand flesh is solved with it, m.
     pub contact_region: f64,
     /// Coulomb friction: the default μ and (name, name, μ) by pair of materials or obstacles.
-    pub friction: (f64, Vec<(String, String, f64)>),
+    pub friction: FrictionTable,
     /// A cell of every node.
     pub node_cell: Vec<usize>,
     /// Warnings about the settings (the model is usable; `report.json` lists them).
     pub warnings: Vec<String>,
+    /// Element of the linear static solve (`[solver] element`).
+    pub element: crate::fem::ElementKind,
+    /// Linear or nonlinear static solve (`[solver] tier`).
+    pub tier: crate::fem::newton::StaticTier,
 }
 
 fn finite(values: &[f64]) -> bool {
@@ -551,9 +558,17 @@ impl Model {
             body_pieces.dedup();
             for (k, &p) in body_pieces.iter().enumerate() {
                 let free = free_rigid_motions(&piece_nodes[p], &mesh.nodes, |d| prescribed_mask[d]);
-                let untouched = body.nodes.clone().all(|n| (0..3).all(|a| !prescribed_mask[3 * n + a]));
+                let untouched = body
+                    .nodes
+                    .clone()
+                    .all(|n| (0..3).all(|a| !prescribed_mask[3 * n + a]));
                 let holders = !scene.obstacle.is_empty() || bodies.iter().any(|o| o.hand.is_some());
-                if !free.is_empty() && untouched && body_pieces.len() == 1 && holders && body.hand.is_none() {
+                if !free.is_empty()
+                    && untouched
+                    && body_pieces.len() == 1
+                    && holders
+                    && body.hand.is_none()
+                {
                     floating.push(b);
                     continue;
                 }
@@ -586,6 +601,14 @@ impl Model {
         let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
         let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
         let has_hand = bodies.iter().any(|b| b.hand.is_some());
+        if has_hand && scene.solver.tier == Some(crate::scene::TierName::Nonlinear) {
+            return Err(err(
+                "solver.tier".into(),
+                "tier nonlinear: not yet available for the hand (solver.tier = \"nonlinear\"); \
+                 choose \"skinning\", \"linear\", \"incremental\" or \"corotational\""
+                    .into(),
+            ));
+        }
         let warnings = super::tier::flexion_warnings(&flexion, has_hand);
         for (i, c) in scene.camera.iter().enumerate() {
             let field = format!("camera \"{}\" (camera[{i}])", c.name);
@@ -709,6 +732,13 @@ impl Model {
             friction,
             node_cell,
             warnings,
+            element: scene.solver.element.unwrap_or_default(),
+            tier: match scene.solver.tier {
+                Some(crate::scene::TierName::Nonlinear) => {
+                    crate::fem::newton::StaticTier::Nonlinear
+                }
+                _ => crate::fem::newton::StaticTier::Linear,
+            },
         })
     }
 
@@ -758,7 +788,9 @@ fn thresholds(
             )
         })?;
         if !(value.is_finite() && value > 0.0) {
-            return Err(format!("\"{name}\": a threshold is a force > 0 N, got {value}"));
+            return Err(format!(
+                "\"{name}\": a threshold is a force > 0 N, got {value}"
+            ));
         }
         out[b] = value;
     }
@@ -821,7 +853,7 @@ fn contact_settings(s: &SolverSettings, largest: f64) -> Result<ContactSettings,
 }
 
 /// The friction coefficients: `[solver] friction` and the `[[friction]]` pairs.
-fn friction_table(scene: &Scene) -> Result<(f64, Vec<(String, String, f64)>), (String, String)> {
+fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> {
     let default = scene.solver.friction.unwrap_or(0.0);
     if !(default.is_finite() && default >= 0.0) {
         return Err((
@@ -843,7 +875,10 @@ fn friction_table(scene: &Scene) -> Result<(f64, Vec<(String, String, f64)>), (S
             }
         }
         if !(f.mu.is_finite() && f.mu >= 0.0) {
-            return Err((format!("{field}.mu"), format!("μ must be ≥ 0, got {}", f.mu)));
+            return Err((
+                format!("{field}.mu"),
+                format!("μ must be ≥ 0, got {}", f.mu),
+            ));
         }
         pairs.push((f.between[0].clone(), f.between[1].clone(), f.mu));
     }

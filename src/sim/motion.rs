@@ -22,7 +22,10 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
     } else if floating && !hands.is_empty() {
         None
     } else {
-        Some(solve_static(model, &mut PartitionedSolver::new(model.ordering))?)
+        Some(solve_static(
+            model,
+            &mut PartitionedSolver::new(model.ordering),
+        )?)
     };
     if hands.is_empty() {
         return Ok((vec![0.0], vec![still.expect("solved")]));
@@ -49,7 +52,11 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
         states.push(state);
     }
     let mut times = vec![0.0];
-    frames.push(frame_with_hands(model, still.as_ref(), hand_frames.clone())?);
+    frames.push(frame_with_hands(
+        model,
+        still.as_ref(),
+        hand_frames.clone(),
+    )?);
     let mut k = 0;
     while k < model.keyframes.len() {
         let time = model.keyframes[k].time;

@@ -66,7 +66,9 @@ pub fn overloads(
                     best = Some((d, moment));
                 }
             }
-            chain = skeleton.bones[c].parent.filter(|&p| skeleton.bones[p].digit.is_some());
+            chain = skeleton.bones[c]
+                .parent
+                .filter(|&p| skeleton.bones[p].digit.is_some());
         }
         let (joint, moment) = match best {
             Some((d, m)) => (skeleton.dofs[d].name.clone(), m),

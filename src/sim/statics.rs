@@ -3,9 +3,10 @@
 
 use super::model::Model;
 use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
-use crate::fem::assembly::assemble;
+use crate::fem::assembly::assemble_kind;
+use crate::fem::newton::StaticTier;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveError};
-use crate::fem::stress::{stress_field, StressField};
+use crate::fem::stress::{stress_field_kind, StressField};
 use std::time::Instant;
 use thiserror::Error;
 
@@ -69,6 +70,19 @@ pub enum SimError {
     /// A newer request made this solve stale: it stopped between two increments.
     #[error("cancelled: a newer request replaced this solve")]
     Cancelled,
+    /// A combination of settings the solver does not support yet.
+    #[error("{0}")]
+    Unsupported(String),
+    /// The nonlinear tier failed (`[solver] tier = "nonlinear"`).
+    #[error("body \"{body}\"{}: {source}", element_note(.element))]
+    Nonlinear {
+        /// The body (all bodies' names when no element is to blame).
+        body: String,
+        /// The inverted element, numbered within its body, if one is to blame.
+        element: Option<usize>,
+        /// Why.
+        source: Box<crate::fem::NonlinearError>,
+    },
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
@@ -77,6 +91,10 @@ pub enum SimError {
         /// Why.
         source: SolveError,
     },
+}
+
+fn element_note(element: &Option<usize>) -> String {
+    element.map_or(String::new(), |e| format!(" (its element {e})"))
 }
 
 /// The state after solving one frame.
@@ -121,6 +139,9 @@ pub struct HandFrame {
 
 /// Solves the static equilibrium of the model (equation (5) partitioned as (6)–(8)).
 pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Frame, SimError> {
+    if model.tier == StaticTier::Nonlinear {
+        return super::statics_nonlinear::solve_static_nonlinear(model);
+    }
     let inverted = |cell: usize, relative_det: f64| {
         let b = model.cell_body[cell];
         SimError::InvertedElement {
@@ -130,8 +151,13 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
         }
     };
     let t = Instant::now();
-    let mut k = assemble(&model.pattern, &model.mesh, &model.cell_materials)
-        .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
+    let mut k = assemble_kind(
+        &model.pattern,
+        &model.mesh,
+        &model.cell_materials,
+        model.element,
+    )
+    .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
     let springs = super::stabilize::stabilize(model, &mut k, &model.partition);
     let assembly_ms = t.elapsed().as_secs_f64() * 1e3;
     let solve_error = |source: SolveError| {
@@ -181,8 +207,13 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
         (solution, Some(result))
     };
     let t = Instant::now();
-    let stress = stress_field(&model.mesh, &model.cell_materials, &solution.displacement)
-        .map_err(|(c, e)| inverted(c, e.relative_det))?;
+    let stress = stress_field_kind(
+        &model.mesh,
+        &model.cell_materials,
+        &solution.displacement,
+        model.element,
+    )
+    .map_err(|(c, e)| inverted(c, e.relative_det))?;
     let stress_ms = t.elapsed().as_secs_f64() * 1e3;
     Ok(Frame {
         solution,

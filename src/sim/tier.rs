@@ -17,14 +17,8 @@ fn implied(tier: TierName) -> Result<(FleshMethod, Option<FlexionScheme>), Strin
         TierName::Linear => (FleshMethod::Fem, Some(FlexionScheme::Linear)),
         TierName::Incremental => (FleshMethod::Fem, Some(FlexionScheme::UpdatedLagrangian)),
         TierName::Corotational => (FleshMethod::Fem, Some(FlexionScheme::Corotational)),
-        TierName::Nonlinear => {
-            return Err(
-                "tier nonlinear: not yet available for the hand (solver.tier = \
-                        \"nonlinear\"); choose \"skinning\", \"linear\", \"incremental\" or \
-                        \"corotational\""
-                    .into(),
-            )
-        }
+        // The static solve of the other bodies; a hand is refused by `Model::build`.
+        TierName::Nonlinear => (FleshMethod::Fem, None),
     })
 }
 

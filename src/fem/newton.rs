@@ -1,0 +1,476 @@
+//! Static equilibrium of a hyperelastic body at large deformation: Newton–Raphson on
+//! R(u) = f_ext − ∂W/∂u = 0 with a backtracking line search, under load stepping with automatic
+//! step cutting (Bonet & Wood, ch. 9; Wriggers, *Nonlinear Finite Element Methods*, ch. 5).
+//!
+//! The loads (dead loads, fixed in the reference configuration) and the prescribed displacements
+//! are applied in increments of the load factor t ∈ (0, 1]. Each Newton iteration solves the
+//! partitioned system of the paper's equations (6)–(7) with the tangent K_T = ∂²W/∂u²:
+//! K_T,11·Δu_u = R_u − K_T,12·Δu_k, where Δu_k is what the prescribed dofs still have to move
+//! to reach t·U_k (non-zero only in the first iteration of a step). Reactions follow from
+//! equation (8) in its nonlinear form, R_k = f_int,k − f_ext,k.
+//!
+//! Line search: the step length α ∈ {1, ½, ¼, …} is the first for which no element inverts and
+//! either the total potential Π = W − f_extᵀu decreases by at least 10⁻⁴·α·|∂Π/∂α| (Armijo) or
+//! the residual norm decreases; while the prescribed dofs are still moving (Π is then not a
+//! merit function), the first α with no inverted element is taken. A step that fails (an element
+//! inverts for every α, the tangent is not positive definite, or Newton does not converge) is
+//! restarted from the last equilibrium with half the increment; after two easy steps the
+//! increment doubles again, up to its initial size.
+
+use super::hex8_hyperelastic::Volumetric;
+use super::hyperelastic_body::{HyperelasticBody, InvertedElement};
+use super::material::Material;
+use super::partition::DofPartition;
+use super::solve::{FillOrdering, PartitionedSolver, SolveError};
+use crate::mesh::Mesh;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Which solver the static frame of a scene uses (`[solver] tier`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StaticTier {
+    /// Small strain, one linear solve (equations (6)–(8)).
+    #[default]
+    Linear,
+    /// Large deformation: Neo-Hookean, Newton–Raphson with load stepping ([`solve_nonlinear`]).
+    Nonlinear,
+}
+
+/// Settings of the Newton solver.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct NewtonSettings {
+    /// Integration of the volumetric energy (mean dilatation by default: no locking).
+    pub volumetric: Volumetric,
+    /// Initial number of equal load increments (≥ 1).
+    pub increments: usize,
+    /// Halvings of the initial increment allowed before giving up: the smallest increment is
+    /// 2^−max_cuts of the initial one.
+    pub max_cuts: usize,
+    /// Newton iterations allowed per increment.
+    pub max_iterations: usize,
+    /// Convergence: ‖R_u‖ ≤ tolerance · max(‖f_ext‖, ‖f_int‖).
+    pub tolerance: f64,
+    /// Halvings of the step length α in the line search.
+    pub line_search_halvings: usize,
+    /// Fill-reducing ordering of the tangent's Cholesky factorization.
+    pub ordering: FillOrdering,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self {
+            volumetric: Volumetric::MeanDilatation,
+            increments: 1,
+            max_cuts: 10,
+            max_iterations: 25,
+            tolerance: 1e-10,
+            line_search_halvings: 10,
+            ordering: FillOrdering::NestedDissection,
+        }
+    }
+}
+
+/// One converged load increment.
+#[derive(Clone, Debug, Serialize)]
+pub struct StepRecord {
+    /// Load factor reached, in (0, 1].
+    pub load_factor: f64,
+    /// Size of the increment.
+    pub step: f64,
+    /// Newton iterations (tangent factorizations).
+    pub iterations: usize,
+    /// Relative residual ‖R_u‖ / max(‖f_ext‖, ‖f_int‖) before each iteration and at convergence.
+    pub residuals: Vec<f64>,
+    /// Step length α accepted by the line search at each iteration.
+    pub step_lengths: Vec<f64>,
+}
+
+/// The equilibrium reached.
+#[derive(Clone, Debug)]
+pub struct NonlinearSolution {
+    /// Displacement of every dof, m.
+    pub displacement: Vec<f64>,
+    /// At prescribed dofs, the force the support exerts on the body (f_int − f_ext), N; zero at
+    /// free dofs.
+    pub reaction: Vec<f64>,
+    /// Stored energy, J.
+    pub energy: f64,
+    /// The converged increments, in order.
+    pub steps: Vec<StepRecord>,
+    /// Increments that failed and were retried with half the size.
+    pub rejected_steps: usize,
+}
+
+impl NonlinearSolution {
+    /// Displacement of node `n`.
+    pub fn node_displacement(&self, n: usize) -> Vector3<f64> {
+        Vector3::new(
+            self.displacement[3 * n],
+            self.displacement[3 * n + 1],
+            self.displacement[3 * n + 2],
+        )
+    }
+
+    /// Newton iterations over all increments.
+    pub fn iterations(&self) -> usize {
+        self.steps.iter().map(|s| s.iterations).sum()
+    }
+}
+
+/// Why one load increment failed.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum StepFailure {
+    /// Every step length tried inverted an element.
+    #[error("element {cell} turns inside out (det F = {det_f:.3e} at a Gauss point)")]
+    Inverted {
+        /// The cell.
+        cell: usize,
+        /// det F at the failing Gauss point.
+        det_f: f64,
+    },
+    /// Newton ran out of iterations.
+    #[error(
+        "Newton did not converge in {iterations} iterations (relative residual {residual:.3e})"
+    )]
+    NotConverged {
+        /// Iterations done.
+        iterations: usize,
+        /// Relative residual reached.
+        residual: f64,
+    },
+    /// No step length reduced the energy or the residual.
+    #[error(
+        "the line search found no step length reducing the energy or the residual (relative \
+         residual {residual:.3e})"
+    )]
+    LineSearch {
+        /// Relative residual reached.
+        residual: f64,
+    },
+    /// The tangent is not positive definite: a limit point or bifurcation (buckling,
+    /// snap-through), or elements close to collapse.
+    #[error(
+        "the tangent stiffness is not positive definite (pivot at node {node}): an instability \
+         such as buckling, or elements close to collapse"
+    )]
+    NotPositiveDefinite {
+        /// A node at the failing pivot.
+        node: usize,
+    },
+    /// The tangent could not be factorized for another reason.
+    #[error("the tangent stiffness could not be factorized: {0}")]
+    Tangent(String),
+}
+
+/// Why the nonlinear solve failed.
+#[derive(Debug, Error)]
+pub enum NonlinearError {
+    /// A cell is inverted before any load.
+    #[error(
+        "element {cell} is inverted or flat in the reference configuration (smallest det J / \
+         size³ = {relative_det:.3e})"
+    )]
+    InvertedReference {
+        /// The cell.
+        cell: usize,
+        /// Its smallest relative det J.
+        relative_det: f64,
+    },
+    /// An input was NaN or infinite.
+    #[error("{0} holds a value that is not a finite number")]
+    NonFinite(&'static str),
+    /// A load increment failed even at the smallest increment allowed.
+    #[error(
+        "the load increment from {from:.4} to {to:.4} of the full load failed at the smallest \
+         increment allowed ({step:.3e}, the initial one halved {cuts} times): {reason}{}",
+        inversion_note(.inverted)
+    )]
+    StepFailed {
+        /// Load factor of the last equilibrium.
+        from: f64,
+        /// Load factor the increment aimed at.
+        to: f64,
+        /// Its size.
+        step: f64,
+        /// How many times the initial increment was halved to get `step`.
+        cuts: usize,
+        /// Why its last attempt failed.
+        reason: StepFailure,
+        /// The last element that a trial state of this increment turned inside out (the line
+        /// search then shortened the step), if any: where the load is too much for the mesh.
+        inverted: Option<usize>,
+    },
+}
+
+fn inversion_note(inverted: &Option<usize>) -> String {
+    inverted.map_or(String::new(), |c| {
+        format!("; element {c} turned inside out in trial steps of this increment")
+    })
+}
+
+/// Solves the static equilibrium of the Neo-Hookean body `mesh` (reference configuration at its
+/// nodes) with `materials[c]` per cell: the dofs marked in `partition` move to `prescribed`
+/// (read at prescribed dofs), the others carry the dead loads `loads` (N, 3 per node).
+pub fn solve_nonlinear(
+    mesh: &Mesh,
+    materials: &[Material],
+    partition: &DofPartition,
+    prescribed: &[f64],
+    loads: &[f64],
+    settings: &NewtonSettings,
+) -> Result<NonlinearSolution, NonlinearError> {
+    let body = HyperelasticBody::new(mesh, materials, settings.volumetric).map_err(|e| {
+        NonlinearError::InvertedReference {
+            cell: e.cell,
+            relative_det: e.relative_det,
+        }
+    })?;
+    solve_body(&body, partition, prescribed, loads, settings)
+}
+
+/// As [`solve_nonlinear`] on an already built body.
+pub fn solve_body(
+    body: &HyperelasticBody,
+    partition: &DofPartition,
+    prescribed: &[f64],
+    loads: &[f64],
+    settings: &NewtonSettings,
+) -> Result<NonlinearSolution, NonlinearError> {
+    let dofs = body.pattern().dofs;
+    assert_eq!(partition.prescribed.len(), dofs);
+    assert_eq!(prescribed.len(), dofs);
+    assert_eq!(loads.len(), dofs);
+    if loads.iter().any(|v| !v.is_finite()) {
+        return Err(NonlinearError::NonFinite("the load vector"));
+    }
+    if (0..dofs).any(|d| partition.prescribed[d] && !prescribed[d].is_finite()) {
+        return Err(NonlinearError::NonFinite("the prescribed displacements"));
+    }
+    let mut solver = PartitionedSolver::new(settings.ordering);
+    let mut u = vec![0.0; dofs];
+    let mut steps = Vec::new();
+    let mut rejected = 0;
+    let full = 1.0 / settings.increments.max(1) as f64;
+    let (mut t, mut dt, mut easy) = (0.0, full, 0);
+    let mut seen = None;
+    let smallest = full * 0.5f64.powi(settings.max_cuts.min(60) as i32);
+    while t < 1.0 - 1e-12 {
+        let step = dt.min(1.0 - t);
+        let target = (t + step).min(1.0);
+        let attempt = Increment {
+            body,
+            partition,
+            prescribed,
+            loads,
+            factor: target,
+            settings,
+        }
+        .solve(&mut solver, &u, &mut seen);
+        match attempt {
+            Ok((u_new, mut record)) => {
+                u = u_new;
+                t = target;
+                record.step = step;
+                easy = if record.iterations <= 6 { easy + 1 } else { 0 };
+                if easy >= 2 {
+                    dt = (2.0 * step).min(full);
+                    easy = 0;
+                }
+                seen = None;
+                steps.push(record);
+            }
+            Err(reason) => {
+                // The smallest increment allowed is fixed (not relative to the last success), so
+                // a load beyond what the body can carry cannot creep towards its limit forever.
+                if step <= smallest * (1.0 + 1e-9) {
+                    return Err(NonlinearError::StepFailed {
+                        from: t,
+                        to: target,
+                        step,
+                        cuts: (full / step).log2().round() as usize,
+                        reason,
+                        inverted: seen.map(|e: InvertedElement| e.cell),
+                    });
+                }
+                rejected += 1;
+                easy = 0;
+                dt = step * 0.5;
+            }
+        }
+    }
+    let (energy, fint) = body
+        .internal_forces(&u)
+        .map_err(|e| NonlinearError::StepFailed {
+            from: t,
+            to: t,
+            step: 0.0,
+            cuts: 0,
+            reason: inverted(e),
+            inverted: Some(e.cell),
+        })?;
+    let reaction = (0..dofs)
+        .map(|d| {
+            if partition.prescribed[d] {
+                fint[d] - loads[d]
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    if u.iter().any(|v| !v.is_finite()) {
+        return Err(NonlinearError::NonFinite("the computed displacement"));
+    }
+    Ok(NonlinearSolution {
+        displacement: u,
+        reaction,
+        energy,
+        steps,
+        rejected_steps: rejected,
+    })
+}
+
+/// One load increment: Newton iterations at load factor `factor` from a previous equilibrium.
+struct Increment<'a, 'b> {
+    body: &'a HyperelasticBody<'b>,
+    partition: &'a DofPartition,
+    prescribed: &'a [f64],
+    loads: &'a [f64],
+    factor: f64,
+    settings: &'a NewtonSettings,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn inverted(e: InvertedElement) -> StepFailure {
+    StepFailure::Inverted {
+        cell: e.cell,
+        det_f: e.det_f,
+    }
+}
+
+impl Increment<'_, '_> {
+    /// ‖R_u‖ over the free dofs and the relative residual.
+    fn residual(&self, ext: &[f64], fint: &[f64]) -> (f64, f64) {
+        let free: f64 = self
+            .partition
+            .free
+            .iter()
+            .map(|&d| (ext[d] - fint[d]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let scale = dot(ext, ext).sqrt().max(dot(fint, fint).sqrt());
+        let relative = if free == 0.0 { 0.0 } else { free / scale };
+        (free, relative)
+    }
+
+    fn solve(
+        &self,
+        solver: &mut PartitionedSolver,
+        start: &[f64],
+        seen: &mut Option<InvertedElement>,
+    ) -> Result<(Vec<f64>, StepRecord), StepFailure> {
+        let s = self.settings;
+        let p = self.partition;
+        let dofs = start.len();
+        let target: Vec<f64> = (0..dofs)
+            .map(|d| {
+                if p.prescribed[d] {
+                    self.factor * self.prescribed[d]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let ext: Vec<f64> = self.loads.iter().map(|f| f * self.factor).collect();
+        let mut u = start.to_vec();
+        let (mut energy, mut fint) = self.body.internal_forces(&u).map_err(inverted)?;
+        let mut record = StepRecord {
+            load_factor: self.factor,
+            step: 0.0,
+            iterations: 0,
+            residuals: Vec::new(),
+            step_lengths: Vec::new(),
+        };
+        for iteration in 0..=s.max_iterations {
+            let (norm, relative) = self.residual(&ext, &fint);
+            record.residuals.push(relative);
+            let placed =
+                p.free.len() == dofs || (0..dofs).all(|d| !p.prescribed[d] || u[d] == target[d]);
+            if placed && relative <= s.tolerance {
+                record.iterations = iteration;
+                return Ok((u, record));
+            }
+            if iteration == s.max_iterations || !relative.is_finite() {
+                return Err(StepFailure::NotConverged {
+                    iterations: iteration,
+                    residual: relative,
+                });
+            }
+            let k = self.body.tangent(&u).map_err(inverted)?;
+            let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();
+            let delta: Vec<f64> = (0..dofs).map(|d| target[d] - u[d]).collect();
+            let du = solver
+                .solve(&k, p, &delta, &r, &self.body.mesh().nodes)
+                .map_err(|e| match e {
+                    SolveError::NotPositiveDefinite { node, .. } => {
+                        StepFailure::NotPositiveDefinite { node }
+                    }
+                    other => StepFailure::Tangent(other.to_string()),
+                })?
+                .displacement;
+            // Line search along du.
+            let slope = -dot(&r, &du);
+            let potential = energy - dot(&ext, &u);
+            let mut alpha = 1.0;
+            let mut accepted = None;
+            let mut last_inverted = None;
+            for _ in 0..=s.line_search_halvings {
+                let trial: Vec<f64> = (0..dofs)
+                    .map(|d| {
+                        if alpha == 1.0 && p.prescribed[d] {
+                            target[d]
+                        } else {
+                            u[d] + alpha * du[d]
+                        }
+                    })
+                    .collect();
+                match self.body.internal_forces(&trial) {
+                    Err(e) => {
+                        last_inverted = Some(e);
+                        *seen = Some(e);
+                    }
+                    Ok((e_trial, f_trial)) => {
+                        let good = if !placed {
+                            true
+                        } else {
+                            let decrease = e_trial - dot(&ext, &trial)
+                                <= potential + 1e-4 * alpha * slope.min(0.0);
+                            let (n_trial, _) = self.residual(&ext, &f_trial);
+                            (slope < 0.0 && decrease) || n_trial <= (1.0 - 1e-4 * alpha) * norm
+                        };
+                        if good && e_trial.is_finite() {
+                            accepted = Some((trial, e_trial, f_trial));
+                            break;
+                        }
+                    }
+                }
+                alpha *= 0.5;
+            }
+            let Some((trial, e_trial, f_trial)) = accepted else {
+                return Err(match last_inverted {
+                    Some(e) => inverted(e),
+                    None => StepFailure::LineSearch { residual: relative },
+                });
+            };
+            record.step_lengths.push(alpha);
+            u = trial;
+            energy = e_trial;
+            fint = f_trial;
+        }
+        unreachable!("the loop returns at its last iteration")
+    }
+}
