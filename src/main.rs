@@ -109,6 +109,17 @@ enum BenchCommand {
         #[arg(long, default_value_t = 1.25)]
         whole_limit: f64,
     },
+    /// Contact methods (Lagrange active set, the paper's iteration) on the same scenes:
+    /// iterations, factorizations, time of the contact keyframe.
+    Contact {
+        /// Scene files, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/bowl-grasp.toml"
+        )]
+        scenes: Vec<String>,
+    },
     /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
     /// a slider change to the new frame on screen (default scene, headless).
     Viewer {
@@ -229,6 +240,14 @@ fn run() -> Result<()> {
                     rayon::current_num_threads()
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
+            }
+            BenchCommand::Contact { scenes } => {
+                println!(
+                    "contact benchmark: last keyframe of each scene, {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = prehensile::bench_contact::contact_rows(&scenes)?;
+                print!("{}", prehensile::bench_contact::contact_table(&rows));
             }
             BenchCommand::Viewer { changes } => {
                 println!(

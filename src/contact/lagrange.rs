@@ -31,6 +31,9 @@ use crate::fem::DofPartition;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
 use std::time::Instant;
 
+/// A displacement this many search depths long is a runaway (a floating body not held).
+const RUNAWAY: f64 = 10.0;
+
 /// One active contact, its geometry frozen when it joined.
 struct Row {
     node: usize,
@@ -269,6 +272,18 @@ pub fn solve_lagrange(
             continue;
         }
         lambda = settle(&mut rows, &mut pool, &u0, &mut u, partition)?;
+        // A body that only weak ground springs hold runs away: no equilibrium with contact.
+        let (node, distance) = (0..problem.positions.len())
+            .map(|n| (n, Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm()))
+            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        if distance > RUNAWAY * settings.search_depth {
+            return Err(ContactError::Runaway {
+                node,
+                distance,
+                contacts: rows.len(),
+                slipping: rows.iter().filter(|r| r.state == Adhesion::Slip).count(),
+            });
+        }
     }
     if rows.is_empty() {
         u = u0.clone();
@@ -321,8 +336,10 @@ pub fn solve_lagrange(
 }
 
 /// The multipliers of the rows: releases pulling contacts and switches stick and slip until
-/// the set is consistent; updates `u`. Returns λ in row order: λ_n, then (λ_t1, λ_t2) for a
-/// sticking row.
+/// the set is consistent, one change at a time (the most pulling contact first, then the
+/// tangential force furthest outside the friction cone, then the clearest reversal of a slip),
+/// then follows the slip directions; updates `u`. Returns λ in row order: λ_n, then
+/// (λ_t1, λ_t2) for a sticking row.
 fn settle(
     rows: &mut Vec<Row>,
     released: &mut Vec<Row>,
@@ -330,13 +347,30 @@ fn settle(
     u: &mut [f64],
     partition: &DofPartition,
 ) -> Result<DVector<f64>, ContactError> {
-    const MAX_SWITCHES: usize = 200;
+    const MAX_SWITCHES: usize = 2000;
+    const MAX_TURNS: usize = 100;
+    let mut turns = 0;
     for _ in 0..MAX_SWITCHES {
         if rows.is_empty() {
             u.copy_from_slice(u0);
             return Ok(DVector::zeros(0));
         }
-        // Unknowns: (row, axis) for the normal of every row and the tangents of sticking rows.
+        // Every row and axis against every row's columns: g[(r, a)][(q, b)] = C_ra·K⁻¹·C_qbᵀ.
+        let slots: Vec<(usize, usize)> = rows
+            .iter()
+            .enumerate()
+            .flat_map(|(r, row)| (0..row.columns.len()).map(move |a| (r, a)))
+            .collect();
+        let index = |r: usize, a: usize| slots.iter().position(|&s| s == (r, a)).unwrap();
+        let n = slots.len();
+        let g = DMatrix::from_fn(n, n, |i, j| {
+            let (r, a) = slots[i];
+            let (q, b) = slots[j];
+            rows[r].apply_free(a, &rows[q].columns[b], partition)
+        });
+        let c_u0: Vec<f64> = slots.iter().map(|&(r, a)| rows[r].apply(a, u0)).collect();
+        // Unknowns: the normal of every row, the tangents of sticking rows. The effective
+        // column of a slipping row's normal carries its friction along: W_n + μ·(σ1 W_t1 + σ2 W_t2).
         let mut unknowns: Vec<(usize, usize)> = Vec::new();
         for (r, row) in rows.iter().enumerate() {
             unknowns.push((r, 0));
@@ -345,28 +379,18 @@ fn settle(
                 unknowns.push((r, 2));
             }
         }
-        let neq = rows[0].columns[0].len();
-        // The effective column of each unknown.
-        let columns: Vec<Vec<f64>> = unknowns
-            .iter()
-            .map(|&(r, axis)| {
-                let row = &rows[r];
-                let mut col = row.columns[axis].clone();
-                if axis == 0 && row.state == Adhesion::Slip {
-                    for (t, s) in [(1, row.slip.x), (2, row.slip.y)] {
-                        for (c, w) in col.iter_mut().zip(&row.columns[t]) {
-                            *c += row.mu * s * w;
-                        }
-                    }
-                }
-                col
-            })
-            .collect();
+        let effective = |slot: usize, (q, b): (usize, usize)| -> f64 {
+            let row = &rows[q];
+            let mut v = g[(slot, index(q, b))];
+            if b == 0 && row.state == Adhesion::Slip {
+                v += row.mu
+                    * (row.slip.x * g[(slot, index(q, 1))] + row.slip.y * g[(slot, index(q, 2))]);
+            }
+            v
+        };
         let m = unknowns.len();
-        let a = DMatrix::from_fn(m, m, |i, j| {
-            let (r, axis) = unknowns[i];
-            rows[r].apply_free(axis, &columns[j], partition)
-        });
+        let unknown_slot: Vec<usize> = unknowns.iter().map(|&(r, a)| index(r, a)).collect();
+        let a = DMatrix::from_fn(m, m, |i, j| effective(unknown_slot[i], unknowns[j]));
         let rhs = DVector::from_fn(m, |i, _| {
             let (r, axis) = unknowns[i];
             let row = &rows[r];
@@ -375,10 +399,9 @@ fn settle(
                 1 => row.reference.x,
                 _ => row.reference.y,
             };
-            target - row.apply(axis, u0)
+            target - c_u0[unknown_slot[i]]
         });
-        let lu = a.clone().lu();
-        let lambda = match lu.solve(&rhs) {
+        let lambda = match a.clone().lu().solve(&rhs) {
             Some(l) if l.iter().all(|v| v.is_finite()) => l,
             _ => {
                 // Nearly dependent rows (a node and the facet it touches both in contact):
@@ -391,72 +414,57 @@ fn settle(
                 }
             }
         };
-        u.copy_from_slice(u0);
-        for (j, col) in columns.iter().enumerate() {
-            for (e, &d) in partition.free.iter().enumerate() {
-                u[d] += lambda[j] * col[e];
-            }
-        }
-        debug_assert_eq!(neq, partition.free.len());
-        // Release the most pulling contact.
-        let worst = unknowns
-            .iter()
-            .enumerate()
-            .filter(|(_, &(_, axis))| axis == 0)
-            .map(|(j, &(r, _))| (r, lambda[j]))
-            .fold(None, |acc: Option<(usize, f64)>, (r, l)| match acc {
-                Some((_, best)) if best <= l => acc,
-                _ => Some((r, l)),
-            });
-        if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
-            let neg = unknowns
-                .iter()
-                .enumerate()
-                .filter(|(j, &(_, a))| a == 0 && lambda[*j] < 0.0)
-                .count();
-            eprintln!(
-                "settle: {} rows, {m} unknowns, {neg} pulling, worst {worst:?}",
-                rows.len()
-            );
-        }
-        if let Some((r, l)) = worst {
-            if l < 0.0 {
-                let mut row = rows.remove(r);
-                row.state = if row.mu > 0.0 {
-                    Adhesion::Stick
-                } else {
-                    Adhesion::Frictionless
-                };
-                released.push(row);
-                continue;
-            }
-        }
-        // Stick → slip where the tangential force leaves the cone; slip → stick where the node
-        // would slide along its friction force; slip directions follow the sliding.
-        let mut changed = false;
+        // C·U at every slot, from the multipliers.
+        let c_u: Vec<f64> = (0..n)
+            .map(|i| {
+                c_u0[i]
+                    + unknowns
+                        .iter()
+                        .zip(lambda.iter())
+                        .map(|(&uq, l)| l * effective(i, uq))
+                        .sum::<f64>()
+            })
+            .collect();
+        let scale = c_u.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        let still = 1e-9 * scale.max(f64::MIN_POSITIVE);
+        // 1. The most pulling contact leaves.
         let mut j = 0;
-        for row in rows.iter_mut() {
+        let mut pulling: Option<(usize, f64)> = None;
+        let mut outside: Option<(usize, f64, Vector2<f64>)> = None;
+        let mut reversed: Option<(usize, f64)> = None;
+        let mut turned = Vec::new();
+        for (r, row) in rows.iter().enumerate() {
             let ln = lambda[j];
+            if ln < 0.0 && pulling.is_none_or(|(_, l)| ln < l) {
+                pulling = Some((r, ln));
+            }
             match row.state {
                 Adhesion::Stick => {
                     let lt = Vector2::new(lambda[j + 1], lambda[j + 2]);
-                    if lt.norm() > row.mu * ln * (1.0 + 1e-9) {
-                        row.state = Adhesion::Slip;
-                        row.slip = lt / lt.norm();
-                        changed = true;
+                    let ratio = lt.norm() / (row.mu * ln.max(0.0)).max(f64::MIN_POSITIVE);
+                    if ratio > 1.0 + 1e-9 && outside.is_none_or(|(_, q, _)| ratio > q) {
+                        outside = Some((r, ratio, lt / lt.norm()));
                     }
                     j += 3;
                 }
                 Adhesion::Slip => {
-                    let s = Vector2::new(row.apply(1, u), row.apply(2, u)) - row.reference;
-                    if s.norm() > 0.0 {
-                        let along = -s / s.norm();
-                        if s.dot(&row.slip) > 0.0 {
-                            row.state = Adhesion::Stick;
-                            changed = true;
-                        } else if (along - row.slip).norm() > 1e-6 {
-                            row.slip = along;
-                            changed = true;
+                    // A slip that vanished sticks again; otherwise the friction force turns to
+                    // oppose the sliding (half-way per pass, which damps the turning).
+                    let s = Vector2::new(c_u[index(r, 1)], c_u[index(r, 2)]) - row.reference;
+                    if s.norm() <= still {
+                        if reversed.is_none() {
+                            reversed = Some((r, 0.0));
+                        }
+                    } else {
+                        let against = -s / s.norm();
+                        if (against - row.slip).norm() > 1e-3 && turns < MAX_TURNS {
+                            let mid = against + row.slip;
+                            let dir = if mid.norm() > 1e-12 {
+                                mid / mid.norm()
+                            } else {
+                                against
+                            };
+                            turned.push((r, dir));
                         }
                     }
                     j += 1;
@@ -464,9 +472,48 @@ fn settle(
                 Adhesion::Frictionless => j += 1,
             }
         }
-        if !changed {
-            return Ok(lambda);
+        if let Some((r, _)) = pulling {
+            let mut row = rows.remove(r);
+            row.state = if row.mu > 0.0 {
+                Adhesion::Stick
+            } else {
+                Adhesion::Frictionless
+            };
+            released.push(row);
+            continue;
         }
+        if let Some((r, _, dir)) = outside {
+            rows[r].state = Adhesion::Slip;
+            rows[r].slip = dir;
+            continue;
+        }
+        if let Some((r, _)) = reversed {
+            rows[r].state = Adhesion::Stick;
+            continue;
+        }
+        if !turned.is_empty() {
+            turns += 1;
+            for (r, dir) in turned {
+                rows[r].slip = dir;
+            }
+            continue;
+        }
+        // Consistent: the displacements.
+        u.copy_from_slice(u0);
+        for (&(q, b), l) in unknowns.iter().zip(lambda.iter()) {
+            let row = &rows[q];
+            let mut add = |col: &[f64], f: f64| {
+                for (e, &d) in partition.free.iter().enumerate() {
+                    u[d] += f * col[e];
+                }
+            };
+            add(&row.columns[b], *l);
+            if b == 0 && row.state == Adhesion::Slip {
+                add(&row.columns[1], l * row.mu * row.slip.x);
+                add(&row.columns[2], l * row.mu * row.slip.y);
+            }
+        }
+        return Ok(lambda);
     }
     Err(ContactError::NotConverged {
         method: "lagrange (stick/slip switching)",

@@ -185,13 +185,6 @@ pub fn solve_paper(
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
         u = next;
-        if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
-            let total: f64 = reactions.values().map(|r| r.norm()).sum();
-            eprintln!(
-                "paper iteration {iterations}: {} repelled, ω {omega:.3}, change {change:.3e}, Σ|R| {total:.3}",
-                active.len()
-            );
-        }
         if let Some(stop) = problem.stop {
             let reaction = support_reactions(problem, &u, &force);
             if stop(&reaction) {

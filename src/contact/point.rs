@@ -257,6 +257,21 @@ pub enum ContactError {
         /// What it does ("falls", "slides").
         motion: String,
     },
+    /// Contact and friction cannot hold a body still: it runs away (slides or falls) until only
+    /// the weak ground springs of a floating body stop it.
+    #[error(
+        "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts}          contacts, {slipping} slipping); the body slides or falls — give it supports, more          friction, or a closed grasp"
+    )]
+    Runaway {
+        /// The node moving most.
+        node: usize,
+        /// How far, m.
+        distance: f64,
+        /// Active contacts.
+        contacts: usize,
+        /// Of which slipping.
+        slipping: usize,
+    },
     /// A node of one body is deep inside another beyond what contact detection reaches.
     #[error(
         "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\", deeper than \

@@ -138,21 +138,36 @@ impl ContactProblem<'_> {
                 // Inside or outside: the side of the nearest facet of all. The facet it is
                 // pushed out of: the nearest of those that face it.
                 let bvh = &hierarchies[pair.surface];
-                let Some(nearest) = bvh.project(&current[node], &current, |t| t.contains(&node))
+                let own = normals.as_ref().and_then(|m| m.get(&node));
+                let Some(nearest) =
+                    bvh.project(&current[node], &current, own, |t| t.contains(&node))
                 else {
                     continue;
                 };
                 if nearest.gap >= threshold {
                     continue;
                 }
-                // Outside, by a facet that does not face it (the far side of a thin finger, a
-                // crease): nothing to touch. Inside: out through the nearest facet (a node
-                // past the middle of a thin wall leaves by the far side: keep increments
-                // shallower than half a wall).
-                if nearest.gap >= 0.0 && !facing(&nearest.nodes) {
-                    continue;
-                }
-                let proj = nearest;
+                // The nearest facet, unless it does not face the node: then a facing facet
+                // almost as near (a node on an edge or a corner of the other body, as close
+                // to its side as to the face it presses), else nothing if the node is outside
+                // (the far side of a thin finger, a crease), else the nearest (inside: out the
+                // nearest way; a node past the middle of a thin wall leaves by the far side,
+                // so keep increments shallower than half a wall).
+                let proj = if facing(&nearest.nodes) {
+                    nearest
+                } else {
+                    let band = nearest.distance + 0.1 * settings.search_depth;
+                    let alternative = bvh
+                        .project(&current[node], &current, own, |t| {
+                            t.contains(&node) || !facing(t)
+                        })
+                        .filter(|p| p.distance <= band);
+                    match alternative {
+                        Some(p) => p,
+                        None if nearest.gap >= 0.0 => continue,
+                        None => nearest,
+                    }
+                };
                 if proj.gap < threshold && proj.gap > -settings.search_depth {
                     let movable = free(node) || proj.nodes.iter().any(|&n| free(n));
                     if !movable {
@@ -179,20 +194,6 @@ impl ContactProblem<'_> {
     /// Largest penetration at `u` over every candidate, m (0 when none).
     pub fn max_penetration(&self, u: &[f64], settings: &ContactSettings) -> f64 {
         let found = self.penetrations(u, settings, 0.0, settings.pairs);
-        if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
-            for p in found.iter().filter(|p| p.gap < -1e-4) {
-                let x = self.position(u, p.node);
-                eprintln!(
-                    "penetrating node {} at {:?} (ref {:?}) gap {:.3e} normal {:?} {:?}",
-                    p.node,
-                    x.as_slice(),
-                    self.positions[p.node].as_slice(),
-                    p.gap,
-                    p.normal.as_slice(),
-                    p.master
-                );
-            }
-        }
         found.iter().map(|p| -p.gap).fold(0.0, f64::max)
     }
 }

@@ -125,11 +125,13 @@ pub struct SurfaceBvh<'a> {
 
 impl SurfaceBvh<'_> {
     /// The nearest facet to `x` among those whose grown box contains `x`, unless `skip` says
-    /// the facet must be ignored (e.g. it contains the point's own node).
+    /// the facet must be ignored (e.g. it contains the point's own node); between equally near
+    /// facets, the one whose normal is most opposed to `prefer` (the point's own normal).
     pub fn project(
         &self,
         x: &Vector3<f64>,
         positions: &[Vector3<f64>],
+        prefer: Option<&Vector3<f64>>,
         skip: impl Fn(&[usize; 3]) -> bool,
     ) -> Option<Projection> {
         let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
@@ -143,7 +145,24 @@ impl SurfaceBvh<'_> {
             let Some(proj) = project_on_triangle(x, &p) else {
                 continue;
             };
-            if best.is_none_or(|b| proj.distance < b.distance) {
+            // Nearest first; on a tie (a node on an edge or a corner, as close to two facets),
+            // the facet that faces it most.
+            let better = match &best {
+                None => true,
+                Some(b) => {
+                    let tie = (proj.distance - b.distance).abs()
+                        <= 1e-9 * (proj.distance.max(b.distance) + (p[1] - p[0]).norm());
+                    if tie {
+                        match prefer {
+                            Some(m) => proj.normal.dot(m) < b.normal.dot(m),
+                            None => false,
+                        }
+                    } else {
+                        proj.distance < b.distance
+                    }
+                }
+            };
+            if better {
                 best = Some(Projection { nodes, ..proj });
             }
         }

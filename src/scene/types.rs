@@ -193,6 +193,9 @@ pub struct SolverSettings {
     /// Which side is checked node against facet: `"skin_nodes"`, `"object_nodes"`, `"both"`.
     #[serde(default)]
     pub contact_pairs: Option<crate::contact::PairSides>,
+    /// Radius around the contact within which hand flesh is solved with it, m (default 0.008).
+    #[serde(default)]
+    pub contact_region: Option<f64>,
     /// Default Coulomb friction coefficient of every contact (default 0).
     #[serde(default)]
     pub friction: Option<f64>,

@@ -30,6 +30,9 @@ use crate::mesh::Mesh;
 use nalgebra::Vector3;
 use std::time::Instant;
 
+/// Skin closer than this to an object (m) seeds the flesh region solved with the contact.
+const SEED_GAP: f64 = 0.002;
+
 /// The frame with the hands at `hands`: solved with contact when a hand touches (or nearly
 /// touches) another body, otherwise the static frame `still` (solved now if `None`) with the
 /// hands composed into it.
@@ -88,6 +91,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     // Which skin nodes are near which object, and the object nodes near the skin.
     let mut pairs: Vec<SurfacePair> = Vec::new();
     let mut near_skin: Vec<usize> = Vec::new();
+    let mut seeds: Vec<usize> = Vec::new();
     for (i, _) in hands.iter().enumerate() {
         let skin_nodes = surfaces[i].nodes();
         let skin_bvh = surfaces[i].hierarchy(&x, margin);
@@ -95,21 +99,23 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
             let s = hands.len() + j;
             let object_nodes = surfaces[s].nodes();
             let object_bvh = surfaces[s].hierarchy(&x, margin);
-            let skin_near: Vec<usize> = skin_nodes
+            let gaps: Vec<(usize, f64)> = skin_nodes
                 .iter()
-                .copied()
-                .filter(|&n| {
+                .filter_map(|&n| {
                     object_bvh
-                        .project(&x[n], &x, |_| false)
-                        .is_some_and(|p| p.gap < margin)
+                        .project(&x[n], &x, None, |_| false)
+                        .map(|p| (n, p.gap))
                 })
                 .collect();
+            let skin_near: Vec<usize> = gaps.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
+            // The flesh solved with the contact grows from the skin that touches (or nearly).
+            seeds.extend(gaps.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
             let object_near: Vec<usize> = object_nodes
                 .iter()
                 .copied()
                 .filter(|&n| {
                     skin_bvh
-                        .project(&x[n], &x, |_| false)
+                        .project(&x[n], &x, None, |_| false)
                         .is_some_and(|p| p.gap < margin)
                 })
                 .collect();
@@ -148,7 +154,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         let body = &model.bodies[h.body];
         let hand = body.hand.as_deref().expect("a hand body");
         let flesh = &hand.flesh;
-        let near: Vec<Vector3<f64>> = near_skin
+        let near: Vec<Vector3<f64>> = seeds
             .iter()
             .filter(|&&n| body.nodes.contains(&n))
             .map(|&n| x[n])
@@ -265,21 +271,6 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
     }
     .map_err(|e| contact_error(model, e))?;
-    if std::env::var_os("PREHENSILE_DEBUG_CONTACT").is_some() {
-        for c in &result.contacts {
-            let p = x[c.node];
-            if let Master::Facet { nodes, .. } = c.master {
-                let q = (x[nodes[0]] + x[nodes[1]] + x[nodes[2]]) / 3.0;
-                eprintln!("  facet centre [{:.4} {:.4} {:.4}]", q.x, q.y, q.z);
-            }
-            eprintln!(
-                "contact node {} body {} at [{:.4} {:.4} {:.4}] n [{:.2} {:.2} {:.2}] f {:.3e} gap {:.2e} {:?}",
-                c.node,
-                model.body_of_node(c.node),
-                p.x, p.y, p.z, c.normal.x, c.normal.y, c.normal.z, c.force, c.gap, c.master
-            );
-        }
-    }
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
     too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
 

@@ -686,7 +686,7 @@ impl Model {
         contact_candidates.dedup();
         let largest = bodies.iter().map(|b| b.size).fold(0.0, f64::max);
         let contact = contact_settings(&scene.solver, largest).map_err(|(f, m)| err(f, m))?;
-        let contact_region = 0.012;
+        let contact_region = scene.solver.contact_region.unwrap_or(0.008);
         let friction = friction_table(scene).map_err(|(f, m)| err(f, m))?;
         let mut node_cell = vec![usize::MAX; mesh.node_count()];
         for (c, cell) in mesh.cells.iter().enumerate().rev() {

@@ -1,6 +1,7 @@
 //! Bodies held by nothing but contact (a ball resting in a grasp, a block on a slope): their
 //! stiffness is singular until contact holds them, so each free dof of such a "floating" body
-//! gets a weak spring to the ground, 10⁻⁹ of the body's mean diagonal stiffness. After the solve,
+//! gets a weak spring to the ground, 10⁻⁶ of the body's mean diagonal stiffness (weaker springs
+//! make the contact system ill-conditioned: the rigid motions' compliance swamps the elastic one). After the solve,
 //! the force those springs carry must be negligible against the forces on the body; if not, the
 //! body is not held (it falls, or slides) and the solve says so.
 
@@ -11,7 +12,7 @@ use crate::fem::DofPartition;
 use nalgebra::Vector3;
 
 /// Relative stiffness of the ground springs.
-pub const SPRING: f64 = 1e-9;
+pub const SPRING: f64 = 1e-6;
 
 /// Largest share of the forces on a body its springs may carry.
 pub const HELD: f64 = 1e-4;

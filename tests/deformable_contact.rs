@@ -1,0 +1,397 @@
+//! Contact between deformable bodies and Coulomb friction: two blocks in series (exact force,
+//! action and reaction, the paper's iteration against the Lagrange active set), a block pressed
+//! onto a slope (sticks below tan θ = μ, slides above), and the grasp scenes (tactile summary,
+//! bone thresholds).
+
+use nalgebra::{Rotation3, Vector3};
+use prehensile::contact::{
+    solve_lagrange, solve_paper, Adhesion, ContactError, ContactMethod, ContactProblem,
+    ContactResult, ContactSettings, ContactSurface, Obstacle, PairSides, Relaxation, SurfacePair,
+};
+use prehensile::fem::assembly::{assemble, StiffnessPattern};
+use prehensile::fem::solve::{FillOrdering, PartitionedSolver};
+use prehensile::fem::{DofPartition, Material};
+use prehensile::mesh::{boundary_facets, box_mesh, Mesh};
+use std::sync::Arc;
+
+fn settings(pairs: PairSides, method: ContactMethod) -> ContactSettings {
+    ContactSettings {
+        tolerance: 1e-12,
+        max_iterations: 200,
+        method,
+        change_tolerance: 1e-12,
+        relaxation: Relaxation::Aitken,
+        search_depth: 0.2,
+        pairs,
+    }
+}
+
+fn material(young: f64) -> Material {
+    Material {
+        young,
+        poisson: 0.0,
+        density: 0.0,
+    }
+}
+
+/// Block A (z from 1 to 2, stiffness E_a) pushed down by δ at its top onto block B (z from 0 to
+/// 1, E_b) fixed at its base; unit cross-section, ν = 0. Returns (result, A's top reaction,
+/// B's base reaction, exact force).
+fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, f64) {
+    let (ea, eb, delta) = (4.0e6, 1.0e6, 1.0e-3);
+    let b = box_mesh(Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0), [2, 2, 2]);
+    let a = box_mesh(
+        Vector3::new(0.0, 0.0, 1.0),
+        Vector3::new(1.0, 1.0, 2.0),
+        [2, 2, 2],
+    );
+    let mut mesh = Mesh {
+        nodes: Vec::new(),
+        cells: Vec::new(),
+    };
+    let (a0, _) = mesh.append(&a);
+    let (b0, _) = mesh.append(&b);
+    let na = a.nodes.len();
+    let materials: Vec<Material> = (0..mesh.cells.len())
+        .map(|c| material(if c < a.cells.len() { ea } else { eb }))
+        .collect();
+    let pattern = Arc::new(StiffnessPattern::new(&mesh));
+    let k = assemble(&pattern, &mesh, &materials).unwrap();
+    let dofs = 3 * mesh.nodes.len();
+    let mut mask = vec![false; dofs];
+    let mut values = vec![0.0; dofs];
+    for (n, p) in mesh.nodes.iter().enumerate() {
+        let top = n < na && p.z == 2.0;
+        let base = n >= na && p.z == 0.0;
+        if top || base {
+            for d in 0..3 {
+                mask[3 * n + d] = true;
+            }
+            if top {
+                values[3 * n + 2] = -delta;
+            }
+        }
+    }
+    let partition = DofPartition::new(mask);
+    let quads = |m: &Mesh, offset: usize| -> Vec<[usize; 4]> {
+        boundary_facets(m)
+            .iter()
+            .map(|f| f.nodes.map(|n| n + offset))
+            .collect()
+    };
+    let surfaces = vec![
+        ContactSurface::from_quads(0, &quads(&a, a0), &mesh.nodes),
+        ContactSurface::from_quads(1, &quads(&b, b0), &mesh.nodes),
+    ];
+    let pairs_list = vec![
+        SurfacePair {
+            slaves: surfaces[1].nodes(),
+            surface: 0,
+            primary: true,
+            slave_surface: Some(1),
+        },
+        SurfacePair {
+            slaves: surfaces[0].nodes(),
+            surface: 1,
+            primary: false,
+            slave_surface: Some(0),
+        },
+    ];
+    let problem = ContactProblem {
+        k: &k,
+        partition: &partition,
+        prescribed: &values,
+        loads: &vec![0.0; dofs],
+        positions: &mesh.nodes,
+        obstacles: &[],
+        obstacle_candidates: &[],
+        surfaces: &surfaces,
+        pairs: &pairs_list,
+        friction: &|_, _| 0.0,
+        stop: None,
+    };
+    let mut s = settings(pairs, method);
+    if method == ContactMethod::Paper {
+        s.change_tolerance = 1e-12;
+    }
+    let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
+    let result = match method {
+        ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, &s),
+        ContactMethod::Paper => solve_paper(&mut solver, &problem, &s, &[0..na]),
+    }
+    .unwrap();
+    let sum_z = |range: std::ops::Range<usize>| -> f64 {
+        range
+            .map(|n| result.solution.reaction[3 * n + 2])
+            .sum::<f64>()
+    };
+    let top = sum_z(0..na);
+    let base = sum_z(na..mesh.nodes.len());
+    let exact = delta * ea * eb / (ea + eb);
+    (result, top, base, exact)
+}
+
+#[test]
+fn two_blocks_in_series_carry_the_exact_force_and_action_equals_reaction() {
+    for pairs in [
+        PairSides::ObjectNodes,
+        PairSides::SkinNodes,
+        PairSides::Both,
+    ] {
+        let (r, top, base, exact) = blocks(ContactMethod::Lagrange, pairs);
+        let total: f64 = r.contacts.iter().map(|c| c.force).sum();
+        println!(
+            "{pairs:?}: F = {total:.9} N (exact {exact:.9}), top {top:.9}, base {base:.9}, \
+             {} contacts, {} iterations, {} substitutions",
+            r.contacts.len(),
+            r.iterations,
+            r.substitutions
+        );
+        // Springs in series: F = δ·k_a·k_b/(k_a + k_b), k = E·A/h.
+        assert!((total - exact).abs() < 1e-9 * exact, "{total} vs {exact}");
+        // Action and reaction: what the top support pushes, the base support takes.
+        assert!((top + base).abs() < 1e-9 * exact, "top {top}, base {base}");
+        assert!((base - exact).abs() < 1e-9 * exact);
+        assert!(r.max_penetration <= 1e-12, "{}", r.max_penetration);
+        assert_eq!(r.factorizations, 1);
+    }
+}
+
+#[test]
+fn the_paper_iteration_reaches_the_lagrange_contact_state() {
+    let (lag, _, _, exact) = blocks(ContactMethod::Lagrange, PairSides::ObjectNodes);
+    let (pap, top, base, _) = blocks(ContactMethod::Paper, PairSides::ObjectNodes);
+    let force = |r: &ContactResult| r.contacts.iter().map(|c| c.force).sum::<f64>();
+    let du = lag
+        .solution
+        .displacement
+        .iter()
+        .zip(&pap.solution.displacement)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "paper: F = {:.9} N in {} iterations, {} factorizations; lagrange {:.9} N in {} \
+         iterations, 1 factorization; largest displacement difference {du:.3e} m",
+        force(&pap),
+        pap.iterations,
+        pap.factorizations,
+        force(&lag),
+        lag.iterations
+    );
+    assert!((force(&pap) - exact).abs() < 1e-6 * exact);
+    assert!((top + base).abs() < 1e-6 * exact);
+    assert!(du < 1e-9, "{du}");
+    // The paper's method pays a factorization per iteration.
+    assert!(pap.factorizations >= pap.iterations);
+    assert!(pap.iterations > lag.iterations);
+}
+
+/// A unit block resting on a slope of angle θ, its top pushed straight down by δ (free to move
+/// sideways, held only by weak ground springs), against friction μ. Returns the contact result,
+/// the force the springs carry and the total normal force.
+fn slope(theta_deg: f64, mu: f64) -> (ContactResult, Vector3<f64>, f64) {
+    let (r, carried, normal) = slope_solve(theta_deg, mu);
+    (r.unwrap(), carried, normal)
+}
+
+fn slope_result(theta_deg: f64, mu: f64) -> Result<ContactResult, ContactError> {
+    slope_solve(theta_deg, mu).0
+}
+
+fn slope_solve(
+    theta_deg: f64,
+    mu: f64,
+) -> (Result<ContactResult, ContactError>, Vector3<f64>, f64) {
+    let theta = theta_deg.to_radians();
+    let rotation = Rotation3::from_axis_angle(&Vector3::y_axis(), -theta);
+    let mut mesh = box_mesh(
+        Vector3::new(-0.5, -0.5, 0.0),
+        Vector3::new(0.5, 0.5, 1.0),
+        [2, 2, 2],
+    );
+    let top: Vec<bool> = mesh.nodes.iter().map(|p| p.z == 1.0).collect();
+    for p in &mut mesh.nodes {
+        *p = rotation * *p;
+    }
+    let normal = rotation * Vector3::z();
+    let pattern = Arc::new(StiffnessPattern::new(&mesh));
+    let young = 1.0e6;
+    let mut k = assemble(
+        &pattern,
+        &mesh,
+        &vec![
+            Material {
+                young,
+                poisson: 0.3,
+                density: 0.0
+            };
+            mesh.cells.len()
+        ],
+    )
+    .unwrap();
+    let dofs = 3 * mesh.nodes.len();
+    let mut mask = vec![false; dofs];
+    let mut values = vec![0.0; dofs];
+    let delta = 1e-3;
+    for (n, &t) in top.iter().enumerate() {
+        if t {
+            mask[3 * n + 2] = true;
+            values[3 * n + 2] = -delta;
+        }
+    }
+    let partition = DofPartition::new(mask);
+    let mean = (0..dofs)
+        .filter(|&d| !partition.prescribed[d])
+        .map(|d| k.diagonal(d))
+        .sum::<f64>()
+        / partition.free_count() as f64;
+    let spring = 1e-6 * mean;
+    for d in 0..dofs {
+        if !partition.prescribed[d] {
+            k.add_to_diagonal(d, spring);
+        }
+    }
+    let candidates: Vec<usize> = (0..mesh.nodes.len()).collect();
+    let problem = ContactProblem {
+        k: &k,
+        partition: &partition,
+        prescribed: &values,
+        loads: &vec![0.0; dofs],
+        positions: &mesh.nodes,
+        obstacles: &[Obstacle::Plane {
+            point: Vector3::zeros(),
+            normal,
+        }],
+        obstacle_candidates: &candidates,
+        surfaces: &[],
+        pairs: &[],
+        friction: &|_, _| mu,
+        stop: None,
+    };
+    let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
+    let s = settings(PairSides::SkinNodes, ContactMethod::Lagrange);
+    let r = solve_lagrange(&mut solver, &problem, &s);
+    let mut carried = Vector3::zeros();
+    let mut normal_force = 0.0;
+    if let Ok(r) = &r {
+        for d in 0..dofs {
+            if !partition.prescribed[d] {
+                carried[d % 3] += spring * r.solution.displacement[d];
+            }
+        }
+        normal_force = r.contacts.iter().map(|c| c.force).sum();
+    }
+    (r, carried, normal_force)
+}
+
+#[test]
+fn a_block_on_a_slope_sticks_below_tan_theta_and_slides_above() {
+    let theta: f64 = 10.0;
+    let tan = theta.to_radians().tan();
+    // μ = 0.5 > tan 10° = 0.176: it sticks, the springs carry nothing, and the plane's force
+    // is vertical, so that F_t / F_n = tan θ.
+    let (r, carried, fn_) = slope(theta, 0.5);
+    let ft: Vector3<f64> = r.contacts.iter().map(|c| c.tangential).sum();
+    let slipping = r
+        .contacts
+        .iter()
+        .filter(|c| c.adhesion == Adhesion::Slip)
+        .count();
+    println!(
+        "μ = 0.5: F_n {fn_:.3} N, F_t {:.3} N (ratio {:.6}, tan θ {tan:.6}), springs {:.3e} N, \
+         {slipping} of {} slipping",
+        ft.norm(),
+        ft.norm() / fn_,
+        carried.norm(),
+        r.contacts.len()
+    );
+    assert!(fn_ > 0.0);
+    // (The ground springs, 10⁻⁶ of the stiffness, take a few 10⁻⁶ of the load.)
+    assert!((ft.norm() / fn_ - tan).abs() < 1e-5, "{}", ft.norm() / fn_);
+    assert!(carried.norm() < 1e-5 * fn_, "{carried:?}");
+    for c in &r.contacts {
+        assert!(c.tangential.norm() <= 0.5 * c.force * (1.0 + 1e-9));
+    }
+    // μ = 0: nothing holds it along the slope; it slides until the weak ground springs take
+    // the plane's push sideways: F_n·sin θ.
+    let (r, carried, fn_) = slope(theta, 0.0);
+    let s = theta.to_radians().sin();
+    println!(
+        "μ = 0: F_n {fn_:.5} N, springs sideways {:.5} N (F_n·sin θ = {:.5} N), {} contacts",
+        carried.x.abs(),
+        fn_ * s,
+        r.contacts.len()
+    );
+    assert!(
+        (carried.x.abs() - fn_ * s).abs() < 1e-6 * fn_,
+        "{carried:?}"
+    );
+    // μ = 0.1 < tan θ: friction cannot hold it. Either the solve says so (no consistent
+    // stick/slip state, or a runaway), or the springs carry a large share of the load.
+    match slope_result(theta, 0.1) {
+        Ok(_) => {
+            let (_, carried, fn_) = slope(theta, 0.1);
+            println!("μ = 0.1: springs carry {:.3} of F_n", carried.norm() / fn_);
+            assert!(carried.norm() > 0.01 * fn_);
+        }
+        Err(e) => println!("μ = 0.1: not held: {e}"),
+    }
+}
+
+#[test]
+fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
+    let ball =
+        prehensile::pipeline::solve_scene_file("assets/scenes/hand-grasp-ball.toml".as_ref())
+            .unwrap();
+    let bowl =
+        prehensile::pipeline::solve_scene_file("assets/scenes/bowl-grasp.toml".as_ref()).unwrap();
+    for (name, solved, object) in [("ball", &ball, "ball"), ("bowl", &bowl, "bowl")] {
+        let f = solved.report.frames.last().unwrap();
+        let c = f.contact.as_ref().expect("contact");
+        let h = &f.hands["hand"];
+        let on_hand = c.bodies[&format!("{object}/hand")].force;
+        let parts: Vector3<f64> = h.contact.values().map(|p| Vector3::from(p.force)).sum();
+        let bones = Vector3::from(h.bone_reaction_sum);
+        println!(
+            "{name}: contact on the hand {on_hand:?} N over {} nodes, parts {:?}, bones {bones:?}, \
+             realisable {}, {} iterations, {} substitutions, {:.0} ms, penetration {:.2e} m",
+            c.bodies[&format!("{object}/hand")].nodes,
+            h.contact
+                .iter()
+                .map(|(k, v)| format!("{k} {:.2}", v.magnitude))
+                .collect::<Vec<_>>(),
+            h.realisable,
+            c.iterations,
+            c.substitutions,
+            c.contact_ms,
+            c.max_penetration
+        );
+        // Action and reaction: the bones hold exactly what the object pushes onto the flesh.
+        let on = Vector3::from(on_hand);
+        assert!((parts - on).norm() < 1e-9 * on.norm());
+        assert!(
+            (bones + on).norm() < 1e-9 * on.norm(),
+            "{bones:?} vs {on:?}"
+        );
+        // The whole scene balances: loads and gravity against supports.
+        let imbalance = Vector3::from(f.equilibrium.imbalance);
+        assert!(imbalance.norm() < 1e-9, "{imbalance:?}");
+        assert!(c.max_penetration < 1e-4, "{}", c.max_penetration);
+        // Every digit touches.
+        for digit in ["thumb", "index", "middle", "ring", "little"] {
+            assert!(
+                h.contact.contains_key(digit),
+                "{name}: {digit} does not touch"
+            );
+        }
+    }
+    let h_ball = &ball.report.frames.last().unwrap().hands["hand"];
+    let h_bowl = &bowl.report.frames.last().unwrap().hands["hand"];
+    assert!(h_ball.realisable, "{:?}", h_ball.overloads);
+    assert!(!h_bowl.realisable);
+    let worst = &h_bowl.overloads[0];
+    println!("bowl: {}", worst.advice);
+    assert_eq!(worst.bone, "ring.distal");
+    assert!(worst.excess > 0.0 && worst.reaction > worst.threshold);
+    assert!(worst.advice.contains("ring."), "{}", worst.advice);
+}
