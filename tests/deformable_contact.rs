@@ -117,7 +117,9 @@ fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, 
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let result = match method {
         ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, &s),
-        ContactMethod::Paper => solve_paper(&mut solver, &problem, &s, &[0..na]),
+        ContactMethod::Paper => {
+            solve_paper(&mut solver, &problem, &s, std::slice::from_ref(&(0..na)))
+        }
     }
     .unwrap();
     let sum_z = |range: std::ops::Range<usize>| -> f64 {
@@ -394,4 +396,31 @@ fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
     assert_eq!(worst.bone, "ring.distal");
     assert!(worst.excess > 0.0 && worst.reaction > worst.threshold);
     assert!(worst.advice.contains("ring."), "{}", worst.advice);
+}
+
+#[test]
+fn a_finger_driven_deep_into_the_ball_stops_with_a_clear_error() {
+    // The index MCP at 40° puts the finger pad about 12 mm into the ball: beyond what contact
+    // linearised about the posed state can resolve. The solve says so instead of writing a
+    // crushed, interpenetrating frame.
+    let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
+        .unwrap()
+        .replace(
+            "pose = { \"index.mcp.flex\" = 25.0 }",
+            "pose = { \"index.mcp.flex\" = 40.0 }",
+        );
+    let scene = prehensile::scene::Scene::parse(&text, "deep.toml").unwrap();
+    let err = match prehensile::pipeline::solve_scene(&scene, "deep.toml") {
+        Ok(_) => panic!("a finger 12 mm inside the ball must not solve"),
+        Err(e) => e.to_string(),
+    };
+    println!("{err}");
+    assert!(
+        err.contains("did not converge") || err.contains("deeper than contact can resolve"),
+        "{err}"
+    );
+    assert!(
+        err.contains("penetration") || err.contains("inside"),
+        "{err}"
+    );
 }

@@ -59,6 +59,8 @@ pub struct SolverParams {
     pub max_step_deg: f64,
     /// Hand mesh resolution (0.5 … 4; 1 is the default 3.2 mm lattice).
     pub resolution: f64,
+    /// Contact method between hands and objects.
+    pub contact: crate::contact::ContactMethod,
 }
 
 impl SolverParams {
@@ -87,6 +89,7 @@ impl SolverParams {
             tolerance: 1e-8,
             max_step_deg: s.max_step_deg.unwrap_or(10.0),
             resolution,
+            contact: s.contact.unwrap_or_default(),
         }
     }
 
@@ -94,6 +97,7 @@ impl SolverParams {
     pub fn apply(&self, scene: &mut Scene) {
         let s = &mut scene.solver;
         s.max_step_deg = Some(self.max_step_deg);
+        s.contact = Some(self.contact);
         // `tier` is written with `flesh` and `flexion` agreeing with it.
         s.tier = Some(self.tier.scene_name());
         match self.tier {

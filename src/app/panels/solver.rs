@@ -1,8 +1,9 @@
-//! Solver: tier, contact method (not yet), tolerance, increment size, mesh resolution.
+//! Solver: tier, contact method, tolerance, increment size, mesh resolution.
 
 use super::super::settings::Tier;
 use super::super::state::ViewerState;
 use super::committed;
+use crate::contact::ContactMethod;
 use egui::{DragValue, Slider};
 
 pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
@@ -12,13 +13,18 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     for t in Tier::ALL {
         done |= ui.radio_value(&mut s.tier, t, t.label()).changed();
     }
-    ui.add_enabled_ui(false, |ui| {
-        egui::ComboBox::from_label("contact method")
-            .selected_text("none")
-            .show_ui(ui, |_| {});
-    })
-    .response
-    .on_disabled_hover_text("contact lands with issue 4");
+    egui::ComboBox::from_label("contact method")
+        .selected_text(s.contact.name())
+        .show_ui(ui, |ui| {
+            for m in [ContactMethod::Lagrange, ContactMethod::Paper] {
+                done |= ui.selectable_value(&mut s.contact, m, m.name()).changed();
+            }
+        })
+        .response
+        .on_hover_text(
+            "lagrange: active set through the Schur complement, exact, one factorization; \
+             paper: the published repel–prescribe–release iteration",
+        );
     ui.horizontal(|ui| {
         ui.label("tolerance");
         let r = ui
