@@ -31,6 +31,9 @@ use crate::fem::DofPartition;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
 use std::time::Instant;
 
+/// Share of the deepest penetration below which candidates join in one iteration.
+const JOIN_SHARE: f64 = 0.3;
+
 /// A displacement this many search depths long is a runaway (a floating body not held).
 const RUNAWAY: f64 = 10.0;
 
@@ -184,11 +187,18 @@ pub fn solve_lagrange(
                 change: 0.0,
             });
         }
-        // Join: candidates whose linearised gap is closed beyond the tolerance.
+        // Join: candidates whose linearised gap is closed beyond the tolerance — the deeper
+        // ones first (within a factor JOIN_SHARE of the deepest): the shallow ones are often
+        // lifted by their neighbours' contact and would cost a substitution for nothing.
+        let gaps: Vec<f64> = pool.iter().map(|r| r.apply(0, &u) - r.bound).collect();
+        let deepest = gaps.iter().copied().fold(0.0, f64::min);
+        let cut = (JOIN_SHARE * deepest).min(-settings.tolerance);
         let mut fresh: Vec<Row> = Vec::new();
         let mut i = 0;
+        let mut gaps = gaps;
         while i < pool.len() {
-            if pool[i].apply(0, &u) - pool[i].bound < -settings.tolerance {
+            if gaps[i] < cut {
+                gaps.swap_remove(i);
                 let mut row = pool.swap_remove(i);
                 row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
                 fresh.push(row);
