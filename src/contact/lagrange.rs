@@ -22,13 +22,16 @@
 
 use super::obstacle::Obstacle;
 use super::point::{
-    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
+    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
+    ContactTimes, Master,
 };
 use super::problem::{ContactProblem, Penetration};
 use crate::fem::assembly::Stiffness;
+use crate::fem::forward::HalfSolved;
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// Share of the deepest penetration below which candidates join in one iteration.
@@ -39,6 +42,8 @@ const RUNAWAY: f64 = 10.0;
 
 /// One active contact, its geometry frozen when it joined.
 struct Row {
+    /// Unique among all rows ever made (the key of the coupling cache).
+    id: usize,
     node: usize,
     master: Master,
     source: usize,
@@ -53,11 +58,28 @@ struct Row {
     state: Adhesion,
     /// Direction of the friction force on the node in (t1, t2) while slipping.
     slip: Vector2<f64>,
-    /// K11⁻¹·C_aᵀ over the free equations for axis a = n (and t1, t2 with friction).
-    columns: Vec<Vec<f64>>,
+    /// K11⁻¹·C_aᵀ (or half of it) for axis a = n (and t1, t2 with friction).
+    columns: Vec<Column>,
+}
+
+/// A constraint row's column of the Schur complement: K11⁻¹·C_aᵀ over the free equations, or
+/// L⁻¹·P·C_aᵀ (half the substitution, sparse) when the factor is supernodal; the coupling
+/// C_a·K11⁻¹·C_bᵀ is then y_a·y_b, and the displacements need one substitution per settle.
+enum Column {
+    Full(Vec<f64>),
+    Half(HalfSolved),
 }
 
 impl Row {
+    /// C_a·K11⁻¹·C_bᵀ between axis `a` of this row and axis `b` of `other`.
+    fn coupling(&self, a: usize, other: &Row, b: usize, partition: &DofPartition) -> f64 {
+        match (&self.columns[a], &other.columns[b]) {
+            (Column::Half(x), Column::Half(y)) => x.dot(y),
+            (_, Column::Full(col)) => self.apply_free(a, col, partition),
+            (Column::Full(col), _) => other.apply_free(b, col, partition),
+        }
+    }
+
     fn new(p: &Penetration, problem: &ContactProblem, u: &[f64], mu: f64) -> Row {
         let mut terms = vec![(p.node, 1.0)];
         if let Master::Facet { nodes, weights, .. } = p.master {
@@ -71,7 +93,9 @@ impl Row {
         };
         let t1 = n.cross(&helper).normalize();
         let t2 = n.cross(&t1);
+        static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
         let mut row = Row {
+            id: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             node: p.node,
             master: p.master,
             source: p.source,
@@ -156,6 +180,8 @@ pub fn solve_lagrange(
         problem.positions,
     )?;
     let t = Instant::now();
+    let mut times = ContactTimes::default();
+    times.add_solve(&base.stats);
     let u0 = base.displacement.clone();
     let neq = partition.free_count();
     let mut rows: Vec<Row> = Vec::new();
@@ -166,6 +192,7 @@ pub fn solve_lagrange(
     // Candidates: every contact possible on the reference geometry (U = 0), within the search
     // depth, its facet, weights and normal frozen there (small sliding).
     let zero = vec![0.0; u.len()];
+    let ts = Instant::now();
     let mut pool: Vec<Row> = Vec::new();
     for p in problem.penetrations(&zero, settings, settings.search_depth, settings.pairs) {
         if pool.iter().all(|r| r.key() != (p.node, p.source)) {
@@ -173,6 +200,8 @@ pub fn solve_lagrange(
             pool.push(Row::new(&p, problem, &zero, mu));
         }
     }
+    times.search += ms(ts);
+    let mut couplings = HashMap::new();
     let mut refreshes = 0;
     const MAX_REFRESH: usize = 3;
     loop {
@@ -214,7 +243,10 @@ pub fn solve_lagrange(
                 break;
             }
             refreshes += 1;
-            for p in problem.penetrations(&u, settings, -settings.tolerance, settings.pairs) {
+            let ts = Instant::now();
+            let found = problem.penetrations(&u, settings, -settings.tolerance, settings.pairs);
+            times.search += ms(ts);
+            for p in found {
                 let key = (p.node, p.source);
                 let same_facet = |r: &Row| r.key() == key && r.master == p.master;
                 if let Some(i) = rows.iter().position(|r| r.key() == key) {
@@ -263,13 +295,24 @@ pub fn solve_lagrange(
             keep.push(any);
         }
         if !wanted.is_empty() {
-            solver.solve_factored(&mut block, wanted.len())?;
-            substitutions += wanted.len();
-            for (j, &(r, _)) in wanted.iter().enumerate() {
-                fresh[r]
-                    .columns
-                    .push(block[j * neq..(j + 1) * neq].to_vec());
+            let ts = Instant::now();
+            match solver.forward_sparse(&block, wanted.len())? {
+                Some(halves) => {
+                    for (&(r, _), h) in wanted.iter().zip(halves) {
+                        fresh[r].columns.push(Column::Half(h));
+                    }
+                }
+                None => {
+                    solver.solve_factored(&mut block, wanted.len())?;
+                    for (j, &(r, _)) in wanted.iter().enumerate() {
+                        fresh[r]
+                            .columns
+                            .push(Column::Full(block[j * neq..(j + 1) * neq].to_vec()));
+                    }
+                }
             }
+            times.substitution += ms(ts);
+            substitutions += wanted.len();
         }
         rows.extend(
             fresh
@@ -281,7 +324,12 @@ pub fn solve_lagrange(
         if rows.is_empty() {
             continue;
         }
-        lambda = settle(&mut rows, &mut pool, &u0, &mut u, partition)?;
+        let ts = Instant::now();
+        lambda = settle(&mut rows, &mut pool, &u0, partition, &mut couplings)?;
+        times.settle += ms(ts);
+        let ts = Instant::now();
+        substitutions += displace(&rows, &lambda, &u0, &mut u, partition, solver)?;
+        times.substitution += ms(ts);
         // A body that only weak ground springs hold runs away: no equilibrium with contact.
         let (node, distance) = (0..problem.positions.len())
             .map(|n| (n, Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm()))
@@ -342,6 +390,7 @@ pub fn solve_lagrange(
         last_change: 0.0,
         stopped_by_threshold: false,
         region_cells: 0,
+        times,
     })
 }
 
@@ -354,31 +403,41 @@ fn settle(
     rows: &mut Vec<Row>,
     released: &mut Vec<Row>,
     u0: &[f64],
-    u: &mut [f64],
     partition: &DofPartition,
+    cache: &mut HashMap<(usize, usize), f64>,
 ) -> Result<DVector<f64>, ContactError> {
     const MAX_SWITCHES: usize = 2000;
     const MAX_TURNS: usize = 100;
     let mut turns = 0;
+    // G[(r, a)][(q, b)] = C_ra·K⁻¹·C_qbᵀ between every row and axis, computed once: the
+    // switches below only change states and remove rows.
+    let mut offset = slot_offsets(rows);
+    let n = *offset.last().unwrap();
+    let mut g = DMatrix::zeros(n, n);
+    for i in 0..n {
+        let (r, a) = slot_of(&offset, i);
+        for j in i..n {
+            let (q, b) = slot_of(&offset, j);
+            let (ki, kj) = (3 * rows[r].id + a, 3 * rows[q].id + b);
+            g[(i, j)] = *cache
+                .entry((ki.min(kj), ki.max(kj)))
+                .or_insert_with(|| rows[r].coupling(a, &rows[q], b, partition));
+            g[(j, i)] = g[(i, j)];
+        }
+    }
+    let mut c_u0: Vec<f64> = (0..g.nrows())
+        .map(|i| {
+            let (r, a) = slot_of(&offset, i);
+            rows[r].apply(a, u0)
+        })
+        .collect();
     for _ in 0..MAX_SWITCHES {
         if rows.is_empty() {
-            u.copy_from_slice(u0);
             return Ok(DVector::zeros(0));
         }
-        // Every row and axis against every row's columns: g[(r, a)][(q, b)] = C_ra·K⁻¹·C_qbᵀ.
-        let slots: Vec<(usize, usize)> = rows
-            .iter()
-            .enumerate()
-            .flat_map(|(r, row)| (0..row.columns.len()).map(move |a| (r, a)))
-            .collect();
-        let index = |r: usize, a: usize| slots.iter().position(|&s| s == (r, a)).unwrap();
-        let n = slots.len();
-        let g = DMatrix::from_fn(n, n, |i, j| {
-            let (r, a) = slots[i];
-            let (q, b) = slots[j];
-            rows[r].apply_free(a, &rows[q].columns[b], partition)
-        });
-        let c_u0: Vec<f64> = slots.iter().map(|&(r, a)| rows[r].apply(a, u0)).collect();
+        let index = |r: usize, a: usize| offset[r] + a;
+        let n = g.nrows();
+
         // Unknowns: the normal of every row, the tangents of sticking rows. The effective
         // column of a slipping row's normal carries its friction along: W_n + μ·(σ1 W_t1 + σ2 W_t2).
         let mut unknowns: Vec<(usize, usize)> = Vec::new();
@@ -482,14 +541,37 @@ fn settle(
                 Adhesion::Frictionless => j += 1,
             }
         }
-        if let Some((r, _)) = pulling {
-            let mut row = rows.remove(r);
-            row.state = if row.mu > 0.0 {
-                Adhesion::Stick
+        if let Some((most, _)) = pulling {
+            // Without friction every pulling contact leaves at once (the primal-dual active
+            // set); with friction one at a time, the most pulling first.
+            let frictionless = rows.iter().all(|r| r.state == Adhesion::Frictionless);
+            let mut leaving: Vec<usize> = if frictionless {
+                let mut j = 0;
+                let mut out = Vec::new();
+                for (r, row) in rows.iter().enumerate() {
+                    if lambda[j] < 0.0 {
+                        out.push(r);
+                    }
+                    j += if row.state == Adhesion::Stick { 3 } else { 1 };
+                }
+                out
             } else {
-                Adhesion::Frictionless
+                vec![most]
             };
-            released.push(row);
+            leaving.sort_unstable_by(|a, b| b.cmp(a));
+            for r in leaving {
+                let (from, count) = (offset[r], offset[r + 1] - offset[r]);
+                g = g.remove_rows(from, count).remove_columns(from, count);
+                c_u0.drain(from..from + count);
+                let mut row = rows.remove(r);
+                offset = slot_offsets(rows);
+                row.state = if row.mu > 0.0 {
+                    Adhesion::Stick
+                } else {
+                    Adhesion::Frictionless
+                };
+                released.push(row);
+            }
             continue;
         }
         if let Some((r, _, dir)) = outside {
@@ -508,21 +590,6 @@ fn settle(
             }
             continue;
         }
-        // Consistent: the displacements.
-        u.copy_from_slice(u0);
-        for (&(q, b), l) in unknowns.iter().zip(lambda.iter()) {
-            let row = &rows[q];
-            let mut add = |col: &[f64], f: f64| {
-                for (e, &d) in partition.free.iter().enumerate() {
-                    u[d] += f * col[e];
-                }
-            };
-            add(&row.columns[b], *l);
-            if b == 0 && row.state == Adhesion::Slip {
-                add(&row.columns[1], l * row.mu * row.slip.x);
-                add(&row.columns[2], l * row.mu * row.slip.y);
-            }
-        }
         return Ok(lambda);
     }
     Err(ContactError::NotConverged {
@@ -533,6 +600,94 @@ fn settle(
         tolerance: 0.0,
         change: 0.0,
     })
+}
+
+/// The first slot of every row's axes in G, and the total at the end.
+fn slot_offsets(rows: &[Row]) -> Vec<usize> {
+    let mut out = Vec::with_capacity(rows.len() + 1);
+    let mut k = 0;
+    for row in rows {
+        out.push(k);
+        k += row.columns.len();
+    }
+    out.push(k);
+    out
+}
+
+/// The (row, axis) of slot `i`.
+fn slot_of(offset: &[usize], i: usize) -> (usize, usize) {
+    let r = offset.partition_point(|&o| o <= i) - 1;
+    (r, i - offset[r])
+}
+
+/// U = U⁰ + K11⁻¹·Cᵀ·λ (a slipping row's normal column carries its friction along); returns
+/// the substitutions it took.
+fn displace(
+    rows: &[Row],
+    lambda: &DVector<f64>,
+    u0: &[f64],
+    u: &mut [f64],
+    partition: &DofPartition,
+    solver: &mut PartitionedSolver,
+) -> Result<usize, ContactError> {
+    u.copy_from_slice(u0);
+    if rows.is_empty() {
+        return Ok(0);
+    }
+    // (row, axis, multiplier) of every column in the sum.
+    let mut terms: Vec<(usize, usize, f64)> = Vec::new();
+    let mut j = 0;
+    for (r, row) in rows.iter().enumerate() {
+        let l = lambda[j];
+        terms.push((r, 0, l));
+        match row.state {
+            Adhesion::Stick => {
+                terms.push((r, 1, lambda[j + 1]));
+                terms.push((r, 2, lambda[j + 2]));
+                j += 3;
+            }
+            Adhesion::Slip => {
+                terms.push((r, 1, l * row.mu * row.slip.x));
+                terms.push((r, 2, l * row.mu * row.slip.y));
+                j += 1;
+            }
+            Adhesion::Frictionless => j += 1,
+        }
+    }
+    let full = rows
+        .first()
+        .is_some_and(|r| matches!(r.columns[0], Column::Full(_)));
+    if full {
+        for &(r, a, l) in &terms {
+            let Column::Full(col) = &rows[r].columns[a] else {
+                unreachable!("one kind of column per solve")
+            };
+            for (e, &d) in partition.free.iter().enumerate() {
+                u[d] += l * col[e];
+            }
+        }
+        return Ok(0);
+    }
+    let mut rhs = vec![0.0; partition.free_count()];
+    let mut scratch = vec![0.0; partition.free_count()];
+    for &(r, a, l) in &terms {
+        if l != 0.0 {
+            scratch.iter_mut().for_each(|v| *v = 0.0);
+            rows[r].scatter(a, &mut scratch, partition);
+            for (x, s) in rhs.iter_mut().zip(&scratch) {
+                *x += l * s;
+            }
+        }
+    }
+    solver.solve_factored(&mut rhs, 1)?;
+    for (e, &d) in partition.free.iter().enumerate() {
+        u[d] += rhs[e];
+    }
+    Ok(1)
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
 }
 
 fn contact_points(

@@ -15,8 +15,8 @@ pub use lagrange::{solve_lagrange, solve_with_obstacles};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;
 pub use point::{
-    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
-    PairSides, Relaxation,
+    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
+    ContactTimes, Master, PairSides, Relaxation,
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};

@@ -20,8 +20,8 @@
 //! it; the transferred forces are therefore relaxed, by default with Aitken's factor.
 
 use super::point::{
-    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, Master,
-    PairSides, Relaxation,
+    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
+    ContactTimes, Master, PairSides, Relaxation,
 };
 use super::problem::{ContactProblem, Penetration};
 use crate::fem::solve::PartitionedSolver;
@@ -49,6 +49,8 @@ pub fn solve_paper(
         problem.positions,
     )?;
     let t = Instant::now();
+    let mut times = ContactTimes::default();
+    times.add_solve(&base.stats);
     let dofs = base.displacement.len();
     let u0 = base.displacement.clone();
     let neq = partition.free_count();
@@ -120,6 +122,7 @@ pub fn solve_paper(
                 problem.positions,
             )?;
             factorizations += 1;
+            times.add_solve(&s.stats);
             Some(s)
         };
         // Step 4: the reactions at the repelled nodes, equal and opposite on the skin.
@@ -173,7 +176,9 @@ pub fn solve_paper(
         for (e, &d) in partition.free.iter().enumerate() {
             rhs[e] = force[d];
         }
+        let ts = Instant::now();
         solver.solve_factored(&mut rhs, 1)?;
+        times.substitution += ts.elapsed().as_secs_f64() * 1e3;
         substitutions += 1;
         let mut next = u0.clone();
         for (e, &d) in partition.free.iter().enumerate() {
@@ -251,6 +256,7 @@ pub fn solve_paper(
         last_change: change,
         stopped_by_threshold: stopped,
         region_cells: 0,
+        times,
     })
 }
 

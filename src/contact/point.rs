@@ -206,6 +206,38 @@ pub struct ContactResult {
     pub stopped_by_threshold: bool,
     /// Hand cells solved with the contact (0 without a hand).
     pub region_cells: usize,
+    /// Where the time went.
+    pub times: ContactTimes,
+}
+
+/// Where a contact frame's time went, ms.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct ContactTimes {
+    /// Surfaces, hierarchies, the pairs and the region solved with the contact.
+    pub detection: f64,
+    /// Assembly of K on the current geometry.
+    pub assembly: f64,
+    /// Ordering and symbolic analysis of K11.
+    pub symbolic: f64,
+    /// Numeric factorizations.
+    pub factorization: f64,
+    /// Substitutions with the factor (U⁰ and the constraint columns K11⁻¹·Cᵀ).
+    pub substitution: f64,
+    /// Candidate search on the current geometry.
+    pub search: f64,
+    /// The active-set (Schur complement) solves.
+    pub settle: f64,
+    /// Stresses of the frame.
+    pub stress: f64,
+}
+
+impl ContactTimes {
+    /// Adds the phases of one partitioned solve.
+    pub fn add_solve(&mut self, stats: &crate::fem::solve::SolveStats) {
+        self.symbolic += stats.symbolic_ms;
+        self.factorization += stats.factorization_ms;
+        self.substitution += stats.solve_ms;
+    }
 }
 
 /// Why contact could not be resolved.

@@ -108,24 +108,30 @@ impl ContactProblem<'_> {
                 }
             }
         }
-        let hierarchies: Vec<SurfaceBvh> = self
-            .surfaces
-            .iter()
-            .map(|s| s.hierarchy(&current, settings.search_depth))
+        let wanted = |pair: &SurfacePair| match sides {
+            PairSides::Both => true,
+            PairSides::ObjectNodes => pair.primary,
+            PairSides::SkinNodes => !pair.primary,
+        };
+        // Hierarchies of the surfaces some wanted pair projects onto.
+        let hierarchies: Vec<Option<SurfaceBvh>> = (0..self.surfaces.len())
+            .map(|s| {
+                self.pairs
+                    .iter()
+                    .any(|p| p.surface == s && wanted(p))
+                    .then(|| self.surfaces[s].hierarchy(&current, settings.search_depth))
+            })
             .collect();
         for (p, pair) in self.pairs.iter().enumerate() {
-            let wanted = match sides {
-                PairSides::Both => true,
-                PairSides::ObjectNodes => pair.primary,
-                PairSides::SkinNodes => !pair.primary,
-            };
-            if !wanted {
+            if !wanted(pair) {
                 continue;
             }
             let surface = &self.surfaces[pair.surface];
+            // The slave surface's normals on the reference geometry (the positions the
+            // surfaces were made from).
             let normals = pair
                 .slave_surface
-                .map(|s| self.surfaces[s].node_normals(self.positions));
+                .map(|s| self.surfaces[s].reference_normals());
             for &node in &pair.slaves {
                 let facing = |t: &[usize; 3]| -> bool {
                     let Some(normals) = &normals else { return true };
@@ -137,7 +143,9 @@ impl ContactProblem<'_> {
                 };
                 // Inside or outside: the side of the nearest facet of all. The facet it is
                 // pushed out of: the nearest of those that face it.
-                let bvh = &hierarchies[pair.surface];
+                let bvh = hierarchies[pair.surface]
+                    .as_ref()
+                    .expect("a wanted surface");
                 let own = normals.as_ref().and_then(|m| m.get(&node));
                 let Some(nearest) =
                     bvh.project(&current[node], &current, own, |t| t.contains(&node))

@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vec3;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use std::collections::HashMap;
 
 /// Triangles over global node indices, outward normals.
 #[derive(Clone, Debug)]
@@ -17,6 +18,9 @@ pub struct ContactSurface {
     pub body: usize,
     /// Triangles, counter-clockwise seen from outside.
     pub triangles: Vec<[usize; 3]>,
+    /// Unit normal at every node at the positions the surface was made from (see
+    /// [`ContactSurface::node_normals`]).
+    reference_normals: HashMap<usize, Vector3<f64>>,
 }
 
 /// The projection of a point onto a surface.
@@ -62,7 +66,23 @@ impl ContactSurface {
                 _ => {}
             }
         }
-        ContactSurface { body, triangles }
+        ContactSurface::new(body, triangles, positions)
+    }
+
+    /// The surface of `triangles` (counter-clockwise seen from outside) at `positions`.
+    pub fn new(body: usize, triangles: Vec<[usize; 3]>, positions: &[Vector3<f64>]) -> Self {
+        let mut s = ContactSurface {
+            body,
+            triangles,
+            reference_normals: HashMap::new(),
+        };
+        s.reference_normals = s.node_normals(positions);
+        s
+    }
+
+    /// The node normals at the positions the surface was made from.
+    pub fn reference_normals(&self) -> &HashMap<usize, Vector3<f64>> {
+        &self.reference_normals
     }
 
     /// The nodes of the surface, sorted, without repeats.
@@ -75,11 +95,8 @@ impl ContactSurface {
 
     /// Unit normal at every node of the surface (area-weighted mean of its triangles'), at
     /// `positions`.
-    pub fn node_normals(
-        &self,
-        positions: &[Vector3<f64>],
-    ) -> std::collections::HashMap<usize, Vector3<f64>> {
-        let mut out: std::collections::HashMap<usize, Vector3<f64>> = Default::default();
+    pub fn node_normals(&self, positions: &[Vector3<f64>]) -> HashMap<usize, Vector3<f64>> {
+        let mut out: HashMap<usize, Vector3<f64>> = Default::default();
         for t in &self.triangles {
             let n = (positions[t[1]] - positions[t[0]]).cross(&(positions[t[2]] - positions[t[0]]));
             for &v in t {
@@ -275,10 +292,7 @@ mod tests {
             Vector3::new(0.0, 1.0, 0.0),
             Vector3::new(0.0, 0.0, 1.0),
         ];
-        let s = ContactSurface {
-            body: 0,
-            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-        };
+        let s = ContactSurface::new(0, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], &pos);
         let inside = winding_number(&Vector3::new(0.1, 0.1, 0.1), &s, &pos);
         let outside = winding_number(&Vector3::new(1.0, 1.0, 1.0), &s, &pos);
         assert!((inside - 1.0).abs() < 1e-12, "{inside}");

@@ -177,6 +177,8 @@ pub struct ContactReport {
     pub max_pressure: f64,
     /// Time of the contact iterations, ms.
     pub contact_ms: f64,
+    /// Where the time of the contact frame went, ms.
+    pub times: crate::contact::ContactTimes,
 }
 
 /// One obstacle's contact.
@@ -248,6 +250,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         max_penetration: c.max_penetration,
         max_pressure: pressure.iter().copied().fold(0.0, f64::max),
         contact_ms: c.contact_ms,
+        times: c.times.clone(),
     })
 }
 

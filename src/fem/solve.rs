@@ -393,3 +393,28 @@ fn analyse(
         cholesky,
     })
 }
+
+/// The supernodal Cholesky factor of the last solve, when faer chose the supernodal form: its
+/// structure, values and the forward permutation (row i of the factor is equation fwd[i]).
+pub(crate) struct SupernodalFactor<'a> {
+    pub symbolic: &'a faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
+    pub values: &'a [f64],
+    pub forward: Option<&'a [usize]>,
+}
+
+impl PartitionedSolver {
+    /// The factor of the last solve, if it is supernodal.
+    pub(crate) fn supernodal_factor(&self) -> Option<SupernodalFactor<'_>> {
+        let analysis = self.analysis.as_ref()?;
+        match analysis.cholesky.raw() {
+            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(symbolic) => {
+                Some(SupernodalFactor {
+                    symbolic,
+                    values: &self.factor[..analysis.cholesky.len_val()],
+                    forward: analysis.cholesky.perm().map(|p| p.arrays().0),
+                })
+            }
+            _ => None,
+        }
+    }
+}

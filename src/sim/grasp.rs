@@ -64,6 +64,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         return Ok(None);
     }
     let t_all = Instant::now();
+    let mut times = crate::contact::ContactTimes::default();
     // Reference positions: the objects at rest, the hands as posed.
     let mut x = model.mesh.nodes.clone();
     for h in hands {
@@ -197,6 +198,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     }
     let partition = DofPartition::new(mask);
 
+    times.detection = t_all.elapsed().as_secs_f64() * 1e3;
     // K: the objects at rest, the hands on their posed geometry.
     let t = Instant::now();
     let mesh = Mesh {
@@ -336,6 +338,9 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     let mut result = result;
     result.contact_ms = t_all.elapsed().as_secs_f64() * 1e3;
     result.region_cells = region_cells;
+    result.times.detection = times.detection;
+    result.times.assembly = assembly_ms;
+    result.times.stress = stress_ms;
     Ok(Some(Frame {
         solution,
         stress,
@@ -381,7 +386,11 @@ fn too_deep(
         .enumerate()
         .map(|(n, p)| p + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
         .collect();
+    let resolved = 0.5 * model.contact.search_depth;
     for s in &surfaces[hands..] {
+        // Nodes within `resolved` of the surface are the contact's (or, when only the
+        // object's nodes are checked, the discretisation's); deeper ones were never found.
+        let bvh = s.hierarchy(&current, resolved);
         let lo = s
             .triangles
             .iter()
@@ -402,6 +411,12 @@ fn too_deep(
             if result.contacts.iter().any(|c| c.node == n) {
                 continue;
             }
+            if bvh
+                .project(&p, &current, None, |_| false)
+                .is_some_and(|q| q.distance <= resolved)
+            {
+                continue;
+            }
             if winding_number(&p, s, &current) > 0.5 {
                 let depth = s
                     .triangles
@@ -409,9 +424,7 @@ fn too_deep(
                     .filter_map(|t| crate::contact::project_on_triangle(&p, &t.map(|m| current[m])))
                     .map(|q| q.distance)
                     .fold(f64::INFINITY, f64::min);
-                // Nodes within the search depth are the contact's (or, when only the object's
-                // nodes are checked, the discretisation's); deeper ones were never found.
-                if depth <= 0.5 * model.contact.search_depth {
+                if depth <= resolved {
                     continue;
                 }
                 let hand_body = model.body_of_node(n);

@@ -1,0 +1,196 @@
+//! Half a substitution for sparse right-hand sides: y = L⁻¹·P·b with the supernodal Cholesky
+//! factor P·K11·Pᵀ = L·Lᵀ of the last solve.
+//!
+//! A right-hand side with a handful of nonzeros (a contact constraint row touches at most four
+//! nodes) reaches only the supernodes on the paths from its nonzeros to the root of the
+//! elimination tree, and only those are visited; the result is kept as the nonzero blocks. Two
+//! such vectors give b_iᵀ·K11⁻¹·b_j = y_i·y_j, the Schur complement of contact constraints,
+//! without the backward half of the substitution.
+
+use super::solve::{PartitionedSolver, SolveError};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::{Accum, Mat, Par};
+
+/// y = L⁻¹·P·b as its nonzero blocks: (first row in the factor's order, values), ascending.
+#[derive(Clone, Debug, Default)]
+pub struct HalfSolved {
+    blocks: Vec<(usize, Vec<f64>)>,
+}
+
+impl HalfSolved {
+    /// y_a·y_b = b_aᵀ·K11⁻¹·b_b.
+    pub fn dot(&self, other: &HalfSolved) -> f64 {
+        let (a, b) = (&self.blocks, &other.blocks);
+        let (mut i, mut j, mut s) = (0, 0, 0.0);
+        while i < a.len() && j < b.len() {
+            match a[i].0.cmp(&b[j].0) {
+                std::cmp::Ordering::Less => i += 1,
+                std::cmp::Ordering::Greater => j += 1,
+                std::cmp::Ordering::Equal => {
+                    s += a[i].1.iter().zip(&b[j].1).map(|(x, y)| x * y).sum::<f64>();
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        s
+    }
+
+    /// Stored entries.
+    pub fn len(&self) -> usize {
+        self.blocks.iter().map(|b| b.1.len()).sum()
+    }
+
+    /// No stored entry (b was zero).
+    pub fn is_empty(&self) -> bool {
+        self.blocks.is_empty()
+    }
+}
+
+impl PartitionedSolver {
+    /// L⁻¹·P·b for `columns` right-hand sides stored column by column in `b` (each NBEQ long,
+    /// ordered as the partition's free dofs), visiting only the supernodes each reaches; `None`
+    /// when the last factorization is not supernodal (small systems: use
+    /// [`PartitionedSolver::solve_factored`]).
+    pub fn forward_sparse(
+        &self,
+        b: &[f64],
+        columns: usize,
+    ) -> Result<Option<Vec<HalfSolved>>, SolveError> {
+        let Some(factor) = self.supernodal_factor() else {
+            return Ok(None);
+        };
+        let n = factor.symbolic.nrows();
+        assert_eq!(b.len(), n * columns);
+        if b.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite("a constraint right-hand side"));
+        }
+        // x = P·b, column by column.
+        let mut x = vec![0.0; n * columns];
+        for j in 0..columns {
+            let (src, dst) = (&b[j * n..(j + 1) * n], &mut x[j * n..(j + 1) * n]);
+            match factor.forward {
+                Some(fwd) => {
+                    for (i, &f) in fwd.iter().enumerate() {
+                        dst[i] = src[f];
+                    }
+                }
+                None => dst.copy_from_slice(src),
+            }
+        }
+        let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
+        let mut out = vec![HalfSolved::default(); columns];
+        let mut live: Vec<usize> = Vec::with_capacity(columns);
+        for s in 0..factor.symbolic.n_supernodes() {
+            let node = llt.supernode(s);
+            let start = node.start();
+            let ls = node.val();
+            let size = ls.ncols();
+            live.clear();
+            live.extend((0..columns).filter(|&j| {
+                x[j * n + start..j * n + start + size]
+                    .iter()
+                    .any(|&v| v != 0.0)
+            }));
+            if live.is_empty() {
+                continue;
+            }
+            let (top, bottom) = ls.split_at_row(size);
+            let mut xs = Mat::<f64>::from_fn(size, live.len(), |i, c| x[live[c] * n + start + i]);
+            solve_lower_triangular_in_place(top, xs.as_mut(), Par::Seq);
+            let pattern = node.pattern();
+            if !pattern.is_empty() {
+                let mut update = Mat::<f64>::zeros(pattern.len(), live.len());
+                matmul(
+                    update.as_mut(),
+                    Accum::Replace,
+                    bottom,
+                    xs.as_ref(),
+                    1.0,
+                    Par::Seq,
+                );
+                for (c, &j) in live.iter().enumerate() {
+                    let col = &mut x[j * n..(j + 1) * n];
+                    for (idx, &i) in pattern.iter().enumerate() {
+                        col[i] -= update[(idx, c)];
+                    }
+                }
+            }
+            for (c, &j) in live.iter().enumerate() {
+                let values: Vec<f64> = (0..size).map(|i| xs[(i, c)]).collect();
+                out[j].blocks.push((start, values));
+            }
+        }
+        if out
+            .iter()
+            .flat_map(|h| &h.blocks)
+            .any(|(_, v)| v.iter().any(|x| !x.is_finite()))
+        {
+            return Err(SolveError::NonFinite(
+                "a half substitution with the reused factor",
+            ));
+        }
+        Ok(Some(out))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::assembly::{assemble, StiffnessPattern};
+    use crate::fem::solve::FillOrdering;
+    use crate::fem::{DofPartition, Material};
+    use crate::mesh::box_mesh;
+    use nalgebra::Vector3;
+    use std::sync::Arc;
+
+    /// y_a·y_b against b_aᵀ·(K11⁻¹·b_b) from a full substitution, for sparse right-hand sides
+    /// of a clamped block: the Schur complement of contact rows, both ways.
+    #[test]
+    fn half_substitutions_give_the_schur_complement() {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0), [8, 8, 8]);
+        let material = Material {
+            young: 1.0e6,
+            poisson: 0.3,
+            density: 0.0,
+        };
+        let pattern = Arc::new(StiffnessPattern::new(&mesh));
+        let k = assemble(&pattern, &mesh, &vec![material; mesh.cell_count()]).unwrap();
+        let dofs = 3 * mesh.node_count();
+        let mask: Vec<bool> = (0..dofs).map(|d| mesh.nodes[d / 3].z < 1e-9).collect();
+        let partition = DofPartition::new(mask);
+        let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
+        solver
+            .solve(&k, &partition, &vec![0.0; dofs], &vec![0.0; dofs], &mesh.nodes)
+            .unwrap();
+        let neq = partition.free_count();
+        // Three rows like contact constraints: a node minus a facet's weighted nodes.
+        let picks = [[17, 400, 401, 2000], [2300, 2301, 2302, 5], [900, 1500, 1501, 1502]];
+        let mut b = vec![0.0; 3 * neq];
+        for (j, p) in picks.iter().enumerate() {
+            b[j * neq + p[0]] = 1.0;
+            for &e in &p[1..] {
+                b[j * neq + e] = -1.0 / 3.0;
+            }
+        }
+        let halves = solver
+            .forward_sparse(&b, 3)
+            .unwrap()
+            .expect("a supernodal factor");
+        let mut full = b.clone();
+        solver.solve_factored(&mut full, 3).unwrap();
+        for i in 0..3 {
+            assert!(halves[i].len() < neq / 2, "sparse: {} of {neq}", halves[i].len());
+            for j in 0..3 {
+                let exact: f64 = (0..neq).map(|e| b[i * neq + e] * full[j * neq + e]).sum();
+                let half = halves[i].dot(&halves[j]);
+                assert!(
+                    (half - exact).abs() <= 1e-10 * exact.abs().max(1e-30),
+                    "({i}, {j}): {half} against {exact}"
+                );
+            }
+        }
+    }
+}
