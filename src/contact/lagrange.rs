@@ -20,6 +20,7 @@
 //! node penetrates by more than the tolerance and every contact force is compressive and inside
 //! the friction cone.
 
+use super::coulomb::settle_coulomb;
 use super::obstacle::Obstacle;
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
@@ -41,38 +42,46 @@ const JOIN_SHARE: f64 = 0.3;
 const RUNAWAY: f64 = 10.0;
 
 /// One active contact, its geometry frozen when it joined.
-struct Row {
+pub(super) struct Row {
     /// Unique among all rows ever made (the key of the coupling cache).
-    id: usize,
-    node: usize,
-    master: Master,
-    source: usize,
-    terms: Vec<(usize, f64)>,
+    pub(super) id: usize,
+    pub(super) node: usize,
+    pub(super) master: Master,
+    pub(super) source: usize,
+    pub(super) terms: Vec<(usize, f64)>,
     /// n, t1, t2.
-    basis: [Vector3<f64>; 3],
+    pub(super) basis: [Vector3<f64>; 3],
     /// Normal bound: n·Σ w U ≥ b.
-    bound: f64,
+    pub(super) bound: f64,
     /// Tangential position Σ w U in (t1, t2) when it joined.
-    reference: Vector2<f64>,
-    mu: f64,
-    state: Adhesion,
+    pub(super) reference: Vector2<f64>,
+    pub(super) mu: f64,
+    pub(super) state: Adhesion,
     /// Direction of the friction force on the node in (t1, t2) while slipping.
-    slip: Vector2<f64>,
+    pub(super) slip: Vector2<f64>,
     /// K11⁻¹·C_aᵀ (or half of it) for axis a = n (and t1, t2 with friction).
-    columns: Vec<Column>,
+    pub(super) columns: Vec<Column>,
+    /// Its multipliers (λ_n, λ_t1, λ_t2) when last settled: the start of the next settle.
+    pub(super) last: [f64; 3],
 }
 
 /// A constraint row's column of the Schur complement: K11⁻¹·C_aᵀ over the free equations, or
 /// L⁻¹·P·C_aᵀ (half the substitution, sparse) when the factor is supernodal; the coupling
 /// C_a·K11⁻¹·C_bᵀ is then y_a·y_b, and the displacements need one substitution per settle.
-enum Column {
+pub(super) enum Column {
     Full(Vec<f64>),
     Half(HalfSolved),
 }
 
 impl Row {
     /// C_a·K11⁻¹·C_bᵀ between axis `a` of this row and axis `b` of `other`.
-    fn coupling(&self, a: usize, other: &Row, b: usize, partition: &DofPartition) -> f64 {
+    pub(super) fn coupling(
+        &self,
+        a: usize,
+        other: &Row,
+        b: usize,
+        partition: &DofPartition,
+    ) -> f64 {
         match (&self.columns[a], &other.columns[b]) {
             (Column::Half(x), Column::Half(y)) => x.dot(y),
             (_, Column::Full(col)) => self.apply_free(a, col, partition),
@@ -111,6 +120,7 @@ impl Row {
             },
             slip: Vector2::zeros(),
             columns: Vec::new(),
+            last: [0.0; 3],
         };
         let x: Vector3<f64> = row
             .terms
@@ -123,7 +133,7 @@ impl Row {
     }
 
     /// basis[axis]·Σ w v_k over the full dof vector `v`.
-    fn apply(&self, axis: usize, v: &[f64]) -> f64 {
+    pub(super) fn apply(&self, axis: usize, v: &[f64]) -> f64 {
         let d = &self.basis[axis];
         self.terms
             .iter()
@@ -325,7 +335,11 @@ pub fn solve_lagrange(
             continue;
         }
         let ts = Instant::now();
-        lambda = settle(&mut rows, &mut pool, &u0, partition, &mut couplings)?;
+        lambda = if rows.iter().any(|r| r.mu > 0.0) {
+            settle_coulomb(&mut rows, &u0, partition, &mut couplings)?
+        } else {
+            settle(&mut rows, &mut pool, &u0, partition, &mut couplings)?
+        };
         times.settle += ms(ts);
         let ts = Instant::now();
         substitutions += displace(&rows, &lambda, &u0, &mut u, partition, solver)?;
@@ -348,7 +362,9 @@ pub fn solve_lagrange(
     }
     // Reactions at the prescribed dofs: K·U − R − Cᵀλ (a contact force on a prescribed node
     // goes straight into its support).
-    let contacts = contact_points(&rows, &lambda, problem, &u);
+    let mut contacts = contact_points(&rows, &lambda, problem, &u);
+    // Rows kept without force (friction) are no contact.
+    contacts.retain(|c| c.force > 0.0);
     let mut contact_force = vec![0.0; u.len()];
     for c in &contacts {
         for (n, f) in c.nodal_forces() {
@@ -394,11 +410,10 @@ pub fn solve_lagrange(
     })
 }
 
-/// The multipliers of the rows: releases pulling contacts and switches stick and slip until
-/// the set is consistent, one change at a time (the most pulling contact first, then the
-/// tangential force furthest outside the friction cone, then the clearest reversal of a slip),
-/// then follows the slip directions; updates `u`. Returns λ in row order: λ_n, then
-/// (λ_t1, λ_t2) for a sticking row.
+/// The normal multipliers of frictionless rows: the Schur complement system G·λ = b − C·U⁰ on
+/// the active set, every pulling contact (λ < 0) released at once until none pulls (the
+/// primal-dual active set; rows released here may join again from the pool). Returns λ in row
+/// order.
 fn settle(
     rows: &mut Vec<Row>,
     released: &mut Vec<Row>,
@@ -406,204 +421,52 @@ fn settle(
     partition: &DofPartition,
     cache: &mut HashMap<(usize, usize), f64>,
 ) -> Result<DVector<f64>, ContactError> {
-    const MAX_SWITCHES: usize = 2000;
-    const MAX_TURNS: usize = 100;
-    let mut turns = 0;
-    // G[(r, a)][(q, b)] = C_ra·K⁻¹·C_qbᵀ between every row and axis, computed once: the
-    // switches below only change states and remove rows.
-    let mut offset = slot_offsets(rows);
-    let n = *offset.last().unwrap();
-    let mut g = DMatrix::zeros(n, n);
-    for i in 0..n {
-        let (r, a) = slot_of(&offset, i);
-        for j in i..n {
-            let (q, b) = slot_of(&offset, j);
-            let (ki, kj) = (3 * rows[r].id + a, 3 * rows[q].id + b);
-            g[(i, j)] = *cache
-                .entry((ki.min(kj), ki.max(kj)))
-                .or_insert_with(|| rows[r].coupling(a, &rows[q], b, partition));
-            g[(j, i)] = g[(i, j)];
-        }
-    }
-    let mut c_u0: Vec<f64> = (0..g.nrows())
-        .map(|i| {
-            let (r, a) = slot_of(&offset, i);
-            rows[r].apply(a, u0)
-        })
-        .collect();
-    for _ in 0..MAX_SWITCHES {
-        if rows.is_empty() {
+    debug_assert!(rows.iter().all(|r| r.columns.len() == 1));
+    loop {
+        let m = rows.len();
+        if m == 0 {
             return Ok(DVector::zeros(0));
         }
-        let index = |r: usize, a: usize| offset[r] + a;
-        let n = g.nrows();
-
-        // Unknowns: the normal of every row, the tangents of sticking rows. The effective
-        // column of a slipping row's normal carries its friction along: W_n + μ·(σ1 W_t1 + σ2 W_t2).
-        let mut unknowns: Vec<(usize, usize)> = Vec::new();
-        for (r, row) in rows.iter().enumerate() {
-            unknowns.push((r, 0));
-            if row.state == Adhesion::Stick {
-                unknowns.push((r, 1));
-                unknowns.push((r, 2));
+        let mut g = DMatrix::zeros(m, m);
+        for i in 0..m {
+            for j in i..m {
+                let (ki, kj) = (3 * rows[i].id, 3 * rows[j].id);
+                g[(i, j)] = *cache
+                    .entry((ki.min(kj), ki.max(kj)))
+                    .or_insert_with(|| rows[i].coupling(0, &rows[j], 0, partition));
+                g[(j, i)] = g[(i, j)];
             }
         }
-        let effective = |slot: usize, (q, b): (usize, usize)| -> f64 {
-            let row = &rows[q];
-            let mut v = g[(slot, index(q, b))];
-            if b == 0 && row.state == Adhesion::Slip {
-                v += row.mu
-                    * (row.slip.x * g[(slot, index(q, 1))] + row.slip.y * g[(slot, index(q, 2))]);
-            }
-            v
-        };
-        let m = unknowns.len();
-        let unknown_slot: Vec<usize> = unknowns.iter().map(|&(r, a)| index(r, a)).collect();
-        let a = DMatrix::from_fn(m, m, |i, j| effective(unknown_slot[i], unknowns[j]));
-        let rhs = DVector::from_fn(m, |i, _| {
-            let (r, axis) = unknowns[i];
-            let row = &rows[r];
-            let target = match axis {
-                0 => row.bound,
-                1 => row.reference.x,
-                _ => row.reference.y,
-            };
-            target - c_u0[unknown_slot[i]]
-        });
-        let lambda = match a.clone().lu().solve(&rhs) {
+        let rhs = DVector::from_fn(m, |i, _| rows[i].bound - rows[i].apply(0, u0));
+        let lambda = match g.clone().cholesky().map(|c| c.solve(&rhs)) {
             Some(l) if l.iter().all(|v| v.is_finite()) => l,
             _ => {
                 // Nearly dependent rows (a node and the facet it touches both in contact):
                 // a relative shift of 1e-12 of the diagonal.
-                let scale = (0..m).map(|i| a[(i, i)].abs()).fold(0.0, f64::max);
-                let shifted = a + DMatrix::identity(m, m) * (1e-12 * scale);
+                let scale = (0..m).map(|i| g[(i, i)].abs()).fold(0.0, f64::max);
+                let shifted = g + DMatrix::identity(m, m) * (1e-12 * scale);
                 match shifted.lu().solve(&rhs) {
                     Some(l) if l.iter().all(|v| v.is_finite()) => l,
-                    _ => return Err(ContactError::Singular { active: rows.len() }),
+                    _ => return Err(ContactError::Singular { active: m }),
                 }
             }
         };
-        // C·U at every slot, from the multipliers.
-        let c_u: Vec<f64> = (0..n)
-            .map(|i| {
-                c_u0[i]
-                    + unknowns
-                        .iter()
-                        .zip(lambda.iter())
-                        .map(|(&uq, l)| l * effective(i, uq))
-                        .sum::<f64>()
-            })
-            .collect();
-        let scale = c_u.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        let still = 1e-9 * scale.max(f64::MIN_POSITIVE);
-        // 1. The most pulling contact leaves.
-        let mut j = 0;
-        let mut pulling: Option<(usize, f64)> = None;
-        let mut outside: Option<(usize, f64, Vector2<f64>)> = None;
-        let mut reversed: Option<(usize, f64)> = None;
-        let mut turned = Vec::new();
-        for (r, row) in rows.iter().enumerate() {
-            let ln = lambda[j];
-            if ln < 0.0 && pulling.is_none_or(|(_, l)| ln < l) {
-                pulling = Some((r, ln));
-            }
-            match row.state {
-                Adhesion::Stick => {
-                    let lt = Vector2::new(lambda[j + 1], lambda[j + 2]);
-                    let ratio = lt.norm() / (row.mu * ln.max(0.0)).max(f64::MIN_POSITIVE);
-                    if ratio > 1.0 + 1e-9 && outside.is_none_or(|(_, q, _)| ratio > q) {
-                        outside = Some((r, ratio, lt / lt.norm()));
-                    }
-                    j += 3;
-                }
-                Adhesion::Slip => {
-                    // A slip that vanished sticks again; otherwise the friction force turns to
-                    // oppose the sliding (half-way per pass, which damps the turning).
-                    let s = Vector2::new(c_u[index(r, 1)], c_u[index(r, 2)]) - row.reference;
-                    if s.norm() <= still {
-                        if reversed.is_none() {
-                            reversed = Some((r, 0.0));
-                        }
-                    } else {
-                        let against = -s / s.norm();
-                        if (against - row.slip).norm() > 1e-3 && turns < MAX_TURNS {
-                            let mid = against + row.slip;
-                            let dir = if mid.norm() > 1e-12 {
-                                mid / mid.norm()
-                            } else {
-                                against
-                            };
-                            turned.push((r, dir));
-                        }
-                    }
-                    j += 1;
-                }
-                Adhesion::Frictionless => j += 1,
-            }
+        if lambda.iter().all(|&l| l >= 0.0) {
+            return Ok(lambda);
         }
-        if let Some((most, _)) = pulling {
-            // Without friction every pulling contact leaves at once (the primal-dual active
-            // set); with friction one at a time, the most pulling first.
-            let frictionless = rows.iter().all(|r| r.state == Adhesion::Frictionless);
-            let mut leaving: Vec<usize> = if frictionless {
-                let mut j = 0;
-                let mut out = Vec::new();
-                for (r, row) in rows.iter().enumerate() {
-                    if lambda[j] < 0.0 {
-                        out.push(r);
-                    }
-                    j += if row.state == Adhesion::Stick { 3 } else { 1 };
-                }
-                out
-            } else {
-                vec![most]
-            };
-            leaving.sort_unstable_by(|a, b| b.cmp(a));
-            for r in leaving {
-                let (from, count) = (offset[r], offset[r + 1] - offset[r]);
-                g = g.remove_rows(from, count).remove_columns(from, count);
-                c_u0.drain(from..from + count);
-                let mut row = rows.remove(r);
-                offset = slot_offsets(rows);
-                row.state = if row.mu > 0.0 {
-                    Adhesion::Stick
-                } else {
-                    Adhesion::Frictionless
-                };
+        let all = std::mem::take(rows);
+        for (row, l) in all.into_iter().zip(lambda.iter()) {
+            if *l < 0.0 {
                 released.push(row);
+            } else {
+                rows.push(row);
             }
-            continue;
         }
-        if let Some((r, _, dir)) = outside {
-            rows[r].state = Adhesion::Slip;
-            rows[r].slip = dir;
-            continue;
-        }
-        if let Some((r, _)) = reversed {
-            rows[r].state = Adhesion::Stick;
-            continue;
-        }
-        if !turned.is_empty() {
-            turns += 1;
-            for (r, dir) in turned {
-                rows[r].slip = dir;
-            }
-            continue;
-        }
-        return Ok(lambda);
     }
-    Err(ContactError::NotConverged {
-        method: "lagrange (stick/slip switching)",
-        iterations: MAX_SWITCHES,
-        active: rows.len(),
-        penetration: 0.0,
-        tolerance: 0.0,
-        change: 0.0,
-    })
 }
 
 /// The first slot of every row's axes in G, and the total at the end.
-fn slot_offsets(rows: &[Row]) -> Vec<usize> {
+pub(super) fn slot_offsets(rows: &[Row]) -> Vec<usize> {
     let mut out = Vec::with_capacity(rows.len() + 1);
     let mut k = 0;
     for row in rows {
@@ -615,7 +478,7 @@ fn slot_offsets(rows: &[Row]) -> Vec<usize> {
 }
 
 /// The (row, axis) of slot `i`.
-fn slot_of(offset: &[usize], i: usize) -> (usize, usize) {
+pub(super) fn slot_of(offset: &[usize], i: usize) -> (usize, usize) {
     let r = offset.partition_point(|&o| o <= i) - 1;
     (r, i - offset[r])
 }

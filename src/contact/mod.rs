@@ -3,6 +3,7 @@
 //! an active set of Lagrange multipliers solved through a Schur complement that reuses the
 //! stiffness factorization, with Coulomb friction; and the tactile map.
 
+mod coulomb;
 mod lagrange;
 mod obstacle;
 mod paper;

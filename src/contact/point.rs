@@ -292,7 +292,9 @@ pub enum ContactError {
     /// Contact and friction cannot hold a body still: it runs away (slides or falls) until only
     /// the weak ground springs of a floating body stop it.
     #[error(
-        "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts}          contacts, {slipping} slipping); the body slides or falls — give it supports, more          friction, or a closed grasp"
+        "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts} \
+         contacts, {slipping} slipping); the body slides or falls — give it supports, more \
+         friction, or a closed grasp"
     )]
     Runaway {
         /// The node moving most.

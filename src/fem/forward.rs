@@ -163,11 +163,21 @@ mod tests {
         let partition = DofPartition::new(mask);
         let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
         solver
-            .solve(&k, &partition, &vec![0.0; dofs], &vec![0.0; dofs], &mesh.nodes)
+            .solve(
+                &k,
+                &partition,
+                &vec![0.0; dofs],
+                &vec![0.0; dofs],
+                &mesh.nodes,
+            )
             .unwrap();
         let neq = partition.free_count();
         // Three rows like contact constraints: a node minus a facet's weighted nodes.
-        let picks = [[17, 400, 401, 2000], [2300, 2301, 2302, 5], [900, 1500, 1501, 1502]];
+        let picks = [
+            [17, 400, 401, 2000],
+            [2300, 2301, 2302, 5],
+            [900, 1500, 1501, 1502],
+        ];
         let mut b = vec![0.0; 3 * neq];
         for (j, p) in picks.iter().enumerate() {
             b[j * neq + p[0]] = 1.0;
@@ -182,7 +192,11 @@ mod tests {
         let mut full = b.clone();
         solver.solve_factored(&mut full, 3).unwrap();
         for i in 0..3 {
-            assert!(halves[i].len() < neq / 2, "sparse: {} of {neq}", halves[i].len());
+            assert!(
+                halves[i].len() < neq / 2,
+                "sparse: {} of {neq}",
+                halves[i].len()
+            );
             for j in 0..3 {
                 let exact: f64 = (0..neq).map(|e| b[i * neq + e] * full[j * neq + e]).sum();
                 let half = halves[i].dot(&halves[j]);
