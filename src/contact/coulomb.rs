@@ -15,12 +15,11 @@
 //! (even when a floating body's sliding makes G very ill-conditioned, where a Gauss–Seidel
 //! sweep crawls). A step that does not reduce the residual is halved.
 
-use super::lagrange::{slot_of, slot_offsets, Row};
+use super::lagrange::{coupling, slot_of, slot_offsets, Couplings, Row};
 use super::point::{Adhesion, ContactError};
 use crate::fem::DofPartition;
 use faer::linalg::solvers::Solve;
 use nalgebra::{DMatrix, DVector, Vector2};
-use std::collections::HashMap;
 
 /// Newton steps before giving up.
 const MAX_STEPS: usize = 200;
@@ -65,7 +64,7 @@ pub(super) fn settle_coulomb(
     rows: &mut [Row],
     u0: &[f64],
     partition: &DofPartition,
-    cache: &mut HashMap<(usize, usize), f64>,
+    cache: &mut Couplings,
 ) -> Result<DVector<f64>, ContactError> {
     let offset = slot_offsets(rows);
     let n = *offset.last().unwrap_or(&0);
@@ -74,10 +73,7 @@ pub(super) fn settle_coulomb(
         let (r, a) = slot_of(&offset, i);
         for j in i..n {
             let (q, b) = slot_of(&offset, j);
-            let (ki, kj) = (3 * rows[r].id + a, 3 * rows[q].id + b);
-            g[(i, j)] = *cache
-                .entry((ki.min(kj), ki.max(kj)))
-                .or_insert_with(|| rows[r].coupling(a, &rows[q], b, partition));
+            g[(i, j)] = coupling(cache, &rows[r], a, &rows[q], b, partition);
             g[(j, i)] = g[(i, j)];
         }
     }
@@ -85,7 +81,7 @@ pub(super) fn settle_coulomb(
     let mut c = DVector::zeros(n);
     let mut lambda = DVector::zeros(n);
     for (r, row) in rows.iter().enumerate() {
-        for a in 0..row.columns.len() {
+        for a in 0..row.axes() {
             let target = match a {
                 0 => row.bound,
                 1 => row.reference.x,
@@ -100,7 +96,7 @@ pub(super) fn settle_coulomb(
         .enumerate()
         .map(|(r, row)| {
             let o = offset[r];
-            let k = row.columns.len();
+            let k = row.axes();
             let rn = 1.0 / g[(o, o)].max(f64::MIN_POSITIVE);
             let rt = if k == 3 {
                 let (a, b, d) = (g[(o + 1, o + 1)], g[(o + 1, o + 2)], g[(o + 2, o + 2)]);
@@ -217,7 +213,7 @@ pub(super) fn settle_coulomb(
         let o = offset[r];
         let ln = lambda[o].max(0.0);
         row.last = [ln, 0.0, 0.0];
-        if row.columns.len() < 3 {
+        if row.axes() < 3 {
             continue;
         }
         let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);

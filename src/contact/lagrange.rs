@@ -60,7 +60,7 @@ pub(super) struct Row {
     /// Direction of the friction force on the node in (t1, t2) while slipping.
     pub(super) slip: Vector2<f64>,
     /// K11⁻¹·C_aᵀ (or half of it) for axis a = n (and t1, t2 with friction).
-    pub(super) columns: Vec<Column>,
+    pub(super) solved: Solved,
     /// Its multipliers (λ_n, λ_t1, λ_t2) when last settled: the start of the next settle.
     pub(super) last: [f64; 3],
 }
@@ -68,24 +68,73 @@ pub(super) struct Row {
 /// A constraint row's column of the Schur complement: K11⁻¹·C_aᵀ over the free equations, or
 /// L⁻¹·P·C_aᵀ (half the substitution, sparse) when the factor is supernodal; the coupling
 /// C_a·K11⁻¹·C_bᵀ is then y_a·y_b, and the displacements need one substitution per settle.
-pub(super) enum Column {
-    Full(Vec<f64>),
+pub(super) enum Solved {
+    /// Not yet substituted.
+    None,
+    /// K11⁻¹·C_aᵀ per axis.
+    Full(Vec<Vec<f64>>),
+    /// L⁻¹·P·C_aᵀ of all axes.
     Half(HalfSolved),
 }
 
+/// The couplings C_a·K11⁻¹·C_bᵀ between pairs of rows, 3 × 3 per pair, keyed by the rows' ids
+/// (smaller first).
+pub(super) type Couplings = HashMap<(usize, usize), [[f64; 3]; 3]>;
+
+/// C_a·K11⁻¹·C_bᵀ between axis `a` of `x` and axis `b` of `y`, from the cache or computed.
+pub(super) fn coupling(
+    cache: &mut Couplings,
+    x: &Row,
+    a: usize,
+    y: &Row,
+    b: usize,
+    partition: &DofPartition,
+) -> f64 {
+    if x.id <= y.id {
+        cache
+            .entry((x.id, y.id))
+            .or_insert_with(|| x.block(y, partition))[a][b]
+    } else {
+        cache
+            .entry((y.id, x.id))
+            .or_insert_with(|| y.block(x, partition))[b][a]
+    }
+}
+
 impl Row {
-    /// C_a·K11⁻¹·C_bᵀ between axis `a` of this row and axis `b` of `other`.
-    pub(super) fn coupling(
-        &self,
-        a: usize,
-        other: &Row,
-        b: usize,
-        partition: &DofPartition,
-    ) -> f64 {
-        match (&self.columns[a], &other.columns[b]) {
-            (Column::Half(x), Column::Half(y)) => x.dot(y),
-            (_, Column::Full(col)) => self.apply_free(a, col, partition),
-            (Column::Full(col), _) => other.apply_free(b, col, partition),
+    /// Axes substituted (1, or 3 with friction; 0 before).
+    pub(super) fn axes(&self) -> usize {
+        match &self.solved {
+            Solved::None => 0,
+            Solved::Full(c) => c.len(),
+            Solved::Half(h) => h.columns(),
+        }
+    }
+
+    /// C_a·K11⁻¹·C_bᵀ for every axis a of this row and b of `other`.
+    fn block(&self, other: &Row, partition: &DofPartition) -> [[f64; 3]; 3] {
+        match (&self.solved, &other.solved) {
+            (Solved::Half(x), Solved::Half(y)) => x.gram(y),
+            (_, Solved::Full(cols)) => {
+                let mut out = [[0.0; 3]; 3];
+                for a in 0..self.axes() {
+                    for (b, col) in cols.iter().enumerate() {
+                        out[a][b] = self.apply_free(a, col, partition);
+                    }
+                }
+                out
+            }
+            _ => {
+                let mut out = other.block(self, partition);
+                for a in 0..3 {
+                    for b in 0..a {
+                        let t = out[a][b];
+                        out[a][b] = out[b][a];
+                        out[b][a] = t;
+                    }
+                }
+                out
+            }
         }
     }
 
@@ -119,7 +168,7 @@ impl Row {
                 Adhesion::Frictionless
             },
             slip: Vector2::zeros(),
-            columns: Vec::new(),
+            solved: Solved::None,
             last: [0.0; 3],
         };
         let x: Vector3<f64> = row
@@ -211,7 +260,7 @@ pub fn solve_lagrange(
         }
     }
     times.search += ms(ts);
-    let mut couplings = HashMap::new();
+    let mut couplings = Couplings::new();
     let mut refreshes = 0;
     const MAX_REFRESH: usize = 3;
     loop {
@@ -284,7 +333,7 @@ pub fn solve_lagrange(
         let mut block: Vec<f64> = Vec::new();
         let mut keep: Vec<bool> = Vec::new();
         for (r, row) in fresh.iter().enumerate() {
-            if !row.columns.is_empty() {
+            if row.axes() > 0 {
                 keep.push(true);
                 continue;
             }
@@ -306,18 +355,30 @@ pub fn solve_lagrange(
         }
         if !wanted.is_empty() {
             let ts = Instant::now();
-            match solver.forward_sparse(&block, wanted.len())? {
+            // The axes of one row are consecutive in `wanted`: one group each.
+            let mut groups: Vec<(usize, usize)> = Vec::new();
+            for &(r, _) in &wanted {
+                match groups.last_mut() {
+                    Some((last, k)) if *last == r => *k += 1,
+                    _ => groups.push((r, 1)),
+                }
+            }
+            let sizes: Vec<usize> = groups.iter().map(|g| g.1).collect();
+            match solver.forward_sparse(&block, &sizes)? {
                 Some(halves) => {
-                    for (&(r, _), h) in wanted.iter().zip(halves) {
-                        fresh[r].columns.push(Column::Half(h));
+                    for (&(r, _), h) in groups.iter().zip(halves) {
+                        fresh[r].solved = Solved::Half(h);
                     }
                 }
                 None => {
                     solver.solve_factored(&mut block, wanted.len())?;
-                    for (j, &(r, _)) in wanted.iter().enumerate() {
-                        fresh[r]
-                            .columns
-                            .push(Column::Full(block[j * neq..(j + 1) * neq].to_vec()));
+                    let mut j = 0;
+                    for &(r, k) in &groups {
+                        let cols = (j..j + k)
+                            .map(|c| block[c * neq..(c + 1) * neq].to_vec())
+                            .collect();
+                        fresh[r].solved = Solved::Full(cols);
+                        j += k;
                     }
                 }
             }
@@ -419,9 +480,9 @@ fn settle(
     released: &mut Vec<Row>,
     u0: &[f64],
     partition: &DofPartition,
-    cache: &mut HashMap<(usize, usize), f64>,
+    cache: &mut Couplings,
 ) -> Result<DVector<f64>, ContactError> {
-    debug_assert!(rows.iter().all(|r| r.columns.len() == 1));
+    debug_assert!(rows.iter().all(|r| r.axes() == 1));
     loop {
         let m = rows.len();
         if m == 0 {
@@ -430,10 +491,7 @@ fn settle(
         let mut g = DMatrix::zeros(m, m);
         for i in 0..m {
             for j in i..m {
-                let (ki, kj) = (3 * rows[i].id, 3 * rows[j].id);
-                g[(i, j)] = *cache
-                    .entry((ki.min(kj), ki.max(kj)))
-                    .or_insert_with(|| rows[i].coupling(0, &rows[j], 0, partition));
+                g[(i, j)] = coupling(cache, &rows[i], 0, &rows[j], 0, partition);
                 g[(j, i)] = g[(i, j)];
             }
         }
@@ -471,7 +529,7 @@ pub(super) fn slot_offsets(rows: &[Row]) -> Vec<usize> {
     let mut k = 0;
     for row in rows {
         out.push(k);
-        k += row.columns.len();
+        k += row.axes();
     }
     out.push(k);
     out
@@ -519,14 +577,14 @@ fn displace(
     }
     let full = rows
         .first()
-        .is_some_and(|r| matches!(r.columns[0], Column::Full(_)));
+        .is_some_and(|r| matches!(r.solved, Solved::Full(_)));
     if full {
         for &(r, a, l) in &terms {
-            let Column::Full(col) = &rows[r].columns[a] else {
+            let Solved::Full(cols) = &rows[r].solved else {
                 unreachable!("one kind of column per solve")
             };
             for (e, &d) in partition.free.iter().enumerate() {
-                u[d] += l * col[e];
+                u[d] += l * cols[a][e];
             }
         }
         return Ok(0);

@@ -13,60 +13,91 @@ use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::{Accum, Mat, Par};
 
-/// y = L⁻¹·P·b as its nonzero blocks: (first row in the factor's order, values), ascending.
+/// Y = L⁻¹·P·B for a group of k right-hand sides (the axes of one contact) as its nonzero
+/// blocks: (first row in the factor's order, the block's rows of all k columns, column-major),
+/// ascending; a block is kept where any of the k columns is nonzero.
 #[derive(Clone, Debug, Default)]
 pub struct HalfSolved {
+    columns: usize,
     blocks: Vec<(usize, Vec<f64>)>,
 }
 
 impl HalfSolved {
-    /// y_a·y_b = b_aᵀ·K11⁻¹·b_b.
-    pub fn dot(&self, other: &HalfSolved) -> f64 {
+    /// Columns in the group.
+    pub fn columns(&self) -> usize {
+        self.columns
+    }
+
+    /// Y_aᵀ·Y_b = B_aᵀ·K11⁻¹·B_b, k_a × k_b (at most 3 × 3), row-major in `out`.
+    pub fn gram(&self, other: &HalfSolved) -> [[f64; 3]; 3] {
+        let mut out = [[0.0; 3]; 3];
         let (a, b) = (&self.blocks, &other.blocks);
-        let (mut i, mut j, mut s) = (0, 0, 0.0);
+        let (ka, kb) = (self.columns, other.columns);
+        let (mut i, mut j) = (0, 0);
         while i < a.len() && j < b.len() {
             match a[i].0.cmp(&b[j].0) {
                 std::cmp::Ordering::Less => i += 1,
                 std::cmp::Ordering::Greater => j += 1,
                 std::cmp::Ordering::Equal => {
-                    s += a[i].1.iter().zip(&b[j].1).map(|(x, y)| x * y).sum::<f64>();
+                    let size = a[i].1.len() / ka;
+                    for (p, row) in out.iter_mut().enumerate().take(ka) {
+                        let x = &a[i].1[p * size..(p + 1) * size];
+                        for (q, v) in row.iter_mut().enumerate().take(kb) {
+                            let y = &b[j].1[q * size..(q + 1) * size];
+                            *v += x.iter().zip(y).map(|(x, y)| x * y).sum::<f64>();
+                        }
+                    }
                     i += 1;
                     j += 1;
                 }
             }
         }
-        s
+        out
     }
 
-    /// Stored entries.
+    /// Stored entries per column.
     pub fn len(&self) -> usize {
-        self.blocks.iter().map(|b| b.1.len()).sum()
+        self.blocks.iter().map(|b| b.1.len()).sum::<usize>() / self.columns.max(1)
     }
 
-    /// No stored entry (b was zero).
+    /// No stored entry (B was zero).
     pub fn is_empty(&self) -> bool {
         self.blocks.is_empty()
     }
 }
 
 impl PartitionedSolver {
-    /// L⁻¹·P·b for `columns` right-hand sides stored column by column in `b` (each NBEQ long,
-    /// ordered as the partition's free dofs), visiting only the supernodes each reaches; `None`
-    /// when the last factorization is not supernodal (small systems: use
-    /// [`PartitionedSolver::solve_factored`]).
+    /// L⁻¹·P·B for right-hand sides stored column by column in `b` (each NBEQ long, ordered as
+    /// the partition's free dofs), in consecutive groups of `groups[g]` columns (at most 3),
+    /// visiting only the supernodes each column reaches; `None` when the last factorization is
+    /// not supernodal (small systems: use [`PartitionedSolver::solve_factored`]).
     pub fn forward_sparse(
         &self,
         b: &[f64],
-        columns: usize,
+        groups: &[usize],
     ) -> Result<Option<Vec<HalfSolved>>, SolveError> {
         let Some(factor) = self.supernodal_factor() else {
             return Ok(None);
         };
         let n = factor.symbolic.nrows();
+        let columns: usize = groups.iter().sum();
         assert_eq!(b.len(), n * columns);
+        assert!(groups.iter().all(|&k| (1..=3).contains(&k)));
         if b.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite("a constraint right-hand side"));
         }
+        let mut group_of = Vec::with_capacity(columns);
+        for (g, &k) in groups.iter().enumerate() {
+            group_of.extend(std::iter::repeat_n(g, k));
+        }
+        let first: Vec<usize> = groups
+            .iter()
+            .scan(0, |acc, &k| {
+                let f = *acc;
+                *acc += k;
+                Some(f)
+            })
+            .collect();
         // x = P·b, column by column.
         let mut x = vec![0.0; n * columns];
         for j in 0..columns {
@@ -81,8 +112,15 @@ impl PartitionedSolver {
             }
         }
         let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
-        let mut out = vec![HalfSolved::default(); columns];
+        let mut out: Vec<HalfSolved> = groups
+            .iter()
+            .map(|&k| HalfSolved {
+                columns: k,
+                blocks: Vec::new(),
+            })
+            .collect();
         let mut live: Vec<usize> = Vec::with_capacity(columns);
+        let mut touched: Vec<usize> = Vec::new();
         for s in 0..factor.symbolic.n_supernodes() {
             let node = llt.supernode(s);
             let start = node.start();
@@ -118,9 +156,22 @@ impl PartitionedSolver {
                     }
                 }
             }
-            for (c, &j) in live.iter().enumerate() {
-                let values: Vec<f64> = (0..size).map(|i| xs[(i, c)]).collect();
-                out[j].blocks.push((start, values));
+            // One block per group reached, with all of the group's columns.
+            touched.clear();
+            touched.extend(live.iter().map(|&j| group_of[j]));
+            touched.dedup();
+            for &g in &touched {
+                let k = groups[g];
+                let mut values = vec![0.0; size * k];
+                for (c, &j) in live.iter().enumerate() {
+                    if group_of[j] == g {
+                        let a = j - first[g];
+                        for i in 0..size {
+                            values[a * size + i] = xs[(i, c)];
+                        }
+                    }
+                }
+                out[g].blocks.push((start, values));
             }
         }
         if out
@@ -185,21 +236,22 @@ mod tests {
                 b[j * neq + e] = -1.0 / 3.0;
             }
         }
+        // One group of two columns and one of one.
         let halves = solver
-            .forward_sparse(&b, 3)
+            .forward_sparse(&b, &[2, 1])
             .unwrap()
             .expect("a supernodal factor");
+        let slot = |j: usize| if j < 2 { (0, j) } else { (1, 0) };
         let mut full = b.clone();
         solver.solve_factored(&mut full, 3).unwrap();
+        // Only the elimination-tree paths of the nonzeros are stored.
+        assert!(halves[0].len() < neq, "{} of {neq}", halves[0].len());
+        assert!(halves[1].len() < neq / 2, "{} of {neq}", halves[1].len());
         for i in 0..3 {
-            assert!(
-                halves[i].len() < neq / 2,
-                "sparse: {} of {neq}",
-                halves[i].len()
-            );
             for j in 0..3 {
                 let exact: f64 = (0..neq).map(|e| b[i * neq + e] * full[j * neq + e]).sum();
-                let half = halves[i].dot(&halves[j]);
+                let ((gi, ai), (gj, aj)) = (slot(i), slot(j));
+                let half = halves[gi].gram(&halves[gj])[ai][aj];
                 assert!(
                     (half - exact).abs() <= 1e-10 * exact.abs().max(1e-30),
                     "({i}, {j}): {half} against {exact}"
