@@ -15,6 +15,11 @@ pub struct ContactRow {
     pub scene: String,
     /// Method.
     pub method: ContactMethod,
+    /// Coulomb friction set for every pair (`None`: the scene's own).
+    pub friction: Option<f64>,
+    /// Where the last keyframe's contact time went (Lagrange: factorization, substitutions,
+    /// the multipliers; the rest), ms.
+    pub times: Option<crate::contact::ContactTimes>,
     /// The last keyframe's contact: (iterations, factorizations, substitutions, contact ms,
     /// total contact force on the hand N), or the error.
     pub outcome: Result<(usize, usize, usize, f64, f64, bool), String>,
@@ -22,20 +27,29 @@ pub struct ContactRow {
     pub total_s: f64,
 }
 
-/// Solves every scene with every method.
-pub fn contact_rows(scenes: &[String]) -> anyhow::Result<Vec<ContactRow>> {
+/// Solves every scene with every method, and with Lagrange again at each friction coefficient
+/// of `friction` (the paper's iteration has no friction).
+pub fn contact_rows(scenes: &[String], friction: &[f64]) -> anyhow::Result<Vec<ContactRow>> {
     let mut rows = Vec::new();
     for file in scenes {
         let scene = Scene::load(Path::new(file))?;
-        for method in [ContactMethod::Lagrange, ContactMethod::Paper] {
+        let cases = [(ContactMethod::Lagrange, None), (ContactMethod::Paper, None)]
+            .into_iter()
+            .chain(friction.iter().map(|&mu| (ContactMethod::Lagrange, Some(mu))));
+        for (method, mu) in cases {
             let mut s = scene.clone();
             s.solver.contact = Some(method);
+            if mu.is_some() {
+                s.solver.friction = mu;
+            }
+            let mut times = None;
             let t = Instant::now();
             let outcome = match solve_scene(&s, file) {
                 Ok(solved) => {
                     let f = solved.report.frames.last().expect("a frame");
                     match &f.contact {
                         Some(c) => {
+                            times = Some(c.times.clone());
                             let force: f64 = c
                                 .bodies
                                 .iter()
@@ -59,6 +73,8 @@ pub fn contact_rows(scenes: &[String]) -> anyhow::Result<Vec<ContactRow>> {
             rows.push(ContactRow {
                 scene: file.clone(),
                 method,
+                friction: mu,
+                times,
                 outcome,
                 total_s: t.elapsed().as_secs_f64(),
             });
@@ -70,17 +86,24 @@ pub fn contact_rows(scenes: &[String]) -> anyhow::Result<Vec<ContactRow>> {
 /// The Markdown table.
 pub fn contact_table(rows: &[ContactRow]) -> String {
     let mut out = String::from(
-        "| scene | method | iterations | factorizations | substitutions | contact solve of the last keyframe (ms) | force on the hand (N) | stopped by a bone threshold | whole scene (s) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| scene | method | μ | iterations | factorizations | substitutions | contact solve of the last keyframe (ms) | of which factorization / substitutions / multipliers (ms) | force on the hand (N) | stopped by a bone threshold | whole scene (s) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let name = Path::new(&r.scene)
             .file_name()
             .map_or(r.scene.clone(), |n| n.to_string_lossy().into_owned());
+        let mu = r.friction.map_or("scene".to_string(), |m| format!("{m}"));
         match &r.outcome {
             Ok((it, fa, su, ms, f, stopped)) => {
+                let split = r.times.as_ref().map_or("—".to_string(), |t| {
+                    format!(
+                        "{:.0} / {:.0} / {:.0}",
+                        t.factorization, t.substitution, t.settle
+                    )
+                });
                 let _ = writeln!(
                     out,
-                    "| {name} | {} | {it} | {fa} | {su} | {ms:.0} | {f:.2} | {} | {:.1} |",
+                    "| {name} | {} | {mu} | {it} | {fa} | {su} | {ms:.0} | {split} | {f:.2} | {} | {:.1} |",
                     r.method.name(),
                     if *stopped { "yes" } else { "no" },
                     r.total_s
@@ -90,7 +113,7 @@ pub fn contact_table(rows: &[ContactRow]) -> String {
                 let short: String = e.chars().take(90).collect();
                 let _ = writeln!(
                     out,
-                    "| {name} | {} | — | — | — | failed: {short}… | — | — | {:.1} |",
+                    "| {name} | {} | {mu} | — | — | — | failed: {short}… | — | — | — | {:.1} |",
                     r.method.name(),
                     r.total_s
                 );

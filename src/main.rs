@@ -119,6 +119,10 @@ enum BenchCommand {
             default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/bowl-grasp.toml"
         )]
         scenes: Vec<String>,
+        /// Coulomb friction coefficients to solve each scene with again (Lagrange), comma
+        /// separated.
+        #[arg(long, value_delimiter = ',', default_value = "0.5")]
+        friction: Vec<f64>,
     },
     /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
     /// a slider change to the new frame on screen (default scene, headless).
@@ -241,12 +245,12 @@ fn run() -> Result<()> {
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
             }
-            BenchCommand::Contact { scenes } => {
+            BenchCommand::Contact { scenes, friction } => {
                 println!(
                     "contact benchmark: last keyframe of each scene, {} threads",
                     rayon::current_num_threads()
                 );
-                let rows = prehensile::bench_contact::contact_rows(&scenes)?;
+                let rows = prehensile::bench_contact::contact_rows(&scenes, &friction)?;
                 print!("{}", prehensile::bench_contact::contact_table(&rows));
             }
             BenchCommand::Viewer { changes } => {
