@@ -33,9 +33,16 @@ pub fn contact_rows(scenes: &[String], friction: &[f64]) -> anyhow::Result<Vec<C
     let mut rows = Vec::new();
     for file in scenes {
         let scene = Scene::load(Path::new(file))?;
-        let cases = [(ContactMethod::Lagrange, None), (ContactMethod::Paper, None)]
-            .into_iter()
-            .chain(friction.iter().map(|&mu| (ContactMethod::Lagrange, Some(mu))));
+        let cases = [
+            (ContactMethod::Lagrange, None),
+            (ContactMethod::Paper, None),
+        ]
+        .into_iter()
+        .chain(
+            friction
+                .iter()
+                .map(|&mu| (ContactMethod::Lagrange, Some(mu))),
+        );
         for (method, mu) in cases {
             let mut s = scene.clone();
             s.solver.contact = Some(method);

@@ -44,6 +44,7 @@ pub mod bench;
 pub mod bench_contact;
 pub mod bench_elements;
 pub mod bench_hand;
+pub mod bench_region;
 pub mod contact;
 pub mod export;
 pub mod fem;

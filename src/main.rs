@@ -124,6 +124,18 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "0.5")]
         friction: Vec<f64>,
     },
+    /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
+    /// moving joints and near the contact only) and with everything everywhere; time saved and
+    /// the difference in the result.
+    Region {
+        /// Scene files, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml"
+        )]
+        scenes: Vec<String>,
+    },
     /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
     /// a slider change to the new frame on screen (default scene, headless).
     Viewer {
@@ -252,6 +264,14 @@ fn run() -> Result<()> {
                 );
                 let rows = prehensile::bench_contact::contact_rows(&scenes, &friction)?;
                 print!("{}", prehensile::bench_contact::contact_table(&rows));
+            }
+            BenchCommand::Region { scenes } => {
+                println!("region benchmark: {} threads", rayon::current_num_threads());
+                for scene in &scenes {
+                    println!("\n### {scene}\n");
+                    let runs = prehensile::bench_region::region_runs(scene)?;
+                    print!("{}", prehensile::bench_region::region_table(&runs));
+                }
             }
             BenchCommand::Viewer { changes } => {
                 println!(
