@@ -132,7 +132,7 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
         /// Largest increments of the incremental and corotational tiers, degrees, comma
-        /// separated (default 20,10,5; with --quick 10).
+        /// separated (default 20,10; with --quick 10).
         #[arg(long, value_delimiter = ',')]
         steps: Vec<f64>,
         /// The document written.

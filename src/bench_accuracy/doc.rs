@@ -37,19 +37,30 @@ fn description(problem: ProblemId) -> &'static str {
         }
         ProblemId::Flexion30 | ProblemId::Flexion90 => {
             "Right hand, flesh E = 50 kPa, ν = 0.45; the index PIP flexed from rest in one \
-             keyframe, local FEM region (the default). Error: the largest distance between a \
-             free flesh node of the run and the reference's flesh at the same material point \
-             (located in the reference's rest mesh, trilinear interpolation), and the flesh \
-             volume change against the reference's."
+             keyframe, local FEM region (the default). Error: the distance between each free \
+             flesh node of the run (bone nodes move exactly with their bones in every tier) and \
+             the reference's flesh at the same material point: the node is located in the \
+             reference's rest mesh (within a quarter of its lattice spacing outside it, at the \
+             nearest point; cells of the node's own digit or palm only, since fingers touching \
+             at rest are meshed apart along a seam that moves with the resolution) and the \
+             reference's displacement interpolated there; `free nodes compared` says how many \
+             were so located. The largest distance is set by a few nodes over the joint, where \
+             the flesh's displacement changes by centimetres across one cell and meshes of other \
+             resolutions put that change elsewhere; the RMS distance weighs the whole flesh and \
+             is the one plotted. `largest distance from the same mesh's reference` compares \
+             node by node with the reference tier and step on the row's own mesh: the tier's \
+             and the step's error alone. Then the flesh volume change, and its difference from \
+             the reference's."
         }
         ProblemId::Grasp => {
             "`assets/scenes/hand-grasp-ball.toml` (the paper's Figure 4): fingers and thumb \
              close on a pressurised rubber shell; hand resolution r, shell of 12r cells per face \
              edge (even) and 2r layers (at least 2); contact by Lagrange multipliers. Error: the \
-             grip Σ|F| over palm and digits against the reference's, and the largest error of \
-             one part's force vector, relative to the reference's grip. Time per keyframe: the \
-             solve of the two frames (rest → initial pose, then the grasp keyframe with contact) \
-             divided by two."
+             grip Σ|F| over palm and digits against the reference's (plotted), the largest \
+             error of one part's force vector relative to the reference's grip, and the grip \
+             against the reference tier and step on the row's own mesh (the tier's and the \
+             step's error alone). Time per keyframe: the solve of the two frames (rest → initial \
+             pose, then the grasp keyframe with contact) divided by two."
         }
     }
 }
@@ -98,7 +109,9 @@ pub fn doc_text(
          factorization, contact iterations and stresses.\n\
          - Errors: (a)–(c) against closed-form solutions; (d)–(e) against a reference computed \
          by the most exact hand tier the solver accepts, at a finer resolution and a smaller \
-         step than any row (below). Every first error column is the one plotted.\n\
+         step than any row (below), and, in a column of their own, against the same reference \
+         tier and step on the row's own mesh. The first error column is the one plotted, except \
+         for (d), where it is the RMS distance (see there).\n\
          - `front` (●): no other run on the problem is both faster and more accurate. To choose, \
          find your error budget on the problem closest to your scene and take the fastest ● run \
          within it.\n\
@@ -153,7 +166,7 @@ pub fn doc_text(
     let _ = writeln!(
         s,
         "Reproduce: `cargo run --release -- bench accuracy` (`--quick` for a smaller run, \
-         `--only cantilever,lame` for some problems; `--steps 20,10,5` for the increments)."
+         `--only cantilever,lame` for some problems; `--steps 20,10,5` for other increments)."
     );
     s
 }

@@ -4,8 +4,8 @@
 //! interpolation of that cell's nodal displacements. A point just outside the mesh (the meshes'
 //! boundaries are snapped to the skin at other places) takes the displacement of the nearest
 //! point of the nearest cell within a given distance; a point farther out (bones and joint
-//! spaces are holes) is left out: there the two meshes disagree on what is flesh, which is
-//! geometry, not the solver.
+//! spaces are holes), or only in cells of another part, is left out: there the two meshes
+//! disagree on what is flesh, which is geometry, not the solver.
 
 use crate::fem::hex8::{shape, shape_derivatives};
 use crate::mesh::Mesh;
@@ -67,9 +67,25 @@ impl Grid {
         [q.x.floor() as i64, q.y.floor() as i64, q.z.floor() as i64]
     }
 
-    /// The cells whose bounding boxes meet the point's bucket.
-    fn bucket(&self, p: &Vector3<f64>) -> &[usize] {
-        self.cells.get(&self.key(p)).map_or(&[], |c| c.as_slice())
+    /// The cells whose bounding boxes meet the buckets within `reach` of the point.
+    fn near(&self, p: &Vector3<f64>, reach: f64) -> Vec<usize> {
+        let (a, b) = (
+            self.key(&p.add_scalar(-reach)),
+            self.key(&p.add_scalar(reach)),
+        );
+        let mut out = Vec::new();
+        for i in a[0]..=b[0] {
+            for j in a[1]..=b[1] {
+                for k in a[2]..=b[2] {
+                    if let Some(c) = self.cells.get(&[i, j, k]) {
+                        out.extend(c);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 }
 
@@ -96,36 +112,54 @@ fn local_coordinates(coords: &[Vector3<f64>; 8], x: &Vector3<f64>) -> Vector3<f6
 
 impl Embedding {
     /// Locates `points` in `mesh` (both at rest); a point outside every cell takes the nearest
-    /// point of the nearest cell if it lies within `reach` (m) of it.
-    pub fn new(mesh: &Mesh, points: &[Vector3<f64>], reach: f64) -> Embedding {
+    /// point of the nearest cell if it lies within `reach` (m) of it. Only the cells
+    /// `accept(point, cell)` accepts are considered (on the hand: those of the point's own
+    /// digit, since two fingers touching at rest are meshed apart along a seam whose place
+    /// changes with the resolution).
+    pub fn new(
+        mesh: &Mesh,
+        points: &[Vector3<f64>],
+        reach: f64,
+        accept: impl Fn(usize, usize) -> bool + Sync,
+    ) -> Embedding {
         let grid = Grid::new(mesh);
         let weights = points
             .par_iter()
-            .map(|p| {
-                let mut nearest: Option<(usize, Vector3<f64>, f64)> = None;
-                for &c in grid.bucket(p) {
+            .enumerate()
+            .map(|(i, p)| {
+                let mut best: Option<(usize, Vector3<f64>, f64)> = None;
+                for c in grid.near(p, reach) {
+                    if !accept(i, c) {
+                        continue;
+                    }
                     let coords = mesh.cell_coords(c);
                     let (lo, hi) = coords.iter().fold(
                         (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
                         |(lo, hi), q| (lo.inf(q), hi.sup(q)),
                     );
-                    if (0..3).any(|i| p[i] < lo[i] - reach || p[i] > hi[i] + reach) {
+                    if (0..3).any(|k| p[k] < lo[k] - reach || p[k] > hi[k] + reach) {
                         continue;
                     }
                     let xi = local_coordinates(&coords, p);
-                    if xi.amax() <= 1.0 + SLACK {
-                        nearest = Some((c, xi, 0.0));
+                    let (xi, d) = if xi.amax() <= 1.0 + SLACK {
+                        (xi, 0.0)
+                    } else {
+                        let clamped = xi.map(|v| v.clamp(-1.0, 1.0));
+                        let n = shape(&clamped);
+                        let q: Vector3<f64> = (0..8).map(|a| coords[a] * n[a]).sum();
+                        (clamped, (q - p).norm())
+                    };
+                    if d > reach {
+                        continue;
+                    }
+                    if best.as_ref().is_none_or(|b| d < b.2) {
+                        best = Some((c, xi, d));
+                    }
+                    if d == 0.0 {
                         break;
                     }
-                    let clamped = xi.map(|v| v.clamp(-1.0, 1.0));
-                    let n = shape(&clamped);
-                    let q: Vector3<f64> = (0..8).map(|a| coords[a] * n[a]).sum();
-                    let d = (q - p).norm();
-                    if d <= reach && nearest.as_ref().is_none_or(|b| d < b.2) {
-                        nearest = Some((c, clamped, d));
-                    }
                 }
-                nearest.map(|(c, xi, _)| {
+                best.map(|(c, xi, _)| {
                     let n = shape(&xi);
                     let nodes = mesh.cells[c];
                     std::array::from_fn(|a| (nodes[a], n[a]))

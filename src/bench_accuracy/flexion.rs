@@ -103,7 +103,18 @@ pub(super) fn node_distances(
         .collect();
     // Nodes on the skin lie up to a fraction of a cell outside the other mesh's skin.
     let reach = REACH * reference.hand.flesh.spacing;
-    let embedding = Embedding::new(&reference.hand.flesh.mesh, &rest, reach);
+    // Fingers touching at rest are meshed apart along a seam (coincident, unjoined nodes) whose
+    // place moves with the resolution: a node is compared with the reference's flesh of its
+    // own digit (or palm) only.
+    let mut digits: Vec<Vec<Option<usize>>> = vec![Vec::new(); test.positions.len()];
+    for (c, cell) in test.hand.flesh.mesh.cells.iter().enumerate() {
+        for &n in cell {
+            digits[n].push(test.hand.flesh.cell_digit[c]);
+        }
+    }
+    let embedding = Embedding::new(&reference.hand.flesh.mesh, &rest, reach, |i, c| {
+        digits[free[i]].contains(&reference.hand.flesh.cell_digit[c])
+    });
     let reference_u: Vec<Vector3<f64>> = reference
         .positions
         .iter()

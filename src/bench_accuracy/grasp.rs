@@ -96,8 +96,11 @@ pub fn measure(solved: &Solved, finest: &Solved, same_mesh: &Solved) -> Result<V
     ])
 }
 
+/// Force magnitude on each named part of the hand, N.
+pub type PartForces = Vec<(&'static str, f64)>;
+
 /// The reference's grip and its parts' force magnitudes, N (for the document).
-pub fn reference_forces(reference: &Solved) -> Result<(f64, Vec<(&'static str, f64)>), String> {
+pub fn reference_forces(reference: &Solved) -> Result<(f64, PartForces), String> {
     let parts = part_forces(reference)?;
     Ok((
         grip(&parts),

@@ -16,6 +16,8 @@ pub struct Machine {
     pub threads: usize,
     /// UTC date and time, `YYYY-MM-DD HH:MM UTC`.
     pub date: String,
+    /// One-minute load average at the start (None when unknown): other work sharing the cores.
+    pub load: Option<f64>,
 }
 
 impl Machine {
@@ -48,14 +50,25 @@ impl Machine {
             memory_gib,
             threads: rayon::current_num_threads(),
             date: utc_date(secs),
+            load: std::fs::read_to_string("/proc/loadavg")
+                .ok()
+                .and_then(|s| s.split_whitespace().next()?.parse().ok()),
         }
     }
 
-    /// One line: `2 cores (Intel Xeon …), 24 GiB, 2 threads; 2026-11-22 10:00 UTC`.
+    /// One line: `2 cores (Intel Xeon …), 24 GiB, 2 solver threads, load 0.4; 2026-11-22 10:00
+    /// UTC`.
     pub fn summary(&self) -> String {
         format!(
-            "{} cores ({}), {:.0} GiB, {} solver threads; {}",
-            self.cores, self.cpu, self.memory_gib, self.threads, self.date
+            "{} cores ({}), {:.0} GiB, {} solver threads{}; {}",
+            self.cores,
+            self.cpu,
+            self.memory_gib,
+            self.threads,
+            self.load.map_or(String::new(), |l| format!(
+                ", load average {l:.1} at the start"
+            )),
+            self.date
         )
     }
 }

@@ -119,6 +119,18 @@ impl ProblemId {
         }
     }
 
+    /// Caption of the problem's panel on the plot (the bundled font has no arrows).
+    pub fn short_title(self) -> &'static str {
+        match self {
+            ProblemId::Cantilever => "(a) cantilever",
+            ProblemId::Lame => "(b) thick sphere, Lamé",
+            ProblemId::Hertz => "(c) ball on a plane, Hertz",
+            ProblemId::Flexion30 => "(d) index PIP 0° to 30°",
+            ProblemId::Flexion90 => "(d) index PIP 0° to 90°",
+            ProblemId::Grasp => "(e) ball grasp",
+        }
+    }
+
     /// A hand problem (tiers are flexion schemes; error against a computed reference).
     pub fn is_hand(self) -> bool {
         matches!(
@@ -136,9 +148,9 @@ impl ProblemId {
             (ProblemId::Lame, true) => vec![4.0, 6.0, 8.0],
             (ProblemId::Hertz, false) => vec![12.0, 18.0, 26.0],
             (ProblemId::Hertz, true) => vec![8.0, 10.0, 12.0],
-            (ProblemId::Flexion30 | ProblemId::Flexion90 | ProblemId::Grasp, false) => {
-                vec![0.75, 1.0, 1.25]
-            }
+            (ProblemId::Flexion30 | ProblemId::Flexion90, false) => vec![0.75, 1.0, 1.25],
+            // Contact on the finer hands costs tens of seconds per keyframe.
+            (ProblemId::Grasp, false) => vec![0.5, 0.75, 1.0],
             (ProblemId::Flexion30 | ProblemId::Flexion90 | ProblemId::Grasp, true) => {
                 vec![0.5, 0.625, 0.75]
             }
@@ -225,12 +237,13 @@ impl ProblemId {
         }
     }
 
-    /// The reference of a hand problem: resolution and largest increment, degrees.
+    /// The reference of a hand problem: resolution and largest increment, degrees (finer and
+    /// smaller than any row's).
     pub fn reference(self, quick: bool) -> (f64, f64) {
-        if quick {
-            (1.0, 5.0)
-        } else {
-            (1.5, 2.5)
+        match (self, quick) {
+            (_, true) => (1.0, 5.0),
+            (ProblemId::Grasp, false) => (1.25, 5.0),
+            (_, false) => (1.5, 2.5),
         }
     }
 }

@@ -138,16 +138,14 @@ fn panel<DB: DrawingBackend>(
         .filter_map(|r| Some((r.ms()?, r.error()?)))
         .filter(|(t, e)| *t > 0.0 && *e > 0.0)
         .collect();
-    let column = &problem.columns()[0];
+    let column = &problem.columns()[problem.plotted()];
     let x_label = if problem.is_hand() {
         "ms per keyframe"
     } else {
         "ms per solve"
     };
-    let title = problem.title();
-    let short = title.split(':').next().unwrap_or(title);
     let mut chart = ChartBuilder::on(area)
-        .caption(short, (FONT, 24))
+        .caption(problem.short_title(), (FONT, 24))
         .margin(12)
         .x_label_area_size(50)
         .y_label_area_size(78)
@@ -162,10 +160,12 @@ fn panel<DB: DrawingBackend>(
         .y_desc(column.axis())
         .label_style((FONT, 17))
         .axis_desc_style((FONT, 19))
+        .x_labels(6)
+        .y_labels(8)
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(215, 215, 215))
         .draw()
         .map_err(|e| e.to_string())?;
     if points.is_empty() {

@@ -19,7 +19,7 @@ fn cell(text: &str) -> String {
 }
 
 /// The measured rows of `problem` that no other measured row beats in both time and error.
-pub fn front<'a>(results: &'a Results, problem: ProblemId) -> Vec<&'a Row> {
+pub fn front(results: &Results, problem: ProblemId) -> Vec<&Row> {
     let measured: Vec<(&Row, f64, f64)> = results
         .rows
         .iter()
