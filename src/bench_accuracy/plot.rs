@@ -3,10 +3,11 @@
 //! the bundled Ubuntu Light of `epaint_default_fonts`, so no system font is needed), written
 //! as PNG atomically.
 
-use super::{ProblemId, Results, Row, Variant};
+use super::{ProblemId, Results, Row, Variant, HAND_TIERS};
 use crate::export::png::write_png_atomic;
 use crate::scene::TierName;
 use image::RgbaImage;
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -111,6 +112,29 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     lo..hi
 }
 
+/// Tick values for a log axis over `range`: 1, 2, 5 per decade (1, 2, 3, 5, 7 when the range
+/// spans less than a decade and a half, so that every panel has a few labels).
+fn ticks(range: &std::ops::Range<f64>) -> Vec<f64> {
+    let (lo, hi) = (range.start, range.end);
+    let mantissas: &[f64] = if hi / lo < 30.0 {
+        &[1.0, 2.0, 3.0, 5.0, 7.0]
+    } else if hi / lo < 3000.0 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0]
+    };
+    let mut out = Vec::new();
+    for d in lo.log10().floor() as i32..=hi.log10().ceil() as i32 {
+        for m in mantissas {
+            let v = m * 10f64.powi(d);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
 /// A tick value written briefly: 0.01, 0.5, 3, 120, 1e4.
 fn tick(v: f64) -> String {
     if !(v.is_finite() && v > 0.0) {
@@ -144,14 +168,19 @@ fn panel<DB: DrawingBackend>(
     } else {
         "ms per solve"
     };
+    let (xr, yr) = (
+        log_range(points.iter().map(|p| p.0)),
+        log_range(points.iter().map(|p| p.1)),
+    );
+    let (xt, yt) = (ticks(&xr), ticks(&yr));
     let mut chart = ChartBuilder::on(area)
         .caption(problem.short_title(), (FONT, 24))
         .margin(12)
         .x_label_area_size(50)
         .y_label_area_size(78)
         .build_cartesian_2d(
-            log_range(points.iter().map(|p| p.0)).log_scale(),
-            log_range(points.iter().map(|p| p.1)).log_scale(),
+            xr.log_scale().with_key_points(xt),
+            yr.log_scale().with_key_points(yt),
         )
         .map_err(|e| e.to_string())?;
     chart
@@ -160,8 +189,6 @@ fn panel<DB: DrawingBackend>(
         .y_desc(column.axis())
         .label_style((FONT, 17))
         .axis_desc_style((FONT, 19))
-        .x_labels(6)
-        .y_labels(8)
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
         .light_line_style(TRANSPARENT)
@@ -216,8 +243,17 @@ fn panel<DB: DrawingBackend>(
 }
 
 fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, results: &Results) {
-    let variants = measured_variants(results);
-    let per_line = 5;
+    let mut variants = measured_variants(results);
+    let order = |v: &Variant| {
+        let tier = HAND_TIERS.iter().position(|t| *t == v.tier).unwrap_or(0);
+        (
+            tier,
+            v.element != crate::fem::ElementKind::Hex8,
+            -v.step_deg.unwrap_or(0.0) as i64,
+        )
+    };
+    variants.sort_by_key(order);
+    let per_line = 4;
     let width = area.dim_in_pixel().0 as i32 / per_line as i32;
     for (i, v) in variants.iter().enumerate() {
         let (x, y) = (
@@ -236,6 +272,13 @@ fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, results: &Results) 
             (FONT, 20).into_font().color(&BLACK),
         ));
     }
+    let lines = variants.len().div_ceil(per_line) as i32;
+    let _ = area.draw(&Text::new(
+        "Each curve: one tier through its three mesh resolutions, coarse to fine. Circle: hex8 or \
+         a 10° step; triangle: incompatible modes or a 20° step; square: a 5° step.",
+        (30, 12 + lines * 34),
+        (FONT, 18).into_font().color(&RGBColor(80, 80, 80)),
+    ));
 }
 
 /// The plot as an image.

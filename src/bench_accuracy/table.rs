@@ -125,7 +125,8 @@ pub fn summary(results: &Results, problem: ProblemId) -> String {
     if f.is_empty() {
         return "No run was measured.\n".into();
     }
-    let c = &problem.columns()[0];
+    let i = problem.plotted();
+    let c = &problem.columns()[i];
     let mut s =
         String::from("Front, fastest first (no other run is both faster and more accurate): ");
     let items: Vec<String> = f
@@ -137,7 +138,8 @@ pub fn summary(results: &Results, problem: ProblemId) -> String {
                 problem.resolution_label(r.resolution),
                 r.ms().unwrap_or(0.0),
                 match &r.outcome {
-                    Outcome::Measured { values, .. } => c.format(values[0]),
+                    Outcome::Measured { values, .. } =>
+                        format!("{} {}", c.name, c.format(values[i])),
                     _ => String::new(),
                 }
             )
