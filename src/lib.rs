@@ -41,6 +41,7 @@
 
 pub mod app;
 pub mod bench;
+pub mod bench_accuracy;
 pub mod bench_contact;
 pub mod bench_elements;
 pub mod bench_hand;

@@ -136,6 +136,31 @@ enum BenchCommand {
         )]
         scenes: Vec<String>,
     },
+    /// Speed against accuracy: every solver tier (and element option) at three resolutions on
+    /// the cantilever, Lamé's sphere, Hertz contact, the index flexion (30°, 90°) and the ball
+    /// grasp; prints the tables and writes docs/speed-vs-accuracy.md with its plot.
+    Accuracy {
+        /// Smaller resolutions and one increment size: a run of a minute or so.
+        #[arg(long)]
+        quick: bool,
+        /// Problems to run, comma separated (cantilever, lame, hertz, flexion30, flexion90,
+        /// grasp); all when absent.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Largest increments of the incremental and corotational tiers, degrees, comma
+        /// separated (default 20,10; with --quick 10).
+        #[arg(long, value_delimiter = ',')]
+        steps: Vec<f64>,
+        /// The document written.
+        #[arg(long, default_value = "docs/speed-vs-accuracy.md")]
+        doc: PathBuf,
+        /// The plot written.
+        #[arg(long, default_value = "docs/images/speed-vs-accuracy.png")]
+        plot: PathBuf,
+        /// Print the tables only; write neither the document nor the plot.
+        #[arg(long)]
+        no_write: bool,
+    },
     /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
     /// a slider change to the new frame on screen (default scene, headless).
     Viewer {
@@ -273,6 +298,14 @@ fn run() -> Result<()> {
                     print!("{}", prehensile::bench_region::region_table(&runs));
                 }
             }
+            BenchCommand::Accuracy {
+                quick,
+                only,
+                steps,
+                doc,
+                plot,
+                no_write,
+            } => accuracy(quick, &only, steps, &doc, &plot, no_write)?,
             BenchCommand::Viewer { changes } => {
                 println!(
                     "viewer benchmark: default scene, {} threads",
@@ -292,6 +325,56 @@ fn run() -> Result<()> {
             }
         },
     }
+    Ok(())
+}
+
+/// `prehensile bench accuracy`: runs the bench, prints the tables, writes the document and plot.
+fn accuracy(
+    quick: bool,
+    only: &[String],
+    steps: Vec<f64>,
+    doc: &std::path::Path,
+    plot: &std::path::Path,
+    no_write: bool,
+) -> Result<()> {
+    use prehensile::bench_accuracy as ba;
+    let mut settings = ba::Settings::new(quick);
+    if !only.is_empty() {
+        settings.problems = only
+            .iter()
+            .map(|k| ba::ProblemId::from_key(k.trim()))
+            .collect::<Result<_, _>>()
+            .map_err(anyhow::Error::msg)
+            .context("--only")?;
+    }
+    if !steps.is_empty() {
+        settings.steps = steps;
+    }
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let machine = ba::Machine::now();
+    println!("accuracy benchmark: {}", machine.summary());
+    let results = ba::accuracy_results(&settings, &mut |line| eprintln!("{line}"))
+        .map_err(anyhow::Error::msg)?;
+    for p in &settings.problems {
+        println!("\n## {}\n", p.title());
+        print!("{}", ba::problem_table(&results, *p));
+        print!("\n{}", ba::summary(&results, *p));
+    }
+    if no_write {
+        return Ok(());
+    }
+    let command = std::env::args()
+        .skip(1)
+        .fold(String::from("prehensile"), |s, a| s + " " + &a);
+    let title = format!(
+        "Speed against accuracy{}: {}",
+        if quick { " (quick)" } else { "" },
+        machine.summary()
+    );
+    ba::write_plot(plot, &results, &title).map_err(anyhow::Error::msg)?;
+    ba::write_doc(doc, &results, &machine, &ba::plot_link(doc, plot), &command)
+        .map_err(anyhow::Error::msg)?;
+    println!("\nwrote {} and {}", doc.display(), plot.display());
     Ok(())
 }
 
