@@ -524,6 +524,7 @@ impl Increment<'_, '_> {
         };
         let (mut energy, mut fint) = forces(record, &u).map_err(inverted)?;
         let mut peak = 0.0f64;
+        let mut last_shift = 0.0f64;
         for iteration in 0..=s.max_iterations {
             if s.relative_to_peak {
                 peak = peak.max(dot(&fint, &fint).sqrt());
@@ -545,13 +546,13 @@ impl Increment<'_, '_> {
             }
             let t = Instant::now();
             let exact = self.body.tangent(&u).map_err(inverted)?;
+            let mut modified: Option<Stiffness> = None;
             record.cost.tangent_ms += ms(t);
             let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();
             let delta: Vec<f64> = (0..dofs).map(|d| target[d] - u[d]).collect();
             // The factorization counts as an iteration even when it fails.
             record.iterations = iteration + 1;
             let nodes = &self.body.mesh().nodes;
-            let mut modified: Option<Stiffness> = None;
             let mut shift = 0.0;
             let solution = loop {
                 let k = modified.as_ref().unwrap_or(&exact);
@@ -580,7 +581,12 @@ impl Increment<'_, '_> {
                         record.regularised += 1;
                     }
                     Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && shift < 10.0 => {
-                        shift = if shift == 0.0 { 1e-4 } else { shift * 10.0 };
+                        // From a tenth of the last iterate's shift: τ changes slowly.
+                        shift = if shift == 0.0 {
+                            (last_shift * 0.1).max(1e-4)
+                        } else {
+                            shift * 10.0
+                        };
                         record.regularised += 1;
                     }
                     Err(SolveError::NotPositiveDefinite { node, .. }) => {
@@ -593,6 +599,7 @@ impl Increment<'_, '_> {
             record.cost.factorization_ms += solution.stats.factorization_ms;
             record.cost.solve_ms += solution.stats.solve_ms;
             let du = solution.displacement;
+            last_shift = shift;
             // Nearly at equilibrium, but the exact tangent is indefinite: an unstable
             // equilibrium (a saddle of the energy). Newton steps would only creep around it;
             // leave it along the direction of negative curvature.

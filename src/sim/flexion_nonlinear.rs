@@ -43,8 +43,8 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// Halvings of an increment allowed before the flexion gives up: the smallest increment is
-/// `max_step_deg` / 2⁶ (0.16° for the default 10°).
-pub const MAX_HALVINGS: usize = 6;
+/// `max_step_deg` / 2⁵ (0.31° for the default 10°).
+pub const MAX_HALVINGS: usize = 5;
 
 /// Newton iterations allowed per increment before it is halved. Increments of the index PIP
 /// flexion take 5–8 where the flesh is stable; where the palmar flesh creases (the tangent is
