@@ -214,9 +214,12 @@ fn the_tier_key_sets_the_flexion_and_refuses_contradictions() {
         e.contains("solver.tier") && e.contains("solver.flesh = \"skinning\""),
         "{e}"
     );
-    let e = build("tier = \"nonlinear\"").unwrap_err();
+    let m = build("tier = \"nonlinear\"").unwrap();
+    assert_eq!(m.flexion.scheme, FlexionScheme::Nonlinear);
+    assert_eq!(m.flexion.methods, [FleshMethod::Fem; 6]);
+    let e = build("tier = \"nonlinear\"\nflexion = \"corotational\"").unwrap_err();
     assert!(
-        e.contains("solver.tier") && e.contains("tier nonlinear: not yet available for the hand"),
+        e.contains("solver.tier") && e.contains("solver.flexion = \"corotational\""),
         "{e}"
     );
     let e = build("tier = \"fast\"").unwrap_err();

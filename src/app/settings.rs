@@ -16,15 +16,18 @@ pub enum Tier {
     UpdatedLagrangian,
     /// Corotated linear increments (the default).
     Corotational,
+    /// Neo-Hookean increments solved to equilibrium by Newton (large strain, ν → ½).
+    Nonlinear,
 }
 
 impl Tier {
     /// Every tier, fastest first.
-    pub const ALL: [Tier; 4] = [
+    pub const ALL: [Tier; 5] = [
         Tier::Skinning,
         Tier::Linear,
         Tier::UpdatedLagrangian,
         Tier::Corotational,
+        Tier::Nonlinear,
     ];
 
     /// The label shown in the Solver panel.
@@ -34,6 +37,7 @@ impl Tier {
             Tier::Linear => "linear (rest geometry, factored once)",
             Tier::UpdatedLagrangian => "incremental (updated Lagrangian)",
             Tier::Corotational => "corotational",
+            Tier::Nonlinear => "nonlinear (Neo-Hookean, Newton)",
         }
     }
 
@@ -44,6 +48,7 @@ impl Tier {
             Tier::Linear => TierName::Linear,
             Tier::UpdatedLagrangian => TierName::Incremental,
             Tier::Corotational => TierName::Corotational,
+            Tier::Nonlinear => TierName::Nonlinear,
         }
     }
 }
@@ -74,6 +79,9 @@ impl SolverParams {
             (Some(TierName::Linear), _, _) | (None, _, Some(FlexionScheme::Linear)) => Tier::Linear,
             (Some(TierName::Incremental), _, _)
             | (None, _, Some(FlexionScheme::UpdatedLagrangian)) => Tier::UpdatedLagrangian,
+            (Some(TierName::Nonlinear), _, _) | (None, _, Some(FlexionScheme::Nonlinear)) => {
+                Tier::Nonlinear
+            }
             _ => Tier::Corotational,
         };
         let resolution = scene
@@ -102,11 +110,12 @@ impl SolverParams {
         s.tier = Some(self.tier.scene_name());
         match self.tier {
             Tier::Skinning => s.flesh = Some(FleshMethod::Skinning),
-            Tier::Linear | Tier::UpdatedLagrangian | Tier::Corotational => {
+            Tier::Linear | Tier::UpdatedLagrangian | Tier::Corotational | Tier::Nonlinear => {
                 s.flesh = Some(FleshMethod::Fem);
                 s.flexion = Some(match self.tier {
                     Tier::Linear => FlexionScheme::Linear,
                     Tier::UpdatedLagrangian => FlexionScheme::UpdatedLagrangian,
+                    Tier::Nonlinear => FlexionScheme::Nonlinear,
                     _ => FlexionScheme::Corotational,
                 });
             }

@@ -54,6 +54,21 @@ pub struct ElementInverted {
     pub det_f: f64,
 }
 
+/// Which tangent [`element_state_with`] computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tangent {
+    /// None: energy and forces only.
+    None,
+    /// The exact Hessian of the energy.
+    Exact,
+    /// The Hessian without the pressure's part, U′·∂²v/∂x_a∂x_b (per Gauss point, or of the
+    /// element's volume under mean dilatation): indefinite, and as large as the pressure,
+    /// which in a nearly incompressible material is huge at an iterate that changes the
+    /// volume. What is left (isochoric material and geometric parts, U″ d_a d_bᵀ) keeps the
+    /// shear stiffness; Newton uses it where the exact tangent is not positive definite.
+    WithoutPressureHessian,
+}
+
 /// The state of the element whose reference Gauss points are `reference` (from
 /// [`super::hex8::mapped_points`] of the reference coordinates X) when its nodes have moved by
 /// `u`, to current positions x = X + u.
@@ -64,6 +79,29 @@ pub fn element_state(
     volumetric: Volumetric,
     with_tangent: bool,
 ) -> Result<ElementState, ElementInverted> {
+    let tangent = if with_tangent {
+        Tangent::Exact
+    } else {
+        Tangent::None
+    };
+    element_state_with(reference, u, law, volumetric, tangent)
+}
+
+/// As [`element_state`], with the choice of tangent.
+pub fn element_state_with(
+    reference: &[MappedPoint; 8],
+    u: &[Vector3<f64>; 8],
+    law: &NeoHookean,
+    volumetric: Volumetric,
+    tangent: Tangent,
+) -> Result<ElementState, ElementInverted> {
+    let with_tangent = tangent != Tangent::None;
+    // The factor of the pressure Hessian terms: 1, or 0 without them.
+    let ph = if tangent == Tangent::WithoutPressureHessian {
+        0.0
+    } else {
+        1.0
+    };
     let (h, dj) = kinematics(reference, u)?;
     let mut g = [[Vector3::zeros(); 8]; 8];
     let det = dj.map(|d| 1.0 + d);
@@ -118,8 +156,8 @@ pub fn element_state(
                     - ga * gb.transpose() * (two_thirds * mb)
                     - (ta * gb.transpose() + ga * tb.transpose()) * two_thirds
                     // ...and the volumetric Hessian J²U″ g_a g_bᵀ + J U′ (g_a g_bᵀ − g_b g_aᵀ).
-                    + ga * gb.transpose() * (j * j * dp + j * p)
-                    - gb * ga.transpose() * (j * p);
+                    + ga * gb.transpose() * (j * j * dp + ph * j * p)
+                    - gb * ga.transpose() * (ph * j * p);
                 // μ̄ (g_a·g_b) I of the material part plus the geometric (g_a·τ_iso g_b) I; the
                 // geometric term of the pressure, J p (g_a·g_b) I, cancels against 𝕔_vol's
                 // −2Jp𝕀 and is already folded into the Hessian above.

@@ -6,7 +6,9 @@
 
 use super::assembly::{assemble_elements, Stiffness, StiffnessPattern};
 use super::hex8::{mapped_points, MappedPoint};
-use super::hex8_hyperelastic::{element_state, gauss_cauchy_stress, ElementInverted, Volumetric};
+use super::hex8_hyperelastic::{
+    element_state, element_state_with, gauss_cauchy_stress, ElementInverted, Tangent, Volumetric,
+};
 use super::hyperelastic::NeoHookean;
 use super::material::Material;
 use crate::mesh::Mesh;
@@ -90,6 +92,12 @@ impl<'a> HyperelasticBody<'a> {
         self.mesh
     }
 
+    /// The mean element size, (reference volume / cells)^⅓, m.
+    pub fn element_size(&self) -> f64 {
+        let volume: f64 = self.reference.iter().flatten().map(|p| p.volume).sum();
+        (volume / self.reference.len().max(1) as f64).cbrt()
+    }
+
     /// The sparsity pattern of the tangent.
     pub fn pattern(&self) -> &Arc<StiffnessPattern> {
         &self.pattern
@@ -137,13 +145,26 @@ impl<'a> HyperelasticBody<'a> {
 
     /// The tangent stiffness ∂²W/∂u² at displacement `u`.
     pub fn tangent(&self, u: &[f64]) -> Result<Stiffness, InvertedElement> {
+        self.tangent_of(u, Tangent::Exact)
+    }
+
+    /// The tangent at displacement `u` without the pressure's Hessian
+    /// ([`Tangent::WithoutPressureHessian`]).
+    pub fn tangent_without_pressure_hessian(
+        &self,
+        u: &[f64],
+    ) -> Result<Stiffness, InvertedElement> {
+        self.tangent_of(u, Tangent::WithoutPressureHessian)
+    }
+
+    fn tangent_of(&self, u: &[f64], kind: Tangent) -> Result<Stiffness, InvertedElement> {
         assemble_elements(&self.pattern, self.mesh, false, &|c| {
-            element_state(
+            element_state_with(
                 &self.reference[c],
                 &self.displacements(c, u),
                 &self.laws[c],
                 self.volumetric,
-                true,
+                kind,
             )
             .map(|s| (s.tangent.expect("asked for"), None))
             .map_err(Self::inverted(c))

@@ -13,6 +13,7 @@ pub mod incompatible;
 pub mod loads;
 pub mod material;
 pub mod memory;
+pub mod negative_curvature;
 pub mod newton;
 pub mod ordering;
 pub mod partition;

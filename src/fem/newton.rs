@@ -17,14 +17,17 @@
 //! restarted from the last equilibrium with half the increment; after two easy steps the
 //! increment doubles again, up to its initial size.
 
+use super::assembly::Stiffness;
 use super::hex8_hyperelastic::Volumetric;
 use super::hyperelastic_body::{HyperelasticBody, InvertedElement};
 use super::material::Material;
+use super::negative_curvature::lowest_mode;
 use super::partition::DofPartition;
 use super::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::mesh::Mesh;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+use std::time::Instant;
 use thiserror::Error;
 
 /// Which solver the static frame of a scene uses (`[solver] tier`).
@@ -56,6 +59,24 @@ pub struct NewtonSettings {
     pub line_search_halvings: usize,
     /// Fill-reducing ordering of the tangent's Cholesky factorization.
     pub ordering: FillOrdering,
+    /// Also measure the residual against the largest ‖f_int‖ met in the increment: a
+    /// displacement-driven increment whose equilibrium carries almost no force (flesh that
+    /// ends up turning rigidly) is then judged against the forces its iterations dealt with,
+    /// not against round-off.
+    pub relative_to_peak: bool,
+    /// When the tangent is not positive definite (a fold, buckling, or an iterate whose
+    /// volume change puts a huge pressure in a nearly incompressible material), retry the
+    /// factorization without the pressure's Hessian, then with τ·diag(K_T,11) added too,
+    /// τ = 10⁻⁴, 10⁻³, … 10 (Nocedal & Wright, *Numerical Optimization*, §3.4): a descent
+    /// direction of the energy, so the line search keeps lowering it towards a stable
+    /// equilibrium, where plain Newton steps resume.
+    pub regularise: bool,
+    /// Once the prescribed dofs are in place, accept a step length only when it lowers the
+    /// total potential (Armijo) — not also when it merely lowers the residual, which lets
+    /// the iterates climb in energy and cycle around an unstable equilibrium — unless the
+    /// change of the potential is lost in round-off. With [`NewtonSettings::regularise`], a
+    /// descent method for the minimum of the energy (a stable equilibrium).
+    pub energy_descent: bool,
 }
 
 impl Default for NewtonSettings {
@@ -68,6 +89,9 @@ impl Default for NewtonSettings {
             tolerance: 1e-10,
             line_search_halvings: 10,
             ordering: FillOrdering::NestedDissection,
+            relative_to_peak: false,
+            regularise: false,
+            energy_descent: false,
         }
     }
 }
@@ -85,6 +109,30 @@ pub struct StepRecord {
     pub residuals: Vec<f64>,
     /// Step length α accepted by the line search at each iteration.
     pub step_lengths: Vec<f64>,
+    /// Factorizations retried with a diagonal shift because the tangent was not positive
+    /// definite ([`NewtonSettings::regularise`]); each is one more factorization.
+    pub regularised: usize,
+    /// Steps taken along a direction of negative curvature, away from an unstable equilibrium
+    /// (with [`NewtonSettings::regularise`]; their step length is recorded as 0).
+    pub escapes: usize,
+    /// Where the time went (not serialised).
+    #[serde(skip)]
+    pub cost: NewtonCost,
+}
+
+/// Time spent by the Newton iterations of an increment, ms.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NewtonCost {
+    /// Internal forces and energy (residuals and line-search trials).
+    pub forces_ms: f64,
+    /// Tangent assembly.
+    pub tangent_ms: f64,
+    /// Symbolic analysis of the tangent's K11 (once while the prescribed set is unchanged).
+    pub symbolic_ms: f64,
+    /// Numeric Cholesky factorizations.
+    pub factorization_ms: f64,
+    /// Substitutions.
+    pub solve_ms: f64,
 }
 
 /// The equilibrium reached.
@@ -259,6 +307,7 @@ pub fn solve_body(
     while t < 1.0 - 1e-12 {
         let step = dt.min(1.0 - t);
         let target = (t + step).min(1.0);
+        let mut record = StepRecord::at(target);
         let attempt = Increment {
             body,
             partition,
@@ -267,9 +316,9 @@ pub fn solve_body(
             factor: target,
             settings,
         }
-        .solve(&mut solver, &u, &mut seen);
+        .solve(&mut solver, &u, &mut seen, &mut record);
         match attempt {
-            Ok((u_new, mut record)) => {
+            Ok(u_new) => {
                 u = u_new;
                 t = target;
                 record.step = step;
@@ -331,6 +380,84 @@ pub fn solve_body(
     })
 }
 
+/// What [`solve_increment`] reached.
+#[derive(Debug)]
+pub struct IncrementOutcome {
+    /// The displacement at equilibrium, or why Newton failed.
+    pub result: Result<Vec<f64>, StepFailure>,
+    /// Iterations, residuals, step lengths and cost (of the failed attempt too).
+    pub record: StepRecord,
+    /// The last element a trial state turned inside out (the line search then shortened the
+    /// step), if any.
+    pub inverted_in_trials: Option<InvertedElement>,
+}
+
+/// One Newton increment on `body` from the displacement `start` (any admissible state, e.g. a
+/// previous equilibrium or a predictor) to equilibrium with the prescribed dofs of `partition`
+/// at `target` (read at prescribed dofs) and the dead loads `loads`: the building block of
+/// [`solve_body`], for callers that step their own boundary conditions (the hand's flexion
+/// moves its bones increment by increment). The first iteration moves the prescribed dofs that
+/// `start` does not already place; `solver` keeps its symbolic analysis between calls.
+pub fn solve_increment(
+    body: &HyperelasticBody,
+    partition: &DofPartition,
+    start: &[f64],
+    target: &[f64],
+    loads: &[f64],
+    settings: &NewtonSettings,
+    solver: &mut PartitionedSolver,
+) -> IncrementOutcome {
+    let dofs = body.pattern().dofs;
+    assert_eq!(partition.prescribed.len(), dofs);
+    assert_eq!(start.len(), dofs);
+    assert_eq!(target.len(), dofs);
+    assert_eq!(loads.len(), dofs);
+    let mut record = StepRecord::at(1.0);
+    let mut seen = None;
+    let result = if !start
+        .iter()
+        .chain(target)
+        .chain(loads)
+        .all(|v| v.is_finite())
+    {
+        Err(StepFailure::Tangent(
+            "the start, the prescribed displacements or the loads hold a value that is not a \
+             finite number"
+                .into(),
+        ))
+    } else {
+        Increment {
+            body,
+            partition,
+            prescribed: target,
+            loads,
+            factor: 1.0,
+            settings,
+        }
+        .solve(solver, start, &mut seen, &mut record)
+    };
+    IncrementOutcome {
+        result,
+        record,
+        inverted_in_trials: seen,
+    }
+}
+
+impl StepRecord {
+    fn at(load_factor: f64) -> Self {
+        StepRecord {
+            load_factor,
+            step: 0.0,
+            iterations: 0,
+            residuals: Vec::new(),
+            step_lengths: Vec::new(),
+            regularised: 0,
+            escapes: 0,
+            cost: NewtonCost::default(),
+        }
+    }
+}
+
 /// One load increment: Newton iterations at load factor `factor` from a previous equilibrium.
 struct Increment<'a, 'b> {
     body: &'a HyperelasticBody<'b>,
@@ -353,8 +480,9 @@ fn inverted(e: InvertedElement) -> StepFailure {
 }
 
 impl Increment<'_, '_> {
-    /// ‖R_u‖ over the free dofs and the relative residual.
-    fn residual(&self, ext: &[f64], fint: &[f64]) -> (f64, f64) {
+    /// ‖R_u‖ over the free dofs and the relative residual (against `peak` too, the largest
+    /// ‖f_int‖ met when [`NewtonSettings::relative_to_peak`]; 0 otherwise).
+    fn residual(&self, ext: &[f64], fint: &[f64], peak: f64) -> (f64, f64) {
         let free: f64 = self
             .partition
             .free
@@ -362,7 +490,7 @@ impl Increment<'_, '_> {
             .map(|&d| (ext[d] - fint[d]).powi(2))
             .sum::<f64>()
             .sqrt();
-        let scale = dot(ext, ext).sqrt().max(dot(fint, fint).sqrt());
+        let scale = dot(ext, ext).sqrt().max(dot(fint, fint).sqrt()).max(peak);
         let relative = if free == 0.0 { 0.0 } else { free / scale };
         (free, relative)
     }
@@ -372,7 +500,8 @@ impl Increment<'_, '_> {
         solver: &mut PartitionedSolver,
         start: &[f64],
         seen: &mut Option<InvertedElement>,
-    ) -> Result<(Vec<f64>, StepRecord), StepFailure> {
+        record: &mut StepRecord,
+    ) -> Result<Vec<f64>, StepFailure> {
         let s = self.settings;
         let p = self.partition;
         let dofs = start.len();
@@ -387,41 +516,111 @@ impl Increment<'_, '_> {
             .collect();
         let ext: Vec<f64> = self.loads.iter().map(|f| f * self.factor).collect();
         let mut u = start.to_vec();
-        let (mut energy, mut fint) = self.body.internal_forces(&u).map_err(inverted)?;
-        let mut record = StepRecord {
-            load_factor: self.factor,
-            step: 0.0,
-            iterations: 0,
-            residuals: Vec::new(),
-            step_lengths: Vec::new(),
+        let forces = |record: &mut StepRecord, u: &[f64]| {
+            let t = Instant::now();
+            let out = self.body.internal_forces(u);
+            record.cost.forces_ms += ms(t);
+            out
         };
+        let (mut energy, mut fint) = forces(record, &u).map_err(inverted)?;
+        let mut peak = 0.0f64;
+        let mut last_shift = 0.0f64;
         for iteration in 0..=s.max_iterations {
-            let (norm, relative) = self.residual(&ext, &fint);
+            if s.relative_to_peak {
+                peak = peak.max(dot(&fint, &fint).sqrt());
+            }
+            let (norm, relative) = self.residual(&ext, &fint, peak);
             record.residuals.push(relative);
             let placed =
                 p.free.len() == dofs || (0..dofs).all(|d| !p.prescribed[d] || u[d] == target[d]);
             if placed && relative <= s.tolerance {
                 record.iterations = iteration;
-                return Ok((u, record));
+                return Ok(u);
             }
+            record.iterations = iteration;
             if iteration == s.max_iterations || !relative.is_finite() {
                 return Err(StepFailure::NotConverged {
                     iterations: iteration,
                     residual: relative,
                 });
             }
-            let k = self.body.tangent(&u).map_err(inverted)?;
+            let t = Instant::now();
+            let exact = self.body.tangent(&u).map_err(inverted)?;
+            let mut modified: Option<Stiffness> = None;
+            record.cost.tangent_ms += ms(t);
             let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();
             let delta: Vec<f64> = (0..dofs).map(|d| target[d] - u[d]).collect();
-            let du = solver
-                .solve(&k, p, &delta, &r, &self.body.mesh().nodes)
-                .map_err(|e| match e {
-                    SolveError::NotPositiveDefinite { node, .. } => {
-                        StepFailure::NotPositiveDefinite { node }
+            // The factorization counts as an iteration even when it fails.
+            record.iterations = iteration + 1;
+            let nodes = &self.body.mesh().nodes;
+            let mut shift = 0.0;
+            let solution = loop {
+                let k = modified.as_ref().unwrap_or(&exact);
+                let attempt = if shift == 0.0 {
+                    solver.solve(k, p, &delta, &r, nodes)
+                } else {
+                    let mut shifted = k.clone();
+                    for &d in &p.free {
+                        let v = shifted.diagonal(d).abs();
+                        shifted.add_to_diagonal(d, shift * v);
                     }
-                    other => StepFailure::Tangent(other.to_string()),
-                })?
-                .displacement;
+                    solver.solve(&shifted, p, &delta, &r, nodes)
+                };
+                match attempt {
+                    Ok(solution) => break solution,
+                    Err(SolveError::NotPositiveDefinite { .. })
+                        if s.regularise && modified.is_none() =>
+                    {
+                        let t = Instant::now();
+                        modified = Some(
+                            self.body
+                                .tangent_without_pressure_hessian(&u)
+                                .map_err(inverted)?,
+                        );
+                        record.cost.tangent_ms += ms(t);
+                        record.regularised += 1;
+                    }
+                    Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && shift < 10.0 => {
+                        // From a tenth of the last iterate's shift: τ changes slowly.
+                        shift = if shift == 0.0 {
+                            (last_shift * 0.1).max(1e-4)
+                        } else {
+                            shift * 10.0
+                        };
+                        record.regularised += 1;
+                    }
+                    Err(SolveError::NotPositiveDefinite { node, .. }) => {
+                        return Err(StepFailure::NotPositiveDefinite { node })
+                    }
+                    Err(other) => return Err(StepFailure::Tangent(other.to_string())),
+                }
+            };
+            record.cost.symbolic_ms += solution.stats.symbolic_ms;
+            record.cost.factorization_ms += solution.stats.factorization_ms;
+            record.cost.solve_ms += solution.stats.solve_ms;
+            let du = solution.displacement;
+            last_shift = shift;
+            // Nearly at equilibrium, but the exact tangent is indefinite: an unstable
+            // equilibrium (a saddle of the energy). Newton steps would only creep around it;
+            // leave it along the direction of negative curvature.
+            let unstable = modified.is_some() || shift > 0.0;
+            if unstable && placed && relative < SADDLE_RESIDUAL {
+                if let Some((trial, e_trial, f_trial)) = self.escape(
+                    solver,
+                    &exact,
+                    &u,
+                    &r,
+                    potential_of(energy, &ext, &u),
+                    record,
+                ) {
+                    record.escapes += 1;
+                    record.step_lengths.push(0.0);
+                    u = trial;
+                    energy = e_trial;
+                    fint = f_trial;
+                    continue;
+                }
+            }
             // Line search along du.
             let slope = -dot(&r, &du);
             let potential = energy - dot(&ext, &u);
@@ -438,7 +637,7 @@ impl Increment<'_, '_> {
                         }
                     })
                     .collect();
-                match self.body.internal_forces(&trial) {
+                match forces(record, &trial) {
                     Err(e) => {
                         last_inverted = Some(e);
                         *seen = Some(e);
@@ -449,8 +648,17 @@ impl Increment<'_, '_> {
                         } else {
                             let decrease = e_trial - dot(&ext, &trial)
                                 <= potential + 1e-4 * alpha * slope.min(0.0);
-                            let (n_trial, _) = self.residual(&ext, &f_trial);
-                            (slope < 0.0 && decrease) || n_trial <= (1.0 - 1e-4 * alpha) * norm
+                            let (n_trial, _) = self.residual(&ext, &f_trial, peak);
+                            let fewer = n_trial <= (1.0 - 1e-4 * alpha) * norm;
+                            if s.energy_descent && slope < 0.0 {
+                                // The residual only decides where the energy change is lost
+                                // in round-off.
+                                let change = e_trial - dot(&ext, &trial) - potential;
+                                let noise = 1e-12 * (energy.abs() + dot(&ext, &u).abs());
+                                decrease || (change.abs() <= noise && fewer)
+                            } else {
+                                (slope < 0.0 && decrease) || fewer
+                            }
                         };
                         if good && e_trial.is_finite() {
                             accepted = Some((trial, e_trial, f_trial));
@@ -473,4 +681,88 @@ impl Increment<'_, '_> {
         }
         unreachable!("the loop returns at its last iteration")
     }
+}
+
+/// Relative residual below which an indefinite exact tangent means an unstable equilibrium
+/// nearby, to be left along the negative curvature ([`Increment::escape`]).
+const SADDLE_RESIDUAL: f64 = 1e-3;
+
+/// The total potential Π = W − f_extᵀu.
+fn potential_of(energy: f64, ext: &[f64], u: &[f64]) -> f64 {
+    energy - dot(ext, u)
+}
+
+impl Increment<'_, '_> {
+    /// A step from `u` along the direction v of most negative curvature of `k` (the exact
+    /// tangent), if it has one: signed so
+    /// that the potential does not rise to first order (rᵀv ≥ 0, r = f_ext − f_int), of length
+    /// the first of ⅒, 1/20, … of the mean element size (as a largest nodal move) that lowers
+    /// the potential by at least 10⁻⁴ of the quadratic model's decrease and inverts no element.
+    fn escape(
+        &self,
+        solver: &mut PartitionedSolver,
+        k: &Stiffness,
+        u: &[f64],
+        r: &[f64],
+        potential: f64,
+        record: &mut StepRecord,
+    ) -> Option<(Vec<f64>, f64, Vec<f64>)> {
+        // The preconditioner: K + τ·diag(K) with the smallest τ = 10⁻⁴, 10⁻³, … that makes it
+        // positive definite, so that its inverse amplifies the modes of K's lowest eigenvalues.
+        let p = self.partition;
+        let zeros = vec![0.0; u.len()];
+        let mut tau = 1e-4;
+        loop {
+            let mut shifted = k.clone();
+            for &d in &p.free {
+                let v = shifted.diagonal(d).abs();
+                shifted.add_to_diagonal(d, tau * v);
+            }
+            record.regularised += 1;
+            match solver.solve(&shifted, p, &zeros, &zeros, &self.body.mesh().nodes) {
+                Ok(solution) => {
+                    record.cost.symbolic_ms += solution.stats.symbolic_ms;
+                    record.cost.factorization_ms += solution.stats.factorization_ms;
+                    break;
+                }
+                Err(SolveError::NotPositiveDefinite { .. }) if tau < 10.0 => tau *= 10.0,
+                Err(_) => return None,
+            }
+        }
+        let t = Instant::now();
+        let mode = lowest_mode(solver, k, p, 10);
+        record.cost.solve_ms += ms(t);
+        let (mut v, curvature) = mode?;
+        if curvature >= 0.0 {
+            return None;
+        }
+        if dot(r, &v) < 0.0 {
+            v.iter_mut().for_each(|x| *x = -*x);
+        }
+        let largest = (0..v.len() / 3)
+            .map(|n| (v[3 * n].powi(2) + v[3 * n + 1].powi(2) + v[3 * n + 2].powi(2)).sqrt())
+            .fold(0.0, f64::max);
+        let ext: Vec<f64> = self.loads.iter().map(|f| f * self.factor).collect();
+        let mut alpha = 0.1 * self.body.element_size() / largest;
+        for _ in 0..=self.settings.line_search_halvings {
+            let trial: Vec<f64> = u.iter().zip(&v).map(|(a, b)| a + alpha * b).collect();
+            let t = Instant::now();
+            let state = self.body.internal_forces(&trial);
+            record.cost.forces_ms += ms(t);
+            if let Ok((e, f)) = state {
+                let model = -alpha * dot(r, &v) + 0.5 * alpha * alpha * curvature;
+                if e.is_finite()
+                    && potential_of(e, &ext, &trial) <= potential + 1e-4 * model.min(0.0)
+                {
+                    return Some((trial, e, f));
+                }
+            }
+            alpha *= 0.5;
+        }
+        None
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
 }

@@ -199,7 +199,8 @@ pub struct SolverSettings {
     /// Default Coulomb friction coefficient of every contact (default 0).
     #[serde(default)]
     pub friction: Option<f64>,
-    /// Flexion increments: `"corotational"` (default) or `"updated_lagrangian"` (the paper's).
+    /// Flexion increments: `"corotational"` (default), `"updated_lagrangian"` (the paper's),
+    /// `"linear"` or `"nonlinear"`.
     #[serde(default)]
     pub flexion: Option<FlexionScheme>,
     /// Speed against accuracy for the hands, in one key: `"skinning"`, `"linear"`,
@@ -223,7 +224,8 @@ pub enum TierName {
     Incremental,
     /// Corotated increments (`flexion = "corotational"`, the default).
     Corotational,
-    /// Large-strain hyperelasticity (not yet available for the hand).
+    /// Large-strain hyperelasticity: Neo-Hookean flesh and bodies, Newton–Raphson
+    /// (`flexion = "nonlinear"` for the hands).
     Nonlinear,
 }
 

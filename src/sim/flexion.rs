@@ -17,7 +17,7 @@ use super::statics::SimError;
 use crate::fem::assembly::{assemble, assemble_warped, StiffnessPattern};
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::solve::{FillOrdering, PartitionedSolver};
-use crate::fem::{DofPartition, Material};
+use crate::fem::{DofPartition, Material, Volumetric};
 use crate::hand::{Blend, HandModel};
 use crate::mesh::Mesh;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, UnitQuaternion, Vector3};
@@ -53,6 +53,11 @@ pub enum FlexionScheme {
     /// (`super::linear_tier`). Fast, but a finite rotation is strain to it: flesh that turns
     /// with a bone swells.
     Linear,
+    /// The same increments, each solved to equilibrium at large strain: Neo-Hookean flesh
+    /// (mean dilatation, valid to ν → ½), total Lagrangian on the rest flesh mesh,
+    /// Newton–Raphson with a line search (`super::flexion_nonlinear`). No linearisation error
+    /// accumulates over increments.
+    Nonlinear,
 }
 
 /// Which cells the FEM solves in an increment.
@@ -80,6 +85,10 @@ pub struct FlexionSettings {
     pub blend: Blend,
     /// Increment scheme.
     pub scheme: FlexionScheme,
+    /// Volumetric integration of the Neo-Hookean flesh of [`FlexionScheme::Nonlinear`] (mean
+    /// dilatation by default: no volumetric locking; `Full` is the fully integrated hex8,
+    /// which at small strain is the element of the other schemes).
+    pub volumetric: Volumetric,
 }
 
 impl Default for FlexionSettings {
@@ -90,6 +99,7 @@ impl Default for FlexionSettings {
             methods: [FleshMethod::Fem; 6],
             blend: Blend::DualQuaternion,
             scheme: FlexionScheme::Corotational,
+            volumetric: Volumetric::MeanDilatation,
         }
     }
 }
@@ -191,17 +201,55 @@ pub(super) struct SubProblem {
     pub(super) materials: Vec<Material>,
 }
 
+/// The bones at an increment's end and where the flesh would be if it only followed them
+/// ([`Flexion::predict`]).
+pub(super) struct Predicted {
+    /// Rigid motion of every bone, rest → the increment's end.
+    pub(super) transforms: Vec<Isometry3<f64>>,
+    /// Each bone's motion over the increment.
+    pub(super) delta: Vec<Isometry3<f64>>,
+    /// Every node's predicted position, m.
+    pub(super) next: Vec<Vector3<f64>>,
+}
+
+/// What the increments of one keyframe share ([`Flexion::plan`]).
+pub(super) struct Plan {
+    /// Joint angles at the start of the keyframe, degrees.
+    pub(super) start: Vec<f64>,
+    /// Joint angles at its end, degrees.
+    pub(super) target: Vec<f64>,
+    /// Increments planned (the largest joint motion over `max_step_deg`).
+    pub(super) steps: usize,
+    /// The FEM region, `None` when nothing is free.
+    pub(super) sub: Option<SubProblem>,
+    /// Free nodes of skinned digits: they follow skinning from rest.
+    pub(super) direct: Vec<usize>,
+    /// Every other free node: it follows incremental skinning unless the FEM solves it.
+    pub(super) incremental: Vec<usize>,
+}
+
+impl Plan {
+    /// The joint angles at fraction `f` of the keyframe (linear in each angle).
+    pub(super) fn angles_at(&self, f: f64) -> Vec<f64> {
+        self.start
+            .iter()
+            .zip(&self.target)
+            .map(|(a, b)| a + (b - a) * f)
+            .collect()
+    }
+}
+
 /// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
 pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 
 /// Moves a hand through keyframes.
 pub struct Flexion<'a> {
-    hand: &'a HandModel,
-    body: String,
-    materials: Vec<Material>,
-    settings: FlexionSettings,
-    solver: PartitionedSolver,
-    ordering: FillOrdering,
+    pub(super) hand: &'a HandModel,
+    pub(super) body: String,
+    pub(super) materials: Vec<Material>,
+    pub(super) settings: FlexionSettings,
+    pub(super) solver: PartitionedSolver,
+    pub(super) ordering: FillOrdering,
     cancel: Option<CancelCheck>,
     /// The linear tier's factored rest stiffness, built by its first keyframe.
     linear: Option<LinearTier>,
@@ -250,7 +298,7 @@ impl<'a> Flexion<'a> {
         self.linear.take()
     }
 
-    fn cell_method(&self, c: usize) -> FleshMethod {
+    pub(super) fn cell_method(&self, c: usize) -> FleshMethod {
         self.settings.methods[self.hand.flesh.cell_digit[c].map_or(0, |d| d + 1)]
     }
 
@@ -260,23 +308,113 @@ impl<'a> Flexion<'a> {
         state: &mut HandState,
         target: &[f64],
     ) -> Result<KeyframeStats, SimError> {
-        if self.settings.scheme == FlexionScheme::Linear {
-            if self.cancel.as_ref().is_some_and(|c| c()) {
+        match self.settings.scheme {
+            FlexionScheme::Linear => {
+                if self.cancel.as_ref().is_some_and(|c| c()) {
+                    return Err(SimError::Cancelled);
+                }
+                let tier = match self.linear.take() {
+                    Some(tier) => tier,
+                    None => LinearTier::new(
+                        self.hand,
+                        &self.body,
+                        &self.materials,
+                        &self.settings,
+                        self.ordering,
+                    )?,
+                };
+                self.linear.insert(tier).move_to(self.hand, state, target)
+            }
+            FlexionScheme::Nonlinear => self.move_to_nonlinear(state, target),
+            FlexionScheme::UpdatedLagrangian | FlexionScheme::Corotational => {
+                self.move_to_linear_increments(state, target)
+            }
+        }
+    }
+
+    /// Whether the caller asked to stop.
+    pub(super) fn cancelled(&self) -> bool {
+        self.cancel.as_ref().is_some_and(|c| c())
+    }
+
+    /// The increments of the paper (updated Lagrangian) or corotated ones: one linear solve
+    /// each.
+    fn move_to_linear_increments(
+        &mut self,
+        state: &mut HandState,
+        target: &[f64],
+    ) -> Result<KeyframeStats, SimError> {
+        let t_all = Instant::now();
+        let mut stats = KeyframeStats::default();
+        let Some(plan) = self.plan(state, target, &mut stats) else {
+            return Ok(stats);
+        };
+        const MAX_HALVINGS: usize = 4;
+
+        // March from 0 to 1 in fractions of the keyframe; an increment that would turn a cell
+        // inside out is retried with half the step, up to MAX_HALVINGS times.
+        let mut done = 0.0f64;
+        let mut df = 1.0 / plan.steps as f64;
+        let mut halvings = 0;
+        while done < 1.0 - 1e-12 {
+            if self.cancelled() {
                 return Err(SimError::Cancelled);
             }
-            let tier = match self.linear.take() {
-                Some(tier) => tier,
-                None => LinearTier::new(
-                    self.hand,
-                    &self.body,
-                    &self.materials,
-                    &self.settings,
-                    self.ordering,
-                )?,
-            };
-            return self.linear.insert(tier).move_to(self.hand, state, target);
+            let f = (done + df).min(1.0);
+            let angles = plan.angles_at(f);
+            let t_update = Instant::now();
+            let Predicted {
+                transforms,
+                delta,
+                mut next,
+            } = self.predict(&plan, state, &angles);
+            stats.update_ms += ms(t_update);
+
+            if let Some(sub) = &plan.sub {
+                let rotations = match self.settings.scheme {
+                    FlexionScheme::Corotational => Some(cell_rotations(self.hand, sub, &delta)),
+                    _ => None,
+                };
+                match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
+                    None => {}
+                    Some(_) if halvings < MAX_HALVINGS => {
+                        halvings += 1;
+                        df *= 0.5;
+                        stats.halvings += 1;
+                        continue;
+                    }
+                    Some((cell, _)) => {
+                        let (joint, angle) = self.nearest_moving_joint(&plan, state, &angles, cell);
+                        return Err(SimError::FleshCrushed {
+                            body: self.body.clone(),
+                            element: cell,
+                            rest_position_mm: self.rest_centre_mm(cell),
+                            joint,
+                            angle,
+                        });
+                    }
+                }
+            }
+            stats.increments_taken += 1;
+            state.positions = next;
+            state.transforms = transforms;
+            state.angles = angles;
+            done = f;
         }
-        let t_all = Instant::now();
+        state.angles = target.to_vec();
+        stats.total_ms = ms(t_all);
+        Ok(stats)
+    }
+
+    /// What the increments of a keyframe from `state` to `target` share: the number of
+    /// increments, the FEM region and who follows skinning (filling the region's counts in
+    /// `stats`); `None` when no joint moves.
+    pub(super) fn plan(
+        &self,
+        state: &HandState,
+        target: &[f64],
+        stats: &mut KeyframeStats,
+    ) -> Option<Plan> {
         let hand = self.hand;
         let skeleton = &hand.skeleton;
         let flesh = &hand.flesh;
@@ -286,15 +424,13 @@ impl<'a> Flexion<'a> {
             .zip(target)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-        let mut stats = KeyframeStats::default();
         if largest == 0.0 {
-            return Ok(stats);
+            return None;
         }
         let steps = (largest / self.settings.max_step_deg - 1e-9)
             .ceil()
             .max(1.0) as usize;
         stats.increments = steps;
-        const MAX_HALVINGS: usize = 4;
 
         // Cells solved by FEM, chosen at the start of the keyframe: those within `radius` of a
         // cell whose nodes do not all move by one and the same bone motion over the keyframe
@@ -379,103 +515,92 @@ impl<'a> Flexion<'a> {
         let incremental: Vec<usize> = (0..owned_by_skinning.len())
             .filter(|&n| !owned_by_skinning[n] && flesh.node_bone[n].is_none())
             .collect();
+        Some(Plan {
+            start,
+            target: target.to_vec(),
+            steps,
+            sub,
+            direct,
+            incremental,
+        })
+    }
 
-        // March from 0 to 1 in fractions of the keyframe; an increment that would turn a cell
-        // inside out is retried with half the step, up to MAX_HALVINGS times.
-        let mut done = 0.0f64;
-        let mut df = 1.0 / steps as f64;
-        let mut halvings = 0;
-        while done < 1.0 - 1e-12 {
-            if self.cancel.as_ref().is_some_and(|c| c()) {
-                return Err(SimError::Cancelled);
+    /// The bones at `angles` and where the flesh would be if it only followed them: the bone
+    /// transforms, their motion since `state`, and the positions of every node (bone nodes
+    /// rigidly, skinned digits by skinning from rest, every other node by incremental
+    /// skinning from `state`).
+    pub(super) fn predict(&self, plan: &Plan, state: &HandState, angles: &[f64]) -> Predicted {
+        let hand = self.hand;
+        let flesh = &hand.flesh;
+        let transforms = hand.skeleton.transforms(angles);
+        let delta: Vec<Isometry3<f64>> = transforms
+            .iter()
+            .zip(&state.transforms)
+            .map(|(new, old)| new * old.inverse())
+            .collect();
+        let mut next = state.positions.clone();
+        hand.weights.apply(
+            self.settings.blend,
+            &delta,
+            &state.positions,
+            plan.incremental.iter().copied(),
+            &mut next,
+        );
+        hand.weights.apply(
+            self.settings.blend,
+            &transforms,
+            &flesh.mesh.nodes,
+            plan.direct.iter().copied(),
+            &mut next,
+        );
+        for (n, b) in flesh.node_bone.iter().enumerate() {
+            if let Some(b) = b {
+                next[n] = (transforms[*b] * Point3::from(flesh.mesh.nodes[n])).coords;
             }
-            let f = (done + df).min(1.0);
-            let angles: Vec<f64> = start
-                .iter()
-                .zip(target)
-                .map(|(a, b)| a + (b - a) * f)
-                .collect();
-            let t_update = Instant::now();
-            let transforms = skeleton.transforms(&angles);
-            let delta: Vec<Isometry3<f64>> = transforms
-                .iter()
-                .zip(&state.transforms)
-                .map(|(new, old)| new * old.inverse())
-                .collect();
-            let mut next = state.positions.clone();
-            hand.weights.apply(
-                self.settings.blend,
-                &delta,
-                &state.positions,
-                incremental.iter().copied(),
-                &mut next,
-            );
-            hand.weights.apply(
-                self.settings.blend,
-                &transforms,
-                &flesh.mesh.nodes,
-                direct.iter().copied(),
-                &mut next,
-            );
-            for (n, b) in flesh.node_bone.iter().enumerate() {
-                if let Some(b) = b {
-                    next[n] = (transforms[*b] * Point3::from(flesh.mesh.nodes[n])).coords;
-                }
-            }
-            stats.update_ms += ms(t_update);
-
-            if let Some(sub) = &sub {
-                let rotations = match self.settings.scheme {
-                    FlexionScheme::UpdatedLagrangian => None,
-                    FlexionScheme::Corotational => Some(cell_rotations(hand, sub, &delta)),
-                    FlexionScheme::Linear => unreachable!("the linear tier returned above"),
-                };
-                match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
-                    None => {}
-                    Some(_) if halvings < MAX_HALVINGS => {
-                        halvings += 1;
-                        df *= 0.5;
-                        stats.halvings += 1;
-                        continue;
-                    }
-                    Some((cell, _)) => {
-                        // Name the moving joint nearest the crushed cell.
-                        let c = flesh.mesh.cells[cell];
-                        let at = c.iter().map(|&n| flesh.mesh.nodes[n]).sum::<Vector3<f64>>() / 8.0;
-                        let now = c.iter().map(|&n| state.positions[n]).sum::<Vector3<f64>>() / 8.0;
-                        let worst = skeleton
-                            .dofs
-                            .iter()
-                            .enumerate()
-                            .filter(|(i, _)| target[*i] != start[*i])
-                            .min_by(|a, b| {
-                                let d = |d: &crate::hand::JointDof| {
-                                    let p = state.transforms[d.bone] * Point3::from(d.center);
-                                    (p.coords - now).norm()
-                                };
-                                d(a.1).total_cmp(&d(b.1))
-                            })
-                            .map(|(i, d)| (d.name.clone(), angles[i]))
-                            .unwrap_or_default();
-                        return Err(SimError::FleshCrushed {
-                            body: self.body.clone(),
-                            element: cell,
-                            rest_position_mm: [at.x * 1e3, at.y * 1e3, at.z * 1e3],
-                            joint: worst.0,
-                            angle: worst.1,
-                        });
-                    }
-                }
-            }
-            stats.increments_taken += 1;
-            state.positions = next;
-            state.transforms = transforms;
-            state.angles = angles;
-            done = f;
         }
-        state.angles = target.to_vec();
-        stats.total_ms = ms(t_all);
-        Ok(stats)
+        Predicted {
+            transforms,
+            delta,
+            next,
+        }
+    }
+
+    /// The moving joint nearest to flesh cell `cell` in `state`, and its angle in `angles`.
+    pub(super) fn nearest_moving_joint(
+        &self,
+        plan: &Plan,
+        state: &HandState,
+        angles: &[f64],
+        cell: usize,
+    ) -> (String, f64) {
+        let c = self.hand.flesh.mesh.cells[cell];
+        let now = c.iter().map(|&n| state.positions[n]).sum::<Vector3<f64>>() / 8.0;
+        self.hand
+            .skeleton
+            .dofs
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| plan.target[*i] != plan.start[*i])
+            .min_by(|a, b| {
+                let d = |d: &crate::hand::JointDof| {
+                    let p = state.transforms[d.bone] * Point3::from(d.center);
+                    (p.coords - now).norm()
+                };
+                d(a.1).total_cmp(&d(b.1))
+            })
+            .map(|(i, d)| (d.name.clone(), angles[i]))
+            .unwrap_or_default()
+    }
+
+    /// Centre of flesh cell `cell` in the rest pose, mm.
+    pub(super) fn rest_centre_mm(&self, cell: usize) -> [f64; 3] {
+        let flesh = &self.hand.flesh;
+        let at = flesh.mesh.cells[cell]
+            .iter()
+            .map(|&n| flesh.mesh.nodes[n])
+            .sum::<Vector3<f64>>()
+            / 8.0;
+        [at.x * 1e3, at.y * 1e3, at.z * 1e3]
     }
 
     fn sub_problem(&self, active: &[bool]) -> Option<SubProblem> {

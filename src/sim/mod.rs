@@ -2,6 +2,7 @@
 //! that produce the state: the static solve of a frame, and the incremental flexion of a hand.
 
 mod flexion;
+mod flexion_nonlinear;
 mod grasp;
 mod linear_tier;
 mod model;
@@ -19,6 +20,7 @@ pub use flexion::{
     CancelCheck, FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
     KeyframeStats,
 };
+pub use flexion_nonlinear::flesh_internal_forces;
 pub use grasp::{frame_with_hands, solve_grasp};
 pub use linear_tier::LinearTier;
 pub use model::{BodyModel, ConstraintModel, KeyframeModel, LoadModel, Model, ProbeModel};

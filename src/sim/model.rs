@@ -601,15 +601,13 @@ impl Model {
         let flexion = flexion_settings(&scene.solver).map_err(|(f, m)| err(f, m))?;
         let keyframes = keyframes(scene, &bodies).map_err(|(f, m)| err(f, m))?;
         let has_hand = bodies.iter().any(|b| b.hand.is_some());
-        if has_hand && scene.solver.tier == Some(crate::scene::TierName::Nonlinear) {
-            return Err(err(
-                "solver.tier".into(),
-                "tier nonlinear: not yet available for the hand (solver.tier = \"nonlinear\"); \
-                 choose \"skinning\", \"linear\", \"incremental\" or \"corotational\""
-                    .into(),
-            ));
-        }
-        let warnings = super::tier::flexion_warnings(&flexion, has_hand);
+        let mut warnings = super::tier::flexion_warnings(&flexion, has_hand);
+        let has_object = bodies.iter().any(|b| b.hand.is_none());
+        warnings.extend(super::tier::nonlinear_contact_warning(
+            scene.solver.tier,
+            has_hand,
+            has_object,
+        ));
         for (i, c) in scene.camera.iter().enumerate() {
             let field = format!("camera \"{}\" (camera[{i}])", c.name);
             if scene.camera[..i].iter().any(|o| o.name == c.name) {

@@ -6,8 +6,11 @@ use super::flexion::{Flexion, HandState};
 use super::grasp::frame_with_hands;
 use super::model::Model;
 use super::statics::{solve_static, Frame, HandFrame, SimError};
+use crate::fem::hyperelastic_body::HyperelasticBody;
+use crate::fem::newton::StaticTier;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
-use crate::fem::stress::{stress_field_with, StressField};
+use crate::fem::stress::{from_gauss, stress_field_with, StressField};
+use crate::fem::Volumetric;
 use nalgebra::Matrix3;
 
 /// Solves every frame of the model.
@@ -142,21 +145,43 @@ pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Fr
             frame.solution.reaction[3 * n..3 * n + 3].copy_from_slice(h.reaction[i].as_slice());
         }
     }
-    let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
-    frame.stress = stress_field_with(
-        &model.mesh,
-        &model.cell_materials,
-        &frame.solution.displacement,
-        &hand_cell,
-    )
-    .map_err(|(c, e)| {
+    let inverted = |c: usize, relative_det: f64| {
         let b = model.cell_body[c];
         SimError::InvertedElement {
             body: model.bodies[b].name.clone(),
             element: c - model.bodies[b].cells.start,
-            relative_det: e.relative_det,
+            relative_det,
         }
-    })?;
+    };
+    frame.stress = if model.tier == StaticTier::Nonlinear {
+        // The Cauchy stress of the Neo-Hookean law the nonlinear tier solved with, for the
+        // hands' flesh and the other bodies alike.
+        nonlinear_stress(model, &frame.solution.displacement)
+            .map_err(|(c, det_f)| inverted(c, det_f))?
+    } else {
+        let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
+        stress_field_with(
+            &model.mesh,
+            &model.cell_materials,
+            &frame.solution.displacement,
+            &hand_cell,
+        )
+        .map_err(|(c, e)| inverted(c, e.relative_det))?
+    };
     frame.hands = hands;
     Ok(frame)
+}
+
+/// Cauchy stress of the Neo-Hookean law (mean dilatation) at the Gauss points of every cell of
+/// the model displaced by `u` from rest; an inverted cell gives (cell, det F).
+fn nonlinear_stress(model: &Model, u: &[f64]) -> Result<StressField, (usize, f64)> {
+    let body = HyperelasticBody::with_pattern(
+        &model.mesh,
+        &model.cell_materials,
+        Volumetric::MeanDilatation,
+        model.pattern.clone(),
+    )
+    .map_err(|e| (e.cell, e.relative_det))?;
+    let gauss = body.cauchy_stress(u).map_err(|e| (e.cell, e.det_f))?;
+    Ok(from_gauss(&model.mesh, gauss))
 }

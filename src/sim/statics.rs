@@ -43,6 +43,25 @@ pub enum SimError {
         /// Its angle at the failing increment, degrees.
         angle: f64,
     },
+    /// A nonlinear flexion increment found no equilibrium, even at the smallest step allowed.
+    #[error(
+        "body \"{body}\": the nonlinear flexion found no equilibrium as {joint} reaches \
+         {angle:.2}°, with the increment halved {halvings} times (to {step_deg:.3}°): {reason}"
+    )]
+    FlexionNoEquilibrium {
+        /// The hand body.
+        body: String,
+        /// The moved joint nearest to the trouble (or the one moving most).
+        joint: String,
+        /// That joint's angle at the failing increment, degrees.
+        angle: f64,
+        /// The size of the failing increment, degrees of the joint moving most.
+        step_deg: f64,
+        /// Halvings done.
+        halvings: usize,
+        /// Why Newton failed.
+        reason: String,
+    },
     /// The linear tier's one solve from rest turns a flesh element inside out (no increment to
     /// halve: the rotation is too large for small-strain elasticity on the rest geometry).
     #[error(

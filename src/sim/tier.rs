@@ -17,8 +17,9 @@ fn implied(tier: TierName) -> Result<(FleshMethod, Option<FlexionScheme>), Strin
         TierName::Linear => (FleshMethod::Fem, Some(FlexionScheme::Linear)),
         TierName::Incremental => (FleshMethod::Fem, Some(FlexionScheme::UpdatedLagrangian)),
         TierName::Corotational => (FleshMethod::Fem, Some(FlexionScheme::Corotational)),
-        // The static solve of the other bodies; a hand is refused by `Model::build`.
-        TierName::Nonlinear => (FleshMethod::Fem, None),
+        // Hands by nonlinear increments; the static frame of the other bodies by Newton too
+        // (`Model::tier`).
+        TierName::Nonlinear => (FleshMethod::Fem, Some(FlexionScheme::Nonlinear)),
     })
 }
 
@@ -68,8 +69,11 @@ pub(super) fn apply_tier(
 /// Warnings about the flexion settings of a scene whose hands move by FEM increments: an
 /// increment above [`STEP_WARNING_DEG`] is one linear step over a large rotation.
 pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec<String> {
-    let incremental =
-        flexion.scheme != FlexionScheme::Linear && flexion.methods.contains(&FleshMethod::Fem);
+    // The nonlinear increments are each solved to equilibrium: their size is no error.
+    let incremental = matches!(
+        flexion.scheme,
+        FlexionScheme::UpdatedLagrangian | FlexionScheme::Corotational
+    ) && flexion.methods.contains(&FleshMethod::Fem);
     let mut out = Vec::new();
     if has_hand && incremental && flexion.max_step_deg > STEP_WARNING_DEG {
         out.push(format!(
@@ -81,4 +85,21 @@ pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec
         ));
     }
     out
+}
+
+/// With `tier = "nonlinear"`, a scene with a hand and another body: the frames where the hand
+/// touches the body are solved by the contact step, which stays linear (the object small-strain
+/// from rest, the flesh near the contact linearised about its posed state; `super::grasp`).
+pub(super) fn nonlinear_contact_warning(
+    tier: Option<TierName>,
+    has_hand: bool,
+    has_object: bool,
+) -> Option<String> {
+    (tier == Some(TierName::Nonlinear) && has_hand && has_object).then(|| {
+        "solver.tier = \"nonlinear\": the hands flex by nonlinear increments and bodies \
+         untouched by a hand are solved by Newton, but a frame where a hand touches a body is \
+         solved by the linear contact step (the body small-strain from rest, the flesh near the \
+         contact linearised about its posed state; see docs/elements.md)"
+            .to_string()
+    })
 }
