@@ -510,3 +510,22 @@ fn the_local_region_follows_the_whole_flesh_solve() {
     );
     assert!(d < 1e-6, "{d}");
 }
+
+#[test]
+fn the_viewer_offers_the_nonlinear_tier_and_writes_it_into_the_scene() {
+    use prehensile::app::settings::{SolverParams, Tier};
+    use prehensile::scene::TierName;
+    assert!(Tier::ALL.contains(&Tier::Nonlinear));
+    let mut scene = Scene::parse(HAND_SCENE, "viewer.toml").unwrap();
+    let mut params = SolverParams::from_scene(&scene);
+    assert_eq!(params.tier, Tier::Nonlinear);
+    params.tier = Tier::Corotational;
+    params.apply(&mut scene);
+    assert_eq!(scene.solver.tier, Some(TierName::Corotational));
+    params.tier = Tier::Nonlinear;
+    params.apply(&mut scene);
+    assert_eq!(scene.solver.tier, Some(TierName::Nonlinear));
+    assert_eq!(scene.solver.flexion, Some(FlexionScheme::Nonlinear));
+    let model = Model::build(&scene, "viewer.toml").unwrap();
+    assert_eq!(model.flexion.scheme, FlexionScheme::Nonlinear);
+}
