@@ -1,10 +1,13 @@
 //! `prehensile bench hand`: the index finger flexed 0° → 90° at the PIP joint in 10° increments,
 //! at several mesh resolutions — milliseconds per increment and per keyframe for the local and
 //! whole-hand FEM regions, the skinning fast path for the same pose, and how far skinning is from
-//! the FEM result; and the linear tier against the corotated increments (`linear`).
+//! the FEM result; the linear tier against the corotated increments (`linear`); and the
+//! nonlinear tier against them (`nonlinear`).
 
 mod linear;
+mod nonlinear;
 pub use linear::{linear_row, linear_table, LinearRow};
+pub use nonlinear::{nonlinear_row, nonlinear_table, NonlinearRow};
 
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
@@ -43,6 +46,8 @@ pub struct HandRow {
     pub volume_change: [f64; 3],
     /// The linear tier against the corotated increments.
     pub linear: LinearRow,
+    /// The nonlinear tier against the corotated increments.
+    pub nonlinear: NonlinearRow,
 }
 
 /// Flesh of the benchmark.
@@ -52,7 +57,15 @@ pub(crate) const FLESH: Material = Material {
     density: 1050.0,
 };
 
-fn run(hand: &HandModel, settings: FlexionSettings) -> (HandState, KeyframeStats) {
+fn run_or_panic(hand: &HandModel, settings: FlexionSettings) -> (HandState, KeyframeStats) {
+    run(hand, settings).expect("flexion")
+}
+
+/// Index PIP 0° → 90° in one keyframe, or the error.
+pub(crate) fn run(
+    hand: &HandModel,
+    settings: FlexionSettings,
+) -> Result<(HandState, KeyframeStats), String> {
     let mut stepper = Flexion::new(
         hand,
         "hand",
@@ -66,8 +79,10 @@ fn run(hand: &HandModel, settings: FlexionSettings) -> (HandState, KeyframeStats
         .skeleton
         .apply_pose(&state.angles, &pose)
         .expect("pose");
-    let stats = stepper.move_to(&mut state, &target).expect("flexion");
-    (state, stats)
+    let stats = stepper
+        .move_to(&mut state, &target)
+        .map_err(|e| e.to_string())?;
+    Ok((state, stats))
 }
 
 pub(crate) fn distances(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> (f64, f64) {
@@ -85,9 +100,10 @@ pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
         let hand = HandModel::new(Side::Right, resolution).expect("hand model");
         let build_ms = t.elapsed().as_secs_f64() * 1e3;
         let attached = hand.flesh.node_bone.iter().filter(|b| b.is_some()).count();
-        let (fem, local) = run(&hand, FlexionSettings::default());
+        let (fem, local) = run_or_panic(&hand, FlexionSettings::default());
+        let nonlinear = nonlinear_row(&hand, resolution, &(fem.clone(), local.clone()));
         let whole = (resolution <= whole_limit).then(|| {
-            run(
+            run_or_panic(
                 &hand,
                 FlexionSettings {
                     region: FleshRegion::Whole,
@@ -101,8 +117,8 @@ pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
             blend,
             ..Default::default()
         };
-        let (dq, dq_stats) = run(&hand, skinning(Blend::DualQuaternion));
-        let (lb, lb_stats) = run(&hand, skinning(Blend::Linear));
+        let (dq, dq_stats) = run_or_panic(&hand, skinning(Blend::DualQuaternion));
+        let (lb, lb_stats) = run_or_panic(&hand, skinning(Blend::Linear));
         let skin = |s: &HandState| hand.skin.positions(&s.positions);
         let fem_skin = skin(&fem);
         let v0 = HandState::rest(&hand).flesh_volume(&hand);
@@ -124,6 +140,7 @@ pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
                 lb.flesh_volume(&hand) / v0 - 1.0,
             ],
             linear: linear_row(&hand, resolution),
+            nonlinear,
         });
     }
     rows
@@ -183,5 +200,7 @@ pub fn hand_tables(rows: &[HandRow]) -> String {
     }
     let linear: Vec<LinearRow> = rows.iter().map(|r| r.linear.clone()).collect();
     s.push_str(&linear_table(&linear));
+    let nonlinear: Vec<NonlinearRow> = rows.iter().map(|r| r.nonlinear.clone()).collect();
+    s.push_str(&nonlinear_table(&nonlinear));
     s
 }
