@@ -16,7 +16,12 @@ pub fn png_bytes(image: &RgbaImage) -> std::io::Result<Vec<u8>> {
 
 /// Writes `image` to `path` as PNG (temporary file, then rename). Creates missing parent folders.
 pub fn write_png_atomic(path: &Path, image: &RgbaImage) -> std::io::Result<()> {
-    let bytes = png_bytes(image)?;
+    write_bytes_atomic(path, &png_bytes(image)?)
+}
+
+/// Writes `bytes` to `path` through a temporary file beside it and a rename, so that a reader
+/// never sees half a file. Creates missing parent folders.
+pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -30,7 +35,7 @@ pub fn write_png_atomic(path: &Path, image: &RgbaImage) -> std::io::Result<()> {
         name.to_string_lossy(),
         std::process::id()
     ));
-    std::fs::write(&tmp, &bytes)?;
+    std::fs::write(&tmp, bytes)?;
     std::fs::rename(&tmp, path).inspect_err(|_| {
         let _ = std::fs::remove_file(&tmp);
     })
