@@ -132,7 +132,7 @@ enum BenchCommand {
         #[arg(
             long,
             value_delimiter = ',',
-            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml"
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-and-ball.toml,assets/scenes/hand-grasp-ball.toml"
         )]
         scenes: Vec<String>,
     },
@@ -439,13 +439,14 @@ fn print_summary(solved: &Solved) {
                 .map(|(n, b)| (n.as_str(), b.magnitude))
                 .fold(("-", 0.0), |a, b| if b.1 > a.1 { b } else { a });
             println!(
-                "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs), \
-                 {:.0} ms; flesh volume change {:+.3} %; largest bone reaction {largest:.3} N \
-                 ({bone})",
+                "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs; \
+                 {} cells skinned far from contact), {:.0} ms; flesh volume change {:+.3} %; \
+                 largest bone reaction {largest:.3} N ({bone})",
                 m.increments,
                 m.factorizations,
                 m.fem_cells,
                 m.free_dofs,
+                m.far_cells,
                 m.total_ms,
                 h.volume_change * 100.0
             );

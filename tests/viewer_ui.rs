@@ -278,3 +278,22 @@ fn object_edits_rebuild_the_scene_ball() {
         .iter()
         .any(|m| m.name == "flesh" && m.young == 5.0e4));
 }
+
+#[test]
+fn the_far_fingers_checkbox_writes_the_scene_key() {
+    use prehensile::scene::FarFromContact;
+    let (port, mut h) = answered();
+    assert!(
+        h.state().solver.skin_far_fingers,
+        "skinning far fingers is the default"
+    );
+    h.get_by_label("skin fingers far from contact").click();
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    assert_eq!(
+        job.scene.solver.far_from_contact,
+        Some(FarFromContact::Solve)
+    );
+    let model = prehensile::sim::Model::build(&job.scene, "viewer").unwrap();
+    assert_eq!(model.flexion.near_contact, None);
+}

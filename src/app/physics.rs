@@ -7,8 +7,8 @@ use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::fem::solve::PartitionedSolver;
 use crate::sim::{
-    frame_with_hands, hand_frame, solve_static, still_frame, Flexion, Frame, HandState,
-    KeyframeStats, LinearTier, Model, SimError,
+    frame_with_hands, hand_frame, set_far_parts, solve_static, still_frame, Flexion, Frame,
+    HandState, KeyframeStats, LinearTier, Model, SimError,
 };
 use crate::visual::draw_list;
 use std::sync::Arc;
@@ -125,6 +125,7 @@ impl Physics {
                             .position(|(lb, _)| lb == b)
                             .map(|i| linear.swap_remove(i).1),
                     );
+                    set_far_parts(model, *b, &mut stepper, state, target);
                     let result = stepper.move_to(state, target);
                     if let Some(factor) = stepper.take_linear_factor() {
                         linear.push((*b, factor));

@@ -1,7 +1,7 @@
 //! The Solver and Display panels' models: the solver tier and its settings (written into the
 //! scene's `[solver]` table and hand bodies), and how frames are drawn.
 
-use crate::scene::{Scene, Shape, TierName};
+use crate::scene::{FarFromContact, Scene, Shape, TierName};
 use crate::sim::{FleshMethod, FlexionScheme};
 use crate::visual::{Overlay, VisualOptions};
 
@@ -66,6 +66,9 @@ pub struct SolverParams {
     pub resolution: f64,
     /// Contact method between hands and objects.
     pub contact: crate::contact::ContactMethod,
+    /// Fingers far from every object follow their bones by skinning (`[solver]
+    /// far_from_contact = "skinning"`, the default) rather than being solved.
+    pub skin_far_fingers: bool,
 }
 
 impl SolverParams {
@@ -98,6 +101,7 @@ impl SolverParams {
             max_step_deg: s.max_step_deg.unwrap_or(10.0),
             resolution,
             contact: s.contact.unwrap_or_default(),
+            skin_far_fingers: s.far_from_contact != Some(FarFromContact::Solve),
         }
     }
 
@@ -106,6 +110,11 @@ impl SolverParams {
         let s = &mut scene.solver;
         s.max_step_deg = Some(self.max_step_deg);
         s.contact = Some(self.contact);
+        s.far_from_contact = Some(if self.skin_far_fingers {
+            FarFromContact::Skinning
+        } else {
+            FarFromContact::Solve
+        });
         // `tier` is written with `flesh` and `flexion` agreeing with it.
         s.tier = Some(self.tier.scene_name());
         match self.tier {

@@ -165,12 +165,20 @@ pub struct SolverSettings {
     /// `"whole"` (the whole hand).
     #[serde(default)]
     pub flesh_region: Option<FleshRegionName>,
-    /// Radius of the local region around each moving joint, m (default 0.025).
+    /// Radius of the local region around each moving joint, m (default 0.012).
     #[serde(default)]
     pub flesh_region_radius: Option<f64>,
     /// Skinning blend: `"dual_quaternion"` (default) or `"linear"`.
     #[serde(default)]
     pub skinning: Option<Blend>,
+    /// The parts of a hand (palm, thumb, fingers) that stay farther than `near_contact` from
+    /// every other body over a keyframe: `"skinning"` (default: their flesh follows the bones,
+    /// the FEM effort goes where contact is) or `"solve"` (solved like the rest).
+    #[serde(default)]
+    pub far_from_contact: Option<FarFromContact>,
+    /// Distance under which a part of a hand counts as near contact, m (default 0.01).
+    #[serde(default)]
+    pub near_contact: Option<f64>,
     /// Penetration allowed at the end of the contact iteration, m (default 1e-9 × the largest
     /// body size).
     #[serde(default)]
@@ -207,6 +215,11 @@ pub struct SolverSettings {
     /// `"incremental"`, `"corotational"` or `"nonlinear"` (sets `flesh` and `flexion`).
     #[serde(default)]
     pub tier: Option<TierName>,
+    /// Volumetric integration of the Neo-Hookean law of the nonlinear tier:
+    /// `"mean_dilatation"` (default, free of volumetric locking) or `"full"` (2×2×2, locks as
+    /// ν → ½).
+    #[serde(default)]
+    pub volumetric: Option<crate::fem::Volumetric>,
     /// Element of the linear static solve: `"hex8"` (default) or `"incompatible_modes"`.
     #[serde(default)]
     pub element: Option<crate::fem::ElementKind>,
@@ -227,6 +240,16 @@ pub enum TierName {
     /// Large-strain hyperelasticity: Neo-Hookean flesh and bodies, Newton–Raphson
     /// (`flexion = "nonlinear"` for the hands).
     Nonlinear,
+}
+
+/// `[solver] far_from_contact`: what flexion does with the parts of a hand far from contact.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FarFromContact {
+    /// Skinning: the FEM effort goes where contact is.
+    Skinning,
+    /// Solved by the scene's tier like the parts near contact.
+    Solve,
 }
 
 /// Name of a flexion region.

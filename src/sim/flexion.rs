@@ -89,6 +89,11 @@ pub struct FlexionSettings {
     /// dilatation by default: no volumetric locking; `Full` is the fully integrated hex8,
     /// which at small strain is the element of the other schemes).
     pub volumetric: Volumetric,
+    /// In a scene with other bodies, the parts of a hand (palm, thumb, fingers) that stay
+    /// farther than this (m) from all of them over a keyframe are not solved by FEM: their
+    /// flesh follows the bones by skinning (`super::proximity`). `None`: every part is solved
+    /// as `methods` says.
+    pub near_contact: Option<f64>,
 }
 
 impl Default for FlexionSettings {
@@ -100,6 +105,7 @@ impl Default for FlexionSettings {
             blend: Blend::DualQuaternion,
             scheme: FlexionScheme::Corotational,
             volumetric: Volumetric::MeanDilatation,
+            near_contact: Some(0.01),
         }
     }
 }
@@ -185,6 +191,9 @@ pub struct KeyframeStats {
     pub total_ms: f64,
     /// Largest relative residual of the linear solves.
     pub relative_residual: f64,
+    /// Cells of the FEM region left to skinning because their part of the hand stayed far
+    /// from every other body ([`Flexion::set_far_parts`]).
+    pub far_cells: usize,
 }
 
 /// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
@@ -253,6 +262,9 @@ pub struct Flexion<'a> {
     cancel: Option<CancelCheck>,
     /// The linear tier's factored rest stiffness, built by its first keyframe.
     linear: Option<LinearTier>,
+    /// Parts of the hand (0 palm, 1 thumb … 5 little) whose flesh follows skinning in the next
+    /// keyframe because they stay far from contact.
+    far: [bool; 6],
 }
 
 impl<'a> Flexion<'a> {
@@ -273,7 +285,16 @@ impl<'a> Flexion<'a> {
             ordering,
             cancel: None,
             linear: None,
+            far: [false; 6],
         }
+    }
+
+    /// Leaves the FEM cells of the parts marked `far` (0 palm, 1 thumb … 5 little) to
+    /// skinning in the keyframes that follow, until set again: the parts that stay far from
+    /// every other body (`super::proximity::far_parts`). The linear tier, whose factored
+    /// stiffness is the cheap path already, ignores it.
+    pub fn set_far_parts(&mut self, far: [bool; 6]) {
+        self.far = far;
     }
 
     /// Checks `cancel` before every increment: when it answers `true`, [`Flexion::move_to`]
@@ -443,9 +464,18 @@ impl<'a> Flexion<'a> {
                 .sum::<Vector3<f64>>()
                 / 8.0
         };
+        // Parts far from contact (`set_far_parts`) are left to skinning: in the whole region
+        // their cells, in the local one the regions of the joints whose blend zone is theirs.
+        let part = |c: usize| flesh.cell_digit[c].map_or(0, |d| d + 1);
         let active: Vec<bool> = match self.settings.region {
             FleshRegion::Whole => (0..flesh.mesh.cells.len())
-                .map(|c| self.cell_method(c) == FleshMethod::Fem)
+                .map(|c| {
+                    let fem = self.cell_method(c) == FleshMethod::Fem;
+                    if fem && self.far[part(c)] {
+                        stats.far_cells += 1;
+                    }
+                    fem && !self.far[part(c)]
+                })
                 .collect(),
             FleshRegion::Local { radius } => {
                 let end = skeleton.transforms(target);
@@ -470,27 +500,62 @@ impl<'a> Flexion<'a> {
                         }
                     };
                 }
-                let node_class = |n: usize| -> Option<usize> {
-                    let w = &hand.weights.weights[n];
-                    let first = class[w[0].0];
-                    w.iter().all(|e| class[e.0] == first).then_some(first)
-                };
-                let seams: Vec<Vector3<f64>> = (0..flesh.mesh.cells.len())
-                    .filter(|&c| {
-                        let cell = &flesh.mesh.cells[c];
-                        let first = node_class(cell[0]);
-                        first.is_none() || cell.iter().any(|&n| node_class(n) != first)
-                    })
-                    .map(centre)
-                    .collect();
-                (0..flesh.mesh.cells.len())
-                    .map(|c| {
-                        self.cell_method(c) == FleshMethod::Fem && {
-                            let mid = centre(c);
-                            seams.iter().any(|j| (mid - j).norm() < radius)
+                // Cells where bones moving apart meet (a joint's blend zone), counting only
+                // the bones of parts not in `far`: a node that follows far bones only sides
+                // with any neighbour, so a far finger's joints and their blend into the palm
+                // are left to skinning.
+                let seams_with = |far: &[bool; 6]| -> Vec<Vector3<f64>> {
+                    let far_bone = |b: usize| far[skeleton.bones[b].digit.map_or(0, |d| d + 1)];
+                    // `None`: the node's bones move apart; `Some(None)`: far bones only.
+                    let node_class = |n: usize| -> Option<Option<usize>> {
+                        let mut out: Option<usize> = None;
+                        for &(b, _) in &hand.weights.weights[n] {
+                            if far_bone(b) {
+                                continue;
+                            }
+                            match out {
+                                None => out = Some(class[b]),
+                                Some(k) if k != class[b] => return None,
+                                Some(_) => {}
+                            }
                         }
-                    })
-                    .collect()
+                        Some(out)
+                    };
+                    (0..flesh.mesh.cells.len())
+                        .filter(|&c| {
+                            let mut seen: Option<usize> = None;
+                            for &n in &flesh.mesh.cells[c] {
+                                match node_class(n) {
+                                    None => return true,
+                                    Some(None) => {}
+                                    Some(Some(k)) => match seen {
+                                        None => seen = Some(k),
+                                        Some(s) if s != k => return true,
+                                        Some(_) => {}
+                                    },
+                                }
+                            }
+                            false
+                        })
+                        .map(centre)
+                        .collect()
+                };
+                let region = |seams: &[Vector3<f64>]| -> Vec<bool> {
+                    (0..flesh.mesh.cells.len())
+                        .map(|c| {
+                            self.cell_method(c) == FleshMethod::Fem && {
+                                let mid = centre(c);
+                                seams.iter().any(|j| (mid - j).norm() < radius)
+                            }
+                        })
+                        .collect()
+                };
+                let active = region(&seams_with(&self.far));
+                if self.far.iter().any(|&f| f) {
+                    let all = region(&seams_with(&[false; 6]));
+                    stats.far_cells = all.iter().zip(&active).filter(|(a, b)| **a && !**b).count();
+                }
+                active
             }
         };
         let sub = self.sub_problem(&active);

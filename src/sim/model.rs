@@ -13,8 +13,8 @@ use crate::fem::{DofPartition, Material};
 use crate::hand::HandModel;
 use crate::mesh::{boundary_facets, box_mesh, shell_mesh, sphere_mesh, Facet, Mesh};
 use crate::scene::{
-    FleshRegionName, ObstacleShape, OrderingName, RelaxationDef, Scene, SceneError, Shape,
-    SolverSettings,
+    FarFromContact, FleshRegionName, ObstacleShape, OrderingName, RelaxationDef, Scene, SceneError,
+    Shape, SolverSettings,
 };
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -923,6 +923,20 @@ fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, Stri
     if let Some(b) = s.skinning {
         out.blend = b;
     }
+    if let Some(v) = s.volumetric {
+        out.volumetric = v;
+    }
+    let near = s.near_contact.unwrap_or(0.01);
+    if !(near.is_finite() && near > 0.0) {
+        return Err((
+            "solver.near_contact".into(),
+            format!("must be a positive distance in metres, got {near}"),
+        ));
+    }
+    out.near_contact = match s.far_from_contact {
+        Some(FarFromContact::Solve) => None,
+        _ => Some(near),
+    };
     if let Some(f) = s.flexion {
         out.scheme = f;
     }

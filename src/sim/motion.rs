@@ -10,7 +10,6 @@ use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::newton::StaticTier;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::{from_gauss, stress_field_with, StressField};
-use crate::fem::Volumetric;
 use nalgebra::Matrix3;
 
 /// Solves every frame of the model.
@@ -49,6 +48,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
             model.ordering,
         );
         let mut state = HandState::rest(hand);
+        set_far_parts(model, b, &mut stepper, &state, &body.initial_angles);
         let stats = stepper.move_to(&mut state, &body.initial_angles)?;
         hand_frames.push(hand_frame(model, b, &state, stats));
         steppers.push(stepper);
@@ -67,6 +67,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
         while k < model.keyframes.len() && model.keyframes[k].time == time {
             let key = &model.keyframes[k];
             let h = hands.iter().position(|&b| b == key.body).unwrap();
+            set_far_parts(model, key.body, &mut steppers[h], &states[h], &key.angles);
             let stats = steppers[h].move_to(&mut states[h], &key.angles)?;
             current[h] = hand_frame(model, key.body, &states[h], stats);
             k += 1;
@@ -80,6 +81,22 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
         hand_frames = current;
     }
     Ok((times, frames))
+}
+
+/// Tells `stepper` which parts of hand `body` stay far from contact on the way from `state`
+/// to `target` (none when `[solver] far_from_contact = "solve"`).
+pub fn set_far_parts(
+    model: &Model,
+    body: usize,
+    stepper: &mut Flexion,
+    state: &HandState,
+    target: &[f64],
+) {
+    let far = match model.flexion.near_contact {
+        Some(distance) => super::proximity::far_parts(model, body, state, target, distance),
+        None => [false; super::proximity::PARTS],
+    };
+    stepper.set_far_parts(far);
 }
 
 /// The frame of a model with nothing free (only hands): every displacement and reaction zero.
@@ -172,13 +189,13 @@ pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Fr
     Ok(frame)
 }
 
-/// Cauchy stress of the Neo-Hookean law (mean dilatation) at the Gauss points of every cell of
+/// Cauchy stress of the Neo-Hookean law (`[solver] volumetric`) at the Gauss points of every cell of
 /// the model displaced by `u` from rest; an inverted cell gives (cell, det F).
 fn nonlinear_stress(model: &Model, u: &[f64]) -> Result<StressField, (usize, f64)> {
     let body = HyperelasticBody::with_pattern(
         &model.mesh,
         &model.cell_materials,
-        Volumetric::MeanDilatation,
+        model.flexion.volumetric,
         model.pattern.clone(),
     )
     .map_err(|e| (e.cell, e.relative_det))?;

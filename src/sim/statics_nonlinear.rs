@@ -37,6 +37,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
     };
     let settings = NewtonSettings {
         ordering: model.ordering,
+        volumetric: model.flexion.volumetric,
         ..Default::default()
     };
     let t = Instant::now();

@@ -1,4 +1,4 @@
-//! Solver: tier, contact method, tolerance, increment size, mesh resolution.
+//! Solver: tier, contact method, tolerance, far fingers, increment size, mesh resolution.
 
 use super::super::settings::Tier;
 use super::super::state::ViewerState;
@@ -43,6 +43,14 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             };
         }
     });
+    done |= ui
+        .checkbox(&mut s.skin_far_fingers, "skin fingers far from contact")
+        .on_hover_text(
+            "a finger farther than near_contact (10 mm) from every object over a keyframe \
+             follows its bones by skinning unless skinning would crush its flesh; FEM goes \
+             where contact is",
+        )
+        .changed();
     let r = ui.add(
         Slider::new(&mut s.max_step_deg, 1.0..=45.0)
             .text("max step")

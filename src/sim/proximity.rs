@@ -1,0 +1,194 @@
+//! Modelling only what a scene requires: which digits of a hand (the thumb, each finger) stay
+//! far from every body they could touch over a keyframe. Flexion solves their
+//! flesh by FEM only when they come within `near_contact` of another body
+//! (`FlexionSettings::near_contact`); farther, their flesh follows the bones by skinning
+//! (`Flexion::set_far_parts`), and the FEM effort goes where contact is.
+//!
+//! A part is near when, at any increment of the keyframe (the joint angles interpolated as
+//! flexion interpolates them), a node of its outer skin, moved by skinning, lies within the
+//! distance of another body's boundary (at rest, as the contact step takes it) or inside it.
+//! A scene without another body has nothing to be near: every part is solved as set.
+//!
+//! Skinning is only taken where it stays sound: a far part whose skinned flesh would crush a
+//! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
+//! palmar crease of a deep flexion) is solved by FEM all the same.
+
+use super::flexion::{FleshMethod, HandState};
+use super::model::Model;
+use crate::contact::{winding_number, ContactSurface};
+use crate::fem::hex8::relative_min_jacobian;
+use nalgebra::{Isometry3, Vector3};
+
+/// A far part is skinned only if no cell's smallest det J at a Gauss point falls below this
+/// fraction of its value at the start of the keyframe.
+pub const CRUSH_RATIO: f64 = 0.2;
+
+/// Parts of a hand: 0 the palm, 1 the thumb … 5 the little finger (`cell_digit` + 1).
+pub const PARTS: usize = 6;
+
+/// For hand body `body` moving from `state` to the joint angles `target` (degrees): which
+/// parts stay farther than `distance` (m) from every other body of the model over the
+/// keyframe. All `false` when the model has no other body.
+pub fn far_parts(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    target: &[f64],
+    distance: f64,
+) -> [bool; PARTS] {
+    let objects: Vec<usize> = (0..model.bodies.len())
+        .filter(|&b| model.bodies[b].hand.is_none())
+        .collect();
+    if objects.is_empty() {
+        return [false; PARTS];
+    }
+    let hand = model.bodies[body]
+        .hand
+        .as_deref()
+        .expect("far_parts of a hand body");
+    let flesh = &hand.flesh;
+    let rest = &model.mesh.nodes;
+    let surfaces: Vec<ContactSurface> = objects
+        .iter()
+        .map(|&b| {
+            let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
+            ContactSurface::from_quads(b, &quads, rest)
+        })
+        .collect();
+    let hierarchies: Vec<_> = surfaces
+        .iter()
+        .map(|s| s.hierarchy(rest, distance))
+        .collect();
+    let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = objects
+        .iter()
+        .map(|&b| {
+            model.bodies[b].nodes.clone().fold(
+                (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
+                |(lo, hi), n| (lo.inf(&rest[n]), hi.sup(&rest[n])),
+            )
+        })
+        .collect();
+    let near_object = |x: &Vector3<f64>| {
+        (0..objects.len()).any(|j| {
+            let (lo, hi) = boxes[j];
+            let margin = Vector3::repeat(distance);
+            if (x - (lo - margin)).min() < 0.0 || ((hi + margin) - x).min() < 0.0 {
+                return false;
+            }
+            hierarchies[j]
+                .project(x, rest, None, |_| false)
+                .is_some_and(|p| p.gap < distance)
+                // Deep inside (no facet within the distance): the winding number says so.
+                || winding_number(x, &surfaces[j], rest) > 0.5
+        })
+    };
+
+    // The outer skin quads, each with its part, and their nodes.
+    let quads: Vec<([usize; 4], usize)> = flesh
+        .skin_quads
+        .iter()
+        .zip(&flesh.skin_cells)
+        .zip(&flesh.skin_outer)
+        .filter(|(_, &outer)| outer)
+        .map(|((q, &c), _)| (*q, flesh.cell_digit[c].map_or(0, |d| d + 1)))
+        .collect();
+    let mut skin: Vec<usize> = quads.iter().flat_map(|(q, _)| *q).collect();
+    skin.sort_unstable();
+    skin.dedup();
+
+    // The increments of the keyframe, as flexion takes them (at most 10° each here: the test
+    // only needs the sweep sampled finely enough).
+    let largest = state
+        .angles
+        .iter()
+        .zip(target)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let steps = ((largest / 10.0).ceil() as usize).max(1);
+    let mut near_node = vec![false; flesh.mesh.nodes.len()];
+    let mut moved = state.positions.clone();
+    for s in 0..=steps {
+        let f = s as f64 / steps as f64;
+        let angles: Vec<f64> = state
+            .angles
+            .iter()
+            .zip(target)
+            .map(|(a, b)| a + f * (b - a))
+            .collect();
+        let motion: Vec<Isometry3<f64>> = hand
+            .skeleton
+            .transforms(&angles)
+            .iter()
+            .zip(&state.transforms)
+            .map(|(new, old)| new * old.inverse())
+            .collect();
+        hand.weights.apply(
+            model.flexion.blend,
+            &motion,
+            &state.positions,
+            skin.iter().copied(),
+            &mut moved,
+        );
+        for &n in &skin {
+            if !near_node[n] && near_object(&moved[n]) {
+                near_node[n] = true;
+            }
+        }
+    }
+    // The palm holds every finger's MCP joint: its flesh next to a finger near contact
+    // belongs to that finger's joint, so the palm is always solved as set.
+    let mut far = [true; PARTS];
+    far[0] = false;
+    for (q, part) in &quads {
+        if q.iter().any(|&n| near_node[n]) {
+            far[*part] = false;
+        }
+    }
+    if far.iter().any(|&f| f) {
+        let crushed = crushed_by_skinning(model, hand, state, target);
+        for (f, c) in far.iter_mut().zip(crushed) {
+            *f &= !c;
+        }
+    }
+    far
+}
+
+/// Which parts skinning alone would crush on the way from `state` to `target`: a cell of the
+/// part solved by FEM (as `[solver] flesh` says) whose smallest det J at a Gauss point falls
+/// below [`CRUSH_RATIO`] of its value in `state`.
+fn crushed_by_skinning(
+    model: &Model,
+    hand: &crate::hand::HandModel,
+    state: &HandState,
+    target: &[f64],
+) -> [bool; PARTS] {
+    let flesh = &hand.flesh;
+    let motion: Vec<Isometry3<f64>> = hand
+        .skeleton
+        .transforms(target)
+        .iter()
+        .zip(&state.transforms)
+        .map(|(new, old)| new * old.inverse())
+        .collect();
+    let mut skinned = state.positions.clone();
+    hand.weights.apply(
+        model.flexion.blend,
+        &motion,
+        &state.positions,
+        0..flesh.mesh.nodes.len(),
+        &mut skinned,
+    );
+    let mut crushed = [false; PARTS];
+    for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+        let part = flesh.cell_digit[c].map_or(0, |d| d + 1);
+        if crushed[part] || model.flexion.methods[part] != FleshMethod::Fem {
+            continue;
+        }
+        let now = relative_min_jacobian(&cell.map(|n| state.positions[n]));
+        let then = relative_min_jacobian(&cell.map(|n| skinned[n]));
+        if then < CRUSH_RATIO * now {
+            crushed[part] = true;
+        }
+    }
+    crushed
+}
