@@ -440,13 +440,18 @@ fn print_summary(solved: &Solved) {
                 .fold(("-", 0.0), |a, b| if b.1 > a.1 { b } else { a });
             println!(
                 "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs; \
-                 {} cells skinned far from contact), {:.0} ms; flesh volume change {:+.3} %; \
+                 {} cells skinned far from contact{}), {:.0} ms; flesh volume change {:+.3} %; \
                  largest bone reaction {largest:.3} N ({bone})",
                 m.increments,
                 m.factorizations,
                 m.fem_cells,
                 m.free_dofs,
                 m.far_cells,
+                if m.far_digits.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {}", m.far_digits.join(", "))
+                },
                 m.total_ms,
                 h.volume_change * 100.0
             );

@@ -105,6 +105,9 @@ fn a_finger_far_from_the_ball_is_skinned_and_the_finger_near_it_is_unchanged() {
     );
     // The little finger's PIP region is left to skinning; the index's DIP region is not.
     assert!(sc.far_cells > 0 && sf.far_cells == 0);
+    // The report names the digits left to skinning: every digit but the index (near the ball).
+    assert_eq!(sc.far_digits, ["thumb", "middle", "ring", "little"]);
+    assert!(sf.far_digits.is_empty());
     assert_eq!(sc.fem_cells + sc.far_cells, sf.fem_cells);
     // The index's DIP region and the little finger's PIP region share no node: the index
     // (pressing the ball) is solved exactly as when everything is solved.

@@ -60,7 +60,9 @@ fn description(problem: ProblemId) -> &'static str {
              error of one part's force vector relative to the reference's grip, and the grip \
              against the reference tier and step on the row's own mesh (the tier's and the \
              step's error alone). Time per keyframe: the solve of the two frames (rest → initial \
-             pose, then the grasp keyframe with contact) divided by two."
+             pose, then the grasp keyframe with contact) divided by two. With the `nonlinear` \
+             tier the hand flexes by Newton increments but the contact step stays linear (the \
+             ball small-strain, the flesh near the contact linearised about its posed state)."
         }
     }
 }
@@ -116,7 +118,7 @@ pub fn doc_text(
          find your error budget on the problem closest to your scene and take the fastest ● run \
          within it.\n\
          - `n/a`: the tier does not apply to the problem, with the reason; for tiers the solver \
-         refuses (today: `nonlinear` for hands, `nonlinear` with rigid obstacles) the reason is \
+         refuses (today: `nonlinear` with rigid obstacles) the reason is \
          the solver's own message, and the bench measures them as soon as the solver takes \
          them. `failed`: the tier applies, but the solve stopped (the solver's message).\n\n",
     );

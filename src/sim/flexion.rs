@@ -126,6 +126,15 @@ pub struct HandState {
 }
 
 impl HandState {
+    /// The motion of every bone from this state to the bone transforms `then`
+    /// (then · now⁻¹, what incremental skinning applies).
+    pub fn motion_to(&self, then: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+        then.iter()
+            .zip(&self.transforms)
+            .map(|(new, old)| new * old.inverse())
+            .collect()
+    }
+
     /// The rest pose.
     pub fn rest(hand: &HandModel) -> HandState {
         let angles = hand.skeleton.rest_angles();
@@ -194,6 +203,9 @@ pub struct KeyframeStats {
     /// Cells of the FEM region left to skinning because their part of the hand stayed far
     /// from every other body ([`Flexion::set_far_parts`]).
     pub far_cells: usize,
+    /// The digits left to skinning in this keyframe because they stayed far from every other
+    /// body: their bones bear no new flexion reaction.
+    pub far_digits: Vec<String>,
 }
 
 /// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
@@ -478,12 +490,7 @@ impl<'a> Flexion<'a> {
                 })
                 .collect(),
             FleshRegion::Local { radius } => {
-                let end = skeleton.transforms(target);
-                let motion: Vec<Isometry3<f64>> = end
-                    .iter()
-                    .zip(&state.transforms)
-                    .map(|(e, s)| e * s.inverse())
-                    .collect();
+                let motion = state.motion_to(&skeleton.transforms(target));
                 // Bones grouped by their motion over the keyframe.
                 let mut class = vec![usize::MAX; motion.len()];
                 let mut reps: Vec<usize> = Vec::new();
@@ -558,6 +565,13 @@ impl<'a> Flexion<'a> {
                 active
             }
         };
+        if stats.far_cells > 0 {
+            const NAMES: [&str; 6] = ["palm", "thumb", "index", "middle", "ring", "little"];
+            stats.far_digits = (0..6)
+                .filter(|&p| self.far[p])
+                .map(|p| NAMES[p].to_string())
+                .collect();
+        }
         let sub = self.sub_problem(&active);
         if let Some(sub) = &sub {
             stats.fem_cells = sub.cells.len();
@@ -598,11 +612,7 @@ impl<'a> Flexion<'a> {
         let hand = self.hand;
         let flesh = &hand.flesh;
         let transforms = hand.skeleton.transforms(angles);
-        let delta: Vec<Isometry3<f64>> = transforms
-            .iter()
-            .zip(&state.transforms)
-            .map(|(new, old)| new * old.inverse())
-            .collect();
+        let delta = state.motion_to(&transforms);
         let mut next = state.positions.clone();
         hand.weights.apply(
             self.settings.blend,

@@ -17,7 +17,7 @@ use super::flexion::{FleshMethod, HandState};
 use super::model::Model;
 use crate::contact::{winding_number, ContactSurface};
 use crate::fem::hex8::relative_min_jacobian;
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::Vector3;
 
 /// A far part is skinned only if no cell's smallest det J at a Gauss point falls below this
 /// fraction of its value at the start of the keyframe.
@@ -115,13 +115,7 @@ pub fn far_parts(
             .zip(target)
             .map(|(a, b)| a + f * (b - a))
             .collect();
-        let motion: Vec<Isometry3<f64>> = hand
-            .skeleton
-            .transforms(&angles)
-            .iter()
-            .zip(&state.transforms)
-            .map(|(new, old)| new * old.inverse())
-            .collect();
+        let motion = state.motion_to(&hand.skeleton.transforms(&angles));
         hand.weights.apply(
             model.flexion.blend,
             &motion,
@@ -163,13 +157,7 @@ fn crushed_by_skinning(
     target: &[f64],
 ) -> [bool; PARTS] {
     let flesh = &hand.flesh;
-    let motion: Vec<Isometry3<f64>> = hand
-        .skeleton
-        .transforms(target)
-        .iter()
-        .zip(&state.transforms)
-        .map(|(new, old)| new * old.inverse())
-        .collect();
+    let motion = state.motion_to(&hand.skeleton.transforms(target));
     let mut skinned = state.positions.clone();
     hand.weights.apply(
         model.flexion.blend,
