@@ -442,4 +442,13 @@ fn a_finger_driven_deep_into_the_ball_stops_with_a_clear_error() {
         err.contains("penetration") || err.contains("inside"),
         "{err}"
     );
+    // It says how deep the pose put the skin: past the ball's 4 mm wall, well beyond the
+    // millimetres a grasp is posed with.
+    let depth: f64 = err
+        .split(" mm into \"ball\"")
+        .next()
+        .and_then(|head| head.rsplit(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("no depth in: {err}"));
+    assert!(depth > 8.0 && depth < 40.0, "{depth}");
 }

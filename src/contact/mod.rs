@@ -21,4 +21,7 @@ pub use point::{
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};
-pub use surface::{project_on_triangle, winding_number, ContactSurface, Projection};
+pub use surface::{
+    connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
+    Projection,
+};

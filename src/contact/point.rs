@@ -306,6 +306,24 @@ pub enum ContactError {
         /// Of which slipping.
         slipping: usize,
     },
+    /// The contact of a posed grasp did not settle, and the pose put skin deep into a body.
+    #[error(
+        "{reason}. The pose drives the skin of \"{body}\" {depth_mm:.1} mm into \"{other}\" \
+         (node {node}): pose a grasp with the skin just reaching the object, as the paper does \
+         (a few millimetres in at most) — open the joints towards it or move it"
+    )]
+    PoseTooDeep {
+        /// Why the contact stopped.
+        reason: String,
+        /// The hand.
+        body: String,
+        /// Its deepest skin node.
+        node: usize,
+        /// The body entered.
+        other: String,
+        /// How deep, mm.
+        depth_mm: f64,
+    },
     /// A node of one body is deep inside another beyond what contact detection reaches.
     #[error(
         "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\", deeper than \

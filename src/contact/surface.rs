@@ -251,8 +251,17 @@ pub fn winding_number(
     surface: &ContactSurface,
     positions: &[Vector3<f64>],
 ) -> f64 {
+    winding_number_of(x, &surface.triangles, positions)
+}
+
+/// [`winding_number`] of the closed surface made of `triangles`.
+pub fn winding_number_of(
+    x: &Vector3<f64>,
+    triangles: &[[usize; 3]],
+    positions: &[Vector3<f64>],
+) -> f64 {
     let mut total = 0.0;
-    for t in &surface.triangles {
+    for t in triangles {
         let a = positions[t[0]] - x;
         let b = positions[t[1]] - x;
         let c = positions[t[2]] - x;
@@ -262,6 +271,41 @@ pub fn winding_number(
         total += 2.0 * num.atan2(den);
     }
     total / (4.0 * std::f64::consts::PI)
+}
+
+/// The closed pieces of a surface (a shell's outer and inner surfaces): its triangles grouped
+/// by the nodes they share.
+pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
+    let mut parent: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    fn root(parent: &mut std::collections::HashMap<usize, usize>, n: usize) -> usize {
+        let mut r = n;
+        while let Some(&p) = parent.get(&r) {
+            if p == r {
+                break;
+            }
+            r = p;
+        }
+        parent.insert(n, r);
+        r
+    }
+    for t in triangles {
+        for &n in t {
+            parent.entry(n).or_insert(n);
+        }
+        let r0 = root(&mut parent, t[0]);
+        for &n in &t[1..] {
+            let r = root(&mut parent, n);
+            if r != r0 {
+                parent.insert(r, r0);
+            }
+        }
+    }
+    let mut pieces: std::collections::BTreeMap<usize, Vec<[usize; 3]>> = Default::default();
+    for t in triangles {
+        let r = root(&mut parent, t[0]);
+        pieces.entry(r).or_default().push(*t);
+    }
+    pieces.into_values().collect()
 }
 
 #[cfg(test)]

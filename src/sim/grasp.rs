@@ -19,8 +19,8 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::{solve_static, Frame, HandFrame, SimError};
 use super::HandState;
 use crate::contact::{
-    solve_lagrange, solve_paper, winding_number, ContactError, ContactMethod, ContactProblem,
-    ContactSurface, Master, SurfacePair,
+    connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
+    ContactProblem, ContactSurface, Master, SurfacePair,
 };
 use crate::fem::assembly::assemble;
 use crate::fem::solve::PartitionedSolver;
@@ -272,7 +272,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, settings),
         ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
     }
-    .map_err(|e| contact_error(model, e))?;
+    .map_err(|e| posed_too_deep(model, &surfaces, hands.len(), &x, contact_error(model, e)))?;
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
     too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
 
@@ -387,56 +387,102 @@ fn too_deep(
         .map(|(n, p)| p + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
         .collect();
     let resolved = 0.5 * model.contact.search_depth;
-    for s in &surfaces[hands..] {
-        // Nodes within `resolved` of the surface are the contact's (or, when only the
+    let skip = |n: usize| result.contacts.iter().any(|c| c.node == n);
+    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, skip) {
+        Some((n, body, depth)) => {
+            let hand_body = model.body_of_node(n);
+            Err(SimError::Contact(ContactError::TooDeep {
+                body: model.bodies[hand_body].name.clone(),
+                node: n - model.bodies[hand_body].nodes.start,
+                other: model.bodies[body].name.clone(),
+                depth_mm: depth * 1e3,
+                search_mm: model.contact.search_depth * 1e3,
+            }))
+        }
+        None => Ok(()),
+    }
+}
+
+/// The node of `nodes` deepest inside one of the closed `objects` at `positions` (node, the
+/// object's body, depth), among those deeper than `beyond` and not `skip`ped.
+fn deepest_inside(
+    objects: &[ContactSurface],
+    nodes: &[usize],
+    positions: &[Vector3<f64>],
+    beyond: f64,
+    skip: impl Fn(usize) -> bool,
+) -> Option<(usize, usize, f64)> {
+    let mut deepest: Option<(usize, usize, f64)> = None;
+    for s in objects {
+        // Nodes within `beyond` of the surface are the contact's (or, when only the
         // object's nodes are checked, the discretisation's); deeper ones were never found.
-        let bvh = s.hierarchy(&current, resolved);
-        let lo = s
-            .triangles
-            .iter()
-            .flatten()
-            .fold(Vector3::repeat(f64::INFINITY), |m, &n| m.inf(&current[n]));
-        let hi = s
-            .triangles
-            .iter()
-            .flatten()
-            .fold(Vector3::repeat(f64::NEG_INFINITY), |m, &n| {
-                m.sup(&current[n])
-            });
-        for &n in near_skin {
-            let p = current[n];
-            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
-                continue;
-            }
-            if result.contacts.iter().any(|c| c.node == n) {
+        let bvh = s.hierarchy(positions, beyond);
+        let pieces = connected_pieces(&s.triangles);
+        let corners = s.triangles.iter().flatten().map(|&n| positions[n]);
+        let lo = corners
+            .clone()
+            .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
+        let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
+        for &n in nodes {
+            let p = positions[n];
+            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) || skip(n) {
                 continue;
             }
             if bvh
-                .project(&p, &current, None, |_| false)
-                .is_some_and(|q| q.distance <= resolved)
+                .project(&p, positions, None, |_| false)
+                .is_some_and(|q| q.distance <= beyond)
             {
                 continue;
             }
-            if winding_number(&p, s, &current) > 0.5 {
-                let depth = s
-                    .triangles
-                    .iter()
-                    .filter_map(|t| crate::contact::project_on_triangle(&p, &t.map(|m| current[m])))
-                    .map(|q| q.distance)
-                    .fold(f64::INFINITY, f64::min);
-                if depth <= resolved {
-                    continue;
-                }
-                let hand_body = model.body_of_node(n);
-                return Err(SimError::Contact(ContactError::TooDeep {
-                    body: model.bodies[hand_body].name.clone(),
-                    node: n - model.bodies[hand_body].nodes.start,
-                    other: model.bodies[s.body].name.clone(),
-                    depth_mm: depth * 1e3,
-                    search_mm: model.contact.search_depth * 1e3,
-                }));
+            // Inside a piece of the surface (for a shell: within its outer surface, or in its
+            // cavity, having passed the wall): how far from that piece's surface.
+            let depth = pieces
+                .iter()
+                .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
+                .map(|piece| {
+                    piece
+                        .iter()
+                        .filter_map(|t| {
+                            crate::contact::project_on_triangle(&p, &t.map(|m| positions[m]))
+                        })
+                        .map(|q| q.distance)
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max);
+            if depth > beyond && deepest.is_none_or(|d| depth > d.2) {
+                deepest = Some((n, s.body, depth));
             }
         }
     }
-    Ok(())
+    deepest
+}
+
+/// When the contact of a posed grasp does not settle, whether the pose put skin deep into an
+/// object: the error then says so (a grasp is posed with the skin just reaching the object).
+fn posed_too_deep(
+    model: &Model,
+    surfaces: &[ContactSurface],
+    hands: usize,
+    x: &[Vector3<f64>],
+    error: SimError,
+) -> SimError {
+    if !matches!(error, SimError::Contact(ContactError::NotConverged { .. })) {
+        return error;
+    }
+    let skin: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
+    // Deeper than a quarter of the search depth: well past what one contact step moves.
+    let beyond = 0.25 * model.contact.search_depth;
+    match deepest_inside(&surfaces[hands..], &skin, x, beyond, |_| false) {
+        Some((n, body, depth)) => {
+            let hand_body = model.body_of_node(n);
+            SimError::Contact(ContactError::PoseTooDeep {
+                reason: error.to_string(),
+                body: model.bodies[hand_body].name.clone(),
+                node: n - model.bodies[hand_body].nodes.start,
+                other: model.bodies[body].name.clone(),
+                depth_mm: depth * 1e3,
+            })
+        }
+        None => error,
+    }
 }

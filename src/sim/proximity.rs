@@ -15,7 +15,7 @@
 
 use super::flexion::{FleshMethod, HandState};
 use super::model::Model;
-use crate::contact::{winding_number, ContactSurface};
+use crate::contact::{connected_pieces, winding_number_of, ContactSurface};
 use crate::fem::hex8::relative_min_jacobian;
 use nalgebra::Vector3;
 
@@ -55,6 +55,10 @@ pub fn far_parts(
             ContactSurface::from_quads(b, &quads, rest)
         })
         .collect();
+    let pieces: Vec<Vec<Vec<[usize; 3]>>> = surfaces
+        .iter()
+        .map(|s| connected_pieces(&s.triangles))
+        .collect();
     let hierarchies: Vec<_> = surfaces
         .iter()
         .map(|s| s.hierarchy(rest, distance))
@@ -78,8 +82,11 @@ pub fn far_parts(
             hierarchies[j]
                 .project(x, rest, None, |_| false)
                 .is_some_and(|p| p.gap < distance)
-                // Deep inside (no facet within the distance): the winding number says so.
-                || winding_number(x, &surfaces[j], rest) > 0.5
+                // Deep inside (no facet within the distance): the winding number of a piece of
+                // the surface says so (a shell's cavity too, behind its wall).
+                || pieces[j]
+                    .iter()
+                    .any(|piece| winding_number_of(x, piece, rest).abs() > 0.5)
         })
     };
 
@@ -96,19 +103,11 @@ pub fn far_parts(
     skin.sort_unstable();
     skin.dedup();
 
-    // The increments of the keyframe, as flexion takes them (at most 10° each here: the test
-    // only needs the sweep sampled finely enough).
-    let largest = state
-        .angles
-        .iter()
-        .zip(target)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
-    let steps = ((largest / 10.0).ceil() as usize).max(1);
-    let mut near_node = vec![false; flesh.mesh.nodes.len()];
-    let mut moved = state.positions.clone();
-    for s in 0..=steps {
-        let f = s as f64 / steps as f64;
+    // The sweep: the joint angles interpolated as flexion interpolates them, sampled so that
+    // no skin node moves more than half the distance between samples (a fingertip cannot
+    // jump over a thin shell and its margins). The skin moves along arcs, whose chords the
+    // end-to-end displacement bounds from below; over 90° an arc is 1.11× its chord.
+    let skin_at = |f: f64, out: &mut Vec<Vector3<f64>>| {
         let angles: Vec<f64> = state
             .angles
             .iter()
@@ -121,8 +120,19 @@ pub fn far_parts(
             &motion,
             &state.positions,
             skin.iter().copied(),
-            &mut moved,
+            out,
         );
+    };
+    let mut moved = state.positions.clone();
+    skin_at(1.0, &mut moved);
+    let travel = skin
+        .iter()
+        .map(|&n| (moved[n] - state.positions[n]).norm())
+        .fold(0.0, f64::max);
+    let steps = ((2.5 * travel / distance).ceil() as usize).clamp(1, 1000);
+    let mut near_node = vec![false; flesh.mesh.nodes.len()];
+    for i in 0..=steps {
+        skin_at(i as f64 / steps as f64, &mut moved);
         for &n in &skin {
             if !near_node[n] && near_object(&moved[n]) {
                 near_node[n] = true;

@@ -43,6 +43,18 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         ui.label("increments / factorizations");
         ui.label(format!("{increments} / {factorizations}"));
         ui.end_row();
+        let far: Vec<&str> = hands
+            .iter()
+            .flat_map(|h| h.stats.far_digits.iter().map(String::as_str))
+            .collect();
+        if !far.is_empty() {
+            ui.label("skinned, far from contact");
+            ui.label(far.join(", ")).on_hover_text(
+                "digits farther than near_contact from every object in this keyframe: they \
+                 follow their bones by skinning and bear no new flexion reaction",
+            );
+            ui.end_row();
+        }
         ui.label("residual");
         let text = if residual.is_finite() {
             format!("{residual:.1e}")
@@ -55,8 +67,30 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             ui.label(RichText::new(format!("{text} (above tolerance)")).color(Color32::YELLOW));
         }
         ui.end_row();
-        ui.label("penetration");
-        ui.label("— (no contact yet)");
+        ui.label("contact");
+        match &frame.contact {
+            Some(c) => {
+                ui.label(format!(
+                    "{} points, depth {:.3} mm",
+                    c.contacts.len(),
+                    c.max_penetration * 1e3
+                ))
+                .on_hover_text(format!(
+                    "{}: {} iterations, {} factorizations; depth: the largest penetration left",
+                    c.method.name(),
+                    c.iterations,
+                    c.factorizations
+                ));
+                ui.end_row();
+                let force: nalgebra::Vector3<f64> =
+                    hands.iter().flat_map(|h| &h.contact_force).sum();
+                ui.label("contact force on the hands");
+                ui.label(format!("{:.3} N", force.norm()));
+            }
+            None => {
+                ui.label("none");
+            }
+        }
         ui.end_row();
         ui.label("solve");
         ui.label(format!("{:.0} ms", shown.solution.solve_ms));
@@ -72,14 +106,31 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     if forces.is_empty() {
         return;
     }
-    ui.label(RichText::new("bone forces (threshold flags come with contact)").strong());
+    let overloads: Vec<&crate::sim::outcome::Overload> =
+        hands.iter().flat_map(|h| &h.overloads).collect();
+    ui.label(RichText::new("bone forces (equation 8)").strong());
+    if !overloads.is_empty() {
+        ui.label(
+            RichText::new(format!(
+                "not realisable: {} bone(s) over their muscle threshold",
+                overloads.len()
+            ))
+            .color(Color32::LIGHT_RED),
+        );
+    }
     Grid::new("bone forces")
         .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
             for (_, bone, f) in forces.iter().take(20) {
                 ui.label(bone);
-                ui.label(format!("{f:.3} N"));
+                match overloads.iter().find(|o| &o.bone == bone) {
+                    Some(o) => ui.label(
+                        RichText::new(format!("{f:.3} N > {:.1} N", o.threshold))
+                            .color(Color32::LIGHT_RED),
+                    ),
+                    None => ui.label(format!("{f:.3} N")),
+                };
                 ui.end_row();
             }
         });
