@@ -60,6 +60,10 @@ enum Command {
         /// Starting overlay.
         #[arg(long, value_enum)]
         overlay: Option<OverlayArg>,
+        /// Show this key of the scene's timeline (0 = time 0) once it is solved; with
+        /// --screenshot, the screenshot waits for it.
+        #[arg(long)]
+        key: Option<usize>,
     },
     /// Solve a scene file; write report.json, one VTU per frame and frames.pvd into --out.
     Solve {
@@ -220,6 +224,7 @@ fn run() -> Result<()> {
             height,
             preset,
             overlay,
+            key,
         }) => view(
             scene,
             ViewOptions {
@@ -233,6 +238,7 @@ fn run() -> Result<()> {
                     PresetArg::PowerGrasp => Preset::PowerGrasp,
                 }),
                 overlay: overlay.map(Into::into),
+                key,
             },
         )?,
         Some(Command::Solve { scene, out }) => {

@@ -425,7 +425,7 @@ fn a_finger_driven_deep_into_the_ball_stops_with_a_clear_error() {
     let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
         .unwrap()
         .replace(
-            "pose = { \"index.mcp.flex\" = 25.0 }",
+            "pose = { \"index.mcp.flex\" = 21.5 }",
             "pose = { \"index.mcp.flex\" = 40.0 }",
         );
     let scene = prehensile::scene::Scene::parse(&text, "deep.toml").unwrap();

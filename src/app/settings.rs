@@ -138,7 +138,8 @@ impl SolverParams {
 }
 
 /// What the Display panel's overlay menu offers.
-pub const OVERLAYS: [(Overlay, &str); 4] = [
+pub const OVERLAYS: [(Overlay, &str); 5] = [
+    (Overlay::Pressure, "contact pressure"),
     (Overlay::Stress, "von Mises stress"),
     (Overlay::Displacement, "displacement"),
     (Overlay::Forces, "forces"),
@@ -195,5 +196,31 @@ impl DisplayParams {
             self.fixed_range
         };
         crate::render::guard_range(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_overlay_menu_offers_every_overlay() {
+        for o in [
+            Overlay::None,
+            Overlay::Stress,
+            Overlay::Displacement,
+            Overlay::Forces,
+            Overlay::Pressure,
+        ] {
+            // A new overlay breaks this match, and so must be added to the list above.
+            match o {
+                Overlay::None
+                | Overlay::Stress
+                | Overlay::Displacement
+                | Overlay::Forces
+                | Overlay::Pressure => {}
+            }
+            assert!(OVERLAYS.iter().any(|(x, _)| *x == o), "{o:?}");
+        }
     }
 }

@@ -52,6 +52,8 @@ pub struct ViewOptions {
     pub preset: Option<super::pose::Preset>,
     /// Starting overlay.
     pub overlay: Option<crate::visual::Overlay>,
+    /// The timeline key to show once it is solved.
+    pub key: Option<usize>,
 }
 
 struct ViewerApp {
@@ -91,7 +93,11 @@ impl ViewerApp {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
             return;
         }
-        let ready = self.state.shown.is_some() && !self.state.computing();
+        let on_key = self
+            .options
+            .key
+            .is_none_or(|k| self.state.timeline.current == k);
+        let ready = self.state.shown.is_some() && !self.state.computing() && on_key;
         self.settled = if ready { self.settled + 1 } else { 0 };
         let last = self
             .options
@@ -113,6 +119,17 @@ impl ViewerApp {
 impl eframe::App for ViewerApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.frames += 1;
+        if let Some(k) = self.options.key {
+            let solved = self
+                .state
+                .timeline
+                .frames
+                .get(k)
+                .is_some_and(|f| f.is_some());
+            if solved && self.state.timeline.current != k {
+                self.state.scrub_to(k);
+            }
+        }
         self.state.ui(ui);
         self.screenshot(ui);
         if self.options.screenshot.is_none()
