@@ -49,9 +49,25 @@ pub fn stress_field_with(
     u: &[f64],
     rotated: &(dyn Fn(usize) -> bool + Sync),
 ) -> Result<StressField, (usize, InvertedCell)> {
+    stress_field_except(mesh, materials, u, rotated, &|_| false)
+}
+
+/// As [`stress_field_with`], with no stress in the cells where `unsolved(c)` holds (flesh that
+/// only follows its bones by skinning: geometry, no mechanics; skinning may even fold a cell
+/// over at a crease).
+pub fn stress_field_except(
+    mesh: &Mesh,
+    materials: &[Material],
+    u: &[f64],
+    rotated: &(dyn Fn(usize) -> bool + Sync),
+    unsolved: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<StressField, (usize, InvertedCell)> {
     let gauss: Vec<[Matrix3<f64>; 8]> = (0..mesh.cell_count())
         .into_par_iter()
         .map(|c| {
+            if unsolved(c) {
+                return Ok([Matrix3::zeros(); 8]);
+            }
             let ue = mesh.cells[c].map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
             let strains = if rotated(c) {
                 gauss_biot_strains(&mesh.cell_coords(c), &ue)

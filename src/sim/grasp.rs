@@ -207,10 +207,26 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     };
     let mut k = assemble(&model.pattern, &mesh, &model.cell_materials).map_err(|e| {
         let b = model.cell_body[e.cell];
-        SimError::InvertedElement {
-            body: model.bodies[b].name.clone(),
-            element: e.cell - model.bodies[b].cells.start,
-            relative_det: e.inverted.relative_det,
+        let body = &model.bodies[b];
+        let element = e.cell - body.cells.start;
+        let skinned = body.hand.as_deref().is_some_and(|hand| {
+            let part = hand.flesh.cell_digit[element].map_or(0, |d| d + 1);
+            model.flexion.methods[part] == super::FleshMethod::Skinning
+        });
+        if skinned {
+            SimError::Unsupported(format!(
+                "body \"{}\": skinning folded flesh element {element} over (smallest det J / \
+                 size³ = {:.3e}) and the hand is near another body: the contact step needs the \
+                 flesh solved, not skinned — use an FEM tier (\"corotational\", \
+                 \"incremental\" or \"nonlinear\") for a scene with contact",
+                body.name, e.inverted.relative_det
+            ))
+        } else {
+            SimError::InvertedElement {
+                body: body.name.clone(),
+                element,
+                relative_det: e.inverted.relative_det,
+            }
         }
     })?;
     let springs = stabilize(model, &mut k, &partition);

@@ -9,7 +9,7 @@ use super::statics::{solve_static, Frame, HandFrame, SimError};
 use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::newton::StaticTier;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
-use crate::fem::stress::{from_gauss, stress_field_with, StressField};
+use crate::fem::stress::{from_gauss, stress_field_except, StressField};
 use nalgebra::Matrix3;
 
 /// Solves every frame of the model.
@@ -177,11 +177,21 @@ pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Fr
             .map_err(|(c, det_f)| inverted(c, det_f))?
     } else {
         let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
-        stress_field_with(
+        // Flesh moved by skinning only (`flesh = "skinning"`, per part or the tier) has no
+        // stress.
+        let skinned = |c: usize| {
+            let body = &model.bodies[model.cell_body[c]];
+            body.hand.as_deref().is_some_and(|hand| {
+                let part = hand.flesh.cell_digit[c - body.cells.start].map_or(0, |d| d + 1);
+                model.flexion.methods[part] == super::FleshMethod::Skinning
+            })
+        };
+        stress_field_except(
             &model.mesh,
             &model.cell_materials,
             &frame.solution.displacement,
             &hand_cell,
+            &skinned,
         )
         .map_err(|(c, e)| inverted(c, e.relative_det))?
     };
