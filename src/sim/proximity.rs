@@ -72,19 +72,26 @@ pub fn far_parts(
             )
         })
         .collect();
-    let near_object = |x: &Vector3<f64>| {
+    let within = |x: &Vector3<f64>, j: usize, margin: f64| {
+        let (lo, hi) = boxes[j];
+        let m = Vector3::repeat(margin);
+        (x - (lo - m)).min() >= 0.0 && ((hi + m) - x).min() >= 0.0
+    };
+    // Within `distance` of a body's surface.
+    let close = |x: &Vector3<f64>| {
         (0..objects.len()).any(|j| {
-            let (lo, hi) = boxes[j];
-            let margin = Vector3::repeat(distance);
-            if (x - (lo - margin)).min() < 0.0 || ((hi + margin) - x).min() < 0.0 {
-                return false;
-            }
-            hierarchies[j]
-                .project(x, rest, None, |_| false)
-                .is_some_and(|p| p.gap < distance)
-                // Deep inside (no facet within the distance): the winding number of a piece of
-                // the surface says so (a shell's cavity too, behind its wall).
-                || pieces[j]
+            within(x, j, distance)
+                && hierarchies[j]
+                    .project(x, rest, None, |_| false)
+                    .is_some_and(|p| p.gap < distance)
+        })
+    };
+    // Inside a body (in a closed piece of its surface: a shell's cavity too, behind its
+    // wall), by winding numbers.
+    let inside = |x: &Vector3<f64>| {
+        (0..objects.len()).any(|j| {
+            within(x, j, 0.0)
+                && pieces[j]
                     .iter()
                     .any(|piece| winding_number_of(x, piece, rest).abs() > 0.5)
         })
@@ -130,23 +137,36 @@ pub fn far_parts(
         .map(|&n| (moved[n] - state.positions[n]).norm())
         .fold(0.0, f64::max);
     let steps = ((2.5 * travel / distance).ceil() as usize).clamp(1, 1000);
-    let mut near_node = vec![false; flesh.mesh.nodes.len()];
-    for i in 0..=steps {
-        skin_at(i as f64 / steps as f64, &mut moved);
-        for &n in &skin {
-            if !near_node[n] && near_object(&moved[n]) {
-                near_node[n] = true;
-            }
+    // A node is inside or outside a body for as long as it does not come within `distance`
+    // of its surface, which the sampling cannot step over: the (costly) inside test is needed
+    // at the start only. Nodes whose parts are all near already are not tested again.
+    let mut node_parts = vec![0u8; flesh.mesh.nodes.len()];
+    for (q, part) in &quads {
+        for &n in q {
+            node_parts[n] |= 1 << part;
         }
     }
     // The palm holds every finger's MCP joint: its flesh next to a finger near contact
     // belongs to that finger's joint, so the palm is always solved as set.
-    let mut far = [true; PARTS];
-    far[0] = false;
-    for (q, part) in &quads {
-        if q.iter().any(|&n| near_node[n]) {
-            far[*part] = false;
+    let mut near: u8 = 1;
+    for i in 0..=steps {
+        skin_at(i as f64 / steps as f64, &mut moved);
+        for &n in &skin {
+            if node_parts[n] & !near == 0 {
+                continue;
+            }
+            let x = &moved[n];
+            if close(x) || (i == 0 && inside(x)) {
+                near |= node_parts[n];
+            }
         }
+        if near == (1 << PARTS) - 1 {
+            break;
+        }
+    }
+    let mut far = [false; PARTS];
+    for (p, f) in far.iter_mut().enumerate() {
+        *f = near & (1 << p) == 0;
     }
     if far.iter().any(|&f| f) {
         let crushed = crushed_by_skinning(model, hand, state, target);
