@@ -7,9 +7,9 @@
 //! spaces are holes), or only in cells of another part, is left out: there the two meshes
 //! disagree on what is flesh, which is geometry, not the solver.
 
-use crate::fem::hex8::{shape, shape_derivatives};
+use crate::fem::hex8::{local_coordinates, shape};
 use crate::mesh::Mesh;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -87,27 +87,6 @@ impl Grid {
         out.dedup();
         out
     }
-}
-
-/// Local coordinates ξ of `x` in the trilinear cell `coords` (Newton, kept within ±2).
-fn local_coordinates(coords: &[Vector3<f64>; 8], x: &Vector3<f64>) -> Vector3<f64> {
-    let mut xi = Vector3::zeros();
-    for _ in 0..20 {
-        let (n, dn) = (shape(&xi), shape_derivatives(&xi));
-        let mut r = -x;
-        let mut j = Matrix3::zeros();
-        for a in 0..8 {
-            r += coords[a] * n[a];
-            j += coords[a] * dn[a].transpose();
-        }
-        let Some(inv) = j.try_inverse() else { break };
-        let step = inv * r;
-        xi = (xi - step).map(|c| c.clamp(-2.0, 2.0));
-        if step.norm() < 1e-12 {
-            break;
-        }
-    }
-    xi
 }
 
 impl Embedding {

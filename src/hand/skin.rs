@@ -3,9 +3,9 @@
 //! flesh and follows its displacement field at the cost of one sparse product per frame; the
 //! display resolution never costs simulation time.
 
-use crate::fem::hex8::{shape, shape_derivatives};
+use crate::fem::hex8::{local_coordinates, shape};
 use crate::mesh::Mesh;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -246,27 +246,4 @@ impl DisplaySkin {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect()
     }
-}
-
-/// Local coordinates ξ of point `x` in the trilinear cell `coords` (Newton; allowed up to 1
-/// outside the reference cube, where the point lies beyond the cell).
-fn local_coordinates(coords: &[Vector3<f64>; 8], x: &Vector3<f64>) -> Vector3<f64> {
-    let mut xi = Vector3::zeros();
-    for _ in 0..12 {
-        let n = shape(&xi);
-        let dn = shape_derivatives(&xi);
-        let mut r = -x;
-        let mut j = Matrix3::zeros();
-        for a in 0..8 {
-            r += coords[a] * n[a];
-            j += coords[a] * dn[a].transpose();
-        }
-        let Some(inv) = j.try_inverse() else { break };
-        let step = inv * r;
-        xi = (xi - step).map(|c| c.clamp(-2.0, 2.0));
-        if step.norm() < 1e-12 {
-            break;
-        }
-    }
-    xi
 }
