@@ -2,12 +2,14 @@
 //! after Gourret, Magnenat-Thalmann & Thalmann (1989), "Simulation of Object and Human Skin
 //! Deformations in a Grasping Task".
 //!
-//! The solver core (`mesh`, `fem`, `sim`) never depends on a renderer or a UI.
+//! The data flow is in the folder names: `scene` → `model` → `solve` (per keyframe) → `state` →
+//! `present` / `render` / `export`, with the kernels `mesh`, `fem`, `contact` and `hand` below
+//! them all, and the front-ends `cli`, `app`, `headless` and `bench` above (docs/architecture.md).
 //!
 //! Units are SI everywhere: metres, newtons, pascals, kilograms per cubic metre.
 //!
 //! ```
-//! use prehensile::pipeline::solve_scene;
+//! use prehensile::headless::solve_scene;
 //! use prehensile::scene::Scene;
 //!
 //! // A 1 m rubber cube, clamped below, its top face pulled 1 mm up.
@@ -41,20 +43,17 @@
 
 pub mod app;
 pub mod bench;
-pub mod bench_accuracy;
-pub mod bench_contact;
-pub mod bench_elements;
-pub mod bench_hand;
-pub mod bench_region;
+pub mod cli;
 pub mod contact;
 pub mod export;
 pub mod fem;
 pub mod hand;
 pub mod headless;
 pub mod mesh;
-pub mod pipeline;
+pub mod model;
+pub mod present;
 pub mod render;
-pub mod render_bench;
 pub mod scene;
-pub mod sim;
-pub mod visual;
+pub mod solve;
+pub mod state;
+pub mod util;

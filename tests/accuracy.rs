@@ -5,12 +5,12 @@
 //! between identical solutions and not between tiers, and the plot and document are written.
 
 use nalgebra::Vector3;
-use prehensile::bench_accuracy::{
+use prehensile::bench::accuracy::{
     doc_text, plot_png, problem_rows, problem_table, run_scene, Embedding, HandReference, Machine,
     Outcome, ProblemId, Results, Row, Variant, GUIDANCE_BEGIN, GUIDANCE_END,
 };
-use prehensile::fem::ElementKind;
 use prehensile::mesh::box_mesh;
+use prehensile::scene::ElementName;
 use prehensile::scene::TierName;
 
 fn quiet(_: &str) {}
@@ -19,7 +19,7 @@ fn cantilever_rows() -> Vec<Row> {
     let variants = [
         Variant::new(TierName::Linear),
         Variant {
-            element: ElementKind::IncompatibleModes,
+            element: ElementName::IncompatibleModes,
             ..Variant::new(TierName::Linear)
         },
         Variant::new(TierName::Nonlinear),
@@ -47,7 +47,7 @@ fn cantilever_errors_fall_with_the_mesh_and_incompatible_modes_do_not_lock() {
     let incompatible = errors(
         &rows,
         &Variant {
-            element: ElementKind::IncompatibleModes,
+            element: ElementName::IncompatibleModes,
             ..Variant::new(TierName::Linear)
         },
     );
@@ -137,10 +137,10 @@ fn a_tier_the_solver_refuses_is_recorded_with_its_reason_or_measured_once_it_tak
     let mut scene = ProblemId::Flexion30.scene(0.5);
     Variant::new(TierName::Nonlinear).apply(&mut scene);
     match run_scene(&scene, "flexion") {
-        Err(prehensile::bench_accuracy::RunError::Refused(why)) => {
+        Err(prehensile::bench::accuracy::RunError::Refused(why)) => {
             assert!(why.contains("nonlinear"), "{why}")
         }
-        Err(prehensile::bench_accuracy::RunError::Failed(why)) => panic!("failed: {why}"),
+        Err(prehensile::bench::accuracy::RunError::Failed(why)) => panic!("failed: {why}"),
         Ok(solved) => assert!(!solved.frames.is_empty()),
     }
 }

@@ -7,8 +7,8 @@ use common::{rel, solve_mesh};
 use nalgebra::Vector3;
 use prehensile::fem::loads::{add_gravity, add_shared_force};
 use prehensile::fem::Material;
+use prehensile::headless::solve_scene;
 use prehensile::mesh::box_mesh;
-use prehensile::pipeline::solve_scene;
 use prehensile::scene::Scene;
 
 /// Tip deflection of a cantilever L×h×h clamped at x = 0, loaded by a total transverse force P

@@ -182,7 +182,7 @@ fn hertz_contact_of_a_ball_on_a_rigid_plane() {
 #[test]
 fn the_ball_on_table_scene_balances_and_reports_its_tactile_map() {
     let solved =
-        prehensile::pipeline::solve_scene_file("assets/scenes/ball-on-table.toml".as_ref())
+        prehensile::headless::solve_scene_file("assets/scenes/ball-on-table.toml".as_ref())
             .unwrap();
     let f = &solved.report.frames[0];
     let c = f.contact.as_ref().expect("a contact report");

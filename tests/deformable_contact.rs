@@ -362,10 +362,10 @@ fn a_block_on_a_slope_sticks_below_tan_theta_and_slides_above() {
 #[test]
 fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
     let ball =
-        prehensile::pipeline::solve_scene_file("assets/scenes/hand-grasp-ball.toml".as_ref())
+        prehensile::headless::solve_scene_file("assets/scenes/hand-grasp-ball.toml".as_ref())
             .unwrap();
     let bowl =
-        prehensile::pipeline::solve_scene_file("assets/scenes/bowl-grasp.toml".as_ref()).unwrap();
+        prehensile::headless::solve_scene_file("assets/scenes/bowl-grasp.toml".as_ref()).unwrap();
     for (name, solved, object) in [("ball", &ball, "ball"), ("bowl", &bowl, "bowl")] {
         let f = solved.report.frames.last().unwrap();
         let c = f.contact.as_ref().expect("contact");
@@ -429,7 +429,7 @@ fn a_finger_driven_deep_into_the_ball_stops_with_a_clear_error() {
             "pose = { \"index.mcp.flex\" = 40.0 }",
         );
     let scene = prehensile::scene::Scene::parse(&text, "deep.toml").unwrap();
-    let err = match prehensile::pipeline::solve_scene(&scene, "deep.toml") {
+    let err = match prehensile::headless::solve_scene(&scene, "deep.toml") {
         Ok(_) => panic!("a finger 12 mm inside the ball must not solve"),
         Err(e) => e.to_string(),
     };

@@ -2,7 +2,7 @@
 //! by skinning (`[solver] far_from_contact`, default `"skinning"`), a finger near one is solved
 //! exactly as before, and a far finger that skinning would crush is solved all the same.
 
-use prehensile::pipeline::{solve_scene, Solved};
+use prehensile::headless::{solve_scene, Solved};
 use prehensile::scene::Scene;
 
 /// The index presses the ball from its initial pose; keyframe 1 bends the index's DIP joint and

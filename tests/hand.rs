@@ -6,9 +6,9 @@ use prehensile::fem::hex8::scaled_jacobian;
 use prehensile::fem::solve::FillOrdering;
 use prehensile::fem::Material;
 use prehensile::hand::{DisplaySkin, HandModel, Pose, PoseError, Side, Skeleton};
-use prehensile::sim::{
-    FleshMethod, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
-};
+use prehensile::model::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
+use prehensile::solve::Flexion;
+use prehensile::state::HandState;
 use std::sync::OnceLock;
 
 fn hand() -> &'static HandModel {

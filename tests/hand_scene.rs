@@ -1,7 +1,7 @@
 //! Hands in scene files: keyframes, bone constraints, per-keyframe bone reactions in the report,
 //! the OBJ/VTU exports, and clear errors for bad poses.
 
-use prehensile::pipeline::{solve_scene, write_solved};
+use prehensile::headless::{solve_scene, write_solved};
 use prehensile::scene::Scene;
 
 const HAND: &str = r#"
@@ -30,7 +30,7 @@ fn error_of(extra: &str) -> String {
 #[test]
 fn the_finger_flexion_scene_reports_every_keyframe_and_exports_the_hand() {
     let solved =
-        prehensile::pipeline::solve_scene_file("assets/scenes/finger-flexion.toml".as_ref())
+        prehensile::headless::solve_scene_file("assets/scenes/finger-flexion.toml".as_ref())
             .unwrap();
     assert_eq!(solved.model.cameras[0].name, "finger");
     let times: Vec<f64> = solved.report.frames.iter().map(|f| f.time).collect();

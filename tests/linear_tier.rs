@@ -7,9 +7,11 @@ use nalgebra::Vector3;
 use prehensile::fem::solve::FillOrdering;
 use prehensile::fem::Material;
 use prehensile::hand::{HandModel, Pose, Side};
-use prehensile::pipeline::solve_scene;
+use prehensile::headless::solve_scene;
+use prehensile::model::{FlexionScheme, FlexionSettings, Model};
 use prehensile::scene::Scene;
-use prehensile::sim::{Flexion, FlexionScheme, FlexionSettings, HandState, KeyframeStats, Model};
+use prehensile::solve::Flexion;
+use prehensile::state::{HandState, KeyframeStats};
 use std::sync::OnceLock;
 
 fn hand() -> &'static HandModel {
@@ -192,7 +194,7 @@ fn build(solver: &str) -> Result<Model, String> {
 
 #[test]
 fn the_tier_key_sets_the_flexion_and_refuses_contradictions() {
-    use prehensile::sim::FleshMethod;
+    use prehensile::model::FleshMethod;
     let m = build("tier = \"linear\"").unwrap();
     assert_eq!(m.flexion.scheme, FlexionScheme::Linear);
     assert_eq!(m.flexion.methods, [FleshMethod::Fem; 6]);
@@ -273,7 +275,7 @@ fn the_viewer_keeps_the_linear_factor_between_changes() {
             version,
             scene: scene.clone(),
             scene_revision: 1,
-            visual: prehensile::visual::VisualOptions::default(),
+            visual: prehensile::present::VisualOptions::default(),
             target: Target::Pose {
                 pose: vec![(hands[0].body, target)],
                 start: None,

@@ -7,7 +7,7 @@
 mod common;
 use common::rel;
 use nalgebra::{Matrix3, Vector3};
-use prehensile::bench_elements::{cantilever, timoshenko_tip};
+use prehensile::bench::elements::{cantilever, timoshenko_tip};
 use prehensile::fem::assembly::{assemble_kind, ElementKind, StiffnessPattern};
 use prehensile::fem::hex8::{element_stiffness, mapped_points};
 use prehensile::fem::hex8_hyperelastic::{element_state, Volumetric};
@@ -18,8 +18,8 @@ use prehensile::fem::solve::{FillOrdering, PartitionedSolver};
 use prehensile::fem::stress::stress_field_kind;
 use prehensile::fem::{DofPartition, Material};
 use prehensile::mesh::{box_mesh, Hex, Mesh};
+use prehensile::model::Model;
 use prehensile::scene::Scene;
-use prehensile::sim::Model;
 use std::sync::Arc;
 
 fn material(young: f64, poisson: f64) -> Material {
@@ -575,7 +575,7 @@ displacement = {{ x = {pull} }}
 
 #[test]
 fn scene_keys_select_the_nonlinear_tier_and_the_element() {
-    use prehensile::pipeline::solve_scene;
+    use prehensile::headless::solve_scene;
     // tier = "nonlinear": the stretch to 1.5 through a scene gives the analytic nominal stress.
     let law = NeoHookean::from_material(&material(1.0e6, 0.3));
     let (mut lo, mut hi) = (0.5, 1.0);

@@ -11,13 +11,12 @@ use prehensile::fem::hyperelastic_body::HyperelasticBody;
 use prehensile::fem::solve::{FillOrdering, PartitionedSolver};
 use prehensile::fem::{DofPartition, Material, Volumetric};
 use prehensile::hand::{HandModel, Pose, Side};
+use prehensile::headless::{solve_scene, write_solved};
 use prehensile::mesh::Mesh;
-use prehensile::pipeline::{solve_scene, write_solved};
+use prehensile::model::{FleshRegion, FlexionScheme, FlexionSettings, Model};
 use prehensile::scene::Scene;
-use prehensile::sim::{
-    flesh_internal_forces, FleshRegion, Flexion, FlexionScheme, FlexionSettings, HandState,
-    KeyframeStats, Model, SimError,
-};
+use prehensile::solve::{flesh_internal_forces, Flexion, SimError};
+use prehensile::state::{HandState, KeyframeStats};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -525,7 +524,10 @@ fn the_viewer_offers_the_nonlinear_tier_and_writes_it_into_the_scene() {
     params.tier = Tier::Nonlinear;
     params.apply(&mut scene);
     assert_eq!(scene.solver.tier, Some(TierName::Nonlinear));
-    assert_eq!(scene.solver.flexion, Some(FlexionScheme::Nonlinear));
+    assert_eq!(
+        scene.solver.flexion,
+        Some(prehensile::scene::FlexionSchemeName::Nonlinear)
+    );
     let model = Model::build(&scene, "viewer.toml").unwrap();
     assert_eq!(model.flexion.scheme, FlexionScheme::Nonlinear);
 }

@@ -1,7 +1,7 @@
 //! Modelling only what a scene requires: the finger press solved with FEM only near the moving
 //! joint and near the contact, against the whole flesh everywhere (`prehensile bench region`).
 
-use prehensile::bench_region::region_runs;
+use prehensile::bench::region::region_runs;
 
 #[test]
 fn the_local_regions_cost_a_fraction_and_change_the_press_by_little() {
@@ -19,7 +19,7 @@ fn the_local_regions_cost_a_fraction_and_change_the_press_by_little() {
     }
     // Nodes of the index's flesh (the pressing finger): cells of digit 1.
     let hand = runs[0].frames[0].hands[0].positions.len();
-    let solved = prehensile::pipeline::solve_scene(
+    let solved = prehensile::headless::solve_scene(
         &prehensile::scene::Scene::load(std::path::Path::new(
             "assets/scenes/finger-press-ball.toml",
         ))
@@ -37,7 +37,7 @@ fn the_local_regions_cost_a_fraction_and_change_the_press_by_little() {
         }
     }
     for (i, (a, b)) in cheap.frames.iter().zip(&full.frames).enumerate() {
-        let force = |f: &prehensile::sim::Frame| {
+        let force = |f: &prehensile::state::Frame| {
             f.hands
                 .iter()
                 .flat_map(|h| &h.contact_force)

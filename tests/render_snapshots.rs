@@ -10,9 +10,9 @@ use glam::Vec3;
 use image::{Rgba, RgbaImage};
 use prehensile::export::png::write_png_atomic;
 use prehensile::headless::render_frame;
-use prehensile::pipeline::solve_scene_file;
+use prehensile::headless::solve_scene_file;
+use prehensile::present::{Overlay, VisualOptions};
 use prehensile::render::{Camera, DrawList, Renderer, Surface};
-use prehensile::visual::{Overlay, VisualOptions};
 use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
@@ -137,8 +137,8 @@ fn scene_snapshot(name: &str, scene: &str, overlay: Overlay, wireframe: bool, ca
 }
 
 /// The finger-flexion scene, solved once for the hand snapshots.
-fn finger_flexion() -> &'static prehensile::pipeline::Solved {
-    static SOLVED: OnceLock<prehensile::pipeline::Solved> = OnceLock::new();
+fn finger_flexion() -> &'static prehensile::headless::Solved {
+    static SOLVED: OnceLock<prehensile::headless::Solved> = OnceLock::new();
     SOLVED.get_or_init(|| {
         solve_scene_file(&manifest().join("assets/scenes/finger-flexion.toml"))
             .expect("the scene solves")

@@ -2,7 +2,7 @@
 //! crease; frames without contact still solve (skinned flesh bears no stress, and nothing is
 //! NaN), and a frame with contact says that contact needs an FEM tier.
 
-use prehensile::pipeline::solve_scene;
+use prehensile::headless::solve_scene;
 use prehensile::scene::{Scene, TierName};
 
 fn scene(keys: usize) -> Scene {

@@ -8,12 +8,12 @@ use prehensile::fem::hex8::{relative_min_jacobian, scaled_jacobian};
 use prehensile::fem::solve::FillOrdering;
 use prehensile::fem::Material;
 use prehensile::hand::{HandModel, Pose, Side};
+use prehensile::headless::{solve_scene, write_solved};
 use prehensile::mesh::box_mesh;
-use prehensile::pipeline::{solve_scene, write_solved};
+use prehensile::model::{FlexionScheme, FlexionSettings, Model};
 use prehensile::scene::Scene;
-use prehensile::sim::{
-    solve_frames, Flexion, FlexionScheme, FlexionSettings, Frame, HandState, Model,
-};
+use prehensile::solve::{solve_frames, Flexion};
+use prehensile::state::{Frame, HandState};
 use serde_json::Value;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -321,7 +321,7 @@ fn c_a_sliver_element_solves_correctly_and_an_inverted_one_is_named() {
     let solved = solve_scene(&mesh_scene("block", &nodes, &cells), "sliver.toml").unwrap();
     assert_finite(&solved.frames[0], "sliver");
     let press =
-        |s: &prehensile::pipeline::Solved| s.report.frames[0].constraints["press"].reaction[2];
+        |s: &prehensile::headless::Solved| s.report.frames[0].constraints["press"].reaction[2];
     let residual = solved.report.frames[0].solver.residual;
     println!(
         "sliver: move {lo:.6}, scaled Jacobian {q:.3e}, det J / size³ {rel:.3e}; press {:.2} N \

@@ -294,6 +294,6 @@ fn the_far_fingers_checkbox_writes_the_scene_key() {
         job.scene.solver.far_from_contact,
         Some(FarFromContact::Solve)
     );
-    let model = prehensile::sim::Model::build(&job.scene, "viewer").unwrap();
+    let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
     assert_eq!(model.flexion.near_contact, None);
 }

@@ -7,8 +7,8 @@
 use prehensile::app::jobs::{Failure, Job, Solution, Target};
 use prehensile::app::physics::Physics;
 use prehensile::app::worker::{Cancel, Solve};
+use prehensile::present::VisualOptions;
 use prehensile::scene::{Scene, DEFAULT_SCENE};
-use prehensile::visual::VisualOptions;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::atomic::AtomicU64;

@@ -2,7 +2,7 @@
 //! or full 2×2×2 integration of the volumetric energy, on a nearly incompressible block pressed
 //! 5 % between a fixed base and a plate that lets it spread: full integration locks.
 
-use prehensile::pipeline::solve_scene;
+use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;
 
 fn press_force(poisson: f64, volumetric: &str) -> f64 {

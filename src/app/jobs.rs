@@ -2,10 +2,11 @@
 //! version of the inputs it was made from; every result carries that version back, so that the
 //! window shows only the newest.
 
+use crate::model::Model;
+use crate::present::VisualOptions;
 use crate::render::DrawList;
 use crate::scene::Scene;
-use crate::sim::{Frame, Model};
-use crate::visual::VisualOptions;
+use crate::state::Frame;
 use std::sync::Arc;
 
 /// Joint angles (degrees) of every hand body, by body index.

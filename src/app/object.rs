@@ -200,6 +200,6 @@ mod tests {
         );
         assert!(min[0] < again.center[0] && max[0] > again.center[0]);
         // And the edited scene builds.
-        crate::sim::Model::build(&s, "t").unwrap();
+        crate::model::Model::build(&s, "t").unwrap();
     }
 }

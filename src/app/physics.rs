@@ -6,11 +6,14 @@
 use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::fem::solve::PartitionedSolver;
-use crate::sim::{
-    frame_with_hands, hand_frame, set_far_parts, solve_static, still_frame, Flexion, Frame,
-    HandState, KeyframeStats, LinearTier, Model, SimError,
+use crate::model::Model;
+use crate::present::draw_list;
+use crate::solve::{
+    frame_with_hands, hand_frame, set_far_parts, solve_static, still_frame, Flexion, LinearFactor,
+    SimError,
 };
-use crate::visual::draw_list;
+use crate::state::{Frame, HandState, KeyframeStats};
+use crate::util::timing::ms;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -19,7 +22,7 @@ type States = Vec<(usize, HandState)>;
 
 /// The linear tier's factored stiffness by hand body index, kept for the model's life so that
 /// a change costs one solve, not a factorization.
-type LinearFactors = Vec<(usize, LinearTier)>;
+type LinearFactors = Vec<(usize, LinearFactor)>;
 
 /// The model and states kept between jobs.
 #[derive(Default)]
@@ -152,7 +155,7 @@ impl Physics {
             model: model.clone(),
             frame: Arc::new(frame),
             draw_list: Arc::new(list),
-            solve_ms: started.elapsed().as_secs_f64() * 1e3,
+            solve_ms: ms(started),
             timeline_frame,
             visual: job.visual,
         })

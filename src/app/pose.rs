@@ -2,8 +2,8 @@
 //! limits without meshing anything), their angles, and the pose presets.
 
 use super::jobs::Pose;
-use crate::hand::Skeleton;
-use crate::scene::{Scene, Shape};
+use crate::hand::{Side, Skeleton};
+use crate::scene::{HandSide, Scene, Shape};
 
 /// A hand body of the scene.
 #[derive(Clone, Debug)]
@@ -26,7 +26,10 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
             Shape::Hand { side, .. } => Some(HandInfo {
                 body: b,
                 name: def.name.clone(),
-                skeleton: Skeleton::new(side),
+                skeleton: Skeleton::new(match side {
+                    HandSide::Right => Side::Right,
+                    HandSide::Left => Side::Left,
+                }),
             }),
             _ => None,
         })

@@ -1,55 +1,18 @@
 //! The Solver and Display panels' models: the solver tier and its settings (written into the
 //! scene's `[solver]` table and hand bodies), and how frames are drawn.
 
-use crate::scene::{FarFromContact, Scene, Shape, TierName};
-use crate::sim::{FleshMethod, FlexionScheme};
-use crate::visual::{Overlay, VisualOptions};
+pub use crate::model::Tier;
+use crate::present::{Overlay, VisualOptions};
+use crate::scene::{ContactMethodName, FarFromContact, Scene, Shape};
 
-/// How the hands' flesh is solved.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Tier {
-    /// Geometric skinning only (the fast path, no mechanics).
-    Skinning,
-    /// Linear elasticity on the rest geometry: one factorization, one solve per pose.
-    Linear,
-    /// The paper's linear increments on the updated geometry.
-    UpdatedLagrangian,
-    /// Corotated linear increments (the default).
-    Corotational,
-    /// Neo-Hookean increments solved to equilibrium by Newton (large strain, ν → ½).
-    Nonlinear,
-}
-
-impl Tier {
-    /// Every tier, fastest first.
-    pub const ALL: [Tier; 5] = [
-        Tier::Skinning,
-        Tier::Linear,
-        Tier::UpdatedLagrangian,
-        Tier::Corotational,
-        Tier::Nonlinear,
-    ];
-
-    /// The label shown in the Solver panel.
-    pub fn label(self) -> &'static str {
-        match self {
-            Tier::Skinning => "skinning",
-            Tier::Linear => "linear (rest geometry, factored once)",
-            Tier::UpdatedLagrangian => "incremental (updated Lagrangian)",
-            Tier::Corotational => "corotational",
-            Tier::Nonlinear => "nonlinear (Neo-Hookean, Newton)",
-        }
-    }
-
-    /// The scene's `[solver] tier` value.
-    pub fn scene_name(self) -> TierName {
-        match self {
-            Tier::Skinning => TierName::Skinning,
-            Tier::Linear => TierName::Linear,
-            Tier::UpdatedLagrangian => TierName::Incremental,
-            Tier::Corotational => TierName::Corotational,
-            Tier::Nonlinear => TierName::Nonlinear,
-        }
+/// The label of `tier` in the Solver panel.
+pub fn tier_label(tier: Tier) -> &'static str {
+    match tier {
+        Tier::Skinning => "skinning",
+        Tier::Linear => "linear (rest geometry, factored once)",
+        Tier::Incremental => "incremental (updated Lagrangian)",
+        Tier::Corotational => "corotational",
+        Tier::Nonlinear => "nonlinear (Neo-Hookean, Newton)",
     }
 }
 
@@ -65,7 +28,7 @@ pub struct SolverParams {
     /// Hand mesh resolution (0.5 … 4; 1 is the default 3.2 mm lattice).
     pub resolution: f64,
     /// Contact method between hands and objects.
-    pub contact: crate::contact::ContactMethod,
+    pub contact: ContactMethodName,
     /// Fingers far from every object follow their bones by skinning (`[solver]
     /// far_from_contact = "skinning"`, the default) rather than being solved.
     pub skin_far_fingers: bool,
@@ -75,18 +38,7 @@ impl SolverParams {
     /// The settings of `scene`.
     pub fn from_scene(scene: &Scene) -> Self {
         let s = &scene.solver;
-        let tier = match (s.tier, s.flesh, s.flexion) {
-            (Some(TierName::Skinning), _, _) | (None, Some(FleshMethod::Skinning), _) => {
-                Tier::Skinning
-            }
-            (Some(TierName::Linear), _, _) | (None, _, Some(FlexionScheme::Linear)) => Tier::Linear,
-            (Some(TierName::Incremental), _, _)
-            | (None, _, Some(FlexionScheme::UpdatedLagrangian)) => Tier::UpdatedLagrangian,
-            (Some(TierName::Nonlinear), _, _) | (None, _, Some(FlexionScheme::Nonlinear)) => {
-                Tier::Nonlinear
-            }
-            _ => Tier::Corotational,
-        };
+        let tier = Tier::of(s);
         let resolution = scene
             .body
             .iter()
@@ -116,19 +68,7 @@ impl SolverParams {
             FarFromContact::Solve
         });
         // `tier` is written with `flesh` and `flexion` agreeing with it.
-        s.tier = Some(self.tier.scene_name());
-        match self.tier {
-            Tier::Skinning => s.flesh = Some(FleshMethod::Skinning),
-            Tier::Linear | Tier::UpdatedLagrangian | Tier::Corotational | Tier::Nonlinear => {
-                s.flesh = Some(FleshMethod::Fem);
-                s.flexion = Some(match self.tier {
-                    Tier::Linear => FlexionScheme::Linear,
-                    Tier::UpdatedLagrangian => FlexionScheme::UpdatedLagrangian,
-                    Tier::Nonlinear => FlexionScheme::Nonlinear,
-                    _ => FlexionScheme::Corotational,
-                });
-            }
-        }
+        self.tier.write(s);
         for b in &mut scene.body {
             if let Shape::Hand { resolution, .. } = &mut b.shape {
                 *resolution = self.resolution;

@@ -12,8 +12,8 @@ use super::pose::{hands_of, HandInfo};
 use super::settings::{DisplayParams, SolverParams};
 use super::timeline::Timeline;
 use super::worker::SolverPort;
+use crate::present::VisualOptions;
 use crate::scene::Scene;
-use crate::visual::VisualOptions;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -214,7 +214,7 @@ impl ViewerState {
     }
 
     /// The frame to start a pose job from: the shown one if it came from the timeline.
-    fn start_frame(&self) -> Option<Arc<crate::sim::Frame>> {
+    fn start_frame(&self) -> Option<Arc<crate::state::Frame>> {
         self.shown
             .as_ref()
             .filter(|s| matches!(s.source, Source::Timeline(_)))

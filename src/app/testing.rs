@@ -3,10 +3,10 @@
 
 use super::jobs::{Failure, Job, JobResult, Solution};
 use super::worker::SolverPort;
-use crate::pipeline::solve_scene;
+use crate::headless::solve_scene;
+use crate::present::VisualOptions;
 use crate::render::{DrawList, Surface};
 use crate::scene::Scene;
-use crate::visual::VisualOptions;
 use std::sync::{Arc, Mutex};
 
 /// What the fake port saw and what it will answer, shared with the test.

@@ -6,6 +6,7 @@
 use super::jobs::Solution;
 use super::state::SceneView;
 use crate::render::{Bounds, Camera, DrawList, GpuScene, Renderer, HEADLESS_FORMAT, PRESETS};
+use crate::util::timing::ms;
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
 use egui::{Color32, Rect, Sense};
@@ -121,7 +122,7 @@ impl View3d {
             Ok(()) => self.error = None,
             Err(e) => self.error = Some(e.to_string()),
         }
-        self.last_render_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.last_render_ms = ms(start);
         self.dirty = false;
     }
 

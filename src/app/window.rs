@@ -51,7 +51,7 @@ pub struct ViewOptions {
     /// Starting pose.
     pub preset: Option<super::pose::Preset>,
     /// Starting overlay.
-    pub overlay: Option<crate::visual::Overlay>,
+    pub overlay: Option<crate::present::Overlay>,
     /// The timeline key to show once it is solved.
     pub key: Option<usize>,
 }

@@ -31,6 +31,7 @@ use crate::fem::assembly::Stiffness;
 use crate::fem::forward::HalfSolved;
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
+use crate::util::timing::ms;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
 use std::collections::HashMap;
 use std::time::Instant;
@@ -463,7 +464,7 @@ pub fn solve_lagrange(
         factorizations: 1,
         substitutions,
         max_penetration,
-        contact_ms: t.elapsed().as_secs_f64() * 1e3,
+        contact_ms: ms(t),
         last_change: 0.0,
         stopped_by_threshold: false,
         region_cells: 0,
@@ -605,10 +606,6 @@ fn displace(
         u[d] += rhs[e];
     }
     Ok(1)
-}
-
-fn ms(t: Instant) -> f64 {
-    t.elapsed().as_secs_f64() * 1e3
 }
 
 fn contact_points(

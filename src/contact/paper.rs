@@ -26,6 +26,7 @@ use super::point::{
 use super::problem::{ContactProblem, Penetration};
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
+use crate::util::timing::ms;
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::time::Instant;
@@ -178,7 +179,7 @@ pub fn solve_paper(
         }
         let ts = Instant::now();
         solver.solve_factored(&mut rhs, 1)?;
-        times.substitution += ts.elapsed().as_secs_f64() * 1e3;
+        times.substitution += ms(ts);
         substitutions += 1;
         let mut next = u0.clone();
         for (e, &d) in partition.free.iter().enumerate() {
@@ -252,7 +253,7 @@ pub fn solve_paper(
         factorizations,
         substitutions,
         max_penetration,
-        contact_ms: t.elapsed().as_secs_f64() * 1e3,
+        contact_ms: ms(t),
         last_change: change,
         stopped_by_threshold: stopped,
         region_cells: 0,

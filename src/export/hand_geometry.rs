@@ -2,36 +2,12 @@
 //! (Blender, one object per surface), and the bones as a VTU of triangles (ParaView, beside the
 //! flesh VTU).
 
-use crate::hand::{bone_surface, HandModel, TriangleSurface};
-use crate::sim::{Frame, HandFrame, Model};
-use nalgebra::{Point3, Vector3};
+use crate::model::Model;
+use crate::state::Frame;
 use std::fmt::Write;
 
 /// VTK cell type of a triangle.
 const VTK_TRIANGLE: u8 = 5;
-
-/// The surfaces of every bone of a hand in the frame's pose, with the bone index.
-pub fn posed_bones(hand: &HandModel, h: &HandFrame) -> Vec<(usize, TriangleSurface)> {
-    let transforms = hand.skeleton.transforms(&h.angles);
-    hand.skeleton
-        .bones
-        .iter()
-        .enumerate()
-        .map(|(b, bone)| {
-            let (pos, tri) = bone_surface(bone);
-            let pos = pos
-                .iter()
-                .map(|p| (transforms[b] * Point3::from(*p)).coords)
-                .collect();
-            (b, (pos, tri))
-        })
-        .collect()
-}
-
-/// The display skin's vertex positions in the frame.
-pub fn skin_positions(hand: &HandModel, h: &HandFrame) -> Vec<Vector3<f64>> {
-    hand.skin.positions(&h.positions)
-}
 
 /// An OBJ holding, for every hand of the frame, its skin (quads) and its bones (triangles); `None`
 /// without hands.
@@ -45,7 +21,7 @@ pub fn frame_obj(model: &Model, frame: &Frame) -> Option<String> {
         let body = &model.bodies[h.body];
         let hand = body.hand.as_deref()?;
         let _ = writeln!(s, "o {}_skin", body.name);
-        let skin = skin_positions(hand, h);
+        let skin = hand.skin.positions(&h.positions);
         for p in &skin {
             let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
         }
@@ -60,7 +36,7 @@ pub fn frame_obj(model: &Model, frame: &Frame) -> Option<String> {
             );
         }
         base += skin.len();
-        for (b, (pos, tri)) in posed_bones(hand, h) {
+        for (b, (pos, tri)) in hand.posed_bones(&h.angles) {
             let _ = writeln!(s, "o {}_{}", body.name, hand.skeleton.bones[b].name);
             for p in &pos {
                 let _ = writeln!(s, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
@@ -92,7 +68,7 @@ pub fn bones_vtu(model: &Model, frame: &Frame) -> Option<String> {
     let mut reactions = Vec::new();
     for h in &frame.hands {
         let hand = model.bodies[h.body].hand.as_deref()?;
-        for (b, (pos, tri)) in posed_bones(hand, h) {
+        for (b, (pos, tri)) in hand.posed_bones(&h.angles) {
             let base = points.len() as u32;
             points.extend(pos);
             for t in tri {

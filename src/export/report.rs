@@ -3,7 +3,8 @@
 //! applied loads against reactions, and what the solver cost.
 
 use crate::fem::stress::von_mises;
-use crate::sim::{Frame, Model};
+use crate::model::Model;
+use crate::state::Frame;
 use nalgebra::Vector3;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -233,7 +234,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         }
         o.nodes += 1;
     }
-    let pressure = crate::sim::contact_pressure(model, frame).unwrap_or_default();
+    let pressure = crate::state::contact_pressure(model, frame).unwrap_or_default();
     let count = |a: crate::contact::Adhesion| c.contacts.iter().filter(|p| p.adhesion == a).count();
     Some(ContactReport {
         method: c.method,
@@ -279,14 +280,14 @@ pub struct HandReport {
     /// Relative change of the flesh volume from rest.
     pub volume_change: f64,
     /// Increments, factorizations and timings of the motion into this frame.
-    pub motion: crate::sim::KeyframeStats,
+    pub motion: crate::state::KeyframeStats,
     /// Total contact force on each part of the hand (palm, thumb … little), N, and its
     /// magnitude: the tactile summary.
     pub contact: BTreeMap<String, PartContact>,
     /// Can the muscles hold this grasp? False when a bone's reaction overruns its threshold.
     pub realisable: bool,
     /// The bones over their thresholds, worst first, with what the animator should change.
-    pub overloads: Vec<crate::sim::outcome::Overload>,
+    pub overloads: Vec<crate::state::outcome::Overload>,
 }
 
 /// The contact force on one part of a hand.
@@ -345,11 +346,11 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     volume_change: h.volume / body.volume - 1.0,
                     motion: h.stats.clone(),
                     contact: {
-                        let mut parts = vec![Vector3::zeros(); crate::sim::outcome::PARTS.len()];
+                        let mut parts = vec![Vector3::zeros(); crate::state::outcome::PARTS.len()];
                         for (b, f) in h.contact_force.iter().enumerate() {
-                            parts[crate::sim::outcome::part_of_bone(hand, b)] += f;
+                            parts[crate::state::outcome::part_of_bone(hand, b)] += f;
                         }
-                        crate::sim::outcome::PARTS
+                        crate::state::outcome::PARTS
                             .iter()
                             .zip(parts)
                             .filter(|(_, f)| f.norm() > 0.0)

@@ -4,7 +4,8 @@
 //! deformed shape.
 
 use crate::fem::stress::von_mises;
-use crate::sim::{Frame, Model};
+use crate::model::Model;
+use crate::state::Frame;
 use std::fmt::Write;
 
 /// VTK cell type of an 8-node hexahedron.
@@ -92,7 +93,7 @@ pub fn frame_vtu(model: &Model, frame: &Frame) -> String {
     for b in &bone_id {
         let _ = write!(s, "{b} ");
     }
-    if let Some(pressure) = crate::sim::contact_pressure(model, frame) {
+    if let Some(pressure) = crate::state::contact_pressure(model, frame) {
         // The tactile map.
         s.push_str(
             "\n</DataArray>\n<DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n",

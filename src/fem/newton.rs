@@ -25,21 +25,11 @@ use super::negative_curvature::lowest_mode;
 use super::partition::DofPartition;
 use super::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::mesh::Mesh;
+use crate::util::timing::ms;
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::time::Instant;
 use thiserror::Error;
-
-/// Which solver the static frame of a scene uses (`[solver] tier`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum StaticTier {
-    /// Small strain, one linear solve (equations (6)–(8)).
-    #[default]
-    Linear,
-    /// Large deformation: Neo-Hookean, Newton–Raphson with load stepping ([`solve_nonlinear`]).
-    Nonlinear,
-}
 
 /// Settings of the Newton solver.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -761,8 +751,4 @@ impl Increment<'_, '_> {
         }
         None
     }
-}
-
-fn ms(t: Instant) -> f64 {
-    t.elapsed().as_secs_f64() * 1e3
 }

@@ -9,6 +9,7 @@ use super::assembly::{Stiffness, StiffnessPattern};
 use super::memory::{grow, scratch};
 use super::ordering::nested_dissection;
 use super::partition::DofPartition;
+use crate::util::timing::ms;
 use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::Perm;
@@ -323,10 +324,6 @@ impl PartitionedSolver {
         }
         Ok(())
     }
-}
-
-fn ms(t: Instant) -> f64 {
-    t.elapsed().as_secs_f64() * 1e3
 }
 
 /// Extracts the pattern of K11 from the full upper pattern, orders it and analyses it.

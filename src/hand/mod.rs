@@ -5,6 +5,7 @@ pub mod anatomy;
 mod bone_mesh;
 mod lattice;
 mod model;
+mod posed;
 mod shape;
 mod skeleton;
 mod skin;

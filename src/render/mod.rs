@@ -3,7 +3,7 @@
 //! texture or, headless, into an image.
 //!
 //! It knows nothing of the solver or of any UI: it draws the buffers of a [`DrawList`]
-//! (`crate::visual` builds them from a solved scene). Typical headless use:
+//! (`crate::present` builds them from a solved scene). Typical headless use:
 //!
 //! ```no_run
 //! use prehensile::render::{Camera, DrawList, Renderer, Surface};

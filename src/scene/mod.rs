@@ -2,9 +2,11 @@
 //! that name the file and the field. The format is documented in `docs/scene-format.md`.
 
 mod error;
+mod names;
 mod types;
 
 pub use error::SceneError;
+pub use names::*;
 pub use types::*;
 
 use std::path::Path;

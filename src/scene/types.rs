@@ -1,7 +1,9 @@
 //! Serde types of the scene file.
 
-use crate::hand::{Blend, Side};
-use crate::sim::{FleshMethod, FlexionScheme};
+use super::names::{
+    BlendName, ContactMethodName, ElementName, FleshMethodName, FlexionSchemeName, HandSide,
+    PairSidesName, VolumetricName,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -157,10 +159,10 @@ pub struct SolverSettings {
     pub max_step_deg: Option<f64>,
     /// How hand flesh moves: `"fem"` (default) or `"skinning"`.
     #[serde(default)]
-    pub flesh: Option<FleshMethod>,
+    pub flesh: Option<FleshMethodName>,
     /// Per-digit override of `flesh`: keys `palm`, `thumb`, `index`, `middle`, `ring`, `little`.
     #[serde(default)]
-    pub flesh_digits: BTreeMap<String, FleshMethod>,
+    pub flesh_digits: BTreeMap<String, FleshMethodName>,
     /// FEM region of a flexion increment: `"local"` (default: cells near moving joints) or
     /// `"whole"` (the whole hand).
     #[serde(default)]
@@ -170,7 +172,7 @@ pub struct SolverSettings {
     pub flesh_region_radius: Option<f64>,
     /// Skinning blend: `"dual_quaternion"` (default) or `"linear"`.
     #[serde(default)]
-    pub skinning: Option<Blend>,
+    pub skinning: Option<BlendName>,
     /// The parts of a hand (palm, thumb, fingers) that stay farther than `near_contact` from
     /// every other body over a keyframe: `"skinning"` (default: their flesh follows the bones,
     /// the FEM effort goes where contact is) or `"solve"` (solved like the rest).
@@ -188,7 +190,7 @@ pub struct SolverSettings {
     pub contact_max_iterations: Option<usize>,
     /// Contact method: `"lagrange"` (default) or `"paper"`.
     #[serde(default)]
-    pub contact: Option<crate::contact::ContactMethod>,
+    pub contact: Option<ContactMethodName>,
     /// Relaxation of the paper's method's transferred forces.
     #[serde(default)]
     pub contact_relaxation: Option<RelaxationDef>,
@@ -200,7 +202,7 @@ pub struct SolverSettings {
     pub contact_search: Option<f64>,
     /// Which side is checked node against facet: `"skin_nodes"`, `"object_nodes"`, `"both"`.
     #[serde(default)]
-    pub contact_pairs: Option<crate::contact::PairSides>,
+    pub contact_pairs: Option<PairSidesName>,
     /// Radius around the contact within which hand flesh is solved with it, m (default 0.008).
     #[serde(default)]
     pub contact_region: Option<f64>,
@@ -210,7 +212,7 @@ pub struct SolverSettings {
     /// Flexion increments: `"corotational"` (default), `"updated_lagrangian"` (the paper's),
     /// `"linear"` or `"nonlinear"`.
     #[serde(default)]
-    pub flexion: Option<FlexionScheme>,
+    pub flexion: Option<FlexionSchemeName>,
     /// Speed against accuracy for the hands, in one key: `"skinning"`, `"linear"`,
     /// `"incremental"`, `"corotational"` or `"nonlinear"` (sets `flesh` and `flexion`).
     #[serde(default)]
@@ -219,10 +221,10 @@ pub struct SolverSettings {
     /// `"mean_dilatation"` (default, free of volumetric locking) or `"full"` (2×2×2, locks as
     /// ν → ½).
     #[serde(default)]
-    pub volumetric: Option<crate::fem::Volumetric>,
+    pub volumetric: Option<VolumetricName>,
     /// Element of the linear static solve: `"hex8"` (default) or `"incompatible_modes"`.
     #[serde(default)]
-    pub element: Option<crate::fem::ElementKind>,
+    pub element: Option<ElementName>,
 }
 
 /// `[solver] tier`: how the hands' flesh is solved, fastest first.
@@ -349,7 +351,7 @@ pub enum Shape {
     /// lattice, 1.6 mm on the finger-tip pads).
     Hand {
         /// `"right"` or `"left"`.
-        side: Side,
+        side: HandSide,
         /// Mesh resolution (0.5 … 4).
         #[serde(default = "one")]
         resolution: f64,

@@ -1,9 +1,9 @@
 //! Solver: tier, contact method, tolerance, far fingers, increment size, mesh resolution.
 
-use super::super::settings::Tier;
+use super::super::settings::{tier_label, Tier};
 use super::super::state::ViewerState;
 use super::committed;
-use crate::contact::ContactMethod;
+use crate::scene::ContactMethodName;
 use egui::{DragValue, Slider};
 
 pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
@@ -11,12 +11,12 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     let mut done = false;
     ui.label("tier");
     for t in Tier::ALL {
-        done |= ui.radio_value(&mut s.tier, t, t.label()).changed();
+        done |= ui.radio_value(&mut s.tier, t, tier_label(t)).changed();
     }
     egui::ComboBox::from_label("contact method")
         .selected_text(s.contact.name())
         .show_ui(ui, |ui| {
-            for m in [ContactMethod::Lagrange, ContactMethod::Paper] {
+            for m in [ContactMethodName::Lagrange, ContactMethodName::Paper] {
                 done |= ui.selectable_value(&mut s.contact, m, m.name()).changed();
             }
         })

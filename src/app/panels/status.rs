@@ -106,7 +106,7 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     if forces.is_empty() {
         return;
     }
-    let overloads: Vec<&crate::sim::outcome::Overload> =
+    let overloads: Vec<&crate::state::outcome::Overload> =
         hands.iter().flat_map(|h| &h.overloads).collect();
     ui.label(RichText::new("bone forces (equation 8)").strong());
     if !overloads.is_empty() {

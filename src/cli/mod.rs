@@ -1,0 +1,474 @@
+//! The `prehensile` command line: the interactive viewer (the default), and the headless
+//! commands: solve scenes, render them to PNG, run benchmarks.
+
+use crate::app::pose::Preset;
+use crate::app::{run_viewer, ViewOptions, ViewerError};
+use crate::bench::elements::{element_rows, element_table};
+use crate::bench::hand::{hand_rows, hand_tables};
+use crate::bench::render::{frame_times, render_table, update_rows};
+use crate::bench::solver::{solver_rows, solver_table};
+use crate::fem::solve::FillOrdering;
+use crate::headless::{solve_scene_file, write_solved, Solved};
+use crate::render::Renderer;
+use crate::scene::{Scene, DEFAULT_SCENE};
+use crate::util::timing::ms;
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+mod render;
+use render::{OverlayArg, RenderArgs};
+
+#[derive(Parser)]
+#[command(
+    name = "prehensile",
+    version,
+    about = "Finite element simulation of a hand grasping a deformable object (after Gourret, \
+             Magnenat-Thalmann & Thalmann 1989)",
+    long_about = "Finite element simulation of a hand grasping a deformable object.\n\n\
+                  Without a subcommand, opens the viewer window on the built-in default scene (a \
+                  hand beside a pressurised rubber ball). Without a display, use the headless \
+                  commands: solve, render, bench."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Open the interactive viewer on a scene (the default, on the built-in scene, when no
+    /// subcommand is given). Needs a display (X11; Wayland through XWayland).
+    View {
+        /// The scene (TOML); the built-in default scene when absent.
+        scene: Option<PathBuf>,
+        /// Write a PNG screenshot of the window once the first frame is solved, then close.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Close after this many frames (with --screenshot: take it then at the latest).
+        #[arg(long)]
+        exit_after_frames: Option<u64>,
+        /// Window width, points.
+        #[arg(long, default_value_t = 1600.0)]
+        width: f32,
+        /// Window height, points.
+        #[arg(long, default_value_t = 900.0)]
+        height: f32,
+        /// Starting pose of the hands.
+        #[arg(long, value_enum)]
+        preset: Option<PresetArg>,
+        /// Starting overlay.
+        #[arg(long, value_enum)]
+        overlay: Option<OverlayArg>,
+        /// Show this key of the scene's timeline (0 = time 0) once it is solved; with
+        /// --screenshot, the screenshot waits for it.
+        #[arg(long)]
+        key: Option<usize>,
+    },
+    /// Solve a scene file; write report.json, one VTU per frame and frames.pvd into --out.
+    Solve {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// Output folder (created if missing; files appear only when all are written).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
+    /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
+    Render(RenderArgs),
+    /// Benchmarks; print a Markdown table.
+    Bench {
+        #[command(subcommand)]
+        which: BenchCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Assembly, factorization, solve and peak memory on an n×n×n cube.
+    Solver {
+        /// Cells per edge, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "10,20,30,40")]
+        sizes: Vec<usize>,
+        /// Fill-reducing ordering.
+        #[arg(long, value_enum, default_value = "nested-dissection")]
+        ordering: OrderingArg,
+        /// Assembly repetitions (the best time is kept).
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+    },
+    /// Cantilever tip error against Timoshenko and time: hex8, incompatible modes, nonlinear.
+    Elements {
+        /// Elements through the thickness (mesh 8k × k × k), comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,4")]
+        resolutions: Vec<usize>,
+    },
+    /// Index finger flexed 0° → 90° at the PIP in 10° increments: FEM (local and whole-hand
+    /// regions) and skinning, per mesh resolution.
+    Hand {
+        /// Mesh resolutions, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "0.75,1,1.25,1.5")]
+        resolutions: Vec<f64>,
+        /// Skip the whole-hand FEM region above this resolution.
+        #[arg(long, default_value_t = 1.25)]
+        whole_limit: f64,
+    },
+    /// Contact methods (Lagrange active set, the paper's iteration) on the same scenes:
+    /// iterations, factorizations, time of the contact keyframe.
+    Contact {
+        /// Scene files, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/bowl-grasp.toml"
+        )]
+        scenes: Vec<String>,
+        /// Coulomb friction coefficients to solve each scene with again (Lagrange), comma
+        /// separated.
+        #[arg(long, value_delimiter = ',', default_value = "0.5")]
+        friction: Vec<f64>,
+    },
+    /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
+    /// moving joints and near the contact only) and with everything everywhere; time saved and
+    /// the difference in the result.
+    Region {
+        /// Scene files, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-and-ball.toml,assets/scenes/hand-grasp-ball.toml"
+        )]
+        scenes: Vec<String>,
+    },
+    /// Speed against accuracy: every solver tier (and element option) at three resolutions on
+    /// the cantilever, Lamé's sphere, Hertz contact, the index flexion (30°, 90°) and the ball
+    /// grasp; prints the tables and writes docs/speed-vs-accuracy.md with its plot.
+    Accuracy {
+        /// Smaller resolutions and one increment size: a run of a minute or so.
+        #[arg(long)]
+        quick: bool,
+        /// Problems to run, comma separated (cantilever, lame, hertz, flexion30, flexion90,
+        /// grasp); all when absent.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Largest increments of the incremental and corotational tiers, degrees, comma
+        /// separated (default 20,10; with --quick 10).
+        #[arg(long, value_delimiter = ',')]
+        steps: Vec<f64>,
+        /// The document written.
+        #[arg(long, default_value = "docs/speed-vs-accuracy.md")]
+        doc: PathBuf,
+        /// The plot written.
+        #[arg(long, default_value = "docs/images/speed-vs-accuracy.png")]
+        plot: PathBuf,
+        /// Print the tables only; write neither the document nor the plot.
+        #[arg(long)]
+        no_write: bool,
+    },
+    /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
+    /// a slider change to the new frame on screen (default scene, headless).
+    Viewer {
+        /// Slider changes measured per tier.
+        #[arg(long, default_value_t = 5)]
+        changes: usize,
+    },
+    /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
+    Render {
+        /// Frames averaged per measurement.
+        #[arg(long, default_value_t = 10)]
+        frames: usize,
+        /// Bigger spheres (n × 2n quads) for the update cost, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "100,300")]
+        spheres: Vec<usize>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PresetArg {
+    Rest,
+    Fist,
+    Pinch,
+    PowerGrasp,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OrderingArg {
+    NestedDissection,
+    Amd,
+}
+
+/// The `prehensile` command: parses the arguments, runs the command, and exits non-zero with the
+/// error's chain on failure.
+pub fn main() {
+    // Mesa's Vulkan device-select layer probes Wayland and X11 for the display's GPU and, with no
+    // display (headless), prints "XDG_RUNTIME_DIR is invalid" twice. Prehensile's headless
+    // rendering has no display to match, so the layer is skipped unless the user set
+    // NODEVICE_SELECT. Done first, while the process has a single thread.
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    if let Err(e) = run() {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<()> {
+    faer::set_global_parallelism(faer::Par::rayon(0));
+    let cli = Cli::parse();
+    match cli.command {
+        None => view(None, ViewOptions::default())?,
+        Some(Command::View {
+            scene,
+            screenshot,
+            exit_after_frames,
+            width,
+            height,
+            preset,
+            overlay,
+            key,
+        }) => view(
+            scene,
+            ViewOptions {
+                screenshot,
+                exit_after_frames,
+                size: [width, height],
+                preset: preset.map(|p| match p {
+                    PresetArg::Rest => Preset::Rest,
+                    PresetArg::Fist => Preset::Fist,
+                    PresetArg::Pinch => Preset::Pinch,
+                    PresetArg::PowerGrasp => Preset::PowerGrasp,
+                }),
+                overlay: overlay.map(Into::into),
+                key,
+            },
+        )?,
+        Some(Command::Solve { scene, out }) => {
+            let solved = solve_scene_file(&scene)?;
+            let written = write_solved(&solved, &out)
+                .with_context(|| format!("writing {}", out.display()))?;
+            print_summary(&solved);
+            for w in &solved.report.warnings {
+                eprintln!("warning: {w}");
+            }
+            for path in written {
+                println!("wrote {}", path.display());
+            }
+        }
+        Some(Command::Render(args)) => render::run(args)?,
+        Some(Command::Bench { which }) => match which {
+            BenchCommand::Solver {
+                sizes,
+                ordering,
+                repeats,
+            } => {
+                let ordering = match ordering {
+                    OrderingArg::NestedDissection => FillOrdering::NestedDissection,
+                    OrderingArg::Amd => FillOrdering::Amd,
+                };
+                println!(
+                    "solver benchmark: unit cube, bottom clamped, top pressed; ordering {ordering:?}; {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = solver_rows(&sizes, ordering, repeats);
+                print!("{}", solver_table(&rows));
+            }
+            BenchCommand::Elements { resolutions } => {
+                println!(
+                    "element benchmark: cantilever 8×1×1 m, E = 1 MPa, ν = 0.3, tip load 1 N; {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", element_table(&element_rows(&resolutions)));
+            }
+            BenchCommand::Hand {
+                resolutions,
+                whole_limit,
+            } => {
+                println!(
+                    "hand benchmark: index PIP 0° → 90° in 10° increments (linear tier: keyframes every 15°); {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
+            }
+            BenchCommand::Contact { scenes, friction } => {
+                println!(
+                    "contact benchmark: last keyframe of each scene, {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = crate::bench::contact::contact_rows(&scenes, &friction)?;
+                print!("{}", crate::bench::contact::contact_table(&rows));
+            }
+            BenchCommand::Region { scenes } => {
+                println!("region benchmark: {} threads", rayon::current_num_threads());
+                for scene in &scenes {
+                    println!("\n### {scene}\n");
+                    let runs = crate::bench::region::region_runs(scene)?;
+                    print!("{}", crate::bench::region::region_table(&runs));
+                }
+            }
+            BenchCommand::Accuracy {
+                quick,
+                only,
+                steps,
+                doc,
+                plot,
+                no_write,
+            } => accuracy(quick, &only, steps, &doc, &plot, no_write)?,
+            BenchCommand::Viewer { changes } => {
+                println!(
+                    "viewer benchmark: default scene, {} threads",
+                    rayon::current_num_threads()
+                );
+                print!("{}", crate::bench::viewer::run(changes.max(1))?);
+            }
+            BenchCommand::Render { frames, spheres } => {
+                let frames = frames.max(1);
+                let t = std::time::Instant::now();
+                let mut renderer = Renderer::new_headless()?;
+                let renderer_ms = ms(t);
+                eprintln!("adapter: {}", renderer.adapter_summary());
+                let times = frame_times(renderer_ms, &mut renderer, frames)?;
+                let rows = update_rows(&mut renderer, &spheres, frames)?;
+                print!("{}", render_table(&times, &rows));
+            }
+        },
+    }
+    Ok(())
+}
+
+/// `prehensile bench accuracy`: runs the bench, prints the tables, writes the document and plot.
+fn accuracy(
+    quick: bool,
+    only: &[String],
+    steps: Vec<f64>,
+    doc: &std::path::Path,
+    plot: &std::path::Path,
+    no_write: bool,
+) -> Result<()> {
+    use crate::bench::accuracy as ba;
+    let mut settings = ba::Settings::new(quick);
+    if !only.is_empty() {
+        settings.problems = only
+            .iter()
+            .map(|k| ba::ProblemId::from_key(k.trim()))
+            .collect::<Result<_, _>>()
+            .map_err(anyhow::Error::msg)
+            .context("--only")?;
+    }
+    if !steps.is_empty() {
+        settings.steps = steps;
+    }
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let machine = ba::Machine::now();
+    println!("accuracy benchmark: {}", machine.summary());
+    let results = ba::accuracy_results(&settings, &mut |line| eprintln!("{line}"))
+        .map_err(anyhow::Error::msg)?;
+    for p in &settings.problems {
+        println!("\n## {}\n", p.title());
+        print!("{}", ba::problem_table(&results, *p));
+        print!("\n{}", ba::summary(&results, *p));
+    }
+    if no_write {
+        return Ok(());
+    }
+    let command = std::env::args()
+        .skip(1)
+        .fold(String::from("prehensile"), |s, a| s + " " + &a);
+    let title = format!(
+        "Speed against accuracy{}: {}",
+        if quick { " (quick)" } else { "" },
+        machine.summary()
+    );
+    ba::write_plot(plot, &results, &title).map_err(anyhow::Error::msg)?;
+    ba::write_doc(doc, &results, &machine, &ba::plot_link(doc, plot), &command)
+        .map_err(anyhow::Error::msg)?;
+    println!("\nwrote {} and {}", doc.display(), plot.display());
+    Ok(())
+}
+
+/// Opens the viewer; without a display, one line naming the headless commands and exit code 2.
+fn view(scene: Option<PathBuf>, options: ViewOptions) -> Result<()> {
+    let (scene, name) = match scene {
+        Some(path) => (Scene::load(&path)?, path.display().to_string()),
+        None => (
+            Scene::parse(DEFAULT_SCENE, "<built-in default scene>")?,
+            "built-in default scene".to_string(),
+        ),
+    };
+    match run_viewer(scene, &name, options) {
+        Ok(()) => Ok(()),
+        Err(e @ ViewerError::NoDisplay { .. }) => {
+            eprintln!("prehensile: {e}");
+            std::process::exit(2);
+        }
+        Err(e) => Err(e.into()),
+    }
+}
+
+fn print_summary(solved: &Solved) {
+    let r = &solved.report;
+    println!(
+        "{}: {} nodes, {} elements, {} dofs",
+        r.scene, r.model.nodes, r.model.elements, r.model.dofs
+    );
+    for f in &r.frames {
+        let s = &f.solver;
+        println!(
+            "frame {}: {} free / {} prescribed dofs; assembly {:.1} ms, symbolic {:.1} ms, \
+             factorization {:.1} ms, solve {:.1} ms; residual {:.2e}",
+            f.frame,
+            s.free_dofs,
+            s.prescribed_dofs,
+            s.timings_ms.assembly,
+            s.timings_ms.symbolic,
+            s.timings_ms.factorization,
+            s.timings_ms.solve,
+            s.residual
+        );
+        println!(
+            "  max displacement {:.4e} m, max von Mises {:.4e} Pa, out of balance [{:.2e}, {:.2e}, {:.2e}] N",
+            f.max_displacement,
+            f.max_von_mises,
+            f.equilibrium.imbalance[0],
+            f.equilibrium.imbalance[1],
+            f.equilibrium.imbalance[2]
+        );
+        for (name, c) in &f.constraints {
+            println!(
+                "  constraint {name}: reaction [{:.4e}, {:.4e}, {:.4e}] N over {} dofs",
+                c.reaction[0], c.reaction[1], c.reaction[2], c.dofs
+            );
+        }
+        for (name, h) in &f.hands {
+            let m = &h.motion;
+            let (bone, largest) = h
+                .bones
+                .iter()
+                .map(|(n, b)| (n.as_str(), b.magnitude))
+                .fold(("-", 0.0), |a, b| if b.1 > a.1 { b } else { a });
+            println!(
+                "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs; \
+                 {} cells skinned far from contact{}), {:.0} ms; flesh volume change {:+.3} %; \
+                 largest bone reaction {largest:.3} N ({bone})",
+                m.increments,
+                m.factorizations,
+                m.fem_cells,
+                m.free_dofs,
+                m.far_cells,
+                if m.far_digits.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {}", m.far_digits.join(", "))
+                },
+                m.total_ms,
+                h.volume_change * 100.0
+            );
+        }
+        for (name, p) in &f.probes {
+            println!(
+                "  probe {name}: displacement [{:.4e}, {:.4e}, {:.4e}] m",
+                p.displacement[0], p.displacement[1], p.displacement[2]
+            );
+        }
+    }
+}

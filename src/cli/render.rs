@@ -1,0 +1,148 @@
+//! `prehensile render`: solve a scene and write PNG images of its frames, without a window.
+
+use crate::export::png::write_png_atomic;
+use crate::headless::solve_scene_file;
+use crate::headless::{draw_lists, scene_camera};
+use crate::present::{Overlay, VisualOptions};
+use crate::render::Renderer;
+use anyhow::{bail, Context, Result};
+use clap::ValueEnum;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+
+/// The `--overlay` values.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum OverlayArg {
+    /// Contact pressure (needs contact).
+    Pressure,
+    /// Von Mises stress.
+    Stress,
+    /// Displacement magnitude.
+    Displacement,
+    /// Reaction force arrows.
+    Forces,
+    /// Plain bodies.
+    None,
+}
+
+impl From<OverlayArg> for Overlay {
+    fn from(o: OverlayArg) -> Self {
+        match o {
+            OverlayArg::Pressure => Overlay::Pressure,
+            OverlayArg::Stress => Overlay::Stress,
+            OverlayArg::Displacement => Overlay::Displacement,
+            OverlayArg::Forces => Overlay::Forces,
+            OverlayArg::None => Overlay::None,
+        }
+    }
+}
+
+/// What to render (the `render` subcommand's arguments).
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// The scene (TOML).
+    pub scene: PathBuf,
+    /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The frame to render (default 0).
+    #[arg(long, conflicts_with = "all")]
+    pub frame: Option<usize>,
+    /// Render every frame into the --out folder.
+    #[arg(long)]
+    pub all: bool,
+    /// Image width, pixels.
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Image height, pixels.
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Camera: a preset (three-quarter, front, side, top, below) or a `[[camera]]` of the scene.
+    #[arg(long, default_value = "three-quarter")]
+    pub camera: String,
+    /// What colours the bodies or is drawn over them.
+    #[arg(long, value_enum, default_value = "stress")]
+    pub overlay: OverlayArg,
+    /// Displacements are multiplied by this for display.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Also draw the edges of the simulation mesh.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// Opacity of hand skin, 0–1 (below 1 the bones show through).
+    #[arg(long, default_value_t = 1.0)]
+    pub skin_opacity: f32,
+}
+
+pub fn run(args: RenderArgs) -> Result<()> {
+    let solved = solve_scene_file(&args.scene)?;
+    let options = VisualOptions {
+        overlay: args.overlay.into(),
+        displacement_scale: args.scale,
+        wireframe: args.wireframe,
+        skin_opacity: args.skin_opacity,
+        bones: true,
+    };
+    let lists = draw_lists(&solved, &options).with_context(|| args.scene.display().to_string())?;
+    let camera = scene_camera(
+        &solved,
+        &lists,
+        &args.camera,
+        args.width as f32 / args.height.max(1) as f32,
+    )?;
+    let frames: Vec<usize> = if args.all {
+        (0..lists.len()).collect()
+    } else {
+        let k = args.frame.unwrap_or(0);
+        if k >= lists.len() {
+            bail!(
+                "frame {k} does not exist: the scene has {} frame(s), numbered from 0",
+                lists.len()
+            );
+        }
+        vec![k]
+    };
+    let mut renderer = Renderer::new_headless()?;
+    eprintln!("adapter: {}", renderer.adapter_summary());
+    let path_of = |k: usize| -> PathBuf {
+        if args.all {
+            args.out.join(format!("frame_{k:04}.png"))
+        } else {
+            args.out.clone()
+        }
+    };
+    let bar = if args.all {
+        let bar = ProgressBar::new(frames.len() as u64);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} frames {elapsed}")
+                .expect("valid template"),
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    for &k in &frames {
+        let image = renderer
+            .render_to_rgba(&lists[k], &camera, args.width, args.height)
+            .with_context(|| format!("rendering frame {k}"))?;
+        let path = path_of(k);
+        write_png(&path, &image)?;
+        bar.inc(1);
+        if !args.all {
+            println!("wrote {}", path.display());
+        }
+    }
+    bar.finish_and_clear();
+    if args.all {
+        println!(
+            "wrote {} frame(s) into {}",
+            frames.len(),
+            args.out.display()
+        );
+    }
+    Ok(())
+}
+
+fn write_png(path: &Path, image: &image::RgbaImage) -> Result<()> {
+    write_png_atomic(path, image).with_context(|| format!("writing {}", path.display()))
+}

@@ -1,0 +1,113 @@
+//! From a scene file to solved frames and written output: what `prehensile solve` does.
+
+use crate::export::hand_geometry::{bones_vtu, frame_obj};
+use crate::export::output::OutputSet;
+use crate::export::report::{frame_report, model_summary, Report};
+use crate::export::vtu::{collection_pvd, frame_vtu};
+use crate::model::Model;
+use crate::scene::{Scene, SceneError};
+use crate::solve::{solve_frames, SimError};
+use crate::state::{small_strain_warnings, Frame};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Why a scene could not be solved or written.
+#[derive(Debug, Error)]
+pub enum PipelineError {
+    /// The scene is unusable.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The solve failed.
+    #[error("{file}: {error}")]
+    Sim {
+        /// The scene file.
+        file: String,
+        /// Why.
+        error: SimError,
+    },
+    /// Output could not be written.
+    #[error("{dir}: cannot write the output: {source}")]
+    Output {
+        /// The output folder.
+        dir: String,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+/// A solved scene.
+pub struct Solved {
+    /// The model.
+    pub model: Model,
+    /// Its frames.
+    pub frames: Vec<Frame>,
+    /// The report.
+    pub report: Report,
+}
+
+/// Builds and solves a parsed scene; `file` names it in errors and in the report. Without hands
+/// there is one static frame; with hands, one frame per distinct keyframe time.
+pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
+    let model = Model::build(scene, file)?;
+    let (times, frames) = solve_frames(&model).map_err(|source| PipelineError::Sim {
+        file: file.to_string(),
+        error: source,
+    })?;
+    let report = Report {
+        scene: file.to_string(),
+        model: model_summary(&model),
+        warnings: model
+            .warnings
+            .iter()
+            .cloned()
+            .chain(small_strain_warnings(&model, &frames))
+            .collect(),
+        frames: frames
+            .iter()
+            .zip(&times)
+            .enumerate()
+            .map(|(i, (f, &t))| frame_report(&model, f, i, t))
+            .collect(),
+    };
+    Ok(Solved {
+        model,
+        frames,
+        report,
+    })
+}
+
+/// Reads, builds and solves a scene file.
+pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
+    let scene = Scene::load(path)?;
+    solve_scene(&scene, &path.display().to_string())
+}
+
+/// Writes `report.json`, one `frame_NNNN.vtu` per frame and `frames.pvd` into `dir` (with hands,
+/// also `hand_NNNN.obj`: skin and bones, and `bones_NNNN.vtu`), all or nothing.
+pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+    let io = |source| PipelineError::Output {
+        dir: dir.display().to_string(),
+        source,
+    };
+    let mut out = OutputSet::new(dir).map_err(io)?;
+    let json = serde_json::to_string_pretty(&solved.report).expect("report serialises");
+    out.write("report.json", json.as_bytes()).map_err(io)?;
+    let mut listing = Vec::new();
+    for (i, frame) in solved.frames.iter().enumerate() {
+        let name = format!("frame_{i:04}.vtu");
+        out.write(&name, frame_vtu(&solved.model, frame).as_bytes())
+            .map_err(io)?;
+        listing.push((solved.report.frames[i].time, name));
+        if let Some(obj) = frame_obj(&solved.model, frame) {
+            out.write(&format!("hand_{i:04}.obj"), obj.as_bytes())
+                .map_err(io)?;
+        }
+        if let Some(vtu) = bones_vtu(&solved.model, frame) {
+            out.write(&format!("bones_{i:04}.vtu"), vtu.as_bytes())
+                .map_err(io)?;
+        }
+    }
+    out.write("frames.pvd", collection_pvd(&listing).as_bytes())
+        .map_err(io)?;
+    out.commit().map_err(io)
+}

@@ -1,0 +1,175 @@
+//! Resolution of a scene selection to the nodes and boundary facets of one body.
+
+use super::BodyModel;
+use crate::mesh::{Facet, Mesh};
+use crate::scene::{Selection, Shape};
+use nalgebra::Vector3;
+
+/// The nodes (sorted, global indices) and boundary facets a selection picks on a body.
+pub struct Selected {
+    /// Selected nodes.
+    pub nodes: Vec<usize>,
+    /// Selected boundary facets (empty for a point).
+    pub facets: Vec<Facet>,
+}
+
+/// Resolves `selection` on `body`; the error says why it cannot be used (never empty on success).
+pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Selected, String> {
+    let nodes_in = |pred: &dyn Fn(&Vector3<f64>) -> bool| -> Vec<usize> {
+        body.nodes
+            .clone()
+            .filter(|&n| pred(&mesh.nodes[n]))
+            .collect()
+    };
+    let facets_on = |pred: &dyn Fn(&Vector3<f64>) -> bool| -> Vec<Facet> {
+        body.facets
+            .iter()
+            .filter(|f| f.nodes.iter().all(|&n| pred(&mesh.nodes[n])))
+            .copied()
+            .collect()
+    };
+    let facet_nodes = |facets: &[Facet]| -> Vec<usize> {
+        let mut nodes: Vec<usize> = facets.iter().flat_map(|f| f.nodes).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    };
+    let selected = match selection {
+        Selection::Face(face) => {
+            let Shape::Box { min, max, .. } = body.shape else {
+                return Err(format!(
+                    "face = \"{face}\" applies to box bodies only; body \"{}\" is not a box \
+                     (use surface, box or point)",
+                    body.name
+                ));
+            };
+            let (axis, value) = match face.as_str() {
+                "x-" => (0, min[0]),
+                "x+" => (0, max[0]),
+                "y-" => (1, min[1]),
+                "y+" => (1, max[1]),
+                "z-" => (2, min[2]),
+                "z+" => (2, max[2]),
+                other => {
+                    return Err(format!(
+                        "face = \"{other}\" is not a box face (x- x+ y- y+ z- z+)"
+                    ))
+                }
+            };
+            let tol = 1e-9 * body.size;
+            let on = move |p: &Vector3<f64>| (p[axis] - value).abs() <= tol;
+            Selected {
+                nodes: nodes_in(&on),
+                facets: facets_on(&on),
+            }
+        }
+        Selection::Surface(which) => {
+            let facets: Vec<Facet> = match (which.as_str(), &body.shape) {
+                (
+                    "outer",
+                    Shape::Shell {
+                        center,
+                        inner_radius,
+                        outer_radius,
+                        ..
+                    },
+                ) => {
+                    let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
+                    body.facets
+                        .iter()
+                        .filter(|f| facet_centroid(mesh, f).metric_distance(&c) > mid)
+                        .copied()
+                        .collect()
+                }
+                (
+                    "inner",
+                    Shape::Shell {
+                        center,
+                        inner_radius,
+                        outer_radius,
+                        ..
+                    },
+                ) => {
+                    let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
+                    body.facets
+                        .iter()
+                        .filter(|f| facet_centroid(mesh, f).metric_distance(&c) < mid)
+                        .copied()
+                        .collect()
+                }
+                ("outer", _) => body.facets.clone(),
+                ("inner", _) => {
+                    return Err(format!(
+                        "surface = \"inner\" needs a shell body; body \"{}\" has no cavity",
+                        body.name
+                    ))
+                }
+                (other, _) => {
+                    return Err(format!(
+                        "surface = \"{other}\" is not a surface (outer, inner)"
+                    ))
+                }
+            };
+            Selected {
+                nodes: facet_nodes(&facets),
+                facets,
+            }
+        }
+        Selection::Point(p) => {
+            let p = Vector3::from(*p);
+            let nearest = body
+                .nodes
+                .clone()
+                .min_by(|&a, &b| {
+                    (mesh.nodes[a] - p)
+                        .norm_squared()
+                        .total_cmp(&(mesh.nodes[b] - p).norm_squared())
+                })
+                .ok_or("the body has no node")?;
+            Selected {
+                nodes: vec![nearest],
+                facets: Vec::new(),
+            }
+        }
+        Selection::Bone(name) => {
+            let Some(hand) = &body.hand else {
+                return Err(format!(
+                    "bone = \"{name}\" applies to hand bodies only; body \"{}\" is not a hand",
+                    body.name
+                ));
+            };
+            let Some(b) = hand.skeleton.bone_index(name) else {
+                return Err(format!(
+                    "there is no bone \"{name}\"; the bones are: {}",
+                    hand.skeleton.bone_names()
+                ));
+            };
+            Selected {
+                nodes: hand
+                    .bone_nodes(b)
+                    .into_iter()
+                    .map(|n| n + body.nodes.start)
+                    .collect(),
+                facets: Vec::new(),
+            }
+        }
+        Selection::Box { min, max } => {
+            let tol = 1e-9 * body.size;
+            let (lo, hi) = (Vector3::from(*min), Vector3::from(*max));
+            let inside =
+                move |p: &Vector3<f64>| (0..3).all(|i| p[i] >= lo[i] - tol && p[i] <= hi[i] + tol);
+            Selected {
+                nodes: nodes_in(&inside),
+                facets: facets_on(&inside),
+            }
+        }
+    };
+    if selected.nodes.is_empty() {
+        return Err(format!("selects no node of body \"{}\"", body.name));
+    }
+    Ok(selected)
+}
+
+fn facet_centroid(mesh: &Mesh, f: &Facet) -> Vector3<f64> {
+    f.nodes.iter().map(|&n| mesh.nodes[n]).sum::<Vector3<f64>>() / 4.0
+}

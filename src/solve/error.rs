@@ -1,0 +1,111 @@
+//! Why a frame could not be solved: the one error type of the solve stage.
+
+use crate::contact::ContactError;
+use crate::fem::solve::SolveError;
+use thiserror::Error;
+
+/// Why a frame could not be solved.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// An element is inverted or flat.
+    #[error("body \"{body}\": element {element} is inverted or has zero volume (smallest det J / size³ = {relative_det:.3e})")]
+    InvertedElement {
+        /// The body.
+        body: String,
+        /// The element, numbered within its body.
+        element: usize,
+        /// Its smallest relative Jacobian.
+        relative_det: f64,
+    },
+    /// A flexion increment would turn a flesh element inside out even after halving the step.
+    #[error(
+        "body \"{body}\": flesh element {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) would turn \
+         inside out as {joint} reaches {angle:.1}°, even with the increment halved four times: \
+         the flesh is crushed in a crease of the joint; use a coarser mesh resolution or a \
+         smaller joint angle",
+        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2]
+    )]
+    FleshCrushed {
+        /// The hand body.
+        body: String,
+        /// The element, numbered within the hand.
+        element: usize,
+        /// Its centre in the rest pose, mm.
+        rest_position_mm: [f64; 3],
+        /// The joint moving most.
+        joint: String,
+        /// Its angle at the failing increment, degrees.
+        angle: f64,
+    },
+    /// A nonlinear flexion increment found no equilibrium, even at the smallest step allowed.
+    #[error(
+        "body \"{body}\": the nonlinear flexion found no equilibrium as {joint} reaches \
+         {angle:.2}°, with the increment halved {halvings} times (to {step_deg:.3}°): {reason}"
+    )]
+    FlexionNoEquilibrium {
+        /// The hand body.
+        body: String,
+        /// The moved joint nearest to the trouble (or the one moving most).
+        joint: String,
+        /// That joint's angle at the failing increment, degrees.
+        angle: f64,
+        /// The size of the failing increment, degrees of the joint moving most.
+        step_deg: f64,
+        /// Halvings done.
+        halvings: usize,
+        /// Why Newton failed.
+        reason: String,
+    },
+    /// The linear tier's one solve from rest turns a flesh element inside out (no increment to
+    /// halve: the rotation is too large for small-strain elasticity on the rest geometry).
+    #[error(
+        "body \"{body}\": the linear tier (small strain on the rest geometry) turns flesh element \
+         {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) inside out as {joint} reaches \
+         {angle:.1}°: a rotation this large is outside linear elasticity; use tier \
+         \"corotational\" or \"incremental\"",
+        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2]
+    )]
+    LinearTierInverted {
+        /// The hand body.
+        body: String,
+        /// The element, numbered within the hand.
+        element: usize,
+        /// Its centre in the rest pose, mm.
+        rest_position_mm: [f64; 3],
+        /// The moved joint nearest to it.
+        joint: String,
+        /// That joint's angle, degrees.
+        angle: f64,
+    },
+    /// Contact could not be resolved.
+    #[error(transparent)]
+    Contact(ContactError),
+    /// A newer request made this solve stale: it stopped between two increments.
+    #[error("cancelled: a newer request replaced this solve")]
+    Cancelled,
+    /// A combination of settings the solver does not support yet.
+    #[error("{0}")]
+    Unsupported(String),
+    /// The nonlinear tier failed (`[solver] tier = "nonlinear"`).
+    #[error("body \"{body}\"{}: {source}", element_note(.element))]
+    Nonlinear {
+        /// The body (all bodies' names when no element is to blame).
+        body: String,
+        /// The inverted element, numbered within its body, if one is to blame.
+        element: Option<usize>,
+        /// Why.
+        source: Box<crate::fem::NonlinearError>,
+    },
+    /// The linear solve failed.
+    #[error("body \"{body}\": {source}")]
+    Solve {
+        /// The body the failing dof belongs to.
+        body: String,
+        /// Why.
+        source: SolveError,
+    },
+}
+
+fn element_note(element: &Option<usize>) -> String {
+    element.map_or(String::new(), |e| format!(" (its element {e})"))
+}

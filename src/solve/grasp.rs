@@ -1,0 +1,507 @@
+//! A frame in which hands touch other bodies: the paper's ball grasping. The hands have been
+//! posed by flexion (their skin displacements known); the other bodies and the flesh near the
+//! contact are then solved together, linearised about that state:
+//!
+//! - the other bodies on their rest geometry, with their loads and supports, as in the static
+//!   solve;
+//! - the hand flesh within `contact_region` of the contact, with its stiffness assembled on the
+//!   posed geometry (one more updated-Lagrangian increment), bone nodes prescribed (U_k: the
+//!   bones do not move further) and the rest of the flesh held where flexion left it;
+//!
+//! with node-to-facet contact both ways between skin and object (object nodes against skin
+//! triangles, skin nodes against object triangles) and against the rigid obstacles, resolved by
+//! the scene's contact method. The bone reactions of equation (8) then include the grasp.
+
+use super::driver::compose;
+use super::error::SimError;
+use super::stabilize::{check_held, stabilize};
+use super::statics::solve_static;
+use crate::contact::{
+    connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
+    ContactProblem, ContactSurface, Master, SurfacePair,
+};
+use crate::fem::assembly::assemble;
+use crate::fem::solve::PartitionedSolver;
+use crate::fem::stress::stress_field_with;
+use crate::fem::DofPartition;
+use crate::mesh::Mesh;
+use crate::model::Model;
+use crate::state::outcome::{node_bone, overloads};
+use crate::state::HandState;
+use crate::state::{Frame, HandFrame};
+use crate::util::timing::ms;
+use nalgebra::Vector3;
+use std::time::Instant;
+
+/// Skin closer than this to an object (m) seeds the flesh region solved with the contact.
+const SEED_GAP: f64 = 0.002;
+
+/// The frame with the hands at `hands`: solved with contact when a hand touches (or nearly
+/// touches) another body, otherwise the static frame `still` (solved now if `None`) with the
+/// hands composed into it.
+pub fn frame_with_hands(
+    model: &Model,
+    still: Option<&Frame>,
+    hands: Vec<HandFrame>,
+) -> Result<Frame, SimError> {
+    if let Some(frame) = solve_grasp(model, &hands)? {
+        return Ok(frame);
+    }
+    match still {
+        Some(s) => compose(model, s, hands),
+        None => {
+            let s = solve_static(model, &mut PartitionedSolver::new(model.ordering))?;
+            compose(model, &s, hands)
+        }
+    }
+}
+
+/// The contact solve of a frame, or `None` when no hand is near another body.
+pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, SimError> {
+    let settings = &model.contact;
+    let margin = settings.search_depth;
+    let objects: Vec<usize> = (0..model.bodies.len())
+        .filter(|&b| model.bodies[b].hand.is_none())
+        .collect();
+    if objects.is_empty() || hands.is_empty() {
+        return Ok(None);
+    }
+    let t_all = Instant::now();
+    let mut times = crate::contact::ContactTimes::default();
+    // Reference positions: the objects at rest, the hands as posed.
+    let mut x = model.mesh.nodes.clone();
+    for h in hands {
+        let body = &model.bodies[h.body];
+        x[body.nodes.clone()].copy_from_slice(&h.positions);
+    }
+    let mut surfaces: Vec<ContactSurface> = Vec::new();
+    for h in hands {
+        let body = &model.bodies[h.body];
+        let hand = body.hand.as_deref().expect("a hand body");
+        let quads: Vec<[usize; 4]> = hand
+            .flesh
+            .skin_quads
+            .iter()
+            .zip(&hand.flesh.skin_outer)
+            .filter(|(_, &outer)| outer)
+            .map(|(q, _)| q.map(|n| n + body.nodes.start))
+            .collect();
+        surfaces.push(ContactSurface::from_quads(h.body, &quads, &x));
+    }
+    for &b in &objects {
+        let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
+        surfaces.push(ContactSurface::from_quads(b, &quads, &x));
+    }
+    // Which skin nodes are near which object, and the object nodes near the skin.
+    let mut pairs: Vec<SurfacePair> = Vec::new();
+    let mut near_skin: Vec<usize> = Vec::new();
+    let mut seeds: Vec<usize> = Vec::new();
+    for (i, _) in hands.iter().enumerate() {
+        let skin_nodes = surfaces[i].nodes();
+        let skin_bvh = surfaces[i].hierarchy(&x, margin);
+        for (j, &b) in objects.iter().enumerate() {
+            let s = hands.len() + j;
+            let object_nodes = surfaces[s].nodes();
+            let object_bvh = surfaces[s].hierarchy(&x, margin);
+            let gaps: Vec<(usize, f64)> = skin_nodes
+                .iter()
+                .filter_map(|&n| {
+                    object_bvh
+                        .project(&x[n], &x, None, |_| false)
+                        .map(|p| (n, p.gap))
+                })
+                .collect();
+            let skin_near: Vec<usize> = gaps.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
+            // The flesh solved with the contact grows from the skin that touches (or nearly).
+            seeds.extend(gaps.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
+            let object_near: Vec<usize> = object_nodes
+                .iter()
+                .copied()
+                .filter(|&n| {
+                    skin_bvh
+                        .project(&x[n], &x, None, |_| false)
+                        .is_some_and(|p| p.gap < margin)
+                })
+                .collect();
+            if skin_near.is_empty() && object_near.is_empty() {
+                continue;
+            }
+            debug_assert_eq!(surfaces[s].body, b);
+            near_skin.extend(&skin_near);
+            // The paper's direction first: object nodes repelled from the skin.
+            pairs.push(SurfacePair {
+                slaves: object_nodes,
+                surface: i,
+                primary: true,
+                slave_surface: Some(s),
+            });
+            pairs.push(SurfacePair {
+                slaves: skin_near,
+                surface: s,
+                primary: false,
+                slave_surface: Some(i),
+            });
+        }
+    }
+    if pairs.is_empty() {
+        return Ok(None);
+    }
+    near_skin.sort_unstable();
+    near_skin.dedup();
+
+    // The flesh solved with the contact: cells within `contact_region` of a near skin node,
+    // of digits solved by FEM; free nodes are those of such cells only, not on a bone.
+    let radius = model.contact_region;
+    let mut free_node = vec![false; model.mesh.node_count()];
+    let mut region_cells = 0;
+    for h in hands {
+        let body = &model.bodies[h.body];
+        let hand = body.hand.as_deref().expect("a hand body");
+        let flesh = &hand.flesh;
+        let near: Vec<Vector3<f64>> = seeds
+            .iter()
+            .filter(|&&n| body.nodes.contains(&n))
+            .map(|&n| x[n])
+            .collect();
+        if near.is_empty() {
+            continue;
+        }
+        let mut in_region = vec![0usize; flesh.mesh.nodes.len()];
+        let mut incident = vec![0usize; flesh.mesh.nodes.len()];
+        for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+            for &n in cell {
+                incident[n] += 1;
+            }
+            let method = model.flexion.methods[flesh.cell_digit[c].map_or(0, |d| d + 1)];
+            if method != crate::model::FleshMethod::Fem {
+                continue;
+            }
+            let centre: Vector3<f64> =
+                cell.iter().map(|&n| h.positions[n]).sum::<Vector3<f64>>() / 8.0;
+            if near.iter().any(|p| (p - centre).norm() < radius) {
+                region_cells += 1;
+                for &n in cell {
+                    in_region[n] += 1;
+                }
+            }
+        }
+        for n in 0..flesh.mesh.nodes.len() {
+            if in_region[n] > 0 && in_region[n] == incident[n] && flesh.node_bone[n].is_none() {
+                free_node[body.nodes.start + n] = true;
+            }
+        }
+    }
+    let mut mask = model.partition.prescribed.clone();
+    for (n, &f) in free_node.iter().enumerate() {
+        if f {
+            for a in 0..3 {
+                mask[3 * n + a] = false;
+            }
+        }
+    }
+    let partition = DofPartition::new(mask);
+
+    times.detection = ms(t_all);
+    // K: the objects at rest, the hands on their posed geometry.
+    let t = Instant::now();
+    let mesh = Mesh {
+        nodes: x.clone(),
+        cells: model.mesh.cells.clone(),
+    };
+    let mut k = assemble(&model.pattern, &mesh, &model.cell_materials).map_err(|e| {
+        let b = model.cell_body[e.cell];
+        let body = &model.bodies[b];
+        let element = e.cell - body.cells.start;
+        let skinned = body.hand.as_deref().is_some_and(|hand| {
+            let part = hand.flesh.cell_digit[element].map_or(0, |d| d + 1);
+            model.flexion.methods[part] == crate::model::FleshMethod::Skinning
+        });
+        if skinned {
+            SimError::Unsupported(format!(
+                "body \"{}\": skinning folded flesh element {element} over (smallest det J / \
+                 size³ = {:.3e}) and the hand is near another body: the contact step needs the \
+                 flesh solved, not skinned — use an FEM tier (\"corotational\", \
+                 \"incremental\" or \"nonlinear\") for a scene with contact",
+                body.name, e.inverted.relative_det
+            ))
+        } else {
+            SimError::InvertedElement {
+                body: body.name.clone(),
+                element,
+                relative_det: e.inverted.relative_det,
+            }
+        }
+    })?;
+    let springs = stabilize(model, &mut k, &partition);
+    let assembly_ms = ms(t);
+
+    let node_material = |n: usize| -> usize {
+        model
+            .node_cell(n)
+            .map_or(usize::MAX, |c| model.cell_material[c])
+    };
+    let friction = |node: usize, master: &Master| -> f64 {
+        let a = model.material_name(node_material(node));
+        let b = match master {
+            Master::Obstacle(o) => model.obstacles[*o].0.as_str(),
+            Master::Facet { nodes, .. } => model.material_name(node_material(nodes[0])),
+        };
+        model.friction_between(a, b)
+    };
+    // The paper's threshold check: any bone's total reaction beyond its threshold.
+    let stop = |reaction: &[f64]| -> bool {
+        hands.iter().any(|h| {
+            let body = &model.bodies[h.body];
+            let hand = body.hand.as_deref().expect("a hand body");
+            let mut bones = vec![Vector3::zeros(); hand.skeleton.bones.len()];
+            for (i, r) in h.reaction.iter().enumerate() {
+                let n = body.nodes.start + i;
+                let extra = Vector3::new(reaction[3 * n], reaction[3 * n + 1], reaction[3 * n + 2]);
+                bones[node_bone(hand, i)] += r + extra;
+            }
+            bones
+                .iter()
+                .zip(&body.thresholds)
+                .any(|(r, &limit)| r.norm() > limit)
+        })
+    };
+    let problem = ContactProblem {
+        k: &k,
+        partition: &partition,
+        prescribed: &model.prescribed,
+        loads: &model.load_vector,
+        positions: &x,
+        obstacles: &model
+            .obstacles
+            .iter()
+            .map(|o| o.1.clone())
+            .collect::<Vec<_>>(),
+        obstacle_candidates: &model.contact_candidates,
+        surfaces: &surfaces,
+        pairs: &pairs,
+        friction: &friction,
+        stop: Some(&stop),
+    };
+    let mut solver = PartitionedSolver::new(model.ordering);
+    let skin: Vec<std::ops::Range<usize>> = hands
+        .iter()
+        .map(|h| model.bodies[h.body].nodes.clone())
+        .collect();
+    let result = match settings.method {
+        ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, settings),
+        ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
+    }
+    .map_err(|e| posed_too_deep(model, &surfaces, hands.len(), &x, contact_error(model, e)))?;
+    check_held(model, &springs, &result).map_err(SimError::Contact)?;
+    too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
+
+    // The frame: objects' displacements from rest, hands' from rest through their pose.
+    let u = &result.solution.displacement;
+    let mut frame_u = u.clone();
+    let mut frame_r = result.solution.reaction.clone();
+    let mut hand_frames = Vec::new();
+    for h in hands {
+        let body = &model.bodies[h.body];
+        let hand = body.hand.as_deref().expect("a hand body");
+        let mut hf = h.clone();
+        let mut contact_force = vec![Vector3::zeros(); hand.skeleton.bones.len()];
+        for (i, p) in hf.positions.iter_mut().enumerate() {
+            let n = body.nodes.start + i;
+            let du = Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+            *p += du;
+            let dr = result.solution.reaction_at(n);
+            hf.reaction[i] += dr;
+            let total = *p - model.mesh.nodes[n];
+            frame_u[3 * n..3 * n + 3].copy_from_slice(total.as_slice());
+            frame_r[3 * n..3 * n + 3].copy_from_slice(hf.reaction[i].as_slice());
+        }
+        for c in &result.contacts {
+            for (n, f) in c.nodal_forces() {
+                if body.nodes.contains(&n) {
+                    contact_force[node_bone(hand, n - body.nodes.start)] += f;
+                }
+            }
+        }
+        let state = HandState {
+            angles: hf.angles.clone(),
+            transforms: hand.skeleton.transforms(&hf.angles),
+            positions: hf.positions.clone(),
+            reaction: hf.reaction.clone(),
+        };
+        hf.bone_reactions = state.bone_reactions(hand);
+        hf.volume = state.flesh_volume(hand);
+        hf.overloads = overloads(
+            hand,
+            &state.transforms,
+            &hf.bone_reactions,
+            &body.thresholds,
+        );
+        hf.contact_force = contact_force;
+        hand_frames.push(hf);
+    }
+    let t = Instant::now();
+    let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
+    let stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &hand_cell)
+        .map_err(|(c, e)| {
+            let b = model.cell_body[c];
+            SimError::InvertedElement {
+                body: model.bodies[b].name.clone(),
+                element: c - model.bodies[b].cells.start,
+                relative_det: e.relative_det,
+            }
+        })?;
+    let stress_ms = ms(t);
+    let mut solution = result.solution.clone();
+    solution.displacement = frame_u;
+    solution.reaction = frame_r;
+    let mut result = result;
+    result.contact_ms = ms(t_all);
+    result.region_cells = region_cells;
+    result.times.detection = times.detection;
+    result.times.assembly = assembly_ms;
+    result.times.stress = stress_ms;
+    Ok(Some(Frame {
+        solution,
+        stress,
+        assembly_ms,
+        stress_ms,
+        hands: hand_frames,
+        contact: Some(result),
+    }))
+}
+
+fn contact_error(model: &Model, e: ContactError) -> SimError {
+    match e {
+        ContactError::Solve(source) => {
+            let body = match &source {
+                crate::fem::SolveError::NotPositiveDefinite { node, .. } => {
+                    model.bodies[model.body_of_node(*node)].name.clone()
+                }
+                _ => model
+                    .bodies
+                    .iter()
+                    .map(|b| b.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            };
+            SimError::Solve { body, source }
+        }
+        other => SimError::Contact(other),
+    }
+}
+
+/// A skin node left inside an object (beyond the search depth, contact never found it).
+fn too_deep(
+    model: &Model,
+    surfaces: &[ContactSurface],
+    hands: usize,
+    near_skin: &[usize],
+    x: &[Vector3<f64>],
+    result: &crate::contact::ContactResult,
+) -> Result<(), SimError> {
+    let u = &result.solution.displacement;
+    let current: Vec<Vector3<f64>> = x
+        .iter()
+        .enumerate()
+        .map(|(n, p)| p + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
+        .collect();
+    let resolved = 0.5 * model.contact.search_depth;
+    let skip = |n: usize| result.contacts.iter().any(|c| c.node == n);
+    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, skip) {
+        Some((n, body, depth)) => {
+            let hand_body = model.body_of_node(n);
+            Err(SimError::Contact(ContactError::TooDeep {
+                body: model.bodies[hand_body].name.clone(),
+                node: n - model.bodies[hand_body].nodes.start,
+                other: model.bodies[body].name.clone(),
+                depth_mm: depth * 1e3,
+                search_mm: model.contact.search_depth * 1e3,
+            }))
+        }
+        None => Ok(()),
+    }
+}
+
+/// The node of `nodes` deepest inside one of the closed `objects` at `positions` (node, the
+/// object's body, depth), among those deeper than `beyond` and not `skip`ped.
+fn deepest_inside(
+    objects: &[ContactSurface],
+    nodes: &[usize],
+    positions: &[Vector3<f64>],
+    beyond: f64,
+    skip: impl Fn(usize) -> bool,
+) -> Option<(usize, usize, f64)> {
+    let mut deepest: Option<(usize, usize, f64)> = None;
+    for s in objects {
+        // Nodes within `beyond` of the surface are the contact's (or, when only the
+        // object's nodes are checked, the discretisation's); deeper ones were never found.
+        let bvh = s.hierarchy(positions, beyond);
+        let pieces = connected_pieces(&s.triangles);
+        let corners = s.triangles.iter().flatten().map(|&n| positions[n]);
+        let lo = corners
+            .clone()
+            .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
+        let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
+        for &n in nodes {
+            let p = positions[n];
+            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) || skip(n) {
+                continue;
+            }
+            if bvh
+                .project(&p, positions, None, |_| false)
+                .is_some_and(|q| q.distance <= beyond)
+            {
+                continue;
+            }
+            // Inside a piece of the surface (for a shell: within its outer surface, or in its
+            // cavity, having passed the wall): how far from that piece's surface.
+            let depth = pieces
+                .iter()
+                .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
+                .map(|piece| {
+                    piece
+                        .iter()
+                        .filter_map(|t| {
+                            crate::contact::project_on_triangle(&p, &t.map(|m| positions[m]))
+                        })
+                        .map(|q| q.distance)
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max);
+            if depth > beyond && deepest.is_none_or(|d| depth > d.2) {
+                deepest = Some((n, s.body, depth));
+            }
+        }
+    }
+    deepest
+}
+
+/// When the contact of a posed grasp does not settle, whether the pose put skin deep into an
+/// object: the error then says so (a grasp is posed with the skin just reaching the object).
+fn posed_too_deep(
+    model: &Model,
+    surfaces: &[ContactSurface],
+    hands: usize,
+    x: &[Vector3<f64>],
+    error: SimError,
+) -> SimError {
+    if !matches!(error, SimError::Contact(ContactError::NotConverged { .. })) {
+        return error;
+    }
+    let skin: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
+    // Deeper than a quarter of the search depth: well past what one contact step moves.
+    let beyond = 0.25 * model.contact.search_depth;
+    match deepest_inside(&surfaces[hands..], &skin, x, beyond, |_| false) {
+        Some((n, body, depth)) => {
+            let hand_body = model.body_of_node(n);
+            SimError::Contact(ContactError::PoseTooDeep {
+                reason: error.to_string(),
+                body: model.bodies[hand_body].name.clone(),
+                node: n - model.bodies[hand_body].nodes.start,
+                other: model.bodies[body].name.clone(),
+                depth_mm: depth * 1e3,
+            })
+        }
+        None => error,
+    }
+}

@@ -1,0 +1,213 @@
+//! Modelling only what a scene requires: which digits of a hand (the thumb, each finger) stay
+//! far from every body they could touch over a keyframe. Flexion solves their
+//! flesh by FEM only when they come within `near_contact` of another body
+//! (`FlexionSettings::near_contact`); farther, their flesh follows the bones by skinning
+//! (`Flexion::set_far_parts`), and the FEM effort goes where contact is.
+//!
+//! A part is near when, at any increment of the keyframe (the joint angles interpolated as
+//! flexion interpolates them), a node of its outer skin, moved by skinning, lies within the
+//! distance of another body's boundary (at rest, as the contact step takes it) or inside it.
+//! A scene without another body has nothing to be near: every part is solved as set.
+//!
+//! Skinning is only taken where it stays sound: a far part whose skinned flesh would crush a
+//! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
+//! palmar crease of a deep flexion) is solved by FEM all the same.
+
+use crate::contact::{connected_pieces, winding_number_of, ContactSurface};
+use crate::fem::hex8::relative_min_jacobian;
+use crate::model::FleshMethod;
+use crate::model::Model;
+use crate::state::HandState;
+use nalgebra::Vector3;
+
+/// A far part is skinned only if no cell's smallest det J at a Gauss point falls below this
+/// fraction of its value at the start of the keyframe.
+pub const CRUSH_RATIO: f64 = 0.2;
+
+/// Parts of a hand: 0 the palm, 1 the thumb … 5 the little finger (`cell_digit` + 1).
+pub const PARTS: usize = 6;
+
+/// For hand body `body` moving from `state` to the joint angles `target` (degrees): which
+/// parts stay farther than `distance` (m) from every other body of the model over the
+/// keyframe. All `false` when the model has no other body.
+pub fn far_parts(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    target: &[f64],
+    distance: f64,
+) -> [bool; PARTS] {
+    let objects: Vec<usize> = (0..model.bodies.len())
+        .filter(|&b| model.bodies[b].hand.is_none())
+        .collect();
+    if objects.is_empty() {
+        return [false; PARTS];
+    }
+    let hand = model.bodies[body]
+        .hand
+        .as_deref()
+        .expect("far_parts of a hand body");
+    let flesh = &hand.flesh;
+    let rest = &model.mesh.nodes;
+    let surfaces: Vec<ContactSurface> = objects
+        .iter()
+        .map(|&b| {
+            let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
+            ContactSurface::from_quads(b, &quads, rest)
+        })
+        .collect();
+    let pieces: Vec<Vec<Vec<[usize; 3]>>> = surfaces
+        .iter()
+        .map(|s| connected_pieces(&s.triangles))
+        .collect();
+    let hierarchies: Vec<_> = surfaces
+        .iter()
+        .map(|s| s.hierarchy(rest, distance))
+        .collect();
+    let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = objects
+        .iter()
+        .map(|&b| {
+            model.bodies[b].nodes.clone().fold(
+                (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
+                |(lo, hi), n| (lo.inf(&rest[n]), hi.sup(&rest[n])),
+            )
+        })
+        .collect();
+    let within = |x: &Vector3<f64>, j: usize, margin: f64| {
+        let (lo, hi) = boxes[j];
+        let m = Vector3::repeat(margin);
+        (x - (lo - m)).min() >= 0.0 && ((hi + m) - x).min() >= 0.0
+    };
+    // Within `distance` of a body's surface.
+    let close = |x: &Vector3<f64>| {
+        (0..objects.len()).any(|j| {
+            within(x, j, distance)
+                && hierarchies[j]
+                    .project(x, rest, None, |_| false)
+                    .is_some_and(|p| p.gap < distance)
+        })
+    };
+    // Inside a body (in a closed piece of its surface: a shell's cavity too, behind its
+    // wall), by winding numbers.
+    let inside = |x: &Vector3<f64>| {
+        (0..objects.len()).any(|j| {
+            within(x, j, 0.0)
+                && pieces[j]
+                    .iter()
+                    .any(|piece| winding_number_of(x, piece, rest).abs() > 0.5)
+        })
+    };
+
+    // The outer skin quads, each with its part, and their nodes.
+    let quads: Vec<([usize; 4], usize)> = flesh
+        .skin_quads
+        .iter()
+        .zip(&flesh.skin_cells)
+        .zip(&flesh.skin_outer)
+        .filter(|(_, &outer)| outer)
+        .map(|((q, &c), _)| (*q, flesh.cell_digit[c].map_or(0, |d| d + 1)))
+        .collect();
+    let mut skin: Vec<usize> = quads.iter().flat_map(|(q, _)| *q).collect();
+    skin.sort_unstable();
+    skin.dedup();
+
+    // The sweep: the joint angles interpolated as flexion interpolates them, sampled so that
+    // no skin node moves more than half the distance between samples (a fingertip cannot
+    // jump over a thin shell and its margins). The skin moves along arcs, whose chords the
+    // end-to-end displacement bounds from below; over 90° an arc is 1.11× its chord.
+    let skin_at = |f: f64, out: &mut Vec<Vector3<f64>>| {
+        let angles: Vec<f64> = state
+            .angles
+            .iter()
+            .zip(target)
+            .map(|(a, b)| a + f * (b - a))
+            .collect();
+        let motion = state.motion_to(&hand.skeleton.transforms(&angles));
+        hand.weights.apply(
+            model.flexion.blend,
+            &motion,
+            &state.positions,
+            skin.iter().copied(),
+            out,
+        );
+    };
+    let mut moved = state.positions.clone();
+    skin_at(1.0, &mut moved);
+    let travel = skin
+        .iter()
+        .map(|&n| (moved[n] - state.positions[n]).norm())
+        .fold(0.0, f64::max);
+    let steps = ((2.5 * travel / distance).ceil() as usize).clamp(1, 1000);
+    // A node is inside or outside a body for as long as it does not come within `distance`
+    // of its surface, which the sampling cannot step over: the (costly) inside test is needed
+    // at the start only. Nodes whose parts are all near already are not tested again.
+    let mut node_parts = vec![0u8; flesh.mesh.nodes.len()];
+    for (q, part) in &quads {
+        for &n in q {
+            node_parts[n] |= 1 << part;
+        }
+    }
+    // The palm holds every finger's MCP joint: its flesh next to a finger near contact
+    // belongs to that finger's joint, so the palm is always solved as set.
+    let mut near: u8 = 1;
+    for i in 0..=steps {
+        skin_at(i as f64 / steps as f64, &mut moved);
+        for &n in &skin {
+            if node_parts[n] & !near == 0 {
+                continue;
+            }
+            let x = &moved[n];
+            if close(x) || (i == 0 && inside(x)) {
+                near |= node_parts[n];
+            }
+        }
+        if near == (1 << PARTS) - 1 {
+            break;
+        }
+    }
+    let mut far = [false; PARTS];
+    for (p, f) in far.iter_mut().enumerate() {
+        *f = near & (1 << p) == 0;
+    }
+    if far.iter().any(|&f| f) {
+        let crushed = crushed_by_skinning(model, hand, state, target);
+        for (f, c) in far.iter_mut().zip(crushed) {
+            *f &= !c;
+        }
+    }
+    far
+}
+
+/// Which parts skinning alone would crush on the way from `state` to `target`: a cell of the
+/// part solved by FEM (as `[solver] flesh` says) whose smallest det J at a Gauss point falls
+/// below [`CRUSH_RATIO`] of its value in `state`.
+fn crushed_by_skinning(
+    model: &Model,
+    hand: &crate::hand::HandModel,
+    state: &HandState,
+    target: &[f64],
+) -> [bool; PARTS] {
+    let flesh = &hand.flesh;
+    let motion = state.motion_to(&hand.skeleton.transforms(target));
+    let mut skinned = state.positions.clone();
+    hand.weights.apply(
+        model.flexion.blend,
+        &motion,
+        &state.positions,
+        0..flesh.mesh.nodes.len(),
+        &mut skinned,
+    );
+    let mut crushed = [false; PARTS];
+    for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+        let part = flesh.cell_digit[c].map_or(0, |d| d + 1);
+        if crushed[part] || model.flexion.methods[part] != FleshMethod::Fem {
+            continue;
+        }
+        let now = relative_min_jacobian(&cell.map(|n| state.positions[n]));
+        let then = relative_min_jacobian(&cell.map(|n| skinned[n]));
+        if then < CRUSH_RATIO * now {
+            crushed[part] = true;
+        }
+    }
+    crushed
+}

@@ -1,0 +1,87 @@
+//! Bodies held by nothing but contact (a ball resting in a grasp, a block on a slope): their
+//! stiffness is singular until contact holds them, so each free dof of such a "floating" body
+//! gets a weak spring to the ground, 10⁻⁶ of the body's mean diagonal stiffness (weaker springs
+//! make the contact system ill-conditioned: the rigid motions' compliance swamps the elastic one). After the solve,
+//! the force those springs carry must be negligible against the forces on the body; if not, the
+//! body is not held (it falls, or slides) and the solve says so.
+
+use crate::contact::{ContactError, ContactResult};
+use crate::fem::assembly::Stiffness;
+use crate::fem::DofPartition;
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Relative stiffness of the ground springs.
+pub const SPRING: f64 = 1e-6;
+
+/// Largest share of the forces on a body its springs may carry.
+pub const HELD: f64 = 1e-4;
+
+/// Adds the ground springs of the floating bodies to `k`; returns (body, spring stiffness).
+pub fn stabilize(model: &Model, k: &mut Stiffness, partition: &DofPartition) -> Vec<(usize, f64)> {
+    let mut out = Vec::new();
+    for (b, body) in model.bodies.iter().enumerate() {
+        if !body.floating {
+            continue;
+        }
+        let dofs: Vec<usize> = (3 * body.nodes.start..3 * body.nodes.end)
+            .filter(|&d| !partition.prescribed[d])
+            .collect();
+        if dofs.is_empty() {
+            continue;
+        }
+        let mean = dofs.iter().map(|&d| k.diagonal(d)).sum::<f64>() / dofs.len() as f64;
+        let spring = SPRING * mean;
+        for &d in &dofs {
+            k.add_to_diagonal(d, spring);
+        }
+        out.push((b, spring));
+    }
+    out
+}
+
+/// Checks that the springs of `springs` carry a negligible force after `result`.
+pub fn check_held(
+    model: &Model,
+    springs: &[(usize, f64)],
+    result: &ContactResult,
+) -> Result<(), ContactError> {
+    let u = &result.solution.displacement;
+    for &(b, spring) in springs {
+        let body = &model.bodies[b];
+        let mut carried: Vector3<f64> = Vector3::zeros();
+        let mut applied: Vector3<f64> = Vector3::zeros();
+        for n in body.nodes.clone() {
+            for a in 0..3 {
+                let d = 3 * n + a;
+                if !model.partition.prescribed[d] {
+                    carried[a] += spring * u[d];
+                }
+                applied[a] += model.load_vector[d];
+            }
+        }
+        let mut contact = 0.0;
+        let mut touching = false;
+        for c in &result.contacts {
+            for (n, f) in c.nodal_forces() {
+                if body.nodes.contains(&n) {
+                    contact += f.norm();
+                    touching = true;
+                }
+            }
+        }
+        let scale = applied.norm().max(contact).max(f64::MIN_POSITIVE);
+        if carried.norm() > HELD * scale {
+            return Err(ContactError::NotHeld {
+                body: body.name.clone(),
+                held: 100.0 * carried.norm() / scale,
+                motion: if touching {
+                    "slides: friction and contact cannot balance the load".into()
+                } else {
+                    "falls: nothing touches it".into()
+                },
+            });
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,48 @@
+//! What the solve of one frame produces: displacements, reactions, stresses, contact, and the
+//! state of every hand.
+
+use super::hand::KeyframeStats;
+use super::outcome::Overload;
+use crate::contact::ContactResult;
+use crate::fem::solve::Solution;
+use crate::fem::stress::StressField;
+
+/// The state after solving one frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Displacements and reactions.
+    pub solution: Solution,
+    /// Stresses.
+    pub stress: StressField,
+    /// Time spent assembling K, ms.
+    pub assembly_ms: f64,
+    /// Time spent on stresses, ms.
+    pub stress_ms: f64,
+    /// The hands' state (empty without hands).
+    pub hands: Vec<HandFrame>,
+    /// Contact against the obstacles (None without obstacles).
+    pub contact: Option<ContactResult>,
+}
+
+/// A hand in a frame.
+#[derive(Clone, Debug)]
+pub struct HandFrame {
+    /// The body.
+    pub body: usize,
+    /// Joint angles, degrees.
+    pub angles: Vec<f64>,
+    /// Flesh node positions, m.
+    pub positions: Vec<nalgebra::Vector3<f64>>,
+    /// Reaction of every bone (sum of R_u over its nodes, equation (8)), N.
+    pub bone_reactions: Vec<nalgebra::Vector3<f64>>,
+    /// Accumulated reaction at every flesh node, N.
+    pub reaction: Vec<nalgebra::Vector3<f64>>,
+    /// Flesh volume, m³.
+    pub volume: f64,
+    /// What reaching this frame's pose cost.
+    pub stats: KeyframeStats,
+    /// Contact force on the flesh following each bone, N (zero without contact).
+    pub contact_force: Vec<nalgebra::Vector3<f64>>,
+    /// Bones whose reaction overruns their muscle force threshold: the grasp is not realisable.
+    pub overloads: Vec<Overload>,
+}

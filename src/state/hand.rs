@@ -1,0 +1,104 @@
+//! The pose-dependent state of a hand (angles, bone motions, flesh positions, accumulated
+//! reactions) and what reaching a keyframe cost.
+
+use crate::fem::hex8::cell_volume;
+use crate::hand::HandModel;
+use nalgebra::{Isometry3, Vector3};
+
+/// The pose-dependent state of a hand.
+#[derive(Clone, Debug)]
+pub struct HandState {
+    /// Joint angles, degrees.
+    pub angles: Vec<f64>,
+    /// Rigid motion of every bone (rest → now).
+    pub transforms: Vec<Isometry3<f64>>,
+    /// Flesh node positions, m.
+    pub positions: Vec<Vector3<f64>>,
+    /// Reaction at every node (non-zero at prescribed nodes), N: the sum of the increments'
+    /// reactions, as the updated Lagrangian scheme sums their stresses (each increment's
+    /// reactions balance, so the total does).
+    pub reaction: Vec<Vector3<f64>>,
+}
+
+impl HandState {
+    /// The motion of every bone from this state to the bone transforms `then`
+    /// (then · now⁻¹, what incremental skinning applies).
+    pub fn motion_to(&self, then: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+        then.iter()
+            .zip(&self.transforms)
+            .map(|(new, old)| new * old.inverse())
+            .collect()
+    }
+
+    /// The rest pose.
+    pub fn rest(hand: &HandModel) -> HandState {
+        let angles = hand.skeleton.rest_angles();
+        HandState {
+            transforms: hand.skeleton.transforms(&angles),
+            angles,
+            positions: hand.flesh.mesh.nodes.clone(),
+            reaction: vec![Vector3::zeros(); hand.flesh.mesh.nodes.len()],
+        }
+    }
+
+    /// Sum of the reactions on each bone's nodes (equation (8)), N. With a local FEM region,
+    /// the reactions at the region's edge (nodes moved by skinning) count for the bone they
+    /// follow most, so that the bones' reactions still balance.
+    pub fn bone_reactions(&self, hand: &HandModel) -> Vec<Vector3<f64>> {
+        let mut out = vec![Vector3::zeros(); hand.skeleton.bones.len()];
+        for (n, r) in self.reaction.iter().enumerate() {
+            let b = hand.flesh.node_bone[n].unwrap_or(hand.weights.weights[n][0].0);
+            out[b] += r;
+        }
+        out
+    }
+
+    /// Volume of the flesh, m³.
+    pub fn flesh_volume(&self, hand: &HandModel) -> f64 {
+        hand.flesh
+            .mesh
+            .cells
+            .iter()
+            .map(|c| cell_volume(&c.map(|n| self.positions[n])))
+            .sum()
+    }
+}
+
+/// What one keyframe cost.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct KeyframeStats {
+    /// Increments planned (the joint motion over `max_step_deg`).
+    pub increments: usize,
+    /// Increments taken (more when steps were halved).
+    pub increments_taken: usize,
+    /// Times a step was halved because a cell would have turned inside out.
+    pub halvings: usize,
+    /// Cells solved by FEM.
+    pub fem_cells: usize,
+    /// Free dofs of the FEM problem.
+    pub free_dofs: usize,
+    /// Prescribed dofs of the FEM problem (bones and region boundary).
+    pub prescribed_dofs: usize,
+    /// Factorizations.
+    pub factorizations: usize,
+    /// Time in assembly, ms.
+    pub assembly_ms: f64,
+    /// Time in symbolic analysis, ms.
+    pub symbolic_ms: f64,
+    /// Time in numeric factorization, ms.
+    pub factorization_ms: f64,
+    /// Time in substitution and reactions, ms.
+    pub solve_ms: f64,
+    /// Time in skinning and updates, ms.
+    pub update_ms: f64,
+    /// Wall time of the keyframe, ms.
+    pub total_ms: f64,
+    /// Largest relative residual of the linear solves.
+    pub relative_residual: f64,
+    /// Cells of the FEM region left to skinning because their part of the hand stayed far
+    /// from every other body ([`Flexion::set_far_parts`]).
+    pub far_cells: usize,
+    /// The digits left to skinning in this keyframe because they stayed far from every other
+    /// body: their bones bear no new flexion reaction.
+    pub far_digits: Vec<String>,
+}

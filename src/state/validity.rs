@@ -1,0 +1,76 @@
+//! Whether a solved frame stays where small-strain linear elasticity holds.
+//!
+//! The static bodies are solved with the linear strain ε = sym(∇u) on the undeformed geometry,
+//! valid while the strain is small. Above [`STRAIN_WARNING`] (largest principal strain at a
+//! Gauss point, dimensionless) the result is outside the theory: for a soft body under a large
+//! load the displacement scales as 1/E without bound, where a real body would stiffen.
+
+use super::Frame;
+use crate::fem::hex8::gauss_strains;
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Largest principal strain accepted without a warning (dimensionless, 20 %; the built-in
+/// scenes reach 10 % at their pressed caps).
+pub const STRAIN_WARNING: f64 = 0.2;
+
+/// The largest |principal strain| at the Gauss points of each non-hand body in `frame`, by
+/// body index (hands follow their own tiers and are skipped: `None`). NaN if any is NaN.
+pub fn largest_strains(model: &Model, frame: &Frame) -> Vec<Option<f64>> {
+    let u = &frame.solution.displacement;
+    model
+        .bodies
+        .iter()
+        .map(|body| {
+            body.hand.is_none().then(|| {
+                let mut worst = 0.0f64;
+                for c in body.cells.clone() {
+                    let cell = &model.mesh.cells[c];
+                    let disp = cell.map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
+                    let Ok(strains) = gauss_strains(&model.mesh.cell_coords(c), &disp) else {
+                        continue;
+                    };
+                    for e in strains {
+                        let largest = e.symmetric_eigenvalues().amax();
+                        if largest.is_nan() {
+                            return f64::NAN;
+                        }
+                        worst = worst.max(largest);
+                    }
+                }
+                worst
+            })
+        })
+        .collect()
+}
+
+/// One warning per body, for the frame where its strain is largest, when that strain exceeds
+/// [`STRAIN_WARNING`].
+pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
+    let mut worst: Vec<Option<(usize, f64)>> = vec![None; model.bodies.len()];
+    for (i, frame) in frames.iter().enumerate() {
+        for (b, s) in largest_strains(model, frame).into_iter().enumerate() {
+            if let Some(s) = s {
+                if worst[b].is_none_or(|(_, w)| s > w || s.is_nan()) {
+                    worst[b] = Some((i, s));
+                }
+            }
+        }
+    }
+    worst
+        .iter()
+        .enumerate()
+        .filter_map(|(b, w)| {
+            let (i, s) = (*w)?;
+            (s > STRAIN_WARNING || s.is_nan()).then(|| {
+                format!(
+                    "body \"{}\": principal strain up to {s:.3e} (frame {i}), above \
+                     {STRAIN_WARNING}: outside small-strain linear elasticity, whose \
+                     displacements grow as 1/E without bound; the result is not physical (too \
+                     soft a material or too large a load)",
+                    model.bodies[b].name
+                )
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,3 @@
+//! Small helpers every folder may use; imports nothing of the crate.
+
+pub mod timing;
