@@ -15,8 +15,8 @@
 //! (even when a floating body's sliding makes G very ill-conditioned, where a Gauss–Seidel
 //! sweep crawls). A step that does not reduce the residual is halved.
 
-use super::lagrange::{coupling, slot_of, slot_offsets, Couplings, Row};
 use super::point::{Adhesion, ContactError};
+use super::row::{coupling, slot_of, slot_offsets, Couplings, Row};
 use crate::fem::DofPartition;
 use faer::linalg::solvers::Solve;
 use nalgebra::{DMatrix, DVector, Vector2};

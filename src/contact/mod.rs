@@ -10,6 +10,7 @@ mod paper;
 mod point;
 mod pressure;
 mod problem;
+mod row;
 mod surface;
 
 pub use lagrange::{solve_lagrange, solve_with_obstacles};

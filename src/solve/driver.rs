@@ -1,86 +1,201 @@
-//! The timeline of a scene: the static frame of the other bodies, and every hand carried from
-//! rest to its initial pose and then through its keyframes by incremental flexion. One frame
-//! per distinct time (time 0 first).
+//! The one keyframe driver, for the CLI, the viewer and the benches: a [`Workspace`] per model
+//! (the static frame of the bodies, the flexion caches), hands moved by flexion increments from
+//! where they are to the angles asked for, and the frame with their contact solved. The timeline
+//! of a scene ([`solve_frames`]) is the driver run over its keyframes.
 
 use super::error::SimError;
-use super::flexion::Flexion;
+use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
 use super::statics::solve_static;
-use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
-use crate::fem::stress::{from_gauss, stress_field_except, StressField};
+use crate::fem::stress::StressField;
 use crate::model::Model;
-use crate::state::HandState;
-use crate::state::{Frame, HandFrame};
+use crate::state::{Frame, HandFrame, HandState, KeyframeStats};
 use nalgebra::Matrix3;
 
-/// Solves every frame of the model.
-pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
-    let hands: Vec<usize> = (0..model.bodies.len())
-        .filter(|&b| model.bodies[b].hand.is_some())
-        .collect();
-    // The static frame of the other bodies, unless one of them can only be held by a hand.
-    let floating = model.bodies.iter().any(|b| b.floating);
-    let still = if model.partition.free_count() == 0 {
-        Some(still_frame(model))
-    } else if floating && !hands.is_empty() {
-        None
-    } else {
-        Some(solve_static(
-            model,
-            &mut PartitionedSolver::new(model.ordering),
-        )?)
-    };
-    if hands.is_empty() {
-        return Ok((vec![0.0], vec![still.expect("solved")]));
+/// What changes while a model is solved, besides the hands' states (the `mjData` of this
+/// project, with [`PosedHand`]): the static frame of the bodies that no hand moves, and the caches
+/// every hand's flexion reuses between keyframes. Built once per model; the model stays immutable.
+pub struct Workspace {
+    /// The static frame of the other bodies; `None` when one of them can only be held by a hand.
+    still: Option<Frame>,
+    /// The flexion caches by hand body.
+    caches: Vec<(usize, FlexionCaches)>,
+}
+
+/// A hand body where the driver left it: its state, and its part of the last frame.
+#[derive(Clone, Debug)]
+pub struct PosedHand {
+    /// The hand body.
+    pub body: usize,
+    /// Angles, bone motions, flesh positions, accumulated reactions.
+    pub state: HandState,
+    /// The hand's part of the last frame (what reaching `state` cost included).
+    pub frame: HandFrame,
+}
+
+impl Workspace {
+    /// Solves the static frame of the bodies no hand moves (equations (6)–(8)), unless nothing
+    /// is free, or a floating body can only be held by a hand (then the frames are solved with
+    /// the hands' contact, [`frame_with_hands`]).
+    pub fn new(model: &Model) -> Result<Workspace, SimError> {
+        let has_hands = model.bodies.iter().any(|b| b.hand.is_some());
+        let floating = model.bodies.iter().any(|b| b.floating);
+        let still = if model.partition.free_count() == 0 {
+            Some(still_frame(model))
+        } else if floating && has_hands {
+            None
+        } else {
+            Some(solve_static(
+                model,
+                &mut PartitionedSolver::new(model.ordering),
+            )?)
+        };
+        Ok(Workspace {
+            still,
+            caches: Vec::new(),
+        })
     }
-    let mut steppers = Vec::new();
-    let mut states = Vec::new();
-    let mut frames = Vec::new();
-    let mut hand_frames = Vec::new();
-    for &b in &hands {
+
+    /// The static frame of the bodies no hand moves.
+    pub fn still(&self) -> Option<&Frame> {
+        self.still.as_ref()
+    }
+
+    /// Moves each hand of `targets` (hand body, joint angles in degrees) from where `hands` holds
+    /// it by flexion increments, then solves the frame with every hand (the contact step where
+    /// a hand touches a body). Hands not in `targets` stay as they are. `cancel` is asked before
+    /// every increment: a cancelled hand stays at its last completed increment.
+    pub fn move_hands(
+        &mut self,
+        model: &Model,
+        hands: &mut [PosedHand],
+        targets: &[(usize, Vec<f64>)],
+        cancel: Option<&CancelCheck>,
+    ) -> Result<Frame, SimError> {
+        for (body, target) in targets {
+            let h = hands
+                .iter()
+                .position(|h| h.body == *body)
+                .expect("targets name hand bodies");
+            self.move_hand(model, &mut hands[h], target, cancel)?;
+        }
+        frame_with_hands(
+            model,
+            self.still.as_ref(),
+            hands.iter().map(|h| h.frame.clone()).collect(),
+        )
+    }
+
+    /// Moves one hand to `target` (see [`Workspace::move_hands`]).
+    fn move_hand(
+        &mut self,
+        model: &Model,
+        posed: &mut PosedHand,
+        target: &[f64],
+        cancel: Option<&CancelCheck>,
+    ) -> Result<(), SimError> {
+        let b = posed.body;
         let body = &model.bodies[b];
-        let hand = body.hand.as_deref().unwrap();
-        let materials = model.cell_materials[body.cells.clone()].to_vec();
+        let hand = body.hand.as_deref().expect("a hand body");
+        let caches = match self.caches.iter().position(|(cb, _)| *cb == b) {
+            Some(i) => self.caches.swap_remove(i).1,
+            None => FlexionCaches::new(model.ordering),
+        };
         let mut stepper = Flexion::new(
             hand,
             &body.name,
-            materials,
+            model.cell_materials[body.cells.clone()].to_vec(),
             model.flexion.clone(),
             model.ordering,
-        );
-        let mut state = HandState::rest(hand);
-        set_far_parts(model, b, &mut stepper, &state, &body.initial_angles);
-        let stats = stepper.move_to(&mut state, &body.initial_angles)?;
-        hand_frames.push(hand_frame(model, b, &state, stats));
-        steppers.push(stepper);
-        states.push(state);
+        )
+        .with_caches(caches);
+        if let Some(cancel) = cancel {
+            stepper = stepper.with_cancel(cancel.clone());
+        }
+        set_far_parts(model, b, &mut stepper, &posed.state, target);
+        let result = stepper.move_to(&mut posed.state, target);
+        self.caches.push((b, stepper.into_caches()));
+        // The hand's frame follows its state, also where a failed or cancelled keyframe left it.
+        let stats = result.as_ref().cloned().unwrap_or_default();
+        posed.frame = hand_frame(model, b, &posed.state, stats);
+        result.map(|_| ())
     }
+}
+
+/// Every hand of the model at rest.
+pub fn rest_hands(model: &Model) -> Vec<PosedHand> {
+    model
+        .bodies
+        .iter()
+        .enumerate()
+        .filter_map(|(b, body)| {
+            body.hand.as_deref().map(|hand| {
+                let state = HandState::rest(hand);
+                PosedHand {
+                    body: b,
+                    frame: hand_frame(model, b, &state, KeyframeStats::default()),
+                    state,
+                }
+            })
+        })
+        .collect()
+}
+
+/// The hands of a solved `frame` of `model` (bone motions recomputed from the angles), to go on
+/// from there.
+pub fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
+    frame
+        .hands
+        .iter()
+        .map(|h| {
+            let hand = model.bodies[h.body].hand.as_deref().expect("a hand body");
+            PosedHand {
+                body: h.body,
+                state: HandState {
+                    angles: h.angles.clone(),
+                    transforms: hand.skeleton.transforms(&h.angles),
+                    positions: h.positions.clone(),
+                    reaction: h.reaction.clone(),
+                },
+                frame: h.clone(),
+            }
+        })
+        .collect()
+}
+
+/// Solves every frame of the model: the static frame of the other bodies, every hand carried
+/// from rest to its initial pose, then through the keyframes. One frame per distinct keyframe
+/// time (time 0 first); returns the times and the frames.
+pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
+    let mut workspace = Workspace::new(model)?;
+    let mut hands = rest_hands(model);
+    if hands.is_empty() {
+        let still = workspace.still.take().expect("solved without hands");
+        return Ok((vec![0.0], vec![still]));
+    }
+    let initial: Vec<(usize, Vec<f64>)> = hands
+        .iter()
+        .map(|h| (h.body, model.bodies[h.body].initial_angles.clone()))
+        .collect();
     let mut times = vec![0.0];
-    frames.push(frame_with_hands(
-        model,
-        still.as_ref(),
-        hand_frames.clone(),
-    )?);
+    let mut frames = vec![workspace.move_hands(model, &mut hands, &initial, None)?];
     let mut k = 0;
     while k < model.keyframes.len() {
         let time = model.keyframes[k].time;
-        let mut current = hand_frames.clone();
+        let mut targets = Vec::new();
         while k < model.keyframes.len() && model.keyframes[k].time == time {
             let key = &model.keyframes[k];
-            let h = hands.iter().position(|&b| b == key.body).unwrap();
-            set_far_parts(model, key.body, &mut steppers[h], &states[h], &key.angles);
-            let stats = steppers[h].move_to(&mut states[h], &key.angles)?;
-            current[h] = hand_frame(model, key.body, &states[h], stats);
+            targets.push((key.body, key.angles.clone()));
             k += 1;
         }
+        let frame = workspace.move_hands(model, &mut hands, &targets, None)?;
         if time == 0.0 {
-            frames[0] = frame_with_hands(model, still.as_ref(), current.clone())?;
+            frames[0] = frame;
         } else {
             times.push(time);
-            frames.push(frame_with_hands(model, still.as_ref(), current.clone())?);
+            frames.push(frame);
         }
-        hand_frames = current;
     }
     Ok((times, frames))
 }
@@ -150,67 +265,4 @@ pub fn hand_frame(
             &model.bodies[body].thresholds,
         ),
     }
-}
-
-/// The static frame with the hands' displacements, reactions and (rotation-free) stresses.
-pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Frame, SimError> {
-    let mut frame = still.clone();
-    for h in &hands {
-        let body = &model.bodies[h.body];
-        for (i, p) in h.positions.iter().enumerate() {
-            let n = body.nodes.start + i;
-            let u = p - model.mesh.nodes[n];
-            frame.solution.displacement[3 * n..3 * n + 3].copy_from_slice(u.as_slice());
-            frame.solution.reaction[3 * n..3 * n + 3].copy_from_slice(h.reaction[i].as_slice());
-        }
-    }
-    let inverted = |c: usize, relative_det: f64| {
-        let b = model.cell_body[c];
-        SimError::InvertedElement {
-            body: model.bodies[b].name.clone(),
-            element: c - model.bodies[b].cells.start,
-            relative_det,
-        }
-    };
-    frame.stress = if model.nonlinear_statics {
-        // The Cauchy stress of the Neo-Hookean law the nonlinear tier solved with, for the
-        // hands' flesh and the other bodies alike.
-        nonlinear_stress(model, &frame.solution.displacement)
-            .map_err(|(c, det_f)| inverted(c, det_f))?
-    } else {
-        let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
-        // Flesh moved by skinning only (`flesh = "skinning"`, per part or the tier) has no
-        // stress.
-        let skinned = |c: usize| {
-            let body = &model.bodies[model.cell_body[c]];
-            body.hand.as_deref().is_some_and(|hand| {
-                let part = hand.flesh.cell_digit[c - body.cells.start].map_or(0, |d| d + 1);
-                model.flexion.methods[part] == crate::model::FleshMethod::Skinning
-            })
-        };
-        stress_field_except(
-            &model.mesh,
-            &model.cell_materials,
-            &frame.solution.displacement,
-            &hand_cell,
-            &skinned,
-        )
-        .map_err(|(c, e)| inverted(c, e.relative_det))?
-    };
-    frame.hands = hands;
-    Ok(frame)
-}
-
-/// Cauchy stress of the Neo-Hookean law (`[solver] volumetric`) at the Gauss points of every cell of
-/// the model displaced by `u` from rest; an inverted cell gives (cell, det F).
-fn nonlinear_stress(model: &Model, u: &[f64]) -> Result<StressField, (usize, f64)> {
-    let body = HyperelasticBody::with_pattern(
-        &model.mesh,
-        &model.cell_materials,
-        model.flexion.volumetric,
-        model.pattern.clone(),
-    )
-    .map_err(|e| (e.cell, e.relative_det))?;
-    let gauss = body.cauchy_stress(u).map_err(|e| (e.cell, e.det_f))?;
-    Ok(from_gauss(&model.mesh, gauss))
 }

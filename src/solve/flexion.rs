@@ -14,10 +14,11 @@
 
 use super::error::SimError;
 use super::linear_factor::LinearFactor;
-use crate::fem::assembly::{assemble, assemble_warped, StiffnessPattern};
+use super::region::{sub_problem, SubProblem};
+use crate::fem::assembly::{assemble, assemble_warped};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::fem::solve::{FillOrdering, PartitionedSolver};
-use crate::fem::{DofPartition, Material};
+use crate::fem::Material;
 use crate::hand::HandModel;
 use crate::mesh::Mesh;
 use crate::model::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
@@ -26,20 +27,6 @@ use crate::util::timing::ms;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, UnitQuaternion, Vector3};
 use std::sync::Arc;
 use std::time::Instant;
-
-/// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
-pub(super) struct SubProblem {
-    /// Hand node of each local node.
-    pub(super) nodes: Vec<usize>,
-    /// The active cells on local nodes, at rest.
-    pub(super) mesh: Mesh,
-    /// Hand cell of each local cell.
-    pub(super) cells: Vec<usize>,
-    pub(super) pattern: Arc<StiffnessPattern>,
-    /// Prescribed: bone nodes and nodes shared with cells outside the region.
-    pub(super) partition: DofPartition,
-    pub(super) materials: Vec<Material>,
-}
 
 /// The bones at an increment's end and where the flesh would be if it only followed them
 /// ([`Flexion::predict`]).
@@ -82,17 +69,36 @@ impl Plan {
 /// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
 pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 
+/// What a hand's flexion keyframes reuse from one to the next: part of the driver's workspace
+/// ([`super::Workspace`]).
+pub struct FlexionCaches {
+    /// The partitioned solver: its symbolic analysis is kept while the prescribed set is unchanged.
+    pub(super) solver: PartitionedSolver,
+    /// The linear tier's factored rest stiffness, built by its first keyframe.
+    pub(super) linear: Option<LinearFactor>,
+}
+
+impl FlexionCaches {
+    /// Empty caches for the fill-reducing `ordering`.
+    pub fn new(ordering: FillOrdering) -> Self {
+        FlexionCaches {
+            solver: PartitionedSolver::new(ordering),
+            linear: None,
+        }
+    }
+}
+
 /// Moves a hand through keyframes.
 pub struct Flexion<'a> {
     pub(super) hand: &'a HandModel,
     pub(super) body: String,
     pub(super) materials: Vec<Material>,
     pub(super) settings: FlexionSettings,
-    pub(super) solver: PartitionedSolver,
     pub(super) ordering: FillOrdering,
     cancel: Option<CancelCheck>,
-    /// The linear tier's factored rest stiffness, built by its first keyframe.
-    linear: Option<LinearFactor>,
+    /// What the keyframes of this hand reuse: the solver's symbolic analysis, the linear tier's
+    /// factor.
+    pub(super) caches: FlexionCaches,
     /// Parts of the hand (0 palm, 1 thumb … 5 little) whose flesh follows skinning in the next
     /// keyframe because they stay far from contact.
     far: [bool; 6],
@@ -112,10 +118,9 @@ impl<'a> Flexion<'a> {
             body: body.to_string(),
             materials,
             settings,
-            solver: PartitionedSolver::new(ordering),
             ordering,
             cancel: None,
-            linear: None,
+            caches: FlexionCaches::new(ordering),
             far: [false; 6],
         }
     }
@@ -136,18 +141,17 @@ impl<'a> Flexion<'a> {
         self
     }
 
-    /// Reuses the linear tier's factored stiffness of an earlier stepper (see
-    /// [`Flexion::take_linear_factor`]); it must come from a stepper of the same hand, flesh
-    /// materials and settings.
-    pub fn with_linear_factor(mut self, factor: Option<LinearFactor>) -> Self {
-        self.linear = factor;
+    /// Reuses the caches of an earlier stepper of the same hand, flesh materials and settings
+    /// (see [`Flexion::into_caches`]).
+    pub fn with_caches(mut self, caches: FlexionCaches) -> Self {
+        self.caches = caches;
         self
     }
 
-    /// Hands over the linear tier's factored stiffness, if a linear keyframe built it, so that
-    /// a later stepper skips the factorization.
-    pub fn take_linear_factor(&mut self) -> Option<LinearFactor> {
-        self.linear.take()
+    /// Hands over the caches (the symbolic analysis, the linear tier's factor if a linear
+    /// keyframe built it), so that a later stepper skips that work.
+    pub fn into_caches(self) -> FlexionCaches {
+        self.caches
     }
 
     pub(super) fn cell_method(&self, c: usize) -> FleshMethod {
@@ -165,7 +169,7 @@ impl<'a> Flexion<'a> {
                 if self.cancel.as_ref().is_some_and(|c| c()) {
                     return Err(SimError::Cancelled);
                 }
-                let tier = match self.linear.take() {
+                let tier = match self.caches.linear.take() {
                     Some(tier) => tier,
                     None => LinearFactor::new(
                         self.hand,
@@ -175,7 +179,10 @@ impl<'a> Flexion<'a> {
                         self.ordering,
                     )?,
                 };
-                self.linear.insert(tier).move_to(self.hand, state, target)
+                self.caches
+                    .linear
+                    .insert(tier)
+                    .move_to(self.hand, state, target)
             }
             FlexionScheme::Nonlinear => self.move_to_nonlinear(state, target),
             FlexionScheme::UpdatedLagrangian | FlexionScheme::Corotational => {
@@ -502,65 +509,6 @@ impl<'a> Flexion<'a> {
     }
 }
 
-/// The FEM sub-problem of the `active` cells of `hand`, on the rest geometry: bone nodes and
-/// nodes shared with inactive cells are prescribed. `None` when nothing is free.
-pub(super) fn sub_problem(
-    hand: &HandModel,
-    cell_materials: &[Material],
-    active: &[bool],
-) -> Option<SubProblem> {
-    let flesh = &hand.flesh;
-    let cells: Vec<usize> = (0..active.len()).filter(|&c| active[c]).collect();
-    if cells.is_empty() {
-        return None;
-    }
-    let mut local = vec![usize::MAX; flesh.mesh.nodes.len()];
-    let mut nodes = Vec::new();
-    let mut hexes = Vec::with_capacity(cells.len());
-    for &c in &cells {
-        hexes.push(flesh.mesh.cells[c].map(|n| {
-            if local[n] == usize::MAX {
-                local[n] = nodes.len();
-                nodes.push(n);
-            }
-            local[n]
-        }));
-    }
-    // Prescribed: bone nodes, and nodes shared with cells outside the region.
-    let mut boundary = vec![false; flesh.mesh.nodes.len()];
-    for (c, cell) in flesh.mesh.cells.iter().enumerate() {
-        if !active[c] {
-            for &n in cell {
-                boundary[n] = true;
-            }
-        }
-    }
-    let mut mask = vec![false; nodes.len() * 3];
-    for (i, &n) in nodes.iter().enumerate() {
-        if flesh.node_bone[n].is_some() || boundary[n] {
-            mask[3 * i..3 * i + 3].fill(true);
-        }
-    }
-    let partition = DofPartition::new(mask);
-    if partition.free_count() == 0 {
-        return None;
-    }
-    let mesh = Mesh {
-        nodes: nodes.iter().map(|&n| flesh.mesh.nodes[n]).collect(),
-        cells: hexes,
-    };
-    let pattern = Arc::new(StiffnessPattern::new(&mesh));
-    let materials = cells.iter().map(|&c| cell_materials[c]).collect();
-    Some(SubProblem {
-        nodes,
-        mesh,
-        cells,
-        pattern,
-        partition,
-        materials,
-    })
-}
-
 impl Flexion<'_> {
     /// One increment on the FEM region: equations (7)–(8) on the current geometry.
     fn solve_increment(
@@ -606,6 +554,7 @@ impl Flexion<'_> {
             }
         }
         let solution = self
+            .caches
             .solver
             .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
             .map_err(|source| SimError::Solve {

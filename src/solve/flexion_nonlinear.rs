@@ -30,7 +30,8 @@
 //! up to the Newton residual left at the free nodes.
 
 use super::error::SimError;
-use super::flexion::{Flexion, Plan, Predicted, SubProblem};
+use super::flexion::{Flexion, Plan, Predicted};
+use super::region::SubProblem;
 use crate::fem::hex8::mapped_points;
 use crate::fem::hex8_hyperelastic::{element_state, Volumetric};
 use crate::fem::hyperelastic::NeoHookean;
@@ -198,7 +199,7 @@ impl Flexion<'_> {
                 &target,
                 &loads,
                 newton,
-                &mut self.solver,
+                &mut self.caches.solver,
             );
             let (record, cost) = (&outcome.record, outcome.record.cost);
             stats.factorizations += record.iterations + record.regularised;

@@ -12,7 +12,7 @@
 //! triangles, skin nodes against object triangles) and against the rigid obstacles, resolved by
 //! the scene's contact method. The bone reactions of equation (8) then include the grasp.
 
-use super::driver::compose;
+use super::compose::compose;
 use super::error::SimError;
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;

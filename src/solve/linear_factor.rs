@@ -19,7 +19,7 @@
 //! rotation I + sin θ·[a]×, whose volume ratio is 1 + sin²θ: flesh that turns with a bone swells.
 
 use super::error::SimError;
-use super::flexion::{sub_problem, SubProblem};
+use super::region::{sub_problem, SubProblem};
 use crate::fem::assembly::{assemble, Stiffness};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
@@ -33,7 +33,7 @@ use std::time::Instant;
 
 /// The factored rest stiffness of a hand's FEM flesh: built by a stepper's first linear
 /// keyframe, reusable by later steppers of the same hand, materials and settings
-/// ([`super::Flexion::take_linear_factor`], [`super::Flexion::with_linear_factor`]).
+/// ([`super::FlexionCaches`]).
 pub struct LinearFactor {
     body: String,
     blend: Blend,

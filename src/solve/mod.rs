@@ -1,6 +1,7 @@
 //! Solve: the one keyframe driver and what it runs — flexion increments per tier, the static
 //! solve of the bodies, the contact step — with its workspace of caches. Imports model, state, kernels.
 
+mod compose;
 mod driver;
 mod error;
 mod flexion;
@@ -8,13 +9,18 @@ mod flexion_nonlinear;
 mod grasp;
 mod linear_factor;
 pub mod proximity;
+mod region;
 mod stabilize;
 mod statics;
 mod statics_nonlinear;
 
-pub use driver::{compose, hand_frame, set_far_parts, solve_frames, still_frame};
+pub use compose::compose;
+pub use driver::{
+    hand_frame, hands_of, rest_hands, set_far_parts, solve_frames, still_frame, PosedHand,
+    Workspace,
+};
 pub use error::SimError;
-pub use flexion::{CancelCheck, Flexion};
+pub use flexion::{CancelCheck, Flexion, FlexionCaches};
 pub use flexion_nonlinear::flesh_internal_forces;
 pub use grasp::{frame_with_hands, solve_grasp};
 pub use linear_factor::LinearFactor;
