@@ -1,3 +1,6 @@
+//! The interactive viewer: egui panels, timeline and interaction, the solver thread.
+//! May import every stage and kernel, render, export and headless; not cli or bench.
+//!
 //! The interactive viewer (issue 6): egui panels over the project's renderer, the physics on a
 //! background thread, a keyframe timeline.
 //!

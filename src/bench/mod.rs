@@ -1,5 +1,5 @@
-//! Every `prehensile bench` command: each file measures one thing and prints a Markdown table.
-//! May import every stage below the front-ends (and the viewer's state, for `bench viewer`).
+//! Every `prehensile bench` command: each file measures one thing and prints a table.
+//! May import every stage, kernel and front-end but cli.
 
 pub mod accuracy;
 pub mod contact;

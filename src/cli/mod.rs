@@ -1,3 +1,6 @@
+//! The command line: clap arguments and dispatch (view | solve | render | bench); main.rs calls it.
+//! May import everything.
+//!
 //! The `prehensile` command line: the interactive viewer (the default), and the headless
 //! commands: solve scenes, render them to PNG, run benchmarks.
 
@@ -91,8 +94,8 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "10,20,30,40")]
         sizes: Vec<usize>,
         /// Fill-reducing ordering.
-        #[arg(long, value_enum, default_value = "nested-dissection")]
-        ordering: OrderingArg,
+        #[arg(long, default_value = "nested-dissection", value_parser = ordering_parser())]
+        ordering: FillOrdering,
         /// Assembly repetitions (the best time is kept).
         #[arg(long, default_value_t = 3)]
         repeats: usize,
@@ -191,10 +194,15 @@ enum PresetArg {
     PowerGrasp,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum OrderingArg {
-    NestedDissection,
-    Amd,
+/// `--ordering`: parsed straight into the solver's ordering.
+fn ordering_parser() -> impl clap::builder::TypedValueParser<Value = FillOrdering> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(["nested-dissection", "amd"]).map(|s| {
+        match s.as_str() {
+            "amd" => FillOrdering::Amd,
+            _ => FillOrdering::NestedDissection,
+        }
+    })
 }
 
 /// The `prehensile` command: parses the arguments, runs the command, and exits non-zero with the
@@ -262,10 +270,6 @@ fn run() -> Result<()> {
                 ordering,
                 repeats,
             } => {
-                let ordering = match ordering {
-                    OrderingArg::NestedDissection => FillOrdering::NestedDissection,
-                    OrderingArg::Amd => FillOrdering::Amd,
-                };
                 println!(
                     "solver benchmark: unit cube, bottom clamped, top pressed; ordering {ordering:?}; {} threads",
                     rayon::current_num_threads()

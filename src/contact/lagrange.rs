@@ -24,7 +24,7 @@ use super::coulomb::settle_coulomb;
 use super::obstacle::Obstacle;
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactTimes, Master,
+    ContactSummary, ContactTimes, Master,
 };
 use super::problem::ContactProblem;
 use super::row::{coupling, Couplings, Row, Solved};
@@ -274,17 +274,19 @@ pub fn solve_lagrange(
     }
     Ok(ContactResult {
         solution,
-        contacts,
-        method: ContactMethod::Lagrange,
-        iterations,
-        factorizations: 1,
-        substitutions,
-        max_penetration,
-        contact_ms: ms(t),
-        last_change: 0.0,
-        stopped_by_threshold: false,
-        region_cells: 0,
-        times,
+        summary: ContactSummary {
+            contacts,
+            method: ContactMethod::Lagrange,
+            iterations,
+            factorizations: 1,
+            substitutions,
+            max_penetration,
+            contact_ms: ms(t),
+            last_change: 0.0,
+            stopped_by_threshold: false,
+            region_cells: 0,
+            times,
+        },
     })
 }
 

@@ -1,3 +1,6 @@
+//! Kernel: contact detection and projection, the paper's iteration, the exact methods, friction.
+//! May import the mesh and fem kernels and util only.
+//!
 //! Contact: deformable bodies against rigid obstacles (a table plane, a rigid sphere) and against
 //! each other (node to facet, both ways), by the paper's repel–prescribe–release iteration or by
 //! an active set of Lagrange multipliers solved through a Schur complement that reuses the
@@ -18,7 +21,7 @@ pub use obstacle::Obstacle;
 pub use paper::solve_paper;
 pub use point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactTimes, Master, PairSides, Relaxation,
+    ContactSummary, ContactTimes, Master, PairSides, Relaxation,
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};

@@ -21,7 +21,7 @@
 
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactTimes, Master, PairSides, Relaxation,
+    ContactSummary, ContactTimes, Master, PairSides, Relaxation,
 };
 use super::problem::{ContactProblem, Penetration};
 use crate::fem::solve::PartitionedSolver;
@@ -247,17 +247,19 @@ pub fn solve_paper(
     let max_penetration = problem.max_penetration(&solution.displacement, settings);
     Ok(ContactResult {
         solution,
-        contacts,
-        method: ContactMethod::Paper,
-        iterations,
-        factorizations,
-        substitutions,
-        max_penetration,
-        contact_ms: ms(t),
-        last_change: change,
-        stopped_by_threshold: stopped,
-        region_cells: 0,
-        times,
+        summary: ContactSummary {
+            contacts,
+            method: ContactMethod::Paper,
+            iterations,
+            factorizations,
+            substitutions,
+            max_penetration,
+            contact_ms: ms(t),
+            last_change: change,
+            stopped_by_threshold: stopped,
+            region_cells: 0,
+            times,
+        },
     })
 }
 

@@ -181,11 +181,33 @@ impl ContactPoint {
     }
 }
 
-/// The solved contact problem.
+/// The solved contact problem: the displacements and what the contact solve found
+/// (its fields are read through the summary: `result.contacts`, `result.iterations`, …).
 #[derive(Clone, Debug)]
 pub struct ContactResult {
     /// Displacements and support reactions (contact forces excluded).
     pub solution: Solution,
+    /// Everything else: the contact points, the cost, the penetration left.
+    pub summary: ContactSummary,
+}
+
+impl std::ops::Deref for ContactResult {
+    type Target = ContactSummary;
+    fn deref(&self) -> &ContactSummary {
+        &self.summary
+    }
+}
+
+impl std::ops::DerefMut for ContactResult {
+    fn deref_mut(&mut self) -> &mut ContactSummary {
+        &mut self.summary
+    }
+}
+
+/// What a contact solve found besides the displacements (a frame keeps this, and the
+/// displacements once, in its own solution).
+#[derive(Clone, Debug)]
+pub struct ContactSummary {
     /// Active contacts.
     pub contacts: Vec<ContactPoint>,
     /// Method used.

@@ -1,3 +1,6 @@
+//! Kernel: elements, materials, loads, assembly, the partitioned solve (6)–(8), Newton.
+//! May import the mesh kernel and util only.
+//!
 //! The finite element core: the 8-node hexahedron (standard, or with incompatible modes),
 //! isotropic linear elastic materials, loads, sparse assembly of the stiffness K of equation (5),
 //! the partitioned solve of equations (6)–(8), and the nonlinear tier: a Neo-Hookean total

@@ -1,3 +1,6 @@
+//! Kernel: the hand — anatomy, skeleton and pose, bone shapes, flesh lattice, skin, skinning.
+//! May import the mesh and fem kernels and util only.
+//!
 //! The synthetic hand: anatomy, skeleton and pose, the skin's shape, the meshed flesh around the
 //! bones, the smooth display skin, and geometric skinning (the fast path).
 

@@ -1,5 +1,5 @@
-//! The front-ends without a window: a scene file solved into its report and output files
-//! (`prehensile solve`), and frames rendered to PNG (`prehensile render`).
+//! Front-ends without a window: a scene solved into report and files, frames rendered to PNG.
+//! May import scene, model, solve, state, present, render, export, the kernels and util.
 
 mod render;
 mod solve;

@@ -1,3 +1,6 @@
+//! Kernel: hexahedral meshes, their boundary facets and surfaces, and mesh generators.
+//! May import util only.
+//!
 //! Meshes of 8-node hexahedra (with collapsed, degenerate forms for prisms and tetrahedra),
 //! their boundary facets, and generators for boxes, solid balls and hollow balls.
 

@@ -1,3 +1,6 @@
+//! State → draw lists: what to draw of a frame, colours, overlays, arrows, the tactile map.
+//! May import model, state, render, the kernels and util; never solve or a front-end.
+//!
 //! From a solved frame to a [`DrawList`]: the bridge between the solver's data (f64, nodes,
 //! facets, reactions) and the renderer's buffers (f32 triangles, scalars, arrows). The renderer
 //! stays generic; everything that knows about bodies and overlays lives here.

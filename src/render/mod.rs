@@ -1,3 +1,6 @@
+//! The wgpu renderer: draws the draw lists it is given, in a window or headless.
+//! May import util only: it knows nothing of egui, scenes or the FEM.
+//!
 //! The renderer: wgpu drawing of lit surfaces (bodies, skin, bones), arrows, wireframes, a ground
 //! plane with soft shadow and contact occlusion, and a colour-bar legend; into a window's
 //! texture or, headless, into an image.

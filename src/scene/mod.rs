@@ -1,3 +1,6 @@
+//! The scene file: serde types with their own enums, parsing, errors naming file and field.
+//! May import util only: nothing of the solver.
+//!
 //! Scene files (TOML): materials, bodies, constraints, loads and probes, with validation errors
 //! that name the file and the field. The format is documented in `docs/scene-format.md`.
 

@@ -15,6 +15,7 @@
 use super::error::SimError;
 use super::linear_factor::LinearFactor;
 use super::region::{sub_problem, SubProblem};
+use super::step_control::StepControl;
 use crate::fem::assembly::{assemble, assemble_warped};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::fem::solve::{FillOrdering, PartitionedSolver};
@@ -212,14 +213,12 @@ impl<'a> Flexion<'a> {
 
         // March from 0 to 1 in fractions of the keyframe; an increment that would turn a cell
         // inside out is retried with half the step, up to MAX_HALVINGS times.
-        let mut done = 0.0f64;
-        let mut df = 1.0 / plan.steps as f64;
-        let mut halvings = 0;
-        while done < 1.0 - 1e-12 {
+        let mut control = StepControl::new(plan.steps, MAX_HALVINGS, false);
+        while !control.finished() {
             if self.cancelled() {
                 return Err(SimError::Cancelled);
             }
-            let f = (done + df).min(1.0);
+            let f = control.target();
             let angles = plan.angles_at(f);
             let t_update = Instant::now();
             let Predicted {
@@ -236,9 +235,7 @@ impl<'a> Flexion<'a> {
                 };
                 match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
                     None => {}
-                    Some(_) if halvings < MAX_HALVINGS => {
-                        halvings += 1;
-                        df *= 0.5;
+                    Some(_) if control.halve() => {
                         stats.halvings += 1;
                         continue;
                     }
@@ -258,7 +255,7 @@ impl<'a> Flexion<'a> {
             state.positions = next;
             state.transforms = transforms;
             state.angles = angles;
-            done = f;
+            control.accept(f, true);
         }
         state.angles = target.to_vec();
         stats.total_ms = ms(t_all);

@@ -32,6 +32,7 @@
 use super::error::SimError;
 use super::flexion::{Flexion, Plan, Predicted};
 use super::region::SubProblem;
+use super::step_control::StepControl;
 use crate::fem::hex8::mapped_points;
 use crate::fem::hex8_hyperelastic::{element_state, Volumetric};
 use crate::fem::hyperelastic::NeoHookean;
@@ -100,17 +101,15 @@ impl Flexion<'_> {
             None => None,
         };
 
-        let full = 1.0 / plan.steps as f64;
-        let (mut done, mut df) = (0.0f64, full);
-        let (mut depth, mut easy) = (0usize, 0usize);
+        let mut control = StepControl::new(plan.steps, MAX_HALVINGS, true);
         let outcome = loop {
-            if done >= 1.0 - 1e-12 {
+            if control.finished() {
                 break Ok(());
             }
             if self.cancelled() {
                 break Err(SimError::Cancelled);
             }
-            let f = (done + df).min(1.0);
+            let f = control.target();
             let angles = plan.angles_at(f);
             let t = Instant::now();
             let Predicted {
@@ -123,14 +122,12 @@ impl Flexion<'_> {
             if let (Some(sub), Some(body)) = (&plan.sub, &body) {
                 match self.equilibrium(sub, body, &newton, state, &mut next, &mut stats) {
                     Ok(n) => iterations = n,
-                    Err(_) if depth < MAX_HALVINGS => {
-                        depth += 1;
-                        df *= 0.5;
-                        easy = 0;
+                    Err(_) if control.halve() => {
                         stats.halvings += 1;
                         continue;
                     }
                     Err(failure) => {
+                        let df = control.step();
                         break Err(self.no_equilibrium(&plan, state, &angles, df, failure));
                     }
                 }
@@ -139,13 +136,7 @@ impl Flexion<'_> {
             state.positions = next;
             state.transforms = transforms;
             state.angles = angles;
-            done = f;
-            easy = if iterations <= 6 { easy + 1 } else { 0 };
-            if easy >= 2 && depth > 0 {
-                depth -= 1;
-                df *= 2.0;
-                easy = 0;
-            }
+            control.accept(f, iterations <= 6);
         };
         // The reactions of the state reached: a consistent pose even when stopped early.
         let t = Instant::now();

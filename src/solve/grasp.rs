@@ -18,7 +18,7 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
-    ContactProblem, ContactSurface, Master, SurfacePair,
+    ContactProblem, ContactResult, ContactSurface, Master, SurfacePair,
 };
 use crate::fem::assembly::assemble;
 use crate::fem::solve::PartitionedSolver;
@@ -351,22 +351,25 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
             }
         })?;
     let stress_ms = ms(t);
-    let mut solution = result.solution.clone();
+    // The frame keeps the displacements once: the whole model's, in its own solution.
+    let ContactResult {
+        mut solution,
+        mut summary,
+    } = result;
     solution.displacement = frame_u;
     solution.reaction = frame_r;
-    let mut result = result;
-    result.contact_ms = ms(t_all);
-    result.region_cells = region_cells;
-    result.times.detection = times.detection;
-    result.times.assembly = assembly_ms;
-    result.times.stress = stress_ms;
+    summary.contact_ms = ms(t_all);
+    summary.region_cells = region_cells;
+    summary.times.detection = times.detection;
+    summary.times.assembly = assembly_ms;
+    summary.times.stress = stress_ms;
     Ok(Some(Frame {
         solution,
         stress,
         assembly_ms,
         stress_ms,
         hands: hand_frames,
-        contact: Some(result),
+        contact: Some(summary),
     }))
 }
 

@@ -1,5 +1,5 @@
-//! Solve: the one keyframe driver and what it runs — flexion increments per tier, the static
-//! solve of the bodies, the contact step — with its workspace of caches. Imports model, state, kernels.
+//! The one keyframe driver and what it runs (flexion per tier, statics, contact); its workspace.
+//! May import model, state, the kernels and util.
 
 mod compose;
 mod driver;
@@ -13,6 +13,7 @@ mod region;
 mod stabilize;
 mod statics;
 mod statics_nonlinear;
+mod step_control;
 
 pub use compose::compose;
 pub use driver::{

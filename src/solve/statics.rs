@@ -2,7 +2,7 @@
 //! then recover stresses. The result is the frame's state.
 
 use super::error::SimError;
-use crate::contact::{solve_with_obstacles, ContactError, Obstacle};
+use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
 use crate::fem::assembly::assemble_kind;
 use crate::fem::solve::{PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_kind;
@@ -77,8 +77,8 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
             other => SimError::Contact(other),
         })?;
         super::stabilize::check_held(model, &springs, &result).map_err(SimError::Contact)?;
-        let solution = result.solution.clone();
-        (solution, Some(result))
+        let ContactResult { solution, summary } = result;
+        (solution, Some(summary))
     };
     let t = Instant::now();
     let stress = stress_field_kind(

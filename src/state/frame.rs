@@ -3,7 +3,7 @@
 
 use super::hand::KeyframeStats;
 use super::outcome::Overload;
-use crate::contact::ContactResult;
+use crate::contact::ContactSummary;
 use crate::fem::solve::Solution;
 use crate::fem::stress::StressField;
 
@@ -21,7 +21,7 @@ pub struct Frame {
     /// The hands' state (empty without hands).
     pub hands: Vec<HandFrame>,
     /// Contact against the obstacles (None without obstacles).
-    pub contact: Option<ContactResult>,
+    pub contact: Option<ContactSummary>,
 }
 
 /// A hand in a frame.

@@ -1,5 +1,5 @@
-//! State: what a solve produces — frames, hand states, keyframe statistics, bone overloads — and
-//! what is derived from them (tactile map, strain checks). Imports the model and the kernels.
+//! What a solve produces: frames, hand states, keyframe statistics, overloads, derived quantities.
+//! May import model, the kernels and util.
 
 mod frame;
 mod hand;

@@ -1,3 +1,4 @@
-//! Small helpers every folder may use; imports nothing of the crate.
+//! Small helpers (timing) every folder may use.
+//! Imports nothing of the crate.
 
 pub mod timing;
