@@ -19,14 +19,7 @@ pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Fr
             frame.solution.reaction[3 * n..3 * n + 3].copy_from_slice(h.reaction[i].as_slice());
         }
     }
-    let inverted = |c: usize, relative_det: f64| {
-        let b = model.cell_body[c];
-        SimError::InvertedElement {
-            body: model.bodies[b].name.clone(),
-            element: c - model.bodies[b].cells.start,
-            relative_det,
-        }
-    };
+    let inverted = |c: usize, relative_det: f64| SimError::inverted(model, c, relative_det);
     frame.stress = if model.nonlinear_statics {
         // The Cauchy stress of the Neo-Hookean law the nonlinear tier solved with, for the
         // hands' flesh and the other bodies alike.

@@ -2,6 +2,7 @@
 
 use crate::contact::ContactError;
 use crate::fem::solve::SolveError;
+use crate::model::Model;
 use thiserror::Error;
 
 /// Why a frame could not be solved.
@@ -108,4 +109,33 @@ pub enum SimError {
 
 fn element_note(element: &Option<usize>) -> String {
     element.map_or(String::new(), |e| format!(" (its element {e})"))
+}
+
+impl SimError {
+    /// Cell `cell` of the model (numbered in the whole mesh) is inverted or flat.
+    pub(crate) fn inverted(model: &Model, cell: usize, relative_det: f64) -> SimError {
+        let b = model.cell_body[cell];
+        SimError::InvertedElement {
+            body: model.bodies[b].name.clone(),
+            element: cell - model.bodies[b].cells.start,
+            relative_det,
+        }
+    }
+
+    /// A linear solve of the whole model failed: named after the body of the failing node, or
+    /// after every body when no node is to blame.
+    pub(crate) fn solve(model: &Model, source: SolveError) -> SimError {
+        let body = match &source {
+            SolveError::NotPositiveDefinite { node, .. } => {
+                model.bodies[model.body_of_node(*node)].name.clone()
+            }
+            _ => model
+                .bodies
+                .iter()
+                .map(|b| b.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        };
+        SimError::Solve { body, source }
+    }
 }

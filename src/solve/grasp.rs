@@ -342,14 +342,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     let t = Instant::now();
     let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
     let stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &hand_cell)
-        .map_err(|(c, e)| {
-            let b = model.cell_body[c];
-            SimError::InvertedElement {
-                body: model.bodies[b].name.clone(),
-                element: c - model.bodies[b].cells.start,
-                relative_det: e.relative_det,
-            }
-        })?;
+        .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
     let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
     let ContactResult {
@@ -375,20 +368,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
 
 fn contact_error(model: &Model, e: ContactError) -> SimError {
     match e {
-        ContactError::Solve(source) => {
-            let body = match &source {
-                crate::fem::SolveError::NotPositiveDefinite { node, .. } => {
-                    model.bodies[model.body_of_node(*node)].name.clone()
-                }
-                _ => model
-                    .bodies
-                    .iter()
-                    .map(|b| b.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            };
-            SimError::Solve { body, source }
-        }
+        ContactError::Solve(source) => SimError::solve(model, source),
         other => SimError::Contact(other),
     }
 }

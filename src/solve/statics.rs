@@ -16,14 +16,7 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
     if model.nonlinear_statics {
         return super::statics_nonlinear::solve_static_nonlinear(model);
     }
-    let inverted = |cell: usize, relative_det: f64| {
-        let b = model.cell_body[cell];
-        SimError::InvertedElement {
-            body: model.bodies[b].name.clone(),
-            element: cell - model.bodies[b].cells.start,
-            relative_det,
-        }
-    };
+    let inverted = |cell: usize, relative_det: f64| SimError::inverted(model, cell, relative_det);
     let t = Instant::now();
     let mut k = assemble_kind(
         &model.pattern,
@@ -34,20 +27,7 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
     .map_err(|e| inverted(e.cell, e.inverted.relative_det))?;
     let springs = super::stabilize::stabilize(model, &mut k, &model.partition);
     let assembly_ms = ms(t);
-    let solve_error = |source: SolveError| {
-        let body = match &source {
-            SolveError::NotPositiveDefinite { node, .. } => {
-                model.bodies[model.body_of_node(*node)].name.clone()
-            }
-            _ => model
-                .bodies
-                .iter()
-                .map(|b| b.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", "),
-        };
-        SimError::Solve { body, source }
-    };
+    let solve_error = |source: SolveError| SimError::solve(model, source);
     let (solution, contact) = if model.obstacles.is_empty() {
         let solution = solver
             .solve(
