@@ -1,0 +1,210 @@
+//! The bodies: each shape meshed (or a hand model built), its elements checked, joined into one
+//! mesh with its boundary facets, size, volume and (after the regions) mass; a hand's pose and
+//! bone thresholds.
+
+use super::check::list;
+use super::materials::find_material;
+use super::shapes::build_shape;
+use super::BodyModel;
+use crate::fem::hex8::{cell_volume, relative_min_jacobian};
+use crate::fem::Material;
+use crate::hand::HandModel;
+use crate::mesh::{boundary_facets, Facet, Mesh};
+use crate::scene::{Scene, Shape};
+use std::sync::Arc;
+
+/// All bodies meshed one after the other.
+pub struct Bodies {
+    /// All bodies' meshes, one after the other.
+    pub mesh: Mesh,
+    /// Bodies (mass 0 until [`set_masses`], none floating yet).
+    pub bodies: Vec<BodyModel>,
+    /// Material index of each cell (the body's material, before the regions).
+    pub cell_material: Vec<usize>,
+    /// Body index of each cell.
+    pub cell_body: Vec<usize>,
+}
+
+/// Builds the bodies of the scene, in its order.
+pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
+    if scene.body.is_empty() {
+        return Err(("body".into(), "the scene defines no [[body]]".into()));
+    }
+    let mut mesh = Mesh::default();
+    let mut bodies: Vec<BodyModel> = Vec::new();
+    let mut cell_material = Vec::new();
+    let mut cell_body = Vec::new();
+    for (i, b) in scene.body.iter().enumerate() {
+        let field = format!("body \"{}\" (body[{i}])", b.name);
+        if bodies.iter().any(|o| o.name == b.name) {
+            return Err((field, "a body of this name is defined twice".into()));
+        }
+        let material = find_material(scene, &b.material, format!("{field}.material"))?;
+        let hand = match &b.shape {
+            Shape::Hand { side, resolution } => Some(Arc::new(
+                HandModel::new((*side).into(), *resolution)
+                    .map_err(|e| (format!("{field}.shape.hand"), e.to_string()))?,
+            )),
+            _ => {
+                if b.pose.is_some() {
+                    return Err((
+                        format!("{field}.pose"),
+                        "only hand bodies have a pose".into(),
+                    ));
+                }
+                None
+            }
+        };
+        let initial_angles = match &hand {
+            Some(hand) => hand
+                .skeleton
+                .apply_pose(
+                    &hand.skeleton.rest_angles(),
+                    &b.pose.clone().unwrap_or_default(),
+                )
+                .map_err(|e| (format!("{field}.pose"), e.to_string()))?,
+            None => Vec::new(),
+        };
+        let body_mesh = match &hand {
+            Some(h) => h.flesh.mesh.clone(),
+            None => build_shape(&b.shape).map_err(|m| (format!("{field}.shape"), m))?,
+        };
+        for (c, _) in body_mesh.cells.iter().enumerate() {
+            let rel = relative_min_jacobian(&body_mesh.cell_coords(c));
+            if rel.is_nan() || rel <= 1e-12 {
+                return Err((
+                    format!("{field}.shape"),
+                    format!(
+                        "element {c} is inverted or has zero volume (smallest det J / size³ = \
+                         {rel:.3e})"
+                    ),
+                ));
+            }
+        }
+        let facets = match &hand {
+            Some(h) => h
+                .flesh
+                .skin_quads
+                .iter()
+                .zip(&h.flesh.skin_cells)
+                .map(|(q, &cell)| Facet { nodes: *q, cell })
+                .collect(),
+            None => boundary_facets(&body_mesh),
+        };
+        let (node_offset, cell_offset) = mesh.append(&body_mesh);
+        let facets = facets
+            .into_iter()
+            .map(|f| Facet {
+                nodes: f.nodes.map(|n| n + node_offset),
+                cell: f.cell + cell_offset,
+            })
+            .collect();
+        let mut lo = body_mesh.nodes[0];
+        let mut hi = lo;
+        for p in &body_mesh.nodes {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let volume: f64 = (0..body_mesh.cell_count())
+            .map(|c| cell_volume(&body_mesh.cell_coords(c)))
+            .sum();
+        bodies.push(BodyModel {
+            name: b.name.clone(),
+            shape: b.shape.clone(),
+            nodes: node_offset..node_offset + body_mesh.node_count(),
+            cells: cell_offset..cell_offset + body_mesh.cell_count(),
+            facets,
+            size: (hi - lo).max(),
+            volume,
+            mass: 0.0,
+            thresholds: match &hand {
+                Some(h) => thresholds(h, b.bone_thresholds.as_ref())
+                    .map_err(|m| (format!("{field}.bone_thresholds"), m))?,
+                None => {
+                    if b.bone_thresholds.is_some() {
+                        return Err((
+                            format!("{field}.bone_thresholds"),
+                            "only a hand has bones".into(),
+                        ));
+                    }
+                    Vec::new()
+                }
+            },
+            hand,
+            initial_angles,
+            floating: false,
+        });
+        cell_material.extend(std::iter::repeat_n(material, body_mesh.cell_count()));
+        cell_body.extend(std::iter::repeat_n(i, body_mesh.cell_count()));
+    }
+    Ok(Bodies {
+        mesh,
+        bodies,
+        cell_material,
+        cell_body,
+    })
+}
+
+/// The index of the body `name`; `field` names the reference in the error.
+pub fn find_body(
+    bodies: &[BodyModel],
+    name: &str,
+    field: String,
+) -> Result<usize, (String, String)> {
+    bodies.iter().position(|b| b.name == name).ok_or_else(|| {
+        let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+        (
+            field,
+            format!("no body named \"{name}\" (defined: {})", list(&known)),
+        )
+    })
+}
+
+/// Sets the mass of every body from the final material of each cell.
+pub fn set_masses(bodies: &mut [BodyModel], mesh: &Mesh, cell_materials: &[Material]) {
+    for b in bodies {
+        b.mass = b
+            .cells
+            .clone()
+            .map(|c| cell_materials[c].density * cell_volume(&mesh.cell_coords(c)))
+            .sum();
+    }
+}
+
+/// A cell of every node (`usize::MAX` for a node of no cell).
+pub fn node_cells(mesh: &Mesh) -> Vec<usize> {
+    let mut node_cell = vec![usize::MAX; mesh.node_count()];
+    for (c, cell) in mesh.cells.iter().enumerate().rev() {
+        for &n in cell {
+            node_cell[n] = c;
+        }
+    }
+    node_cell
+}
+
+/// The muscle force thresholds of a hand's bones: the defaults, overridden by name.
+fn thresholds(
+    hand: &HandModel,
+    given: Option<&std::collections::BTreeMap<String, f64>>,
+) -> Result<Vec<f64>, String> {
+    let bones = &hand.skeleton.bones;
+    let mut out: Vec<f64> = bones
+        .iter()
+        .map(|b| crate::hand::anatomy::bone_threshold(&b.name))
+        .collect();
+    for (name, &value) in given.into_iter().flatten() {
+        let b = hand.skeleton.bone_index(name).ok_or_else(|| {
+            format!(
+                "no bone \"{name}\"; the bones are {}",
+                hand.skeleton.bone_names()
+            )
+        })?;
+        if !(value.is_finite() && value > 0.0) {
+            return Err(format!(
+                "\"{name}\": a threshold is a force > 0 N, got {value}"
+            ));
+        }
+        out[b] = value;
+    }
+    Ok(out)
+}

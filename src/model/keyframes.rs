@@ -1,0 +1,86 @@
+//! Keyframes: the full joint angles of a hand at given times.
+
+use super::{BodyModel, KeyframeModel};
+use crate::scene::Scene;
+
+/// The keyframes, validated: increasing times, an existing hand, known joints within limits.
+pub fn keyframes(
+    scene: &Scene,
+    bodies: &[BodyModel],
+) -> Result<Vec<KeyframeModel>, (String, String)> {
+    let hands: Vec<usize> = (0..bodies.len())
+        .filter(|&b| bodies[b].hand.is_some())
+        .collect();
+    let mut angles: Vec<Vec<f64>> = bodies.iter().map(|b| b.initial_angles.clone()).collect();
+    let mut out: Vec<KeyframeModel> = Vec::new();
+    for (i, k) in scene.keyframe.iter().enumerate() {
+        let field = format!("keyframe[{i}]");
+        if !(k.time.is_finite() && k.time >= 0.0) {
+            return Err((
+                format!("{field}.time"),
+                format!("must be a time ≥ 0 s, got {}", k.time),
+            ));
+        }
+        if let Some(last) = out.last() {
+            if k.time < last.time {
+                return Err((
+                    format!("{field}.time"),
+                    format!(
+                        "{} s comes before the previous keyframe's {} s: list keyframes in time order",
+                        k.time, last.time
+                    ),
+                ));
+            }
+        }
+        let body =
+            match &k.body {
+                Some(name) => {
+                    let Some(b) = bodies.iter().position(|b| &b.name == name) else {
+                        return Err((format!("{field}.body"), format!("no body named \"{name}\"")));
+                    };
+                    if bodies[b].hand.is_none() {
+                        return Err((
+                            format!("{field}.body"),
+                            format!("body \"{name}\" is not a hand"),
+                        ));
+                    }
+                    b
+                }
+                None => match hands.as_slice() {
+                    [b] => *b,
+                    [] => return Err((
+                        field,
+                        "the scene has no hand to pose (add a body with shape = { hand = { side \
+                         = \"right\" } })"
+                            .into(),
+                    )),
+                    _ => {
+                        return Err((
+                            format!("{field}.body"),
+                            "the scene has several hands: name the one this keyframe poses".into(),
+                        ))
+                    }
+                },
+            };
+        if out
+            .last()
+            .is_some_and(|l| l.time == k.time && l.body == body)
+        {
+            return Err((
+                format!("{field}.time"),
+                format!("a keyframe at {} s already poses this hand", k.time),
+            ));
+        }
+        let hand = bodies[body].hand.as_ref().unwrap();
+        angles[body] = hand
+            .skeleton
+            .apply_pose(&angles[body], &k.pose)
+            .map_err(|e| (format!("{field}.pose"), e.to_string()))?;
+        out.push(KeyframeModel {
+            time: k.time,
+            body,
+            angles: angles[body].clone(),
+        });
+    }
+    Ok(out)
+}

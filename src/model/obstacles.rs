@@ -1,0 +1,59 @@
+//! Rigid obstacles, and the nodes that may touch them.
+
+use super::check::finite;
+use super::BodyModel;
+use crate::contact::Obstacle;
+use crate::scene::{ObstacleShape, Scene};
+use nalgebra::Vector3;
+
+/// The scene's `[[obstacle]]`s, by name.
+pub fn obstacles(scene: &Scene) -> Result<Vec<(String, Obstacle)>, (String, String)> {
+    let mut obstacles = Vec::new();
+    for (i, o) in scene.obstacle.iter().enumerate() {
+        let field = format!("obstacle \"{}\" (obstacle[{i}])", o.name);
+        if scene.obstacle[..i].iter().any(|p| p.name == o.name) {
+            return Err((field, "an obstacle of this name is defined twice".into()));
+        }
+        let obstacle = match &o.shape {
+            ObstacleShape::Plane { point, normal } => {
+                let n = Vector3::from(*normal);
+                if !(finite(point) && finite(normal)) || n.norm() < 1e-12 {
+                    return Err((
+                        format!("{field}.shape.plane"),
+                        "needs a finite point and a non-zero finite normal".into(),
+                    ));
+                }
+                Obstacle::Plane {
+                    point: Vector3::from(*point),
+                    normal: n.normalize(),
+                }
+            }
+            ObstacleShape::Sphere { center, radius } => {
+                if !(finite(center) && radius.is_finite() && *radius > 0.0) {
+                    return Err((
+                        format!("{field}.shape.sphere"),
+                        format!("needs a finite center and a radius > 0 (radius = {radius})"),
+                    ));
+                }
+                Obstacle::Sphere {
+                    center: Vector3::from(*center),
+                    radius: *radius,
+                }
+            }
+        };
+        obstacles.push((o.name.clone(), obstacle));
+    }
+    Ok(obstacles)
+}
+
+/// Nodes that may touch the obstacles: the boundary nodes of every body but hands (sorted).
+pub fn contact_candidates(bodies: &[BodyModel]) -> Vec<usize> {
+    let mut contact_candidates: Vec<usize> = bodies
+        .iter()
+        .filter(|b| b.hand.is_none())
+        .flat_map(|b| b.facets.iter().flat_map(|f| f.nodes))
+        .collect();
+    contact_candidates.sort_unstable();
+    contact_candidates.dedup();
+    contact_candidates
+}

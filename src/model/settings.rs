@@ -1,0 +1,183 @@
+//! The settings of `[solver]`: contact iteration, friction table, flexion of the hands, the
+//! warnings they deserve, and the fill-reducing ordering.
+
+use super::flexion_settings::{FleshRegion, FlexionSettings};
+use super::tier;
+use super::{BodyModel, FrictionTable};
+use crate::contact::{ContactSettings, Relaxation};
+use crate::fem::solve::FillOrdering;
+use crate::scene::{
+    FarFromContact, FleshRegionName, OrderingName, RelaxationDef, Scene, SolverSettings,
+};
+
+/// The contact settings of `[solver]`.
+pub fn contact_settings(
+    s: &SolverSettings,
+    largest: f64,
+) -> Result<ContactSettings, (String, String)> {
+    let mut out = ContactSettings {
+        tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
+        max_iterations: s.contact_max_iterations.unwrap_or(50),
+        method: s.contact.unwrap_or_default().into(),
+        pairs: s.contact_pairs.unwrap_or_default().into(),
+        ..ContactSettings::default()
+    };
+    if !(out.tolerance.is_finite() && out.tolerance >= 0.0) {
+        return Err((
+            "solver.contact_tolerance".into(),
+            format!("must be a length ≥ 0 m, got {}", out.tolerance),
+        ));
+    }
+    if out.max_iterations == 0 {
+        return Err((
+            "solver.contact_max_iterations".into(),
+            "must be at least 1".into(),
+        ));
+    }
+    if let Some(c) = s.contact_change_tolerance {
+        if !(c.is_finite() && c > 0.0) {
+            return Err((
+                "solver.contact_change_tolerance".into(),
+                format!("must be a length > 0 m, got {c}"),
+            ));
+        }
+        out.change_tolerance = c;
+    }
+    if let Some(d) = s.contact_search {
+        if !(d.is_finite() && d > 0.0) {
+            return Err((
+                "solver.contact_search".into(),
+                format!("must be a length > 0 m, got {d}"),
+            ));
+        }
+        out.search_depth = d;
+    }
+    out.relaxation = match &s.contact_relaxation {
+        None => Relaxation::Aitken,
+        Some(RelaxationDef::Name(n)) if n == "aitken" => Relaxation::Aitken,
+        Some(RelaxationDef::Factor(w)) if w.is_finite() && *w > 0.0 && *w <= 1.0 => {
+            Relaxation::Fixed(*w)
+        }
+        Some(other) => {
+            return Err((
+                "solver.contact_relaxation".into(),
+                format!("must be \"aitken\" or a factor in (0, 1], got {other:?}"),
+            ))
+        }
+    };
+    Ok(out)
+}
+
+/// The friction coefficients: `[solver] friction` and the `[[friction]]` pairs.
+pub fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> {
+    let default = scene.solver.friction.unwrap_or(0.0);
+    if !(default.is_finite() && default >= 0.0) {
+        return Err((
+            "solver.friction".into(),
+            format!("μ must be ≥ 0, got {default}"),
+        ));
+    }
+    let mut pairs = Vec::new();
+    for (i, f) in scene.friction.iter().enumerate() {
+        let field = format!("friction[{i}]");
+        for name in &f.between {
+            let known = scene.material.iter().any(|m| &m.name == name)
+                || scene.obstacle.iter().any(|o| &o.name == name);
+            if !known {
+                return Err((
+                    format!("{field}.between"),
+                    format!("\"{name}\" is neither a material nor an obstacle"),
+                ));
+            }
+        }
+        if !(f.mu.is_finite() && f.mu >= 0.0) {
+            return Err((
+                format!("{field}.mu"),
+                format!("μ must be ≥ 0, got {}", f.mu),
+            ));
+        }
+        pairs.push((f.between[0].clone(), f.between[1].clone(), f.mu));
+    }
+    Ok((default, pairs))
+}
+
+/// The flexion settings of `[solver]`.
+pub fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, String)> {
+    let mut out = FlexionSettings::default();
+    if let Some(step) = s.max_step_deg {
+        if !(step.is_finite() && step > 0.0 && step <= 45.0) {
+            return Err((
+                "solver.max_step_deg".into(),
+                format!("must be in (0, 45] degrees, got {step}"),
+            ));
+        }
+        out.max_step_deg = step;
+    }
+    if let Some(m) = s.flesh {
+        out.methods = [m.into(); 6];
+    }
+    tier::apply_tier(s, &mut out)?;
+    const PARTS: [&str; 6] = ["palm", "thumb", "index", "middle", "ring", "little"];
+    for (name, &m) in &s.flesh_digits {
+        let Some(i) = PARTS.iter().position(|p| p == name) else {
+            return Err((
+                format!("solver.flesh_digits.{name}"),
+                format!("is not a part of the hand ({})", PARTS.join(", ")),
+            ));
+        };
+        out.methods[i] = m.into();
+    }
+    let radius = s.flesh_region_radius.unwrap_or(0.012);
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err((
+            "solver.flesh_region_radius".into(),
+            format!("must be a positive length in metres, got {radius}"),
+        ));
+    }
+    out.region = match s.flesh_region {
+        Some(FleshRegionName::Whole) => FleshRegion::Whole,
+        _ => FleshRegion::Local { radius },
+    };
+    if let Some(b) = s.skinning {
+        out.blend = b.into();
+    }
+    if let Some(v) = s.volumetric {
+        out.volumetric = v.into();
+    }
+    let near = s.near_contact.unwrap_or(0.01);
+    if !(near.is_finite() && near > 0.0) {
+        return Err((
+            "solver.near_contact".into(),
+            format!("must be a positive distance in metres, got {near}"),
+        ));
+    }
+    out.near_contact = match s.far_from_contact {
+        Some(FarFromContact::Solve) => None,
+        _ => Some(near),
+    };
+    if let Some(f) = s.flexion {
+        out.scheme = f.into();
+    }
+    Ok(out)
+}
+
+/// Warnings about the flexion settings for the bodies of the scene.
+pub fn warnings(scene: &Scene, flexion: &FlexionSettings, bodies: &[BodyModel]) -> Vec<String> {
+    let has_hand = bodies.iter().any(|b| b.hand.is_some());
+    let mut warnings = tier::flexion_warnings(flexion, has_hand);
+    let has_object = bodies.iter().any(|b| b.hand.is_none());
+    warnings.extend(tier::nonlinear_contact_warning(
+        scene.solver.tier,
+        has_hand,
+        has_object,
+    ));
+    warnings
+}
+
+/// The fill-reducing ordering of `[solver]` (nested dissection unless `ordering = "amd"`).
+pub fn ordering(s: &SolverSettings) -> FillOrdering {
+    match s.ordering {
+        Some(OrderingName::Amd) => FillOrdering::Amd,
+        _ => FillOrdering::NestedDissection,
+    }
+}
