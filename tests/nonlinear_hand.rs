@@ -469,11 +469,11 @@ fn the_nonlinear_tier_key_solves_a_hand_scene_and_writes_no_nan() {
     assert_eq!(model.flexion.scheme, FlexionScheme::Nonlinear);
     assert!(
         model
-            .warnings
+            .warnings()
             .iter()
             .any(|w| w.contains("linear contact step")),
         "{:?}",
-        model.warnings
+        model.warnings()
     );
 }
 

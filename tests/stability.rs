@@ -80,7 +80,7 @@ fn report_of(model: &Model, frames: &[Frame]) -> Value {
     let report = Report {
         scene: "stability".into(),
         model: model_summary(model),
-        warnings: model.warnings.clone(),
+        warnings: model.warnings(),
         frames: frames
             .iter()
             .enumerate()
@@ -478,15 +478,15 @@ fn f_one_45_degree_increment_is_worse_than_10_degree_ones_and_warns() {
     };
     let scene = |step: f64| Scene::parse(&text(step), "step.toml").unwrap();
     let warned = Model::build(&scene(45.0), "step.toml").unwrap();
-    assert_eq!(warned.warnings.len(), 1);
+    assert_eq!(warned.warnings().len(), 1);
     assert!(
-        warned.warnings[0].contains("solver.max_step_deg = 45"),
+        warned.warnings()[0].contains("solver.max_step_deg = 45"),
         "{:?}",
-        warned.warnings
+        warned.warnings()
     );
     assert!(Model::build(&scene(10.0), "step.toml")
         .unwrap()
-        .warnings
+        .warnings()
         .is_empty());
     let dir = scratch("step");
     std::fs::create_dir_all(&dir).unwrap();

@@ -57,9 +57,8 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
         scene: file.to_string(),
         model: model_summary(&model),
         warnings: model
-            .warnings
-            .iter()
-            .cloned()
+            .warnings()
+            .into_iter()
             .chain(small_strain_warnings(&model, &frames))
             .collect(),
         frames: frames

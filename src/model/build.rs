@@ -10,7 +10,7 @@ use super::materials::materials;
 use super::obstacles::{contact_candidates, obstacles};
 use super::probes::probes;
 use super::regions::apply_regions;
-use super::settings::{contact_settings, flexion_settings, friction_table, ordering, warnings};
+use super::settings::{contact_settings, flexion_settings, friction_table, ordering};
 use super::supports::floating_bodies;
 use super::Model;
 use crate::fem::assembly::StiffnessPattern;
@@ -51,7 +51,6 @@ impl Model {
         }
         let flexion = flexion_settings(&scene.solver).map_err(err)?;
         let keyframes = keyframes(scene, &bodies).map_err(err)?;
-        let warnings = warnings(scene, &flexion, &bodies);
         let cameras = cameras(scene).map_err(err)?;
 
         let obstacles = obstacles(scene).map_err(err)?;
@@ -89,7 +88,6 @@ impl Model {
             contact_region,
             friction,
             node_cell,
-            warnings,
             element: scene.solver.element.unwrap_or_default().into(),
             nonlinear_statics: scene.solver.tier == Some(crate::scene::TierName::Nonlinear),
         })

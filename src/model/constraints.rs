@@ -101,7 +101,7 @@ pub fn constraints(
     })
 }
 
-/// A hand moves by its skeleton, solved increment by increment (sim::flexion); in the
+/// A hand moves by its skeleton, solved increment by increment (`solve::Flexion`); in the
 /// static solve of the other bodies all its nodes are held where they are.
 pub fn hold_hands(bodies: &[BodyModel], prescribed_mask: &mut [bool]) {
     for body in bodies {

@@ -30,12 +30,12 @@ pub enum FlexionScheme {
     Corotational,
     /// No increments: small-strain linear elasticity on the rest geometry, K factored once per
     /// hand and each keyframe one solve with the bones' total displacement from rest prescribed
-    /// (`super::linear_tier`). Fast, but a finite rotation is strain to it: flesh that turns
+    /// (`solve::LinearFactor`). Fast, but a finite rotation is strain to it: flesh that turns
     /// with a bone swells.
     Linear,
     /// The same increments, each solved to equilibrium at large strain: Neo-Hookean flesh
     /// (mean dilatation, valid to ν → ½), total Lagrangian on the rest flesh mesh,
-    /// Newton–Raphson with a line search (`super::flexion_nonlinear`). No linearisation error
+    /// Newton–Raphson with a line search (`solve::flexion_nonlinear`). No linearisation error
     /// accumulates over increments.
     Nonlinear,
 }
@@ -71,7 +71,7 @@ pub struct FlexionSettings {
     pub volumetric: Volumetric,
     /// In a scene with other bodies, the parts of a hand (palm, thumb, fingers) that stay
     /// farther than this (m) from all of them over a keyframe are not solved by FEM: their
-    /// flesh follows the bones by skinning (`super::proximity`). `None`: every part is solved
+    /// flesh follows the bones by skinning (`solve::proximity`). `None`: every part is solved
     /// as `methods` says.
     pub near_contact: Option<f64>,
 }

@@ -165,8 +165,6 @@ pub struct Model {
     pub friction: FrictionTable,
     /// A cell of every node.
     pub node_cell: Vec<usize>,
-    /// Warnings about the settings (the model is usable; `report.json` lists them).
-    pub warnings: Vec<String>,
     /// Element of the linear static solve (`[solver] element`).
     pub element: crate::fem::ElementKind,
     /// The bodies other than hands are solved at large strain by Newton (`[solver] tier =
@@ -175,6 +173,12 @@ pub struct Model {
 }
 
 impl Model {
+    /// Warnings about the settings (the model is usable; `report.json` lists them), derived from
+    /// the model.
+    pub fn warnings(&self) -> Vec<String> {
+        settings::warnings(self.nonlinear_statics, &self.flexion, &self.bodies)
+    }
+
     /// A cell that contains node `n`.
     pub fn node_cell(&self, n: usize) -> Option<usize> {
         self.node_cell.get(n).copied().filter(|&c| c != usize::MAX)

@@ -161,15 +161,14 @@ pub fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, 
     Ok(out)
 }
 
-/// Warnings about the flexion settings for the bodies of the scene.
-pub fn warnings(scene: &Scene, flexion: &FlexionSettings, bodies: &[BodyModel]) -> Vec<String> {
+/// Warnings about the flexion settings for the bodies of the model (`nonlinear`: `[solver] tier
+/// = "nonlinear"`).
+pub fn warnings(nonlinear: bool, flexion: &FlexionSettings, bodies: &[BodyModel]) -> Vec<String> {
     let has_hand = bodies.iter().any(|b| b.hand.is_some());
     let mut warnings = tier::flexion_warnings(flexion, has_hand);
     let has_object = bodies.iter().any(|b| b.hand.is_none());
     warnings.extend(tier::nonlinear_contact_warning(
-        scene.solver.tier,
-        has_hand,
-        has_object,
+        nonlinear, has_hand, has_object,
     ));
     warnings
 }

@@ -164,11 +164,11 @@ pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec
 /// touches the body are solved by the contact step, which stays linear (the object small-strain
 /// from rest, the flesh near the contact linearised about its posed state; `super::grasp`).
 pub(super) fn nonlinear_contact_warning(
-    tier: Option<TierName>,
+    nonlinear: bool,
     has_hand: bool,
     has_object: bool,
 ) -> Option<String> {
-    (tier == Some(TierName::Nonlinear) && has_hand && has_object).then(|| {
+    (nonlinear && has_hand && has_object).then(|| {
         "solver.tier = \"nonlinear\": the hands flex by nonlinear increments and bodies \
          untouched by a hand are solved by Newton, but a frame where a hand touches a body is \
          solved by the linear contact step (the body small-strain from rest, the flesh near the \
