@@ -8,7 +8,7 @@ use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::model::Model;
 use crate::present::draw_list;
-use crate::solve::{hands_of, rest_hands, CancelCheck, PosedHand, SimError, Workspace};
+use crate::solve::{CancelCheck, Posed, SimError, Workspace};
 use crate::state::Frame;
 use crate::util::timing::ms;
 use std::sync::Arc;
@@ -23,9 +23,9 @@ pub struct Physics {
     /// model's life so that a change costs only the increments between the shown pose and the
     /// new one (and with the linear tier one solve, not a factorization).
     workspace: Option<Workspace>,
-    hands: Vec<PosedHand>,
+    hands: Posed,
     /// Hands of the last frame delivered, restored after a failure or a panic.
-    last_good: Vec<PosedHand>,
+    last_good: Posed,
     /// Set while a job changes `hands`; still set at the next job means the last one panicked.
     dirty: bool,
 }
@@ -47,7 +47,7 @@ impl Physics {
             self.workspace = None;
             let model = Model::build(&job.scene, "scene").map_err(error)?;
             self.workspace = Some(Workspace::new(&model).map_err(error)?);
-            self.hands = rest_hands(&model);
+            self.hands = Posed::rest(&model);
             self.last_good = self.hands.clone();
             self.model = Some(Arc::new(model));
             self.revision = Some(job.scene_revision);
@@ -85,7 +85,7 @@ impl Physics {
         let model = self.ensure_model(job)?;
         if let Some(start) = start {
             if start.solution.displacement.len() == 3 * model.mesh.node_count() {
-                self.hands = hands_of(&model, start);
+                self.hands = Posed::of_frame(&model, start);
             }
         }
         let workspace = self.workspace.as_mut().expect("built with the model");
@@ -118,9 +118,9 @@ impl Physics {
         let model = self.ensure_model(job)?;
         let mut hands = match start {
             Some(f) if f.solution.displacement.len() == 3 * model.mesh.node_count() => {
-                hands_of(&model, f)
+                Posed::of_frame(&model, f)
             }
-            _ => rest_hands(&model),
+            _ => Posed::rest(&model),
         };
         for (i, pose) in poses.iter().enumerate() {
             if cancel.is_stale() {

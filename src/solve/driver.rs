@@ -7,11 +7,12 @@ use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
 use super::statics::solve_static;
+use super::step_control::StepControl;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
 use crate::model::Model;
 use crate::state::{Frame, HandFrame, HandState, KeyframeStats};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 /// What changes while a model is solved, besides the hands' states (the `mjData` of this
 /// project, with [`PosedHand`]): the static frame of the bodies that no hand moves, and the caches
@@ -28,11 +29,82 @@ pub struct Workspace {
 pub struct PosedHand {
     /// The hand body.
     pub body: usize,
-    /// Angles, bone motions, flesh positions, accumulated reactions.
+    /// Angles, bone motions, flesh positions as flexed (without the contact's displacement),
+    /// accumulated reactions.
     pub state: HandState,
-    /// The hand's part of the last frame (what reaching `state` cost included).
+    /// The hand's frame as flexed (what reaching `state` cost included).
     pub frame: HandFrame,
 }
+
+/// Where the driver left a model's hands and what touches them: the state that one keyframe
+/// hands to the next (the viewer keeps one for the pose shown, the timeline its own).
+#[derive(Clone, Debug, Default)]
+pub struct Posed {
+    /// Every hand body.
+    pub hands: Vec<PosedHand>,
+    /// The displacements the last contact step left, over every dof: the other bodies' from
+    /// rest, the flesh's over its flexed pose. `None` when nothing touched.
+    pub contact: Option<Vec<f64>>,
+}
+
+impl Posed {
+    /// Every hand of the model at rest, nothing touching.
+    pub fn rest(model: &Model) -> Posed {
+        Posed {
+            hands: rest_hands(model),
+            contact: None,
+        }
+    }
+
+    /// The hands and the contact of a solved `frame` of `model`, to go on from there.
+    pub fn of_frame(model: &Model, frame: &Frame) -> Posed {
+        let hands = hands_of(model, frame);
+        let contact = frame.contact.as_ref().map(|_| {
+            let mut carried = frame.solution.displacement.clone();
+            for h in &frame.hands {
+                let nodes = model.bodies[h.body].nodes.clone();
+                for (i, n) in nodes.enumerate() {
+                    let v = h
+                        .contact_displacement
+                        .get(i)
+                        .copied()
+                        .unwrap_or_else(Vector3::zeros);
+                    carried[3 * n..3 * n + 3].copy_from_slice(v.as_slice());
+                }
+            }
+            carried
+        });
+        Posed { hands, contact }
+    }
+
+    /// What `frame`, solved from these hands, leaves to carry into the next step.
+    fn carry(&mut self, model: &Model, frame: &Frame) {
+        self.contact = frame.contact.as_ref().map(|_| {
+            let mut carried = frame.solution.displacement.clone();
+            for h in &frame.hands {
+                let posed = self.hands.iter().find(|p| p.body == h.body);
+                let nodes = model.bodies[h.body].nodes.clone();
+                for (i, n) in nodes.enumerate() {
+                    let v = match posed {
+                        Some(p) => h.positions[i] - p.state.positions[i],
+                        None => Vector3::zeros(),
+                    };
+                    carried[3 * n..3 * n + 3].copy_from_slice(v.as_slice());
+                }
+            }
+            carried
+        });
+    }
+}
+
+/// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
+/// degrees: the skin of a fingertip 8 cm from the joint moves ≈ 7 mm, within what one contact
+/// step resolves from the last converged state.
+pub const CONTACT_STEP_DEG: f64 = 5.0;
+
+/// Halvings of a contact step whose contact does not settle before the keyframe gives up
+/// (the smallest step is [`CONTACT_STEP_DEG`] / 2⁴).
+const CONTACT_HALVINGS: usize = 4;
 
 impl Workspace {
     /// Solves the static frame of the bodies no hand moves (equations (6)–(8)), unless nothing
@@ -62,28 +134,130 @@ impl Workspace {
         self.still.as_ref()
     }
 
-    /// Moves each hand of `targets` (hand body, joint angles in degrees) from where `hands` holds
-    /// it by flexion increments, then solves the frame with every hand (the contact step where
-    /// a hand touches a body). Hands not in `targets` stay as they are. `cancel` is asked before
-    /// every increment: a cancelled hand stays at its last completed increment.
+    /// Moves each hand of `targets` (hand body, joint angles in degrees) from where `posed`
+    /// holds it by flexion increments, and solves the frame with every hand. In a scene with
+    /// other bodies the motion goes in contact steps of at most [`CONTACT_STEP_DEG`]: after each,
+    /// the bodies, the flesh near the contact and their contacts are solved from where the last
+    /// step left them (a step whose contact does not settle is halved), so that however deep the
+    /// keyframe's pose would put the skin into a body, each step resolves only its own motion —
+    /// the animator's "fingers inside the ball" pushes the ball away. Hands not in `targets` stay
+    /// as they are. `cancel` is asked before every increment: a cancelled hand stays at its last
+    /// completed increment.
     pub fn move_hands(
         &mut self,
         model: &Model,
-        hands: &mut [PosedHand],
+        posed: &mut Posed,
         targets: &[(usize, Vec<f64>)],
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
-        for (body, target) in targets {
-            let h = hands
+        let index = |body: usize| {
+            posed
+                .hands
                 .iter()
-                .position(|h| h.body == *body)
-                .expect("targets name hand bodies");
-            self.move_hand(model, &mut hands[h], target, cancel)?;
+                .position(|h| h.body == body)
+                .expect("targets name hand bodies")
+        };
+        let moving: Vec<(usize, Vec<f64>, Vec<f64>)> = targets
+            .iter()
+            .map(|(b, target)| {
+                let h = index(*b);
+                (h, posed.hands[h].state.angles.clone(), target.clone())
+            })
+            .collect();
+        let has_objects = model.bodies.iter().any(|b| b.hand.is_none());
+        let largest = moving
+            .iter()
+            .flat_map(|(_, from, to)| from.iter().zip(to).map(|(a, b)| (b - a).abs()))
+            .fold(0.0, f64::max);
+        let steps = (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize;
+        // The keyframe in one step first (its contact linearised about the flexed pose, the
+        // bodies at rest): exact where the pose brings the skin just onto the bodies. Where that
+        // contact does not settle, the keyframe again in contact steps along the motion.
+        let start = (has_objects && steps > 1).then(|| posed.clone());
+        match self.move_in_steps(model, posed, &moving, 1, None, cancel) {
+            Err(SimError::Contact(first)) if start.is_some() => {
+                *posed = start.expect("kept above");
+                let carried = posed.contact.clone();
+                self.move_in_steps(model, posed, &moving, steps, carried, cancel)
+                    .map_err(|e| match e {
+                        // Neither way settled: the one-step error says how deep the pose is.
+                        SimError::Contact(_) => SimError::Contact(first),
+                        other => other,
+                    })
+            }
+            other => other,
+        }
+    }
+
+    /// The motion of `moving` (hand, from, to) in `steps` contact steps (halved where contact
+    /// does not settle), each from the displacements the last one left, starting from
+    /// `carried`.
+    fn move_in_steps(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        moving: &[(usize, Vec<f64>, Vec<f64>)],
+        steps: usize,
+        carried: Option<Vec<f64>>,
+        cancel: Option<&CancelCheck>,
+    ) -> Result<Frame, SimError> {
+        posed.contact = carried;
+        let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
+        let mut stats: Vec<KeyframeStats> = vec![KeyframeStats::default(); moving.len()];
+        loop {
+            let f = control.target();
+            let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
+            match self.contact_step(model, posed, moving, f, cancel, &mut stats) {
+                Ok(frame) if control.finished_with(f) => {
+                    let mut frame = frame;
+                    // The keyframe's cost: every contact step's flexion.
+                    for (k, (h, _, _)) in moving.iter().enumerate() {
+                        let body = posed.hands[*h].body;
+                        if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
+                            fh.stats = stats[k].clone();
+                        }
+                        posed.hands[*h].frame.stats = stats[k].clone();
+                    }
+                    posed.carry(model, &frame);
+                    return Ok(frame);
+                }
+                Ok(frame) => {
+                    posed.carry(model, &frame);
+                    control.accept(f, true);
+                }
+                Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
+                    (*posed, stats) = before.expect("kept above");
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
+    /// with the contact solved from what `posed` carries.
+    fn contact_step(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        moving: &[(usize, Vec<f64>, Vec<f64>)],
+        f: f64,
+        cancel: Option<&CancelCheck>,
+        stats: &mut [KeyframeStats],
+    ) -> Result<Frame, SimError> {
+        for (k, (h, from, to)) in moving.iter().enumerate() {
+            let angles: Vec<f64> = if f >= 1.0 {
+                to.clone()
+            } else {
+                from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect()
+            };
+            self.move_hand(model, &mut posed.hands[*h], &angles, cancel)?;
+            stats[k].absorb(&posed.hands[*h].frame.stats);
         }
         frame_with_hands(
             model,
             self.still.as_ref(),
-            hands.iter().map(|h| h.frame.clone()).collect(),
+            posed.hands.iter().map(|h| h.frame.clone()).collect(),
+            posed.contact.as_deref(),
         )
     }
 
@@ -150,15 +324,21 @@ pub fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
         .iter()
         .map(|h| {
             let hand = model.bodies[h.body].hand.as_deref().expect("a hand body");
+            // As flexed: the contact's displacement taken off.
+            let mut flexed = h.clone();
+            for (p, v) in flexed.positions.iter_mut().zip(&h.contact_displacement) {
+                *p -= v;
+            }
+            flexed.contact_displacement.clear();
             PosedHand {
                 body: h.body,
                 state: HandState {
                     angles: h.angles.clone(),
                     transforms: hand.skeleton.transforms(&h.angles),
-                    positions: h.positions.clone(),
+                    positions: flexed.positions.clone(),
                     reaction: h.reaction.clone(),
                 },
-                frame: h.clone(),
+                frame: flexed,
             }
         })
         .collect()
@@ -169,17 +349,18 @@ pub fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
 /// time (time 0 first); returns the times and the frames.
 pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
     let mut workspace = Workspace::new(model)?;
-    let mut hands = rest_hands(model);
-    if hands.is_empty() {
+    let mut posed = Posed::rest(model);
+    if posed.hands.is_empty() {
         let still = workspace.still.take().expect("solved without hands");
         return Ok((vec![0.0], vec![still]));
     }
-    let initial: Vec<(usize, Vec<f64>)> = hands
+    let initial: Vec<(usize, Vec<f64>)> = posed
+        .hands
         .iter()
         .map(|h| (h.body, model.bodies[h.body].initial_angles.clone()))
         .collect();
     let mut times = vec![0.0];
-    let mut frames = vec![workspace.move_hands(model, &mut hands, &initial, None)?];
+    let mut frames = vec![workspace.move_hands(model, &mut posed, &initial, None)?];
     let mut k = 0;
     while k < model.keyframes.len() {
         let time = model.keyframes[k].time;
@@ -189,7 +370,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
             targets.push((key.body, key.angles.clone()));
             k += 1;
         }
-        let frame = workspace.move_hands(model, &mut hands, &targets, None)?;
+        let frame = workspace.move_hands(model, &mut posed, &targets, None)?;
         if time == 0.0 {
             frames[0] = frame;
         } else {
@@ -253,6 +434,7 @@ pub fn hand_frame(
         body,
         angles: state.angles.clone(),
         positions: state.positions.clone(),
+        contact_displacement: Vec::new(),
         bone_reactions: bone_reactions.clone(),
         reaction: state.reaction.clone(),
         volume: state.flesh_volume(hand),

@@ -43,8 +43,9 @@ pub fn frame_with_hands(
     model: &Model,
     still: Option<&Frame>,
     hands: Vec<HandFrame>,
+    carried: Option<&[f64]>,
 ) -> Result<Frame, SimError> {
-    if let Some(frame) = solve_grasp(model, &hands)? {
+    if let Some(frame) = solve_grasp(model, &hands, carried)? {
         return Ok(frame);
     }
     match still {
@@ -57,7 +58,18 @@ pub fn frame_with_hands(
 }
 
 /// The contact solve of a frame, or `None` when no hand is near another body.
-pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, SimError> {
+///
+/// `carried`: the displacements the previous contact step of the motion left, over every dof
+/// (the other bodies' from rest, the flesh's over its flexed pose), from which this step goes on.
+/// The problem stays linear in the total displacements U (K of the bodies at rest, of the flesh
+/// on its flexed pose), but the contact is detected and linearised about the carried
+/// configuration: K·ΔU = R − K·U_prev + Cᵀλ with ΔU = U − U_prev, so that a step only has to
+/// resolve the penetration its own motion made.
+pub fn solve_grasp(
+    model: &Model,
+    hands: &[HandFrame],
+    carried: Option<&[f64]>,
+) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
     let margin = settings.search_depth;
     let objects: Vec<usize> = (0..model.bodies.len())
@@ -74,6 +86,14 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         let body = &model.bodies[h.body];
         x[body.nodes.clone()].copy_from_slice(&h.positions);
     }
+    // Where the contact is detected and linearised: the reference moved by what is carried.
+    let zero = vec![0.0; 3 * model.mesh.node_count()];
+    let carried = carried.unwrap_or(&zero);
+    let x_now: Vec<Vector3<f64>> = x
+        .iter()
+        .enumerate()
+        .map(|(n, p)| p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]))
+        .collect();
     let mut surfaces: Vec<ContactSurface> = Vec::new();
     for h in hands {
         let body = &model.bodies[h.body];
@@ -86,11 +106,11 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
             .filter(|(_, &outer)| outer)
             .map(|(q, _)| q.map(|n| n + body.nodes.start))
             .collect();
-        surfaces.push(ContactSurface::from_quads(h.body, &quads, &x));
+        surfaces.push(ContactSurface::from_quads(h.body, &quads, &x_now));
     }
     for &b in &objects {
         let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
-        surfaces.push(ContactSurface::from_quads(b, &quads, &x));
+        surfaces.push(ContactSurface::from_quads(b, &quads, &x_now));
     }
     // Which skin nodes are near which object, and the object nodes near the skin.
     let mut pairs: Vec<SurfacePair> = Vec::new();
@@ -98,16 +118,16 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
     let mut seeds: Vec<usize> = Vec::new();
     for (i, _) in hands.iter().enumerate() {
         let skin_nodes = surfaces[i].nodes();
-        let skin_bvh = surfaces[i].hierarchy(&x, margin);
+        let skin_bvh = surfaces[i].hierarchy(&x_now, margin);
         for (j, &b) in objects.iter().enumerate() {
             let s = hands.len() + j;
             let object_nodes = surfaces[s].nodes();
-            let object_bvh = surfaces[s].hierarchy(&x, margin);
+            let object_bvh = surfaces[s].hierarchy(&x_now, margin);
             let gaps: Vec<(usize, f64)> = skin_nodes
                 .iter()
                 .filter_map(|&n| {
                     object_bvh
-                        .project(&x[n], &x, None, |_| false)
+                        .project(&x_now[n], &x_now, None, |_| false)
                         .map(|p| (n, p.gap))
                 })
                 .collect();
@@ -119,7 +139,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
                 .copied()
                 .filter(|&n| {
                     skin_bvh
-                        .project(&x[n], &x, None, |_| false)
+                        .project(&x_now[n], &x_now, None, |_| false)
                         .is_some_and(|p| p.gap < margin)
                 })
                 .collect();
@@ -161,7 +181,7 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         let near: Vec<Vector3<f64>> = seeds
             .iter()
             .filter(|&&n| body.nodes.contains(&n))
-            .map(|&n| x[n])
+            .map(|&n| x_now[n])
             .collect();
         if near.is_empty() {
             continue;
@@ -265,12 +285,31 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
                 .any(|(r, &limit)| r.norm() > limit)
         })
     };
+    // The step from the carried displacements: loads less the forces they already hold,
+    // supports' values less what they already moved; the flesh outside the region stays put.
+    let held = k.mul(carried);
+    let loads: Vec<f64> = model
+        .load_vector
+        .iter()
+        .zip(&held)
+        .map(|(r, f)| r - f)
+        .collect();
+    let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
+    let prescribed: Vec<f64> = (0..model.prescribed.len())
+        .map(|d| {
+            if hand_dof(d) {
+                0.0
+            } else {
+                model.prescribed[d] - carried[d]
+            }
+        })
+        .collect();
     let problem = ContactProblem {
         k: &k,
         partition: &partition,
-        prescribed: &model.prescribed,
-        loads: &model.load_vector,
-        positions: &x,
+        prescribed: &prescribed,
+        loads: &loads,
+        positions: &x_now,
         obstacles: &model
             .obstacles
             .iter()
@@ -291,7 +330,21 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, settings),
         ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
     }
-    .map_err(|e| posed_too_deep(model, &surfaces, hands.len(), &x, contact_error(model, e)))?;
+    .map_err(|e| {
+        posed_too_deep(
+            model,
+            &surfaces,
+            hands.len(),
+            &x_now,
+            contact_error(model, e),
+        )
+    })?;
+    // Displacements from the reference again: the carried ones plus the step's. (The reactions
+    // are already the totals: K·ΔU − (R − K·U_prev) = K·U − R.)
+    let mut result = result;
+    for (u, c) in result.solution.displacement.iter_mut().zip(carried) {
+        *u += c;
+    }
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
     too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
 
@@ -305,10 +358,12 @@ pub fn solve_grasp(model: &Model, hands: &[HandFrame]) -> Result<Option<Frame>, 
         let hand = body.hand.as_deref().expect("a hand body");
         let mut hf = h.clone();
         let mut contact_force = vec![Vector3::zeros(); hand.skeleton.bones.len()];
+        hf.contact_displacement = vec![Vector3::zeros(); hf.positions.len()];
         for (i, p) in hf.positions.iter_mut().enumerate() {
             let n = body.nodes.start + i;
             let du = Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
             *p += du;
+            hf.contact_displacement[i] = du;
             let dr = result.solution.reaction_at(n);
             hf.reaction[i] += dr;
             let total = *p - model.mesh.nodes[n];

@@ -17,8 +17,8 @@ mod step_control;
 
 pub use compose::compose;
 pub use driver::{
-    hand_frame, hands_of, rest_hands, set_far_parts, solve_frames, still_frame, PosedHand,
-    Workspace,
+    hand_frame, hands_of, rest_hands, set_far_parts, solve_frames, still_frame, Posed, PosedHand,
+    Workspace, CONTACT_STEP_DEG,
 };
 pub use error::SimError;
 pub use flexion::{CancelCheck, Flexion, FlexionCaches};

@@ -43,6 +43,11 @@ impl StepControl {
         (self.done + self.step).min(1.0)
     }
 
+    /// Whether a step to `target` ends the keyframe.
+    pub(crate) fn finished_with(&self, target: f64) -> bool {
+        target >= 1.0 - 1e-12
+    }
+
     /// The size of the next step, as a fraction of the keyframe.
     pub(crate) fn step(&self) -> f64 {
         self.step

@@ -33,6 +33,9 @@ pub struct HandFrame {
     pub angles: Vec<f64>,
     /// Flesh node positions, m.
     pub positions: Vec<nalgebra::Vector3<f64>>,
+    /// What the contact step added to each flesh node's position over the flexed pose, m (empty
+    /// without contact): the flexed pose is `positions` less this.
+    pub contact_displacement: Vec<nalgebra::Vector3<f64>>,
     /// Reaction of every bone (sum of R_u over its nodes, equation (8)), N.
     pub bone_reactions: Vec<nalgebra::Vector3<f64>>,
     /// Accumulated reaction at every flesh node, N.

@@ -102,3 +102,30 @@ pub struct KeyframeStats {
     /// body: their bones bear no new flexion reaction.
     pub far_digits: Vec<String>,
 }
+
+impl KeyframeStats {
+    /// Adds the cost of `step`, a part of the same keyframe: counts and times add up, the
+    /// sizes and the residual are the largest, the skinned digits those of any part.
+    pub fn absorb(&mut self, step: &KeyframeStats) {
+        self.increments += step.increments;
+        self.increments_taken += step.increments_taken;
+        self.halvings += step.halvings;
+        self.fem_cells = self.fem_cells.max(step.fem_cells);
+        self.free_dofs = self.free_dofs.max(step.free_dofs);
+        self.prescribed_dofs = self.prescribed_dofs.max(step.prescribed_dofs);
+        self.factorizations += step.factorizations;
+        self.assembly_ms += step.assembly_ms;
+        self.symbolic_ms += step.symbolic_ms;
+        self.factorization_ms += step.factorization_ms;
+        self.solve_ms += step.solve_ms;
+        self.update_ms += step.update_ms;
+        self.total_ms += step.total_ms;
+        self.relative_residual = self.relative_residual.max(step.relative_residual);
+        self.far_cells = self.far_cells.max(step.far_cells);
+        for d in &step.far_digits {
+            if !self.far_digits.contains(d) {
+                self.far_digits.push(d.clone());
+            }
+        }
+    }
+}
