@@ -139,8 +139,10 @@ fn the_linear_tier_is_one_solve_per_keyframe_and_swells_under_large_rotation() {
         reaction.iter().all(|r| (1.3..1.8).contains(r)),
         "{reaction:?}"
     );
-    // After the first keyframe (the factorization) a keyframe costs substitutions only: at
-    // least 2× faster than a 30° keyframe of corotated increments (three factorizations).
+    // After the first keyframe (the factorization) a keyframe costs substitutions only, where
+    // a 30° keyframe of corotated increments factors once per increment. (The times are
+    // printed, not asserted: speed is measured by `prehensile bench hand`, not by a test on a
+    // shared machine.)
     let later = linear[1].1.total_ms;
     let corot_ms: f64 = corot.iter().map(|(_, s)| s.total_ms).sum::<f64>() / 2.0;
     println!(
@@ -148,7 +150,15 @@ fn the_linear_tier_is_one_solve_per_keyframe_and_swells_under_large_rotation() {
          {corot_ms:.1} ms per keyframe",
         linear[0].1.total_ms
     );
-    assert!(later * 2.0 < corot_ms, "{later} vs {corot_ms}");
+    assert_eq!(linear[1].1.factorizations, 0);
+    for (_, s) in &corot {
+        assert!(
+            s.increments_taken >= 3 && s.factorizations >= s.increments_taken,
+            "{} increments, {} factorizations",
+            s.increments_taken,
+            s.factorizations
+        );
+    }
     // PIP 90°: the linearised rotation folds a cell of the palmar crease inside out; the error
     // names the element, where it is and the joint (measured: from 62° on).
     let mut state = linear[1].0.clone();

@@ -202,6 +202,13 @@ pub fn solve_paper(
             break;
         }
     }
+    if stopped && change >= settings.change_tolerance {
+        return Err(ContactError::StoppedBeforeConvergence {
+            iterations,
+            change,
+            tolerance: settings.change_tolerance,
+        });
+    }
     if !stopped && change >= settings.change_tolerance {
         return Err(ContactError::NotConverged {
             method: ContactMethod::Paper.name(),

@@ -289,6 +289,24 @@ pub enum ContactError {
         /// Largest displacement change of the last iteration, m.
         change: f64,
     },
+    /// The paper's iteration was stopped by a bone's threshold while its displacements were
+    /// still changing: its forces are those of an unconverged iterate, not of a grasp.
+    #[error(
+        "the paper's contact iteration was stopped at iteration {iterations} by a bone's \
+         threshold before it converged (the displacements still changed by {change:.3e} m, \
+         tolerance {tolerance:.1e} m): its forces are those of an unconverged iterate, not a \
+         grasp's. The iteration converges only for objects softer than the flesh under them; \
+         solve this pose with `[solver] contact = \"lagrange\"`, which resolves the contact \
+         exactly and then reports which bones are overloaded"
+    )]
+    StoppedBeforeConvergence {
+        /// Iterations done.
+        iterations: usize,
+        /// Largest displacement change of the last iteration, m.
+        change: f64,
+        /// The change tolerance, m.
+        tolerance: f64,
+    },
     /// The constraints are dependent (e.g. a node prescribed and in contact).
     #[error(
         "the contact constraints are not independent (Schur complement singular): {active} \

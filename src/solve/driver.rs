@@ -203,7 +203,7 @@ impl Workspace {
     ) -> Result<Frame, SimError> {
         posed.contact = carried;
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
-        let mut stats: Vec<KeyframeStats> = vec![KeyframeStats::default(); moving.len()];
+        let mut stats: Vec<Option<KeyframeStats>> = vec![None; moving.len()];
         loop {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
@@ -213,10 +213,11 @@ impl Workspace {
                     // The keyframe's cost: every contact step's flexion.
                     for (k, (h, _, _)) in moving.iter().enumerate() {
                         let body = posed.hands[*h].body;
+                        let total = stats[k].clone().unwrap_or_default();
                         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
-                            fh.stats = stats[k].clone();
+                            fh.stats = total.clone();
                         }
-                        posed.hands[*h].frame.stats = stats[k].clone();
+                        posed.hands[*h].frame.stats = total;
                     }
                     posed.carry(model, &frame);
                     return Ok(frame);
@@ -242,7 +243,7 @@ impl Workspace {
         moving: &[(usize, Vec<f64>, Vec<f64>)],
         f: f64,
         cancel: Option<&CancelCheck>,
-        stats: &mut [KeyframeStats],
+        stats: &mut [Option<KeyframeStats>],
     ) -> Result<Frame, SimError> {
         for (k, (h, from, to)) in moving.iter().enumerate() {
             let angles: Vec<f64> = if f >= 1.0 {
@@ -251,7 +252,11 @@ impl Workspace {
                 from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect()
             };
             self.move_hand(model, &mut posed.hands[*h], &angles, cancel)?;
-            stats[k].absorb(&posed.hands[*h].frame.stats);
+            let step = &posed.hands[*h].frame.stats;
+            match &mut stats[k] {
+                Some(total) => total.absorb(step),
+                None => stats[k] = Some(step.clone()),
+            }
         }
         frame_with_hands(
             model,

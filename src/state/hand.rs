@@ -104,8 +104,9 @@ pub struct KeyframeStats {
 }
 
 impl KeyframeStats {
-    /// Adds the cost of `step`, a part of the same keyframe: counts and times add up, the
-    /// sizes and the residual are the largest, the skinned digits those of any part.
+    /// Adds the cost of `step`, a later part of the same keyframe: counts and times add up, the
+    /// sizes and the residual are the largest; skinned far from contact are the digits (and
+    /// cells) skinned in every part.
     pub fn absorb(&mut self, step: &KeyframeStats) {
         self.increments += step.increments;
         self.increments_taken += step.increments_taken;
@@ -121,11 +122,7 @@ impl KeyframeStats {
         self.update_ms += step.update_ms;
         self.total_ms += step.total_ms;
         self.relative_residual = self.relative_residual.max(step.relative_residual);
-        self.far_cells = self.far_cells.max(step.far_cells);
-        for d in &step.far_digits {
-            if !self.far_digits.contains(d) {
-                self.far_digits.push(d.clone());
-            }
-        }
+        self.far_cells = self.far_cells.min(step.far_cells);
+        self.far_digits.retain(|d| step.far_digits.contains(d));
     }
 }
