@@ -246,7 +246,8 @@ impl Workspace {
         stats: &mut [Option<KeyframeStats>],
     ) -> Result<Frame, SimError> {
         for (k, (h, from, to)) in moving.iter().enumerate() {
-            let angles: Vec<f64> = if f >= 1.0 {
+            // The last step reaches the target exactly (the fractions add up to 1 only to round-off).
+            let angles: Vec<f64> = if f >= 1.0 - 1e-12 {
                 to.clone()
             } else {
                 from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect()

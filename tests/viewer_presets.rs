@@ -1,0 +1,139 @@
+//! What a newcomer presses first: the viewer's pose presets on the built-in default scene, with
+//! the real solver thread (the physics the window runs), driven through the real buttons
+//! (egui_kittest). Power grasp and Pinch put the skin far into the ball; each is solved (contact
+//! along the motion), shown, with no error, nothing left inside the ball beyond the contact's
+//! limit; Rest releases the ball, which returns exactly to its static frame.
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use prehensile::app::physics::Physics;
+use prehensile::app::worker::ThreadSolver;
+use prehensile::app::ViewerState;
+use prehensile::scene::{Scene, DEFAULT_SCENE};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Steps the UI until the shown frame is the pose asked for (or a failure is reported).
+fn wait_for_pose(h: &mut Harness<'static, ViewerState>) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        let s = h.state();
+        if let Some(e) = &s.status.error {
+            panic!("the viewer reports: {e}");
+        }
+        let done = s.shown.as_ref().is_some_and(|shown| {
+            shown
+                .solution
+                .frame
+                .hands
+                .iter()
+                .all(|f| s.pose.iter().any(|(b, a)| *b == f.body && *a == f.angles))
+        });
+        if done {
+            return;
+        }
+        if start.elapsed()
+            > Duration::from_secs(
+                std::env::var("PRESET_WAIT_S")
+                    .ok()
+                    .and_then(|v| v.parse().ok())
+                    .unwrap_or(600),
+            )
+        {
+            let shown = s.shown.as_ref().map(|x| {
+                (
+                    x.version,
+                    x.solution
+                        .frame
+                        .hands
+                        .iter()
+                        .map(|f| f.angles.clone())
+                        .collect::<Vec<_>>(),
+                )
+            });
+            panic!(
+                "no frame for the pose after 10 minutes: status {:?}, pose {:?}, shown {shown:?}",
+                s.status, s.pose
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The ball's displacement in the shown frame.
+fn ball_displacement(state: &ViewerState) -> Vec<f64> {
+    let s = &state.shown.as_ref().unwrap().solution;
+    let ball = s.model.bodies.iter().find(|b| b.name == "ball").unwrap();
+    s.frame.solution.displacement[3 * ball.nodes.start..3 * ball.nodes.end].to_vec()
+}
+
+#[test]
+fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
+    let scene = Scene::parse(DEFAULT_SCENE, "default").unwrap();
+    let port = ThreadSolver::spawn(Physics::new(), Arc::new(|| {}));
+    let mut state = ViewerState::new(scene, "default", Box::new(port)).unwrap();
+    state.timeline_solving = false;
+    let mut h = Harness::builder()
+        .with_size([1600.0, 900.0])
+        .build_ui_state(|ui, state: &mut ViewerState| state.ui(ui), state);
+    wait_for_pose(&mut h);
+    // The scene's own pose: the fingers clear of the ball, which sits in its static frame.
+    assert!(h
+        .state()
+        .shown
+        .as_ref()
+        .unwrap()
+        .solution
+        .frame
+        .contact
+        .is_none());
+    let still = ball_displacement(h.state());
+    for preset in ["Power grasp", "Pinch"] {
+        h.get_by_label(preset).click();
+        wait_for_pose(&mut h);
+        let shown = &h.state().shown.as_ref().unwrap().solution;
+        let contact = shown
+            .frame
+            .contact
+            .as_ref()
+            .unwrap_or_else(|| panic!("{preset}: the hand does not touch the ball"));
+        let limit = shown.model.contact.penetration_limit();
+        assert!(
+            contact.max_penetration <= limit,
+            "{preset}: {} m left inside",
+            contact.max_penetration
+        );
+        let grip: f64 = contact.contacts.iter().map(|c| c.force).sum();
+        assert!(grip > 1.0, "{preset}: {grip} N");
+        println!(
+            "{preset}: {} contacts, {grip:.2} N, {:.1e} m left, solved in {:.0} ms",
+            contact.contacts.len(),
+            contact.max_penetration,
+            shown.solve_ms
+        );
+    }
+    // Rest: the hand opens, the ball is released and springs back to its static frame.
+    h.get_by_label("Rest").click();
+    wait_for_pose(&mut h);
+    let rest = &h.state().shown.as_ref().unwrap().solution.frame;
+    // (The flat hand may come within the contact search of the ball: no contact force then.)
+    let force: f64 = rest
+        .contact
+        .as_ref()
+        .map_or(0.0, |c| c.contacts.iter().map(|c| c.force).sum());
+    assert!(
+        force < 1e-9,
+        "the open hand still presses the ball with {force} N"
+    );
+    let released = ball_displacement(h.state());
+    let scale = still.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let off = released
+        .iter()
+        .zip(&still)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(
+        off <= 1e-6 * scale,
+        "the released ball is {off} m off its static frame"
+    );
+}
