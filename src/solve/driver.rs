@@ -58,43 +58,31 @@ impl Posed {
 
     /// The hands and the contact of a solved `frame` of `model`, to go on from there.
     pub fn of_frame(model: &Model, frame: &Frame) -> Posed {
-        let hands = hands_of(model, frame);
-        let contact = frame.contact.as_ref().map(|_| {
-            let mut carried = frame.solution.displacement.clone();
-            for h in &frame.hands {
-                let nodes = model.bodies[h.body].nodes.clone();
-                for (i, n) in nodes.enumerate() {
-                    let v = h
-                        .contact_displacement
-                        .get(i)
-                        .copied()
-                        .unwrap_or_else(Vector3::zeros);
-                    carried[3 * n..3 * n + 3].copy_from_slice(v.as_slice());
-                }
-            }
-            carried
-        });
-        Posed { hands, contact }
+        Posed {
+            hands: hands_of(model, frame),
+            contact: carried_by(model, frame),
+        }
     }
+}
 
-    /// What `frame`, solved from these hands, leaves to carry into the next step.
-    fn carry(&mut self, model: &Model, frame: &Frame) {
-        self.contact = frame.contact.as_ref().map(|_| {
-            let mut carried = frame.solution.displacement.clone();
-            for h in &frame.hands {
-                let posed = self.hands.iter().find(|p| p.body == h.body);
-                let nodes = model.bodies[h.body].nodes.clone();
-                for (i, n) in nodes.enumerate() {
-                    let v = match posed {
-                        Some(p) => h.positions[i] - p.state.positions[i],
-                        None => Vector3::zeros(),
-                    };
-                    carried[3 * n..3 * n + 3].copy_from_slice(v.as_slice());
-                }
-            }
-            carried
-        });
+/// What a solved `frame` leaves to carry into the next contact step, over every dof: the other
+/// bodies' displacements from rest, the flesh's contact displacements over its flexed pose;
+/// `None` without contact.
+fn carried_by(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
+    frame.contact.as_ref()?;
+    let mut carried = frame.solution.displacement.clone();
+    for h in &frame.hands {
+        let nodes = model.bodies[h.body].nodes.clone();
+        for (i, n) in nodes.enumerate() {
+            let v = h
+                .contact_displacement
+                .get(i)
+                .copied()
+                .unwrap_or_else(Vector3::zeros);
+            carried[3 * n..3 * n + 3].copy_from_slice(v.as_slice());
+        }
     }
+    Some(carried)
 }
 
 /// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
@@ -127,11 +115,6 @@ impl Workspace {
             still,
             caches: Vec::new(),
         })
-    }
-
-    /// The static frame of the bodies no hand moves.
-    pub fn still(&self) -> Option<&Frame> {
-        self.still.as_ref()
     }
 
     /// Moves each hand of `targets` (hand body, joint angles in degrees) from where `posed`
@@ -219,11 +202,11 @@ impl Workspace {
                         }
                         posed.hands[*h].frame.stats = total;
                     }
-                    posed.carry(model, &frame);
+                    posed.contact = carried_by(model, &frame);
                     return Ok(frame);
                 }
                 Ok(frame) => {
-                    posed.carry(model, &frame);
+                    posed.contact = carried_by(model, &frame);
                     control.accept(f, true);
                 }
                 Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
@@ -304,7 +287,7 @@ impl Workspace {
 }
 
 /// Every hand of the model at rest.
-pub fn rest_hands(model: &Model) -> Vec<PosedHand> {
+fn rest_hands(model: &Model) -> Vec<PosedHand> {
     model
         .bodies
         .iter()
@@ -324,27 +307,31 @@ pub fn rest_hands(model: &Model) -> Vec<PosedHand> {
 
 /// The hands of a solved `frame` of `model` (bone motions recomputed from the angles), to go on
 /// from there.
-pub fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
+fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
     frame
         .hands
         .iter()
         .map(|h| {
             let hand = model.bodies[h.body].hand.as_deref().expect("a hand body");
-            // As flexed: the contact's displacement taken off.
-            let mut flexed = h.clone();
-            for (p, v) in flexed.positions.iter_mut().zip(&h.contact_displacement) {
-                *p -= v;
-            }
-            flexed.contact_displacement.clear();
+            // As flexed: the contact's displacements and reactions taken off (the next contact
+            // step adds them again from what is carried).
+            let less = |values: &[Vector3<f64>], contact: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+                values
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| v - contact.get(i).copied().unwrap_or_else(Vector3::zeros))
+                    .collect()
+            };
+            let state = HandState {
+                angles: h.angles.clone(),
+                transforms: hand.skeleton.transforms(&h.angles),
+                positions: less(&h.positions, &h.contact_displacement),
+                reaction: less(&h.reaction, &h.contact_reaction),
+            };
             PosedHand {
                 body: h.body,
-                state: HandState {
-                    angles: h.angles.clone(),
-                    transforms: hand.skeleton.transforms(&h.angles),
-                    positions: flexed.positions.clone(),
-                    reaction: h.reaction.clone(),
-                },
-                frame: flexed,
+                frame: hand_frame(model, h.body, &state, h.stats.clone()),
+                state,
             }
         })
         .collect()
@@ -389,7 +376,7 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
 
 /// Tells `stepper` which parts of hand `body` stay far from contact on the way from `state`
 /// to `target` (none when `[solver] far_from_contact = "solve"`).
-pub fn set_far_parts(
+fn set_far_parts(
     model: &Model,
     body: usize,
     stepper: &mut Flexion,
@@ -404,7 +391,7 @@ pub fn set_far_parts(
 }
 
 /// The frame of a model with nothing free (only hands): every displacement and reaction zero.
-pub fn still_frame(model: &Model) -> Frame {
+fn still_frame(model: &Model) -> Frame {
     let dofs = 3 * model.mesh.node_count();
     Frame {
         solution: Solution {
@@ -428,7 +415,7 @@ pub fn still_frame(model: &Model) -> Frame {
 }
 
 /// The frame of hand body `body` in `state`, with what reaching it cost.
-pub fn hand_frame(
+fn hand_frame(
     model: &Model,
     body: usize,
     state: &HandState,
@@ -441,6 +428,7 @@ pub fn hand_frame(
         angles: state.angles.clone(),
         positions: state.positions.clone(),
         contact_displacement: Vec::new(),
+        contact_reaction: Vec::new(),
         bone_reactions: bone_reactions.clone(),
         reaction: state.reaction.clone(),
         volume: state.flesh_volume(hand),

@@ -359,6 +359,7 @@ pub fn solve_grasp(
         let mut hf = h.clone();
         let mut contact_force = vec![Vector3::zeros(); hand.skeleton.bones.len()];
         hf.contact_displacement = vec![Vector3::zeros(); hf.positions.len()];
+        hf.contact_reaction = vec![Vector3::zeros(); hf.positions.len()];
         for (i, p) in hf.positions.iter_mut().enumerate() {
             let n = body.nodes.start + i;
             let du = Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
@@ -366,6 +367,7 @@ pub fn solve_grasp(
             hf.contact_displacement[i] = du;
             let dr = result.solution.reaction_at(n);
             hf.reaction[i] += dr;
+            hf.contact_reaction[i] = dr;
             let total = *p - model.mesh.nodes[n];
             frame_u[3 * n..3 * n + 3].copy_from_slice(total.as_slice());
             frame_r[3 * n..3 * n + 3].copy_from_slice(hf.reaction[i].as_slice());

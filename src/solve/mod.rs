@@ -15,14 +15,8 @@ mod statics;
 mod statics_nonlinear;
 mod step_control;
 
-pub use compose::compose;
-pub use driver::{
-    hand_frame, hands_of, rest_hands, set_far_parts, solve_frames, still_frame, Posed, PosedHand,
-    Workspace, CONTACT_STEP_DEG,
-};
+pub use driver::{solve_frames, Posed, PosedHand, Workspace, CONTACT_STEP_DEG};
 pub use error::SimError;
 pub use flexion::{CancelCheck, Flexion, FlexionCaches};
 pub use flexion_nonlinear::flesh_internal_forces;
-pub use grasp::{frame_with_hands, solve_grasp};
 pub use linear_factor::LinearFactor;
-pub use statics::solve_static;

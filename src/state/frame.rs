@@ -36,6 +36,9 @@ pub struct HandFrame {
     /// What the contact step added to each flesh node's position over the flexed pose, m (empty
     /// without contact): the flexed pose is `positions` less this.
     pub contact_displacement: Vec<nalgebra::Vector3<f64>>,
+    /// What the contact step added to each flesh node's reaction, N (empty without contact):
+    /// the flexion's reactions are `reaction` less this.
+    pub contact_reaction: Vec<nalgebra::Vector3<f64>>,
     /// Reaction of every bone (sum of R_u over its nodes, equation (8)), N.
     pub bone_reactions: Vec<nalgebra::Vector3<f64>>,
     /// Accumulated reaction at every flesh node, N.
