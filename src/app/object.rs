@@ -133,7 +133,13 @@ impl BallParams {
         for l in scene.load.iter_mut().filter(|l| l.body == name) {
             carry(&mut l.selection);
         }
-        // The internal pressure: on the cavity of a shell; a solid ball has none.
+        // The internal pressure: on the cavity of a shell; a solid ball has none. A gas cavity
+        // stays one (with its ambient pressure).
+        let gas = scene
+            .load
+            .iter()
+            .find(|l| l.body == name && is_inner(&l.selection))
+            .map_or((false, None), |l| (l.gas, l.ambient));
         scene
             .load
             .retain(|l| !(l.body == name && is_inner(&l.selection)));
@@ -143,6 +149,8 @@ impl BallParams {
                 body: name,
                 selection: Selection::Surface("inner".into()),
                 pressure: Some(self.pressure),
+                gas: gas.0,
+                ambient: gas.1,
                 force: None,
                 traction: None,
             });

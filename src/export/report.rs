@@ -144,6 +144,9 @@ pub struct FrameReport {
     /// Contact against the obstacles.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactReport>,
+    /// The gas cavity (a load with `gas = true`): its gauge pressure and volume in this frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cavity: Option<crate::state::CavityState>,
 }
 
 /// Contact in a frame.
@@ -463,6 +466,7 @@ pub fn frame_report(model: &Model, frame: &Frame, index: usize, time: f64) -> Fr
         },
         hands: hand_reports(model, frame),
         contact: contact_report(model, frame),
+        cavity: crate::state::cavity_state(model, frame),
     }
 }
 

@@ -7,6 +7,7 @@
 //! Lagrangian hexahedron solved by Newton–Raphson with load stepping.
 
 pub mod assembly;
+pub mod cavity;
 pub mod forward;
 pub mod hex8;
 pub mod hex8_hyperelastic;

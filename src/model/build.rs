@@ -41,7 +41,7 @@ impl Model {
         hold_hands(&bodies, &mut mask);
 
         let mut load_vector = vec![0.0; 3 * mesh.node_count()];
-        let loads = loads(scene, &bodies, &mesh, &mut load_vector).map_err(err)?;
+        let (loads, gas) = loads(scene, &bodies, &mesh, &mut load_vector).map_err(err)?;
         let gravity_total =
             gravity(scene, &bodies, &mesh, &cell_materials, &mut load_vector).map_err(err)?;
         let probes = probes(scene, &bodies, &mesh).map_err(err)?;
@@ -72,6 +72,7 @@ impl Model {
             cell_body,
             constraints,
             loads,
+            gas,
             gravity_total,
             probes,
             partition: DofPartition::new(mask),

@@ -1,23 +1,27 @@
-//! Loads: pressures, tractions and point forces on the bodies, and gravity.
+//! Loads: pressures (a gas cavity's too), tractions and point forces on the bodies, and
+//! gravity.
 
 use super::bodies::find_body;
 use super::check::finite;
+use super::gas::{GasCavity, STANDARD_AMBIENT};
 use super::select::select;
 use super::{BodyModel, LoadModel};
 use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
 use crate::fem::Material;
-use crate::mesh::Mesh;
-use crate::scene::Scene;
+use crate::mesh::{Facet, Mesh};
+use crate::scene::{LoadDef, Scene, TierName};
 use nalgebra::Vector3;
 
-/// Adds the scene's `[[load]]`s to the load vector.
+/// Adds the scene's `[[load]]`s to the load vector (a gas cavity's at its rest pressure); returns
+/// them and the gas cavity, if a load is one.
 pub fn loads(
     scene: &Scene,
     bodies: &[BodyModel],
     mesh: &Mesh,
     load_vector: &mut [f64],
-) -> Result<Vec<LoadModel>, (String, String)> {
+) -> Result<(Vec<LoadModel>, Option<GasCavity>), (String, String)> {
     let mut loads = Vec::new();
+    let mut cavity: Option<GasCavity> = None;
     for (i, l) in scene.load.iter().enumerate() {
         let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
         let field = format!("load \"{name}\" (load[{i}])");
@@ -60,6 +64,26 @@ pub fn loads(
                     .into(),
             ));
         }
+        if l.gas || l.ambient.is_some() {
+            if let Some(previous) = &cavity {
+                return Err((
+                    format!("{field}.gas"),
+                    format!(
+                        "one gas cavity per scene is supported, and load \"{}\" is one already",
+                        previous.name
+                    ),
+                ));
+            }
+            cavity = Some(gas_cavity(
+                scene,
+                l,
+                &field,
+                &name,
+                b,
+                mesh,
+                sel.facets.clone(),
+            )?);
+        }
         let total = if let Some(p) = l.pressure {
             add_pressure(load_vector, mesh, &sel.facets, p)
         } else if let Some(t) = l.traction {
@@ -75,7 +99,59 @@ pub fn loads(
             total,
         });
     }
-    Ok(loads)
+    Ok((loads, cavity))
+}
+
+/// The gas cavity of a load with `gas = true` (or `ambient`), checked.
+fn gas_cavity(
+    scene: &Scene,
+    l: &LoadDef,
+    field: &str,
+    name: &str,
+    body: usize,
+    mesh: &Mesh,
+    facets: Vec<Facet>,
+) -> Result<GasCavity, (String, String)> {
+    if !l.gas {
+        return Err((
+            format!("{field}.ambient"),
+            "applies to a gas cavity only: add `gas = true` (or remove `ambient`)".into(),
+        ));
+    }
+    let Some(gauge) = l.pressure else {
+        return Err((
+            format!("{field}.gas"),
+            "a gas cavity needs `pressure` (its gauge pressure at rest, Pa), not `traction` or \
+             `force`"
+                .into(),
+        ));
+    };
+    let ambient = l.ambient.unwrap_or(STANDARD_AMBIENT);
+    if !(ambient.is_finite() && ambient > 0.0) {
+        return Err((
+            format!("{field}.ambient"),
+            format!("must be a finite absolute pressure > 0 Pa (ambient = {ambient})"),
+        ));
+    }
+    if gauge + ambient <= 0.0 {
+        return Err((
+            format!("{field}.pressure"),
+            format!(
+                "the gas's absolute pressure at rest, pressure + ambient = {gauge} + {ambient} \
+                 Pa, must be > 0 (`pressure` is the gauge pressure, above ambient)"
+            ),
+        ));
+    }
+    if scene.solver.tier == Some(TierName::Nonlinear) {
+        return Err((
+            format!("{field}.gas"),
+            "a gas cavity is solved with the linear statics; tier = \"nonlinear\" does not \
+             support it yet (use gas = false, a fixed pressure, or another tier)"
+                .into(),
+        ));
+    }
+    GasCavity::new(name.to_string(), body, mesh, facets, gauge, ambient)
+        .map_err(|msg| (format!("{field}.where"), msg))
 }
 
 /// Adds the weight of the bodies other than hands (`[world] gravity`) to the load vector;

@@ -8,6 +8,7 @@ mod check;
 mod constraints;
 mod convert;
 mod flexion_settings;
+mod gas;
 mod keyframes;
 mod loads;
 mod materials;
@@ -21,6 +22,7 @@ mod supports;
 mod tier;
 
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
+pub use gas::{GasCavity, STANDARD_AMBIENT};
 pub use tier::{Tier, STEP_WARNING_DEG};
 
 use crate::contact::{ContactSettings, Obstacle};
@@ -133,6 +135,9 @@ pub struct Model {
     pub constraints: Vec<ConstraintModel>,
     /// Loads.
     pub loads: Vec<LoadModel>,
+    /// The gas cavity, when a pressure load is one (`gas = true`): its pressure follows its
+    /// volume, and the load vector holds it at its rest pressure.
+    pub gas: Option<GasCavity>,
     /// Total gravity force, N.
     pub gravity_total: Vector3<f64>,
     /// Probes.

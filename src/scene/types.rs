@@ -447,7 +447,8 @@ pub struct ConstraintDef {
     pub displacement: DisplacementDef,
 }
 
-/// `[[load]]`: exactly one of `pressure`, `traction` and `force`.
+/// `[[load]]`: exactly one of `pressure`, `traction` and `force`; a pressure may be a gas
+/// cavity's (`gas = true`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadDef {
@@ -462,6 +463,14 @@ pub struct LoadDef {
     /// Pressure on the selected facets, Pa, pushing against their outward normal.
     #[serde(default)]
     pub pressure: Option<f64>,
+    /// The pressure is that of a gas sealed in the cavity the selection encloses (isothermal:
+    /// p·V constant in absolute pressure); `pressure` is then its gauge pressure when the cavity
+    /// has the volume of the mesh as given.
+    #[serde(default)]
+    pub gas: bool,
+    /// With `gas`: the absolute ambient pressure, Pa (101325 when not given).
+    #[serde(default)]
+    pub ambient: Option<f64>,
     /// Total force shared equally by the selected nodes, N.
     #[serde(default)]
     pub force: Option<[f64; 3]>,

@@ -84,6 +84,14 @@ pub enum SimError {
     /// A newer request made this solve stale: it stopped between two increments.
     #[error("cancelled: a newer request replaced this solve")]
     Cancelled,
+    /// No pressure of a gas cavity satisfies its gas law (p·V = P0·V0).
+    #[error("gas cavity \"{load}\": {reason}")]
+    Gas {
+        /// The load that is the cavity.
+        load: String,
+        /// Why, and what to do.
+        reason: String,
+    },
     /// A combination of settings the solver does not support yet.
     #[error("{0}")]
     Unsupported(String),

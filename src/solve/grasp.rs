@@ -326,19 +326,42 @@ pub fn solve_grasp(
         .iter()
         .map(|h| model.bodies[h.body].nodes.clone())
         .collect();
-    let result = match settings.method {
-        ContactMethod::Lagrange => solve_lagrange(&mut solver, &problem, settings),
-        ContactMethod::Paper => solve_paper(&mut solver, &problem, settings, &skin),
-    }
-    .map_err(|e| {
-        posed_too_deep(
-            model,
-            &surfaces,
-            hands.len(),
-            &x_now,
-            contact_error(model, e),
-        )
-    })?;
+    let mut contact_solve = |problem: &ContactProblem| {
+        match settings.method {
+            ContactMethod::Lagrange => solve_lagrange(&mut solver, problem, settings),
+            ContactMethod::Paper => solve_paper(&mut solver, problem, settings, &skin),
+        }
+        .map_err(|e| {
+            posed_too_deep(
+                model,
+                &surfaces,
+                hands.len(),
+                &x_now,
+                contact_error(model, e),
+            )
+        })
+    };
+    let result = match &model.gas {
+        None => contact_solve(&problem)?,
+        // A gas cavity: one contact solve per pressure tried (src/solve/gas.rs); its volume is
+        // that of the carried displacements plus the step's.
+        Some(cavity) => super::gas::solve_with_gas(
+            cavity,
+            |p| {
+                let loads = cavity.with_gauge(&loads, p);
+                contact_solve(&ContactProblem {
+                    loads: &loads,
+                    ..problem
+                })
+            },
+            |r| {
+                let u: Vec<f64> = (r.solution.displacement.iter().zip(carried))
+                    .map(|(u, c)| u + c)
+                    .collect();
+                cavity.volume(&model.mesh.nodes, &u)
+            },
+        )?,
+    };
     // Displacements from the reference again: the carried ones plus the step's. (The reactions
     // are already the totals: K·ΔU − (R − K·U_prev) = K·U − R.)
     let mut result = result;

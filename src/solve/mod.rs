@@ -6,6 +6,7 @@ mod driver;
 mod error;
 mod flexion;
 mod flexion_nonlinear;
+mod gas;
 mod grasp;
 mod linear_factor;
 pub mod proximity;

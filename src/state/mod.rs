@@ -1,12 +1,14 @@
 //! What a solve produces: frames, hand states, keyframe statistics, overloads, derived quantities.
 //! May import model, the kernels and util.
 
+mod cavity;
 mod frame;
 mod hand;
 pub mod outcome;
 mod tactile;
 mod validity;
 
+pub use cavity::{cavity_state, CavityState};
 pub use frame::{Frame, HandFrame};
 pub use hand::{HandState, KeyframeStats};
 pub use tactile::contact_pressure;

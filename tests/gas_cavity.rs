@@ -1,0 +1,357 @@
+//! The rubber ball as a sealed gas cavity (`gas = true`): its pressure follows its volume,
+//! isothermally (p·V = P0·V0 in absolute pressure), so squeezing raises it and releasing
+//! restores the ball (the paper's remark under Figure 3c).
+
+mod common;
+
+use common::rel;
+use nalgebra::Vector3;
+use prehensile::headless::{solve_scene, Solved};
+use prehensile::model::Model;
+use prehensile::scene::Scene;
+use prehensile::solve::solve_frames;
+use std::f64::consts::PI;
+
+const AMBIENT: f64 = 101_325.0;
+
+/// A rubber shell (a = 31 mm, b = 35 mm) pressurised to `pressure` and squeezed between two
+/// rigid plates `squeeze` (m) inside its outer radius at its poles (z = ±(b − squeeze)).
+fn plates_scene(pressure: f64, gas: bool, squeeze: f64) -> String {
+    let z = 0.035 - squeeze;
+    format!(
+        r#"
+[[material]]
+name = "rubber"
+young = 2.0e6
+poisson = 0.4
+density = 1100.0
+[[body]]
+name = "ball"
+material = "rubber"
+shape = {{ shell = {{ center = [0.0, 0.0, 0.0], inner_radius = 0.031, outer_radius = 0.035, cells = 8, layers = 2 }} }}
+[[load]]
+name = "air"
+body = "ball"
+where = {{ surface = "inner" }}
+pressure = {pressure:e}
+{gas}
+[[obstacle]]
+name = "bottom"
+shape = {{ plane = {{ point = [0.0, 0.0, {bottom:e}], normal = [0.0, 0.0, 1.0] }} }}
+[[obstacle]]
+name = "top"
+shape = {{ plane = {{ point = [0.0, 0.0, {z:e}], normal = [0.0, 0.0, -1.0] }} }}
+"#,
+        bottom = -z,
+        gas = if gas {
+            format!("gas = true\nambient = {AMBIENT:e}")
+        } else {
+            "gas = false".into()
+        }
+    )
+}
+
+fn solve(text: &str) -> Solved {
+    let scene = Scene::parse(text, "gas.toml").unwrap();
+    solve_scene(&scene, "gas.toml").unwrap()
+}
+
+fn largest(u: &[f64]) -> f64 {
+    u.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Squeezed between two plates in steps: at every step the solve applied the pressure the gas
+/// law gives the cavity's volume (a fixed-pressure solve at that pressure reproduces it), and the
+/// pressure and the plates' force rise with the squeeze.
+#[test]
+fn squeezed_between_plates_the_gas_keeps_p_v_and_its_pressure_rises() {
+    let gauge = 3.0e4;
+    let p0v0 = |s: &Solved| {
+        let c = s.model.gas.as_ref().unwrap();
+        (c.rest_gauge + c.ambient) * c.rest_volume
+    };
+    let mut last_pressure = f64::NEG_INFINITY;
+    let mut last_force = 0.0;
+    for squeeze in [0.001, 0.002, 0.003, 0.004] {
+        let solved = solve(&plates_scene(gauge, true, squeeze));
+        let frame = &solved.report.frames[0];
+        let cavity = frame.cavity.as_ref().expect("a cavity report");
+        let force = frame.contact.as_ref().unwrap().obstacles["bottom"].force[2];
+        let law = (cavity.gauge_pressure + AMBIENT) * cavity.volume / p0v0(&solved) - 1.0;
+        // The pressure the solve applied: the same plates with that pressure fixed give the same
+        // displacements; an error δp in it would move the wall by δp·U_a.
+        let fixed = solve(&plates_scene(cavity.gauge_pressure, false, squeeze));
+        let (u, v) = (
+            &solved.frames[0].solution.displacement,
+            &fixed.frames[0].solution.displacement,
+        );
+        let applied = largest_difference(u, v) / largest(u);
+        let fixed_force =
+            fixed.report.frames[0].contact.as_ref().unwrap().obstacles["bottom"].force[2];
+        println!(
+            "squeeze {:.0} mm: gauge {:.1} Pa, volume {:.4e} m³ (rest {:.4e}), p·V/(P0·V0) − 1 = \
+             {law:.1e}, fixed-pressure solve differs by {applied:.1e} of max |u|, plate force \
+             {force:.3} N (fixed pressure {fixed_force:.3} N)",
+            squeeze * 1e3,
+            cavity.gauge_pressure,
+            cavity.volume,
+            cavity.rest_volume
+        );
+        assert!(law.abs() < 1e-6, "{law}");
+        assert!(applied < 1e-6, "{applied}");
+        assert!(rel(fixed_force, force) < 1e-6, "{fixed_force} vs {force}");
+        assert!(cavity.gauge_pressure > last_pressure + 100.0);
+        assert!(force > last_force);
+        assert!(frame.cavity.as_ref().unwrap().volume < cavity.rest_volume * 1.2);
+        last_pressure = cavity.gauge_pressure;
+        last_force = force;
+    }
+}
+
+/// Lamé's thick sphere with the outer surface pushed in radially by δ and the gas inside:
+/// u(r) = A·r + B/r², σrr(r) = E/(1−2ν)·A − 2E/(1+ν)·B/r³, with u(b) = −δ and σrr(a) = −p, and
+/// the gas law (p + p_amb)·(1 + u(a)/a)³ = P0 (the cavity a sphere of radius a + u(a)). Returns
+/// (gauge pressure, total inward force on the outer surface −σrr(b)·4πb²). With `gas = false`,
+/// p stays at its rest value.
+fn lame_press(a: f64, b: f64, e: f64, nu: f64, delta: f64, rest: f64, gas: bool) -> (f64, f64) {
+    let at = |p: f64| {
+        let (m11, m12, m21, m22) = (
+            b,
+            1.0 / (b * b),
+            e / (1.0 - 2.0 * nu),
+            -2.0 * e / (1.0 + nu) / a.powi(3),
+        );
+        let det = m11 * m22 - m12 * m21;
+        let aa = (-delta * m22 + m12 * p) / det;
+        let bb = (-m11 * p + m21 * delta) / det;
+        let ua = aa * a + bb / (a * a);
+        let srr_b = e / (1.0 - 2.0 * nu) * aa - 2.0 * e / (1.0 + nu) * bb / b.powi(3);
+        (ua, -srr_b * 4.0 * PI * b * b)
+    };
+    if !gas {
+        return (rest, at(rest).1);
+    }
+    let (mut lo, mut hi) = (-0.99 * AMBIENT, 1.0e7);
+    for _ in 0..200 {
+        let p = 0.5 * (lo + hi);
+        let law = (p + AMBIENT) * (1.0 + at(p).0 / a).powi(3) - (rest + AMBIENT);
+        if law > 0.0 {
+            hi = p;
+        } else {
+            lo = p;
+        }
+    }
+    let p = 0.5 * (lo + hi);
+    (p, at(p).1)
+}
+
+/// The shell of the press: a = 50 mm, b = 60 mm, E = 1 MPa, ν = 0.3, gas at 10 kPa gauge.
+fn press_scene(cells: usize, layers: usize) -> String {
+    format!(
+        r#"
+[[material]]
+name = "rubber"
+young = 1.0e6
+poisson = 0.3
+density = 1100.0
+[[body]]
+name = "ball"
+material = "rubber"
+shape = {{ shell = {{ center = [0, 0, 0], inner_radius = 0.05, outer_radius = 0.06, cells = {cells}, layers = {layers} }} }}
+[[load]]
+name = "air"
+body = "ball"
+where = {{ surface = "inner" }}
+pressure = 1.0e4
+gas = true
+[[constraint]]
+name = "press"
+body = "ball"
+where = {{ surface = "outer" }}
+displacement = [0.0, 0.0, 0.0]
+"#
+    )
+}
+
+/// The FEM press: the outer nodes pushed in radially by δ; (gauge pressure, inward force).
+fn fem_press(cells: usize, layers: usize, delta: f64) -> (f64, f64) {
+    let scene = Scene::parse(&press_scene(cells, layers), "press.toml").unwrap();
+    let mut model = Model::build(&scene, "press.toml").unwrap();
+    let outer = model.constraints[0].dofs.clone();
+    for &d in &outer {
+        let x = model.mesh.nodes[d / 3];
+        model.prescribed[d] = -delta * x[d % 3] / x.norm();
+    }
+    let (_, frames) = solve_frames(&model).unwrap();
+    let frame = &frames[0];
+    let cavity = prehensile::state::cavity_state(&model, frame).unwrap();
+    let mut nodes: Vec<usize> = outer.iter().map(|d| d / 3).collect();
+    nodes.dedup();
+    let mut inward = 0.0;
+    for n in nodes {
+        let x: Vector3<f64> = model.mesh.nodes[n];
+        inward -= frame.solution.reaction_at(n).dot(&(x / x.norm()));
+    }
+    (cavity.gauge_pressure, inward)
+}
+
+/// A sphere pressed uniformly (its outer surface moved in radially by δ) against Lamé's closed
+/// form with the gas law: the FEM pressure rise and pressing force converge to it with the mesh,
+/// and the gas changes the force by far more than the mesh's error.
+#[test]
+fn a_sphere_pressed_uniformly_matches_lame_with_the_gas_law() {
+    let (a, b, e, nu, delta, rest) = (0.05, 0.06, 1.0e6, 0.3, 5.0e-4, 1.0e4);
+    let (p, force) = lame_press(a, b, e, nu, delta, rest, true);
+    let (_, fixed_force) = lame_press(a, b, e, nu, delta, rest, false);
+    println!(
+        "closed form: gauge {p:.1} Pa (rest {rest:.0}), force {force:.2} N; at a fixed pressure \
+         {fixed_force:.2} N"
+    );
+    let mut errors = Vec::new();
+    for (cells, layers) in [(6, 2), (12, 4)] {
+        let (p_h, f_h) = fem_press(cells, layers, delta);
+        let (dp_error, f_error) = (rel(p_h - rest, p - rest), rel(f_h, force));
+        println!(
+            "cells {cells}, layers {layers}: gauge {p_h:.1} Pa (rise error {:.2} %), force \
+             {f_h:.2} N (error {:.2} %)",
+            100.0 * dp_error,
+            100.0 * f_error
+        );
+        errors.push((dp_error, f_error));
+    }
+    // The gas adds a fifth to the force: the comparison can tell it.
+    assert!(rel(force, fixed_force) > 0.15);
+    let (coarse, fine) = (errors[0], errors[1]);
+    assert!(fine.0 < coarse.0 && fine.1 < coarse.1, "{errors:?}");
+    assert!(fine.0 < 0.02 && fine.1 < 0.02, "{errors:?}");
+}
+
+/// The finger of `finger-press-ball.toml` presses the ball sealed (`gas = true`) and is then
+/// drawn back: in contact the pressure rises above the unsqueezed ball's; released, the ball and
+/// its pressure are back to the unsqueezed state.
+#[test]
+fn released_by_the_finger_the_ball_and_its_pressure_come_back() {
+    let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
+        .unwrap()
+        .replace(
+            "pressure = 3.0e4     # Pa above ambient",
+            "pressure = 3.0e4\ngas = true",
+        )
+        + "\n[[keyframe]]\ntime = 3.0\npose = { \"index.mcp.flex\" = 20.0 }\n";
+    let solved = solve(&text);
+    let frames = &solved.report.frames;
+    let cavity = |i: usize| frames[i].cavity.as_ref().unwrap();
+    let (rest, pressed, released) = (cavity(0), cavity(2), cavity(frames.len() - 1));
+    let u = |i: usize| &solved.frames[i].solution.displacement;
+    let ball = solved.model.bodies[1].nodes.clone();
+    let ball_u = |i: usize| u(i)[3 * ball.start..3 * ball.end].to_vec();
+    let back = largest_difference(&ball_u(0), &ball_u(frames.len() - 1)) / largest(&ball_u(0));
+    println!(
+        "gauge pressure: unsqueezed {:.2} Pa, pressed {:.2} Pa, released {:.2} Pa; volume {:.6e} \
+         → {:.6e} → {:.6e} m³; released ball displacements differ by {back:.1e} of max |u|",
+        rest.gauge_pressure,
+        pressed.gauge_pressure,
+        released.gauge_pressure,
+        rest.volume,
+        pressed.volume,
+        released.volume
+    );
+    assert!(frames[2].contact.is_some());
+    assert!(pressed.gauge_pressure > rest.gauge_pressure + 1.0);
+    assert!(pressed.volume < rest.volume);
+    assert!(rel(released.gauge_pressure, rest.gauge_pressure) < 1e-6);
+    assert!(rel(released.volume, rest.volume) < 1e-6);
+    assert!(back < 1e-6, "{back}");
+}
+
+/// `gas = false` (or no `gas` key) is the fixed pressure: the same numbers as before, no cavity
+/// in the report.
+#[test]
+fn without_gas_the_pressure_is_fixed_as_before() {
+    let text = std::fs::read_to_string("assets/scenes/default.toml").unwrap();
+    let plain = solve(&text);
+    let explicit = solve(&text.replace(
+        "pressure = 3.0e4     # Pa above ambient",
+        "pressure = 3.0e4\ngas = false",
+    ));
+    assert!(plain.model.gas.is_none() && explicit.model.gas.is_none());
+    assert!(plain.report.frames[0].cavity.is_none());
+    assert_eq!(
+        plain.frames[0].solution.displacement,
+        explicit.frames[0].solution.displacement
+    );
+    // And gas = true changes them (the pressure falls as the ball inflates, and rises as the
+    // finger presses it).
+    let sealed = solve(&text.replace(
+        "pressure = 3.0e4     # Pa above ambient",
+        "pressure = 3.0e4\ngas = true",
+    ));
+    let c = sealed.report.frames[0].cavity.as_ref().unwrap();
+    println!(
+        "default.toml sealed: gauge {:.1} Pa, volume {:.4e} m³",
+        c.gauge_pressure, c.volume
+    );
+    assert!((c.gauge_pressure - 3.0e4).abs() > 100.0);
+}
+
+fn build_error(text: &str) -> String {
+    let scene = Scene::parse(text, "bad.toml").unwrap();
+    Model::build(&scene, "bad.toml").unwrap_err().to_string()
+}
+
+/// Misuse of `gas` and `ambient` is refused, naming the field.
+#[test]
+fn gas_keys_are_checked() {
+    let good = plates_scene(3.0e4, true, 0.001);
+    let cases = [
+        (
+            good.replace("pressure = 3e4", "traction = [0.0, 0.0, 1.0]"),
+            "load[0]).gas",
+            "needs `pressure`",
+        ),
+        (
+            good.replace(
+                "surface = \"inner\"",
+                "box = { min = [-1, -1, 0], max = [1, 1, 1] }",
+            ),
+            "load[0]).where",
+            "closed surface",
+        ),
+        (
+            good.replace("gas = true", "gas = false"),
+            "load[0]).ambient",
+            "gas = true",
+        ),
+        (
+            good.replace("ambient = 1.01325e5", "ambient = -1.0"),
+            "load[0]).ambient",
+            "> 0",
+        ),
+        (
+            good.replace("pressure = 3e4", "pressure = -2e5"),
+            "load[0]).pressure",
+            "must be > 0",
+        ),
+        (
+            format!("{good}\n[solver]\ntier = \"nonlinear\"\n"),
+            "load[0]).gas",
+            "nonlinear",
+        ),
+    ];
+    for (text, field, words) in cases {
+        let e = build_error(&text);
+        println!("{e}");
+        assert!(e.contains(field) && e.contains(words), "{e}");
+    }
+    let twice = good.clone()
+        + "[[load]]\nbody = \"ball\"\nwhere = { surface = \"inner\" }\npressure = 1.0\ngas = true\n";
+    let e = build_error(&twice);
+    assert!(
+        e.contains("load[1]).gas") && e.contains("one gas cavity"),
+        "{e}"
+    );
+}
