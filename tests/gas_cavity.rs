@@ -355,3 +355,25 @@ fn gas_keys_are_checked() {
         "{e}"
     );
 }
+
+/// The cavity kernel on a box: closed, its volume exact, kept by a shear and a translation,
+/// scaled by a stretch; an open surface refused.
+#[test]
+fn a_box_is_closed_and_encloses_its_volume_moved_or_sheared() {
+    use prehensile::fem::cavity::{check_closed, enclosed_volume, NotClosed};
+    use prehensile::mesh::{boundary_facets, box_mesh};
+    let mesh = box_mesh(Vector3::zeros(), Vector3::new(0.2, 0.3, 0.5), [2, 3, 1]);
+    let facets = boundary_facets(&mesh);
+    check_closed(&facets).unwrap();
+    let v = enclosed_volume(&facets, |n| mesh.nodes[n]);
+    assert!((v - 0.03).abs() < 1e-15, "{v}");
+    let sheared = enclosed_volume(&facets, |n| {
+        let p = mesh.nodes[n];
+        Vector3::new(p.x + 0.7 * p.z + 1.0, p.y - 2.0, p.z * 1.5)
+    });
+    assert!((sheared - 0.045).abs() < 1e-14, "{sheared}");
+    assert_eq!(
+        check_closed(&facets[1..]),
+        Err(NotClosed::Open { edges: 4 })
+    );
+}

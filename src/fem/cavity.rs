@@ -105,29 +105,3 @@ pub fn enclosed_volume(facets: &[Facet], position: impl Fn(usize) -> Vector3<f64
     }
     sum / 3.0
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::{boundary_facets, box_mesh};
-
-    #[test]
-    fn a_box_is_closed_and_encloses_its_volume_moved_or_sheared() {
-        let mesh = box_mesh(Vector3::zeros(), Vector3::new(0.2, 0.3, 0.5), [2, 3, 1]);
-        let facets = boundary_facets(&mesh);
-        check_closed(&facets).unwrap();
-        let v = enclosed_volume(&facets, |n| mesh.nodes[n]);
-        assert!((v - 0.03).abs() < 1e-15, "{v}");
-        // A shear and a translation keep the volume; a stretch scales it.
-        let sheared = enclosed_volume(&facets, |n| {
-            let p = mesh.nodes[n];
-            Vector3::new(p.x + 0.7 * p.z + 1.0, p.y - 2.0, p.z * 1.5)
-        });
-        assert!((sheared - 0.045).abs() < 1e-14, "{sheared}");
-        // An open surface is refused.
-        assert_eq!(
-            check_closed(&facets[1..]),
-            Err(NotClosed::Open { edges: 4 })
-        );
-    }
-}
