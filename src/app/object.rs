@@ -86,9 +86,14 @@ impl BallParams {
         let body = &mut scene.body[self.body];
         body.material = material;
         body.shape = if self.shell {
-            let (cells, layers) = match body.shape {
-                Shape::Shell { cells, layers, .. } => (cells, layers),
-                _ => (12, 2),
+            let (cells, layers, refine) = match &body.shape {
+                Shape::Shell {
+                    cells,
+                    layers,
+                    refine,
+                    ..
+                } => (*cells, *layers, refine.clone()),
+                _ => (12, 2, None),
             };
             Shape::Shell {
                 center: self.center,
@@ -96,16 +101,18 @@ impl BallParams {
                 outer_radius: self.radius,
                 cells,
                 layers,
+                refine,
             }
         } else {
-            let cells = match body.shape {
-                Shape::Sphere { cells, .. } => cells,
-                _ => 8,
+            let (cells, refine) = match &body.shape {
+                Shape::Sphere { cells, refine, .. } => (*cells, refine.clone()),
+                _ => (8, None),
             };
             Shape::Sphere {
                 center: self.center,
                 radius: self.radius,
                 cells,
+                refine,
             }
         };
         // Carry every point and box on the ball along with its centre and radius.
@@ -113,6 +120,19 @@ impl BallParams {
         let map = |p: [f64; 3]| -> [f64; 3] {
             std::array::from_fn(|i| self.center[i] + (p[i] - old.center[i]) * s)
         };
+        // The refinement's point moves with the ball, its size scales with it.
+        if let Shape::Sphere {
+            refine: Some(refine),
+            ..
+        }
+        | Shape::Shell {
+            refine: Some(refine),
+            ..
+        } = &mut scene.body[self.body].shape
+        {
+            refine.toward = map(refine.toward);
+            refine.size = refine.size.map(|h| h * s);
+        }
         let carry = |sel: &mut Selection| match sel {
             Selection::Point(p) => *p = map(*p),
             Selection::Box { min, max } => {

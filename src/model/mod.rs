@@ -13,6 +13,7 @@ mod loads;
 mod materials;
 mod obstacles;
 mod probes;
+mod refinement;
 mod regions;
 mod select;
 mod settings;
@@ -21,6 +22,7 @@ mod supports;
 mod tier;
 
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
+pub use refinement::DEFAULT_SIZE_OF_RADIUS;
 pub use tier::{Tier, STEP_WARNING_DEG};
 
 use crate::contact::{ContactSettings, Obstacle};
