@@ -284,3 +284,64 @@ fn the_refine_key_is_checked_and_its_errors_name_the_field() {
         );
     }
 }
+
+/// ∫ N_i dA of each node over the boundary facets (bilinear, 2 × 2 Gauss points), and the
+/// tactile map's tributary area (a quarter of each facet's area, as `contact::nodal_pressure`).
+fn tributary_areas(mesh: &Mesh, facets: &[Facet]) -> (Vec<f64>, Vec<f64>) {
+    let mut exact = vec![0.0; mesh.nodes.len()];
+    let mut quarter = vec![0.0; mesh.nodes.len()];
+    let g = 1.0 / 3.0f64.sqrt();
+    for f in facets {
+        let p = f.nodes.map(|n| mesh.nodes[n]);
+        let area = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+        for &n in &f.nodes {
+            quarter[n] += area / 4.0;
+        }
+        for (xi, eta) in [(-g, -g), (g, -g), (g, g), (-g, g)] {
+            let shape = [
+                (1.0 - xi) * (1.0 - eta) / 4.0,
+                (1.0 + xi) * (1.0 - eta) / 4.0,
+                (1.0 + xi) * (1.0 + eta) / 4.0,
+                (1.0 - xi) * (1.0 + eta) / 4.0,
+            ];
+            let d_xi = ((p[1] - p[0]) * (1.0 - eta) + (p[2] - p[3]) * (1.0 + eta)) / 4.0;
+            let d_eta = ((p[3] - p[0]) * (1.0 - xi) + (p[2] - p[1]) * (1.0 + xi)) / 4.0;
+            let jacobian = d_xi.cross(&d_eta).norm();
+            for i in 0..4 {
+                exact[f.nodes[i]] += shape[i] * jacobian;
+            }
+        }
+    }
+    (exact, quarter)
+}
+
+#[test]
+fn around_the_touched_point_the_tactile_maps_tributary_areas_are_the_consistent_ones() {
+    let (c, r) = (Vector3::new(0.0, 0.0, 0.05), 0.05f64);
+    let refine = Refinement {
+        direction: -Vector3::z(),
+        size: r / 32.0,
+    };
+    let mesh = graded_sphere_mesh(c, r, 12, &refine);
+    let facets = boundary_facets(&mesh);
+    let (exact, quarter) = tributary_areas(&mesh, &facets);
+    // Hertz's contact disc at the bench's force is 8 mm in radius: the nodes within 12 mm.
+    let mut worst_near = 0.0f64;
+    let mut worst = 0.0f64;
+    for (n, p) in mesh.nodes.iter().enumerate() {
+        if exact[n] > 0.0 {
+            let d = (quarter[n] / exact[n] - 1.0).abs();
+            worst = worst.max(d);
+            if (p.x * p.x + p.y * p.y).sqrt() < 0.012 && p.z < 0.01 {
+                worst_near = worst_near.max(d);
+            }
+        }
+    }
+    println!(
+        "quarter-facet tributary area against ∫N dA: within {:.3} % near the contact, {:.2} % \
+         anywhere on the surface",
+        worst_near * 100.0,
+        worst * 100.0
+    );
+    assert!(worst_near < 2e-3, "{worst_near}");
+}
