@@ -85,15 +85,15 @@ impl BallParams {
         });
         let body = &mut scene.body[self.body];
         body.material = material;
+        // A refinement stays on the ball, solid or hollow.
+        let refine = match &body.shape {
+            Shape::Sphere { refine, .. } | Shape::Shell { refine, .. } => refine.clone(),
+            _ => None,
+        };
         body.shape = if self.shell {
-            let (cells, layers, refine) = match &body.shape {
-                Shape::Shell {
-                    cells,
-                    layers,
-                    refine,
-                    ..
-                } => (*cells, *layers, refine.clone()),
-                _ => (12, 2, None),
+            let (cells, layers) = match body.shape {
+                Shape::Shell { cells, layers, .. } => (cells, layers),
+                _ => (12, 2),
             };
             Shape::Shell {
                 center: self.center,
@@ -104,9 +104,9 @@ impl BallParams {
                 refine,
             }
         } else {
-            let (cells, refine) = match &body.shape {
-                Shape::Sphere { cells, refine, .. } => (*cells, refine.clone()),
-                _ => (8, None),
+            let cells = match body.shape {
+                Shape::Sphere { cells, .. } => cells,
+                _ => 8,
             };
             Shape::Sphere {
                 center: self.center,
@@ -220,6 +220,40 @@ mod tests {
         );
         assert!(min[0] < again.center[0] && max[0] > again.center[0]);
         // And the edited scene builds.
+        crate::model::Model::build(&s, "t").unwrap();
+    }
+
+    #[test]
+    fn a_refinement_moves_and_scales_with_the_ball() {
+        let mut s = scene();
+        let Shape::Shell { refine, .. } = &mut s.body[1].shape else {
+            panic!("a shell")
+        };
+        // Toward the palm, above the ball's centre (0.065, 0, −0.065), radius 35 mm.
+        *refine = Some(crate::scene::Refine {
+            toward: [0.065, 0.0, 0.0],
+            size: Some(0.001),
+        });
+        let mut b = BallParams::from_scene(&s).unwrap();
+        b.radius = 0.07;
+        b.center[0] += 0.01;
+        b.shell = false;
+        b.apply(&mut s);
+        let Shape::Sphere {
+            refine: Some(refine),
+            ..
+        } = &s.body[1].shape
+        else {
+            panic!("a refined sphere")
+        };
+        // 65 mm above the old centre is 130 mm above the new one, the size doubled.
+        let expected = [0.075, 0.0, -0.065 + 0.13];
+        assert!(
+            (0..3).all(|i| (refine.toward[i] - expected[i]).abs() < 1e-12),
+            "{:?}",
+            refine.toward
+        );
+        assert!((refine.size.unwrap() - 0.002).abs() < 1e-12);
         crate::model::Model::build(&s, "t").unwrap();
     }
 }
