@@ -85,6 +85,11 @@ impl BallParams {
         });
         let body = &mut scene.body[self.body];
         body.material = material;
+        // A refinement stays on the ball, solid or hollow.
+        let refine = match &body.shape {
+            Shape::Sphere { refine, .. } | Shape::Shell { refine, .. } => refine.clone(),
+            _ => None,
+        };
         body.shape = if self.shell {
             let (cells, layers) = match body.shape {
                 Shape::Shell { cells, layers, .. } => (cells, layers),
@@ -96,6 +101,7 @@ impl BallParams {
                 outer_radius: self.radius,
                 cells,
                 layers,
+                refine,
             }
         } else {
             let cells = match body.shape {
@@ -106,6 +112,7 @@ impl BallParams {
                 center: self.center,
                 radius: self.radius,
                 cells,
+                refine,
             }
         };
         // Carry every point and box on the ball along with its centre and radius.
@@ -113,6 +120,19 @@ impl BallParams {
         let map = |p: [f64; 3]| -> [f64; 3] {
             std::array::from_fn(|i| self.center[i] + (p[i] - old.center[i]) * s)
         };
+        // The refinement's point moves with the ball, its size scales with it.
+        if let Shape::Sphere {
+            refine: Some(refine),
+            ..
+        }
+        | Shape::Shell {
+            refine: Some(refine),
+            ..
+        } = &mut scene.body[self.body].shape
+        {
+            refine.toward = map(refine.toward);
+            refine.size = refine.size.map(|h| h * s);
+        }
         let carry = |sel: &mut Selection| match sel {
             Selection::Point(p) => *p = map(*p),
             Selection::Box { min, max } => {
@@ -208,6 +228,40 @@ mod tests {
         );
         assert!(min[0] < again.center[0] && max[0] > again.center[0]);
         // And the edited scene builds.
+        crate::model::Model::build(&s, "t").unwrap();
+    }
+
+    #[test]
+    fn a_refinement_moves_and_scales_with_the_ball() {
+        let mut s = scene();
+        let Shape::Shell { refine, .. } = &mut s.body[1].shape else {
+            panic!("a shell")
+        };
+        // Toward the palm, above the ball's centre (0.065, 0, −0.065), radius 35 mm.
+        *refine = Some(crate::scene::Refine {
+            toward: [0.065, 0.0, 0.0],
+            size: Some(0.001),
+        });
+        let mut b = BallParams::from_scene(&s).unwrap();
+        b.radius = 0.07;
+        b.center[0] += 0.01;
+        b.shell = false;
+        b.apply(&mut s);
+        let Shape::Sphere {
+            refine: Some(refine),
+            ..
+        } = &s.body[1].shape
+        else {
+            panic!("a refined sphere")
+        };
+        // 65 mm above the old centre is 130 mm above the new one, the size doubled.
+        let expected = [0.075, 0.0, -0.065 + 0.13];
+        assert!(
+            (0..3).all(|i| (refine.toward[i] - expected[i]).abs() < 1e-12),
+            "{:?}",
+            refine.toward
+        );
+        assert!((refine.size.unwrap() - 0.002).abs() < 1e-12);
         crate::model::Model::build(&s, "t").unwrap();
     }
 }

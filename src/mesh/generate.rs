@@ -80,67 +80,91 @@ pub fn shell_mesh(
     layers: usize,
 ) -> Mesh {
     let n = cells;
-    // Unique nodes on the surface of the (n+1)³ lattice.
+    let coords: Vec<f64> = (0..=n)
+        .map(|i| (std::f64::consts::FRAC_PI_4 * (2.0 * i as f64 / n as f64 - 1.0)).tan())
+        .collect();
+    let radii: Vec<f64> = (0..=layers)
+        .map(|l| inner_radius + (outer_radius - inner_radius) * l as f64 / layers as f64)
+        .collect();
+    cubed_shell(&[&coords, &coords, &coords], layers, |q, l| {
+        center + q.normalize() * radii[l]
+    })
+}
+
+/// A cubed sphere: the lattice lines `lines[axis]` (from −1 to 1) on the surface of the cube
+/// [−1, 1]³, repeated on `layers + 1` surfaces, one layer of cells between two; `place(q, l)`
+/// positions the point q of the cube's surface on surface l (0 the innermost).
+pub(super) fn cubed_shell(
+    lines: &[&[f64]; 3],
+    layers: usize,
+    place: impl Fn(Vector3<f64>, usize) -> Vector3<f64>,
+) -> Mesh {
+    let [nx, ny, nz] = lines.map(|l| l.len() - 1);
+    // Unique nodes on the surface of the lattice.
     let mut surface_index: HashMap<(usize, usize, usize), usize> = HashMap::new();
-    let mut directions: Vec<Vector3<f64>> = Vec::new();
-    let coord = |i: usize| (std::f64::consts::FRAC_PI_4 * (2.0 * i as f64 / n as f64 - 1.0)).tan();
+    let mut points: Vec<Vector3<f64>> = Vec::new();
     let mut node = |i: usize, j: usize, k: usize| -> usize {
         *surface_index.entry((i, j, k)).or_insert_with(|| {
-            let p = Vector3::new(coord(i), coord(j), coord(k));
-            directions.push(p.normalize());
-            directions.len() - 1
+            points.push(Vector3::new(lines[0][i], lines[1][j], lines[2][k]));
+            points.len() - 1
         })
     };
     // Quads with outward normals (first edge × second edge points out of the cube).
-    let mut quads: Vec<[usize; 4]> = Vec::with_capacity(6 * n * n);
-    for a in 0..n {
-        for b in 0..n {
-            // ±x faces over (y, z) = (a, b)
-            quads.push([
-                node(n, a, b),
-                node(n, a + 1, b),
-                node(n, a + 1, b + 1),
-                node(n, a, b + 1),
-            ]);
-            quads.push([
-                node(0, a, b),
-                node(0, a, b + 1),
-                node(0, a + 1, b + 1),
-                node(0, a + 1, b),
-            ]);
-            // ±y faces over (z, x) = (a, b)
-            quads.push([
-                node(b, n, a),
-                node(b, n, a + 1),
-                node(b + 1, n, a + 1),
-                node(b + 1, n, a),
-            ]);
-            quads.push([
-                node(b, 0, a),
-                node(b + 1, 0, a),
-                node(b + 1, 0, a + 1),
-                node(b, 0, a + 1),
-            ]);
-            // ±z faces over (x, y) = (a, b)
-            quads.push([
-                node(a, b, n),
-                node(a + 1, b, n),
-                node(a + 1, b + 1, n),
-                node(a, b + 1, n),
-            ]);
-            quads.push([
-                node(a, b, 0),
-                node(a, b + 1, 0),
-                node(a + 1, b + 1, 0),
-                node(a + 1, b, 0),
-            ]);
+    let mut quads: Vec<[usize; 4]> = Vec::with_capacity(2 * (nx * ny + ny * nz + nz * nx));
+    let m = nx.max(ny).max(nz);
+    for a in 0..m {
+        for b in 0..m {
+            if a < ny && b < nz {
+                // ±x faces over (y, z) = (a, b)
+                quads.push([
+                    node(nx, a, b),
+                    node(nx, a + 1, b),
+                    node(nx, a + 1, b + 1),
+                    node(nx, a, b + 1),
+                ]);
+                quads.push([
+                    node(0, a, b),
+                    node(0, a, b + 1),
+                    node(0, a + 1, b + 1),
+                    node(0, a + 1, b),
+                ]);
+            }
+            if a < nz && b < nx {
+                // ±y faces over (z, x) = (a, b)
+                quads.push([
+                    node(b, ny, a),
+                    node(b, ny, a + 1),
+                    node(b + 1, ny, a + 1),
+                    node(b + 1, ny, a),
+                ]);
+                quads.push([
+                    node(b, 0, a),
+                    node(b + 1, 0, a),
+                    node(b + 1, 0, a + 1),
+                    node(b, 0, a + 1),
+                ]);
+            }
+            if a < nx && b < ny {
+                // ±z faces over (x, y) = (a, b)
+                quads.push([
+                    node(a, b, nz),
+                    node(a + 1, b, nz),
+                    node(a + 1, b + 1, nz),
+                    node(a, b + 1, nz),
+                ]);
+                quads.push([
+                    node(a, b, 0),
+                    node(a, b + 1, 0),
+                    node(a + 1, b + 1, 0),
+                    node(a + 1, b, 0),
+                ]);
+            }
         }
     }
-    let per_layer = directions.len();
+    let per_layer = points.len();
     let mut nodes = Vec::with_capacity(per_layer * (layers + 1));
     for l in 0..=layers {
-        let r = inner_radius + (outer_radius - inner_radius) * l as f64 / layers as f64;
-        nodes.extend(directions.iter().map(|d| center + d * r));
+        nodes.extend(points.iter().map(|&q| place(q, l)));
     }
     let mut hexes: Vec<Hex> = Vec::with_capacity(quads.len() * layers);
     for l in 0..layers {

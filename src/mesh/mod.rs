@@ -2,12 +2,19 @@
 //! May import util only.
 //!
 //! Meshes of 8-node hexahedra (with collapsed, degenerate forms for prisms and tetrahedra),
-//! their boundary facets, and generators for boxes, solid balls and hollow balls.
+//! their boundary facets, generators for boxes, solid balls and hollow balls (uniform, or graded
+//! toward where a ball is touched) and element shape measures.
 
 mod generate;
+mod graded;
+mod grading;
+mod quality;
 mod surface;
 
 pub use generate::{box_mesh, shell_mesh, sphere_mesh};
+pub use graded::{graded_shell_mesh, graded_sphere_mesh};
+pub use grading::{Refinement, GROWTH};
+pub use quality::{aspect_ratio, mesh_quality, scaled_jacobian};
 pub use surface::{boundary_facets, Facet, HEX_FACES};
 
 use nalgebra::Vector3;

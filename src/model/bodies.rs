@@ -67,7 +67,7 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
         };
         let body_mesh = match &hand {
             Some(h) => h.flesh.mesh.clone(),
-            None => build_shape(&b.shape).map_err(|m| (format!("{field}.shape"), m))?,
+            None => build_shape(&b.shape).map_err(|(sub, m)| (format!("{field}.shape{sub}"), m))?,
         };
         for (c, _) in body_mesh.cells.iter().enumerate() {
             let rel = relative_min_jacobian(&body_mesh.cell_coords(c));

@@ -14,6 +14,7 @@ mod loads;
 mod materials;
 mod obstacles;
 mod probes;
+mod refinement;
 mod regions;
 mod select;
 mod settings;
@@ -23,6 +24,7 @@ mod tier;
 
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 pub use gas::{GasCavity, STANDARD_AMBIENT};
+pub use refinement::DEFAULT_SIZE_OF_RADIUS;
 pub use tier::{Tier, STEP_WARNING_DEG};
 
 use crate::contact::{ContactSettings, Obstacle};

@@ -1,28 +1,31 @@
 //! The mesh of a body's shape (box, sphere, shell or given mesh), after checking its parameters.
 
 use super::check::finite;
-use crate::mesh::{box_mesh, shell_mesh, sphere_mesh, Mesh};
+use super::refinement::refinement;
+use crate::mesh::{box_mesh, graded_shell_mesh, graded_sphere_mesh, shell_mesh, sphere_mesh, Mesh};
 use crate::scene::Shape;
 use nalgebra::Vector3;
 
-/// Generates the mesh of a shape after checking its parameters.
-pub fn build_shape(shape: &Shape) -> Result<Mesh, String> {
+/// Generates the mesh of a shape after checking its parameters; the error is (the field under
+/// the shape, empty for the shape itself, e.g. `.sphere.refine.size`; the message).
+pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
     const MAX_CELLS: usize = 5_000_000;
+    let whole = |m: String| (String::new(), m);
     match shape {
-        Shape::Hand { .. } => Err("a hand is built by the hand module".into()),
+        Shape::Hand { .. } => Err(whole("a hand is built by the hand module".into())),
         Shape::Mesh { nodes, cells } => {
             if nodes.is_empty() || cells.is_empty() {
-                return Err("mesh needs at least one node and one cell".into());
+                return Err(whole("mesh needs at least one node and one cell".into()));
             }
             if let Some(i) = nodes.iter().position(|p| !finite(p)) {
-                return Err(format!("mesh node {i} is not a finite point"));
+                return Err(whole(format!("mesh node {i} is not a finite point")));
             }
             for (c, cell) in cells.iter().enumerate() {
                 if let Some(&n) = cell.iter().find(|&&n| n >= nodes.len()) {
-                    return Err(format!(
+                    return Err(whole(format!(
                         "mesh element {c} names node {n}, but there are {} nodes",
                         nodes.len()
-                    ));
+                    )));
                 }
             }
             Ok(Mesh {
@@ -32,20 +35,20 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, String> {
         }
         Shape::Box { min, max, cells } => {
             if !finite(min) || !finite(max) {
-                return Err("box min and max must be finite".into());
+                return Err(whole("box min and max must be finite".into()));
             }
             if (0..3).any(|i| max[i] <= min[i]) {
-                return Err(format!(
+                return Err(whole(format!(
                     "box max {max:?} must exceed min {min:?} on every axis"
-                ));
+                )));
             }
             if cells.contains(&0) {
-                return Err(format!("box cells {cells:?} must all be at least 1"));
+                return Err(whole(format!("box cells {cells:?} must all be at least 1")));
             }
             if cells.iter().product::<usize>() > MAX_CELLS {
-                return Err(format!(
+                return Err(whole(format!(
                     "box cells {cells:?} make more than {MAX_CELLS} elements"
-                ));
+                )));
             }
             Ok(box_mesh(Vector3::from(*min), Vector3::from(*max), *cells))
         }
@@ -53,18 +56,31 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, String> {
             center,
             radius,
             cells,
+            refine,
         } => {
             if !(finite(center) && radius.is_finite() && *radius > 0.0) {
-                return Err(format!(
+                return Err(whole(format!(
                     "sphere needs a finite center and a radius > 0 (radius = {radius})"
-                ));
+                )));
             }
             if *cells == 0 || cells.pow(3) > MAX_CELLS {
-                return Err(format!(
+                return Err(whole(format!(
                     "sphere cells = {cells} must be at least 1 and at most 170"
-                ));
+                )));
             }
-            Ok(sphere_mesh(Vector3::from(*center), *radius, *cells))
+            match refine {
+                None => Ok(sphere_mesh(Vector3::from(*center), *radius, *cells)),
+                Some(refine) => {
+                    let (refine, _) = refinement(refine, center, (0.0, *radius))
+                        .map_err(|(f, m)| (format!(".sphere.refine.{f}"), m))?;
+                    Ok(graded_sphere_mesh(
+                        Vector3::from(*center),
+                        *radius,
+                        *cells,
+                        &refine,
+                    ))
+                }
+            }
         }
         Shape::Shell {
             center,
@@ -72,30 +88,47 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, String> {
             outer_radius,
             cells,
             layers,
+            refine,
         } => {
             if !(finite(center) && inner_radius.is_finite() && *inner_radius > 0.0) {
-                return Err(format!(
+                return Err(whole(format!(
                     "shell needs a finite center and inner_radius > 0 (inner_radius = {inner_radius})"
-                ));
+                )));
             }
             if !(outer_radius.is_finite() && outer_radius > inner_radius) {
-                return Err(format!(
+                return Err(whole(format!(
                     "shell outer_radius = {outer_radius} must exceed inner_radius = {inner_radius}"
-                ));
+                )));
             }
             if *cells == 0 || *layers == 0 || 6 * cells * cells * layers > MAX_CELLS {
-                return Err(format!(
+                return Err(whole(format!(
                     "shell cells = {cells} and layers = {layers} must be at least 1 (and make at \
                      most {MAX_CELLS} elements)"
-                ));
+                )));
             }
-            Ok(shell_mesh(
-                Vector3::from(*center),
-                *inner_radius,
-                *outer_radius,
-                *cells,
-                *layers,
-            ))
+            let center = Vector3::from(*center);
+            match refine {
+                None => Ok(shell_mesh(
+                    center,
+                    *inner_radius,
+                    *outer_radius,
+                    *cells,
+                    *layers,
+                )),
+                Some(refine) => {
+                    let (refine, outer) =
+                        refinement(refine, &center.into(), (*inner_radius, *outer_radius))
+                            .map_err(|(f, m)| (format!(".shell.refine.{f}"), m))?;
+                    Ok(graded_shell_mesh(
+                        center,
+                        *inner_radius,
+                        *outer_radius,
+                        (*cells, *layers),
+                        &refine,
+                        outer,
+                    ))
+                }
+            }
         }
     }
 }

@@ -333,6 +333,9 @@ pub enum Shape {
         radius: f64,
         /// Cells across the diameter.
         cells: usize,
+        /// Finer cells where the ball is touched (a graded mesh); uniform when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        refine: Option<Refine>,
     },
     /// A hollow ball (cubed sphere).
     Shell {
@@ -346,6 +349,9 @@ pub enum Shape {
         cells: usize,
         /// Cells through the wall.
         layers: usize,
+        /// Finer cells where the ball is touched (a graded mesh); uniform when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        refine: Option<Refine>,
     },
     /// The built-in hand: skeleton, bones and flesh, meshed at `resolution` (1 = default: 3.2 mm
     /// lattice, 1.6 mm on the finger-tip pads).
@@ -364,6 +370,20 @@ pub enum Shape {
         /// Cells as 0-based node indices.
         cells: Vec<[usize; 8]>,
     },
+}
+
+/// `refine = { toward = [x, y, z], size = 0.001 }`: a ball's mesh graded toward the point of its
+/// surface nearest `toward` (on a shell, of the outer surface, or of the inner one when `toward`
+/// lies in the cavity): cells of `size` there, growing by 1.25 from one to the next up to the
+/// size that `cells` (and `layers`) give.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Refine {
+    /// A point, m: the surface is refined where it is nearest this point (not the centre).
+    pub toward: [f64; 3],
+    /// The cells' size at the touched point, m; by default 1/32 of the touched surface's radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<f64>,
 }
 
 /// A selection of nodes (and of boundary facets) of one body.

@@ -30,9 +30,10 @@ fn description(problem: ProblemId) -> &'static str {
         }
         ProblemId::Hertz => {
             "Ball R = 50 mm, E = 100 kPa, ν = 0.3, its top cap (z > 1.9R) pushed 1.5 mm down onto \
-             the rigid plane z = 0 (frictionless, exact contact by Lagrange multipliers); n \
-             cells across. Error: the contact radius from the second moment of the nodal \
-             contact forces against Hertz's a = (3FR/4E*)^(1/3) at the force F found; the peak \
+             the rigid plane z = 0 (frictionless, exact contact by Lagrange multipliers); the \
+             ball graded toward the contact (`refine`): cells of R/n there growing by 1.25 to \
+             the base of 12 cells across (R/32 is the default refinement). Error: the contact \
+             radius from the second moment of the nodal contact forces against Hertz's a = (3FR/4E*)^(1/3) at the force F found; the peak \
              of the tactile map against p0 = 3F/(2πa²) is shown beside it."
         }
         ProblemId::Flexion30 | ProblemId::Flexion90 => {

@@ -1,12 +1,14 @@
 //! (c) Hertz contact: an elastic ball (R = 50 mm, E = 100 kPa, ν = 0.3) pressed by 1.5 mm onto
-//! the rigid plane z = 0 through its top cap (the problem of `tests/contact.rs`), meshed with
-//! n cells across. Hertz's solution is compared at the total force F the solver finds:
-//! a = (3FR/4E*)^(1/3), p0 = 3F/(2πa²), E* = E/(1−ν²). The mesh's contact radius comes from
-//! the second moment of the nodal contact forces (∫ρ²p dA / F = (2/5)a² for Hertz's
-//! pressure); the peak pressure from the tactile map (nodal forces over tributary areas,
-//! which under-reads a peak on a coarse mesh).
+//! the rigid plane z = 0 through its top cap (the problem of `tests/contact.rs`), meshed finer
+//! toward the contact: `refine = { toward = [0, 0, 0], size = R/n }` over a base of 12 cells
+//! across (n = 32 is the default refinement: no `size`). Hertz's solution is compared at the
+//! total force F the solver finds: a = (3FR/4E*)^(1/3), p0 = 3F/(2πa²), E* = E/(1−ν²). The
+//! mesh's contact radius comes from the second moment of the nodal contact forces
+//! (∫ρ²p dA / F = (2/5)a² for Hertz's pressure); the peak pressure from the tactile map (nodal
+//! forces over tributary areas, which under-reads a peak on a coarse mesh).
 
 use super::{Column, Solved, Unit};
+use crate::model::DEFAULT_SIZE_OF_RADIUS;
 use crate::scene::Scene;
 use crate::state::contact_pressure;
 
@@ -33,9 +35,18 @@ pub const COLUMNS: &[Column] = &[
     },
 ];
 
-/// The scene with `cells` cells across the ball.
-pub fn scene(cells: usize) -> Scene {
+/// Cells across the ball away from the contact.
+pub const BASE_CELLS: usize = 12;
+
+/// The scene with cells of R/`level` at the contact (the default refinement at its level, 32).
+pub fn scene(level: usize) -> Scene {
     let (r, e, nu, delta) = BALL;
+    let cells = BASE_CELLS;
+    let size = if level as f64 * DEFAULT_SIZE_OF_RADIUS == 1.0 {
+        String::new()
+    } else {
+        format!(", size = {:e}", r / level as f64)
+    };
     let text = format!(
         r#"
 [[material]]
@@ -45,7 +56,7 @@ poisson = {nu}
 [[body]]
 name = "ball"
 material = "m"
-shape = {{ sphere = {{ center = [0, 0, {r}], radius = {r}, cells = {cells} }} }}
+shape = {{ sphere = {{ center = [0, 0, {r}], radius = {r}, cells = {cells}, refine = {{ toward = [0, 0, 0]{size} }} }} }}
 [[constraint]]
 name = "cap"
 body = "ball"

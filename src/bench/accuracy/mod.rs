@@ -140,14 +140,15 @@ impl ProblemId {
     }
 
     /// The three resolutions (the scene's own parameter: elements through the beam, cells of
-    /// the cubed sphere, cells across the ball, hand `resolution`).
+    /// the cubed sphere, the ball's cells at the contact as a fraction of its radius, hand
+    /// `resolution`).
     pub fn resolutions(self, quick: bool) -> Vec<f64> {
         match (self, quick) {
             (ProblemId::Cantilever, _) => vec![1.0, 2.0, 4.0],
             (ProblemId::Lame, false) => vec![4.0, 8.0, 12.0],
             (ProblemId::Lame, true) => vec![4.0, 6.0, 8.0],
-            (ProblemId::Hertz, false) => vec![12.0, 18.0, 26.0],
-            (ProblemId::Hertz, true) => vec![8.0, 10.0, 12.0],
+            (ProblemId::Hertz, false) => vec![8.0, 16.0, 32.0],
+            (ProblemId::Hertz, true) => vec![4.0, 8.0, 16.0],
             (ProblemId::Flexion30 | ProblemId::Flexion90, false) => vec![0.75, 1.0, 1.25],
             // Contact on the finer hands costs tens of seconds per keyframe.
             (ProblemId::Grasp, false) => vec![0.5, 0.75, 1.0],
@@ -165,7 +166,7 @@ impl ProblemId {
                 format!("{}×{k}×{k}", 8 * k)
             }
             ProblemId::Lame => format!("{}² × 6, {} layers", r as usize, lame::layers(r)),
-            ProblemId::Hertz => format!("{} cells across", r as usize),
+            ProblemId::Hertz => format!("R/{} at the contact", r as usize),
             _ => format!("{r}"),
         }
     }
