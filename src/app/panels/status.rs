@@ -92,6 +92,22 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             }
         }
         ui.end_row();
+        if let Some(gas) = crate::state::cavity_state(model, frame) {
+            // The sealed air of a gas cavity: squeezing raises its pressure (p·V constant).
+            ui.label(format!("air \"{}\"", gas.load));
+            ui.label(format!(
+                "{:.2} kPa, {:.1} cm³",
+                gas.gauge_pressure * 1e-3,
+                gas.volume * 1e6
+            ))
+            .on_hover_text(format!(
+                "gauge pressure (above the ambient {:.0} Pa) and volume of the sealed cavity; \
+                 {:.1} cm³ as meshed",
+                gas.ambient,
+                gas.rest_volume * 1e6
+            ));
+            ui.end_row();
+        }
         ui.label("solve");
         ui.label(format!("{:.0} ms", shown.solution.solve_ms));
         ui.end_row();
