@@ -6,27 +6,8 @@
 
 use nalgebra::Vector3;
 use prehensile::app::pose::Preset;
-use prehensile::hand::{Side, Skeleton};
+use prehensile::bench::grasp::preset_scene;
 use prehensile::headless::solve_scene;
-use prehensile::scene::{Scene, DEFAULT_SCENE};
-
-/// The default scene with one keyframe at time 1 to `preset`.
-fn preset_scene(preset: Preset) -> Scene {
-    let skeleton = Skeleton::new(Side::Right);
-    let angles = preset.angles(&skeleton);
-    let pose: Vec<String> = skeleton
-        .dofs
-        .iter()
-        .zip(&angles)
-        .map(|(d, a)| format!("\"{}\" = {a}", d.name))
-        .collect();
-    let base = &DEFAULT_SCENE[..DEFAULT_SCENE.find("[[keyframe]]").unwrap()];
-    let text = format!(
-        "{base}[[keyframe]]\ntime = 1.0\npose = {{ {} }}\n",
-        pose.join(", ")
-    );
-    Scene::parse(&text, "preset.toml").unwrap()
-}
 
 fn check_converged_grasp(preset: Preset) {
     let scene = preset_scene(preset);
@@ -73,10 +54,21 @@ fn check_converged_grasp(preset: Preset) {
         hand_balance.norm() < 1e-6 * grip,
         "{preset:?}: flesh out of balance by {hand_balance:?} N (grip {grip} N)"
     );
+    // The keyframe went in contact steps: the one-step attempt did not settle (redone), then
+    // several steps each kept.
+    let stats = &frame.hands[0].stats;
+    assert!(
+        stats.contact_steps >= 2 && stats.contact_retries >= 1,
+        "{preset:?}: {} contact steps, {} redone",
+        stats.contact_steps,
+        stats.contact_retries
+    );
     println!(
-        "{preset:?}: grip {grip:.3} N, {} contacts, {:.2e} m left",
+        "{preset:?}: grip {grip:.3} N, {} contacts, {:.2e} m left, {} contact steps ({} redone)",
         contact.contacts.len(),
-        contact.max_penetration
+        contact.max_penetration,
+        stats.contact_steps,
+        stats.contact_retries
     );
 }
 
@@ -88,4 +80,54 @@ fn the_power_grasp_preset_converges_on_the_default_scene() {
 #[test]
 fn the_pinch_preset_converges_on_the_default_scene() {
     check_converged_grasp(Preset::Pinch);
+}
+
+/// Weak muscles: every fingertip bone holds at most 0.3 N. Closing into the Power grasp, the
+/// keyframe stops at the first contact step after which a bone's reaction overruns its
+/// threshold — the paper's "grasp not realisable" — short of the preset's pose, and says so.
+#[test]
+fn a_power_grasp_beyond_the_muscles_stops_where_a_bone_is_overloaded() {
+    let mut scene = preset_scene(Preset::PowerGrasp);
+    let hand = scene
+        .body
+        .iter_mut()
+        .find(|b| matches!(b.shape, prehensile::scene::Shape::Hand { .. }))
+        .unwrap();
+    hand.bone_thresholds = Some(
+        ["thumb", "index", "middle", "ring", "little"]
+            .iter()
+            .map(|d| (format!("{d}.distal"), 0.3))
+            .collect(),
+    );
+    let solved = solve_scene(&scene, "weak.toml").unwrap_or_else(|e| panic!("{e}"));
+    let frame = solved.frames.last().unwrap();
+    let contact = frame.contact.as_ref().expect("the hand touches the ball");
+    assert!(
+        contact.stopped_by_threshold,
+        "the motion stops by a threshold"
+    );
+    let h = &frame.hands[0];
+    assert!(!h.overloads.is_empty());
+    for o in &h.overloads {
+        assert!(o.reaction > o.threshold && o.threshold == 0.3, "{o:?}");
+    }
+    let report = &solved.report.frames[solved.frames.len() - 1].hands["hand"];
+    assert!(!report.realisable);
+    // Short of the preset's pose: the joint moving most has not reached its angle.
+    let skeleton = prehensile::hand::Skeleton::new(prehensile::hand::Side::Right);
+    let target = Preset::PowerGrasp.angles(&skeleton);
+    let short = target
+        .iter()
+        .zip(&h.angles)
+        .map(|(t, a)| (t - a).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "stopped {short:.1}° short of the pose: {}",
+        h.overloads
+            .iter()
+            .map(|o| format!("{} {:.2} N", o.bone, o.reaction))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    assert!(short > 1.0, "{short}°");
 }

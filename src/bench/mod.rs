@@ -4,6 +4,7 @@
 pub mod accuracy;
 pub mod contact;
 pub mod elements;
+pub mod grasp;
 pub mod hand;
 pub mod region;
 pub mod render;

@@ -131,6 +131,28 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "0.5")]
         friction: Vec<f64>,
     },
+    /// The grasps a user meets: the viewer's presets on the default scene and the shipped grasp
+    /// scenes, per hand resolution and tier — time per keyframe, contact steps, factorizations,
+    /// the force on the hands or why it stopped.
+    Grasp {
+        /// Viewer presets on the built-in default scene, comma separated (Pinch, Power grasp,
+        /// Fist).
+        #[arg(long, value_delimiter = ',', default_value = "Pinch,Power grasp,Fist")]
+        presets: Vec<String>,
+        /// Scene files, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/finger-press-sealed-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/hand-power-grasp.toml,assets/scenes/bowl-grasp.toml"
+        )]
+        scenes: Vec<String>,
+        /// Hand mesh resolutions, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1")]
+        resolutions: Vec<f64>,
+        /// Tiers (skinning, linear, incremental, corotational, nonlinear), comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "corotational")]
+        tiers: Vec<String>,
+    },
     /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
     /// moving joints and near the contact only) and with everything everywhere; time saved and
     /// the difference in the result.
@@ -301,6 +323,31 @@ fn run() -> Result<()> {
                 );
                 let rows = crate::bench::contact::contact_rows(&scenes, &friction)?;
                 print!("{}", crate::bench::contact::contact_table(&rows));
+            }
+            BenchCommand::Grasp {
+                presets,
+                scenes,
+                resolutions,
+                tiers,
+            } => {
+                let tiers = tiers
+                    .iter()
+                    .map(|t| match t.as_str() {
+                        "skinning" => Ok(crate::scene::TierName::Skinning),
+                        "linear" => Ok(crate::scene::TierName::Linear),
+                        "incremental" => Ok(crate::scene::TierName::Incremental),
+                        "corotational" => Ok(crate::scene::TierName::Corotational),
+                        "nonlinear" => Ok(crate::scene::TierName::Nonlinear),
+                        other => Err(anyhow::anyhow!(
+                            "--tiers: no tier \"{other}\" (skinning, linear, incremental, \
+                             corotational, nonlinear)"
+                        )),
+                    })
+                    .collect::<anyhow::Result<Vec<_>>>()?;
+                println!("grasp benchmark: {} threads", rayon::current_num_threads());
+                let rows =
+                    crate::bench::grasp::grasp_rows(&presets, &scenes, &resolutions, &tiers)?;
+                print!("{}", crate::bench::grasp::grasp_table(&rows));
             }
             BenchCommand::Region { scenes } => {
                 println!("region benchmark: {} threads", rayon::current_num_threads());

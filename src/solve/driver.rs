@@ -162,6 +162,17 @@ impl Workspace {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
                 self.move_in_steps(model, posed, &moving, steps, carried, cancel)
+                    .map(|mut frame| {
+                        // The one-step attempt was a contact solve redone.
+                        for h in &moving {
+                            let body = posed.hands[h.0].body;
+                            posed.hands[h.0].frame.stats.contact_retries += 1;
+                            if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
+                                fh.stats.contact_retries += 1;
+                            }
+                        }
+                        frame
+                    })
                     .map_err(|e| match e {
                         // Neither way settled: the one-step error says how deep the pose is.
                         SimError::Contact(_) => SimError::Contact(first),
@@ -187,16 +198,28 @@ impl Workspace {
         posed.contact = carried;
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
         let mut stats: Vec<Option<KeyframeStats>> = vec![None; moving.len()];
+        let (mut kept, mut retries) = (0, 0);
         loop {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
             match self.contact_step(model, posed, moving, f, cancel, &mut stats) {
-                Ok(frame) if control.finished_with(f) => {
+                // A step after which a bone's reaction overruns its muscle threshold ends the
+                // keyframe there (the paper: the grasp is not realisable beyond it): the frame
+                // reports the overloads and that the motion stopped by a threshold.
+                Ok(frame) if control.finished_with(f) || stopped_by_threshold(&frame) => {
                     let mut frame = frame;
-                    // The keyframe's cost: every contact step's flexion.
+                    if !control.finished_with(f) {
+                        if let Some(c) = frame.contact.as_mut() {
+                            c.stopped_by_threshold = true;
+                        }
+                    }
+                    let touched = usize::from(frame.contact.is_some());
+                    // The keyframe's cost: every contact step's flexion and contact solve.
                     for (k, (h, _, _)) in moving.iter().enumerate() {
                         let body = posed.hands[*h].body;
-                        let total = stats[k].clone().unwrap_or_default();
+                        let mut total = stats[k].clone().unwrap_or_default();
+                        total.contact_steps = kept + touched;
+                        total.contact_retries = retries;
                         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
                             fh.stats = total.clone();
                         }
@@ -206,10 +229,12 @@ impl Workspace {
                     return Ok(frame);
                 }
                 Ok(frame) => {
+                    kept += usize::from(frame.contact.is_some());
                     posed.contact = carried_by(model, &frame);
                     control.accept(f, true);
                 }
                 Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
+                    retries += 1;
                     (*posed, stats) = before.expect("kept above");
                 }
                 Err(e) => return Err(e),
@@ -284,6 +309,12 @@ impl Workspace {
         posed.frame = hand_frame(model, b, &posed.state, stats);
         result.map(|_| ())
     }
+}
+
+/// Whether `frame` is a grasp past the muscles: in contact, a bone of a hand overruns its
+/// threshold.
+fn stopped_by_threshold(frame: &Frame) -> bool {
+    frame.contact.is_some() && frame.hands.iter().any(|h| !h.overloads.is_empty())
 }
 
 /// Every hand of the model at rest.

@@ -101,6 +101,12 @@ pub struct KeyframeStats {
     /// The digits left to skinning in this keyframe because they stayed far from every other
     /// body: their bones bear no new flexion reaction.
     pub far_digits: Vec<String>,
+    /// Contact solves kept on the way (contact steps along the motion; 1 for a keyframe solved
+    /// in one step with its contact, 0 without contact).
+    pub contact_steps: usize,
+    /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
+    /// keyframe then solved in steps, halved steps).
+    pub contact_retries: usize,
 }
 
 impl KeyframeStats {
@@ -124,5 +130,7 @@ impl KeyframeStats {
         self.relative_residual = self.relative_residual.max(step.relative_residual);
         self.far_cells = self.far_cells.min(step.far_cells);
         self.far_digits.retain(|d| step.far_digits.contains(d));
+        self.contact_steps += step.contact_steps;
+        self.contact_retries += step.contact_retries;
     }
 }

@@ -1,0 +1,158 @@
+//! `prehensile bench grasp`: the grasps a user meets — the viewer's presets on the built-in
+//! default scene (from the scene's pose) and the shipped grasp scenes — per hand resolution and
+//! tier: wall time per keyframe, contact steps (and retries), factorizations, the grip on the
+//! object and the penetration left, or why it stopped.
+
+use crate::app::pose::Preset;
+use crate::hand::{Side, Skeleton};
+use crate::headless::solve_scene;
+use crate::scene::{Scene, Shape, TierName, DEFAULT_SCENE};
+use std::fmt::Write;
+use std::path::Path;
+use std::time::Instant;
+
+/// One grasp solved at one resolution with one tier.
+pub struct GraspRow {
+    /// The grasp: a preset or a scene file.
+    pub case: String,
+    /// Hand mesh resolution.
+    pub resolution: f64,
+    /// Tier.
+    pub tier: TierName,
+    /// Keyframes solved after the initial pose.
+    pub keyframes: usize,
+    /// Wall time of the whole scene, s.
+    pub total_s: f64,
+    /// Contact solves kept, and redone, over the keyframes.
+    pub contact_steps: (usize, usize),
+    /// Factorizations of the flexion over the keyframes.
+    pub factorizations: usize,
+    /// The last frame's contact force on the hands (N) and penetration left (m), or the error.
+    pub outcome: Result<(f64, f64), String>,
+}
+
+/// The built-in default scene with one keyframe at time 1 to `preset` (what pressing the
+/// preset's button in the viewer asks for).
+pub fn preset_scene(preset: Preset) -> Scene {
+    let skeleton = Skeleton::new(Side::Right);
+    let angles = preset.angles(&skeleton);
+    let pose: Vec<String> = skeleton
+        .dofs
+        .iter()
+        .zip(&angles)
+        .map(|(d, a)| format!("\"{}\" = {a}", d.name))
+        .collect();
+    let base = &DEFAULT_SCENE[..DEFAULT_SCENE
+        .find("[[keyframe]]")
+        .unwrap_or(DEFAULT_SCENE.len())];
+    let text = format!(
+        "{base}[[keyframe]]\ntime = 1.0\npose = {{ {} }}\n",
+        pose.join(", ")
+    );
+    Scene::parse(&text, "default.toml").expect("the default scene with a preset parses")
+}
+
+/// The cases: `presets` (names as on the viewer's buttons) and scene files.
+fn cases(presets: &[String], scenes: &[String]) -> anyhow::Result<Vec<(String, Scene)>> {
+    let mut out = Vec::new();
+    for name in presets {
+        let preset = Preset::ALL
+            .iter()
+            .copied()
+            .find(|p| p.label().eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                anyhow::anyhow!("no preset \"{name}\" (Rest, Fist, Pinch, Power grasp)")
+            })?;
+        out.push((format!("preset {}", preset.label()), preset_scene(preset)));
+    }
+    for file in scenes {
+        out.push((file.clone(), Scene::load(Path::new(file))?));
+    }
+    Ok(out)
+}
+
+/// Solves every case at every resolution with every tier.
+pub fn grasp_rows(
+    presets: &[String],
+    scenes: &[String],
+    resolutions: &[f64],
+    tiers: &[TierName],
+) -> anyhow::Result<Vec<GraspRow>> {
+    let mut rows = Vec::new();
+    for (case, scene) in cases(presets, scenes)? {
+        for &resolution in resolutions {
+            for &tier in tiers {
+                let mut s = scene.clone();
+                s.solver.tier = Some(tier);
+                for body in &mut s.body {
+                    if let Shape::Hand { resolution: r, .. } = &mut body.shape {
+                        *r = resolution;
+                    }
+                }
+                let t = Instant::now();
+                let solved = solve_scene(&s, &case);
+                let total_s = t.elapsed().as_secs_f64();
+                let mut row = GraspRow {
+                    case: case.clone(),
+                    resolution,
+                    tier,
+                    keyframes: s.keyframe.len(),
+                    total_s,
+                    contact_steps: (0, 0),
+                    factorizations: 0,
+                    outcome: Err(String::new()),
+                };
+                match solved {
+                    Ok(solved) => {
+                        for f in solved.frames.iter().skip(1) {
+                            for h in &f.hands {
+                                row.contact_steps.0 += h.stats.contact_steps;
+                                row.contact_steps.1 += h.stats.contact_retries;
+                                row.factorizations += h.stats.factorizations;
+                            }
+                        }
+                        let last = solved.frames.last().expect("a frame");
+                        let force: nalgebra::Vector3<f64> =
+                            last.hands.iter().flat_map(|h| &h.contact_force).sum();
+                        let left = last.contact.as_ref().map_or(0.0, |c| c.max_penetration);
+                        row.outcome = Ok((force.norm(), left));
+                    }
+                    Err(e) => row.outcome = Err(e.to_string()),
+                }
+                rows.push(row);
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The rows as a Markdown table.
+pub fn grasp_table(rows: &[GraspRow]) -> String {
+    let mut out = String::from(
+        "| grasp | resolution | tier | keyframes | s per keyframe | contact steps (redone) | \
+         flexion factorizations | force on the hands (N) | penetration left (µm) |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let per = r.total_s / r.keyframes.max(1) as f64;
+        let (force, left) = match &r.outcome {
+            Ok((f, p)) => (format!("{f:.3}"), format!("{:.1}", p * 1e6)),
+            Err(e) => {
+                let short: String = e.chars().take(140).collect();
+                (format!("stopped: {short}…"), "—".into())
+            }
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:?} | {} | {per:.1} | {} ({}) | {} | {force} | {left} |",
+            r.case,
+            r.resolution,
+            r.tier,
+            r.keyframes,
+            r.contact_steps.0,
+            r.contact_steps.1,
+            r.factorizations
+        );
+    }
+    out
+}
