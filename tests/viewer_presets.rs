@@ -137,3 +137,38 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
         "the released ball is {off} m off its static frame"
     );
 }
+
+/// Opening the sealed ball (`finger-press-sealed-ball.toml`, `gas = true`) the status panel shows
+/// the air's gauge pressure and volume, the numbers the gas law gives the shown frame.
+#[test]
+fn the_sealed_balls_air_is_shown_in_the_status_panel() {
+    let text = std::fs::read_to_string("assets/scenes/finger-press-sealed-ball.toml").unwrap();
+    let scene = Scene::parse(&text, "finger-press-sealed-ball.toml").unwrap();
+    let port = ThreadSolver::spawn(Physics::new(), Arc::new(|| {}));
+    let mut state =
+        ViewerState::new(scene, "finger-press-sealed-ball.toml", Box::new(port)).unwrap();
+    state.timeline_solving = false;
+    let mut h = Harness::builder()
+        .with_size([1600.0, 900.0])
+        .build_ui_state(|ui, state: &mut ViewerState| state.ui(ui), state);
+    wait_for_pose(&mut h);
+    h.step();
+    let shown = h.state().shown.as_ref().unwrap();
+    let gas = prehensile::state::cavity_state(&shown.solution.model, &shown.solution.frame)
+        .expect("the scene's ball is sealed");
+    // The pressure shown is the gas law's: (p + p_amb)·V = P0·V0, P0 the scene's 30 kPa above
+    // ambient at the meshed volume; the sealed ball settles lower (it inflated).
+    let p0v0 = (30.0e3 + gas.ambient) * gas.rest_volume;
+    let pv = (gas.gauge_pressure + gas.ambient) * gas.volume;
+    assert!((pv / p0v0 - 1.0).abs() < 1e-6, "{gas:?}");
+    assert!(
+        gas.gauge_pressure > 1e4 && gas.gauge_pressure < 30.0e3,
+        "{gas:?}"
+    );
+    h.get_by_label("air \"air\"");
+    h.get_by_label(&format!(
+        "{:.2} kPa, {:.1} cm³",
+        gas.gauge_pressure * 1e-3,
+        gas.volume * 1e6
+    ));
+}
