@@ -55,11 +55,11 @@ pub fn preset_scene(preset: Preset) -> Scene {
 /// The cases: `presets` (names as on the viewer's buttons) and scene files.
 fn cases(presets: &[String], scenes: &[String]) -> anyhow::Result<Vec<(String, Scene)>> {
     let mut out = Vec::new();
-    for name in presets {
+    for name in presets.iter().filter(|n| !n.trim().is_empty()) {
         let preset = Preset::ALL
             .iter()
             .copied()
-            .find(|p| p.label().eq_ignore_ascii_case(name))
+            .find(|p| p.label().eq_ignore_ascii_case(name.trim()))
             .ok_or_else(|| {
                 anyhow::anyhow!("no preset \"{name}\" (Rest, Fist, Pinch, Power grasp)")
             })?;

@@ -67,6 +67,8 @@ pub struct SolveStats {
     pub symbolic_ms: f64,
     /// Whether the symbolic analysis of an earlier solve was reused.
     pub symbolic_reused: bool,
+    /// Whether the numeric factor of the last solve was reused (the same K11 again).
+    pub factor_reused: bool,
     /// Numeric Cholesky factorization time.
     pub factorization_ms: f64,
     /// Forward/back substitution plus reactions.
@@ -131,6 +133,10 @@ pub struct PartitionedSolver {
     ordering: FillOrdering,
     analysis: Option<Analysis>,
     factor: Vec<f64>,
+    /// The K11 values `factor` is the Cholesky factor of (empty when there is none): a solve
+    /// with the same matrix again (a gas cavity's pressures, a contact step redone with other
+    /// loads) reuses the factor instead of refactorizing.
+    factored: Vec<f64>,
     scratch: Vec<MaybeUninit<u64>>,
 }
 
@@ -141,6 +147,7 @@ impl PartitionedSolver {
             ordering,
             analysis: None,
             factor: Vec::new(),
+            factored: Vec::new(),
             scratch: Vec::new(),
         }
     }
@@ -209,10 +216,13 @@ impl PartitionedSolver {
         let k11 = SparseColMatRef::new(analysis.k11.as_ref(), &k11_values);
         let par = faer::get_global_parallelism();
         let len = analysis.cholesky.len_val();
-        grow(&mut self.factor, len, || 0.0);
         stats.factor_nnz = len;
         stats.matrix_nnz = k11_values.len();
-        {
+        let factored = reuse && self.factored == k11_values;
+        stats.factor_reused = factored;
+        if !factored {
+            self.factored.clear();
+            grow(&mut self.factor, len, || 0.0);
             let req = analysis
                 .cholesky
                 .factorize_numeric_llt_scratch::<f64>(par, Default::default());
@@ -239,6 +249,7 @@ impl PartitionedSolver {
                         }
                     }
                 })?;
+            self.factored = k11_values;
         }
         stats.factorization_ms = ms(t);
 
