@@ -47,10 +47,24 @@ fn a_second_solve_with_new_prescribed_values_reuses_the_symbolic_analysis_and_is
         .unwrap();
     assert!(second.stats.symbolic_reused);
     assert_eq!(second.stats.symbolic_ms, 0.0);
+    // The same K11 again: its numeric factor is reused too.
+    assert!(!first.stats.factor_reused && second.stats.factor_reused);
     let scale = first.reaction.iter().map(|r| r.abs()).fold(0.0, f64::max);
     for d in 0..values.len() {
         assert!((second.reaction[d] - 2.5 * first.reaction[d]).abs() < 1e-10 * scale);
         assert!((second.displacement[d] - 2.5 * first.displacement[d]).abs() < 1e-13);
+    }
+    // A stiffer material (K doubled) is factored anew: the same prescribed displacements,
+    // twice the reactions.
+    let mut stiffer = k.clone();
+    stiffer.values.iter_mut().for_each(|v| *v *= 2.0);
+    let doubled_k = solver
+        .solve(&stiffer, &partition, &values, &loads, &mesh.nodes)
+        .unwrap();
+    assert!(doubled_k.stats.symbolic_reused && !doubled_k.stats.factor_reused);
+    for d in 0..values.len() {
+        assert!((doubled_k.reaction[d] - 2.0 * first.reaction[d]).abs() < 1e-10 * scale);
+        assert!((doubled_k.displacement[d] - first.displacement[d]).abs() < 1e-13);
     }
     // A new prescribed set is a new pattern for K11: analysed again.
     let mut mask = partition.prescribed.clone();

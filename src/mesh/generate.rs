@@ -7,26 +7,31 @@ use std::collections::HashMap;
 /// A box from `min` to `max` with `cells[i]` cells along axis i. Node (i, j, k) has index
 /// `i + (nx+1)·(j + (ny+1)·k)`.
 pub fn box_mesh(min: Vector3<f64>, max: Vector3<f64>, cells: [usize; 3]) -> Mesh {
-    let [nx, ny, nz] = cells;
+    let lines: [Vec<f64>; 3] = std::array::from_fn(|a| {
+        (0..=cells[a])
+            .map(|i| min[a] + (max[a] - min[a]) * (i as f64 / cells[a] as f64))
+            .collect()
+    });
+    lattice(&[&lines[0], &lines[1], &lines[2]])
+}
+
+/// The lattice of the given lines along x, y and z (node (i, j, k) has index `i + (nx+1)·(j + (ny+1)·k)`).
+pub(super) fn lattice(lines: &[&[f64]; 3]) -> Mesh {
+    let [nx, ny, nz] = lines.map(|l| l.len() - 1);
     let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
-    for k in 0..=nz {
-        for j in 0..=ny {
-            for i in 0..=nx {
-                let t = Vector3::new(
-                    i as f64 / nx as f64,
-                    j as f64 / ny as f64,
-                    k as f64 / nz as f64,
-                );
-                nodes.push(min + (max - min).component_mul(&t));
+    for &z in lines[2] {
+        for &y in lines[1] {
+            for &x in lines[0] {
+                nodes.push(Vector3::new(x, y, z));
             }
         }
     }
     let id = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
-    let mut hexes = Vec::with_capacity(nx * ny * nz);
+    let mut cells: Vec<Hex> = Vec::with_capacity(nx * ny * nz);
     for k in 0..nz {
         for j in 0..ny {
             for i in 0..nx {
-                hexes.push([
+                cells.push([
                     id(i, j, k),
                     id(i + 1, j, k),
                     id(i + 1, j + 1, k),
@@ -39,10 +44,7 @@ pub fn box_mesh(min: Vector3<f64>, max: Vector3<f64>, cells: [usize; 3]) -> Mesh
             }
         }
     }
-    Mesh {
-        nodes,
-        cells: hexes,
-    }
+    Mesh { nodes, cells }
 }
 
 /// A solid ball: the cube [−1, 1]³ with `cells` cells per edge, mapped onto the ball.

@@ -2,11 +2,11 @@
 //! toward one point of the surface (sizes growing by `GROWTH` from the refinement's size there to
 //! the base size), built around the pole −z and turned onto it.
 
-use super::generate::cubed_shell;
+use super::generate::{cubed_shell, lattice};
 use super::grading::{
     graded_positions, polar_face_coordinates, pole_rotation, side_face_coordinates, Refinement,
 };
-use super::{Hex, Mesh};
+use super::Mesh;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::f64::consts::FRAC_PI_2;
@@ -110,36 +110,4 @@ fn welded(mut base: Mesh, other: &Mesh) -> Mesh {
     base.cells
         .extend(other.cells.iter().map(|c| c.map(|n| renumber[n])));
     base
-}
-
-/// The lattice of the given lines along x, y and z (numbered as in `box_mesh`).
-fn lattice(lines: &[&[f64]; 3]) -> Mesh {
-    let [nx, ny, nz] = lines.map(|l| l.len() - 1);
-    let mut nodes = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
-    for &z in lines[2] {
-        for &y in lines[1] {
-            for &x in lines[0] {
-                nodes.push(Vector3::new(x, y, z));
-            }
-        }
-    }
-    let id = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
-    let mut cells: Vec<Hex> = Vec::with_capacity(nx * ny * nz);
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                cells.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
-            }
-        }
-    }
-    Mesh { nodes, cells }
 }
