@@ -2,7 +2,8 @@
 //! the real solver thread (the physics the window runs), driven through the real buttons
 //! (egui_kittest). Power grasp and Pinch put the skin far into the ball; each is solved (contact
 //! along the motion), shown, with no error, nothing left inside the ball beyond the contact's
-//! limit; Rest releases the ball, which returns exactly to its static frame.
+//! limit; Fist cannot close on the ball and stops short, shown where it stopped and said so;
+//! Rest releases the ball, which returns exactly to its static frame.
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
@@ -16,19 +17,20 @@ use std::time::{Duration, Instant};
 /// Steps the UI until the shown frame is the pose asked for (or a failure is reported).
 fn wait_for_pose(h: &mut Harness<'static, ViewerState>) {
     let start = Instant::now();
+    let before = h.state().shown.as_ref().map(|s| s.version);
     loop {
         h.step();
         let s = h.state();
         if let Some(e) = &s.status.error {
             panic!("the viewer reports: {e}");
         }
+        // The pose reached, or a frame solved since the call whose motion towards it stopped
+        // short (not realisable further).
         let done = s.shown.as_ref().is_some_and(|shown| {
-            shown
-                .solution
-                .frame
-                .hands
-                .iter()
-                .all(|f| s.pose.iter().any(|(b, a)| *b == f.body && *a == f.angles))
+            shown.solution.frame.hands.iter().all(|f| {
+                (f.stats.stopped_short.is_some() && Some(shown.version) != before)
+                    || s.pose.iter().any(|(b, a)| *b == f.body && *a == f.angles)
+            })
         });
         if done {
             return;
@@ -135,6 +137,37 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
     assert!(
         off <= 1e-6 * scale,
         "the released ball is {off} m off its static frame"
+    );
+    // Fist, from the open hand: the fingers close over the ball and push it about its support
+    // until the contact cannot follow further; the frame shown is where the motion stopped, said in the status
+    // panel, with the contact converged there (no error, nothing inside the ball).
+    h.get_by_label("Fist").click();
+    wait_for_pose(&mut h);
+    h.step();
+    let shown = &h.state().shown.as_ref().unwrap().solution;
+    let hand = &shown.frame.hands[0];
+    let short = hand
+        .stats
+        .stopped_short
+        .as_ref()
+        .expect("the fist closes on a 7 cm ball: it cannot reach its pose");
+    assert!(
+        short.reached > 0.5 && short.reached < 1.0,
+        "Fist stopped at {} of its motion",
+        short.reached
+    );
+    let contact = shown.frame.contact.as_ref().expect("Fist: in contact");
+    assert!(contact.max_penetration <= shown.model.contact.penetration_limit());
+    let grip: f64 = contact.contacts.iter().map(|c| c.force).sum();
+    assert!(grip > 1.0, "Fist: {grip} N");
+    h.get_by_label(&format!(
+        "not realisable: the hand stopped at {:.0} % of the motion",
+        short.reached * 100.0
+    ));
+    println!(
+        "Fist: stopped at {:.0} % ({}), {grip:.2} N",
+        short.reached * 100.0,
+        short.reason
     );
 }
 

@@ -27,8 +27,9 @@ pub struct GraspRow {
     pub contact_steps: (usize, usize),
     /// Factorizations of the flexion over the keyframes.
     pub factorizations: usize,
-    /// The last frame's contact force on the hands (N) and penetration left (m), or the error.
-    pub outcome: Result<(f64, f64), String>,
+    /// The last frame's contact force on the hands (N), penetration left (m) and the least
+    /// fraction of a keyframe's motion reached (1: every pose reached), or the error.
+    pub outcome: Result<(f64, f64, f64), String>,
 }
 
 /// The built-in default scene with one keyframe at time 1 to `preset` (what pressing the
@@ -65,7 +66,7 @@ fn cases(presets: &[String], scenes: &[String]) -> anyhow::Result<Vec<(String, S
             })?;
         out.push((format!("preset {}", preset.label()), preset_scene(preset)));
     }
-    for file in scenes {
+    for file in scenes.iter().filter(|f| !f.trim().is_empty()) {
         out.push((file.clone(), Scene::load(Path::new(file))?));
     }
     Ok(out)
@@ -115,7 +116,15 @@ pub fn grasp_rows(
                         let force: nalgebra::Vector3<f64> =
                             last.hands.iter().flat_map(|h| &h.contact_force).sum();
                         let left = last.contact.as_ref().map_or(0.0, |c| c.max_penetration);
-                        row.outcome = Ok((force.norm(), left));
+                        // The least of the keyframes' motion reached (1 when every pose was).
+                        let reached = solved
+                            .frames
+                            .iter()
+                            .flat_map(|f| &f.hands)
+                            .filter_map(|h| h.stats.stopped_short.as_ref())
+                            .map(|s| s.reached)
+                            .fold(1.0, f64::min);
+                        row.outcome = Ok((force.norm(), left, reached));
                     }
                     Err(e) => row.outcome = Err(e.to_string()),
                 }
@@ -136,7 +145,11 @@ pub fn grasp_table(rows: &[GraspRow]) -> String {
     for r in rows {
         let per = r.total_s / r.keyframes.max(1) as f64;
         let (force, left) = match &r.outcome {
-            Ok((f, p)) => (format!("{f:.3}"), format!("{:.1}", p * 1e6)),
+            Ok((f, p, reached)) if *reached < 1.0 => (
+                format!("{f:.3} (stopped at {:.0} % of its motion)", reached * 100.0),
+                format!("{:.1}", p * 1e6),
+            ),
+            Ok((f, p, _)) => (format!("{f:.3}"), format!("{:.1}", p * 1e6)),
             Err(e) => {
                 let short: String = e.chars().take(140).collect();
                 (format!("stopped: {short}…"), "—".into())

@@ -113,8 +113,8 @@ pub fn solve_lagrange(
         }
         if fresh.is_empty() {
             // The linearised problem is solved. Where a node still penetrates on the current
-            // geometry (it slid onto another facet, or the facet turned), its constraint is
-            // renewed there, a few rounds at most.
+            // geometry (it slid onto another facet, or the facet turned), it gets a constraint
+            // there too, a few rounds at most.
             if refreshes >= MAX_REFRESH {
                 break;
             }
@@ -126,12 +126,15 @@ pub fn solve_lagrange(
                 let key = (p.node, p.source);
                 let same_facet = |r: &Row| r.key() == key && r.master == p.master;
                 if let Some(i) = rows.iter().position(|r| r.key() == key) {
-                    if same_facet(&rows[i]) || matches!(p.master, Master::Obstacle(_)) {
+                    if rows.iter().any(same_facet) || matches!(p.master, Master::Obstacle(_)) {
                         continue;
                     }
-                    let old = rows.remove(i);
-                    let mut row = Row::new(&p, problem, &u, old.mu);
-                    row.reference = old.reference;
+                    // The node slid onto another facet. Its old row stays: where the other
+                    // body dents (a concave surface) the node must stay out of both facets'
+                    // planes, and where the surface is convex the old row stops pushing and
+                    // the active set releases it.
+                    let mut row = Row::new(&p, problem, &u, rows[i].mu);
+                    row.reference = rows[i].reference;
                     fresh.push(row);
                 } else {
                     pool.retain(|r| r.key() != key);

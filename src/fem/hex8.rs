@@ -238,6 +238,34 @@ pub fn gauss_biot_strains(
     }))
 }
 
+/// The rotation R of the polar decomposition F = R·U of the deformation gradient at the cell's
+/// centre, F = I + ∇u there: the rigid turn of the cell, with which a corotated element
+/// (K̃ = R·K_e·Rᵀ) sees no strain. A reflection (det F ≤ 0, a cell turned inside out) is an
+/// error.
+pub fn centre_rotation(
+    coords: &[Vector3<f64>; 8],
+    u: &[Vector3<f64>; 8],
+) -> Result<Matrix3<f64>, InvertedCell> {
+    let dn = shape_derivatives(&Vector3::zeros());
+    let j = jacobian(coords, &dn);
+    let inverted = || InvertedCell {
+        relative_det: relative_min_jacobian(coords),
+    };
+    let inv_t = j.try_inverse().ok_or_else(inverted)?.transpose();
+    let mut f = Matrix3::identity();
+    for a in 0..8 {
+        f += u[a] * (inv_t * dn[a]).transpose();
+    }
+    if f.determinant() <= 0.0 || !f.iter().all(|v| v.is_finite()) {
+        return Err(inverted());
+    }
+    let svd = f.svd(true, true);
+    let (Some(w), Some(vt)) = (svd.u, svd.v_t) else {
+        return Err(inverted());
+    };
+    Ok(w * vt)
+}
+
 /// For each corner, the three neighbouring corners along the cell's edges, in right-handed order.
 const CORNER_EDGES: [[usize; 3]; 8] = [
     [1, 3, 4],

@@ -102,11 +102,25 @@ impl GasCavity {
     /// `loads` (which hold the rest gauge pressure's load) with the gauge pressure `gauge`
     /// instead: loads + (p − p_rest)·a.
     pub fn with_gauge(&self, loads: &[f64], gauge: f64) -> Vec<f64> {
+        self.with_gauge_on(loads, gauge, &self.unit_load)
+    }
+
+    /// As [`GasCavity::with_gauge`], with `unit_load` the load of a unit pressure on the
+    /// facets where they are now ([`GasCavity::unit_load_on`]).
+    pub fn with_gauge_on(&self, loads: &[f64], gauge: f64, unit_load: &[f64]) -> Vec<f64> {
         let dp = gauge - self.rest_gauge;
         loads
             .iter()
-            .zip(&self.unit_load)
+            .zip(unit_load)
             .map(|(r, a)| r + dp * a)
             .collect()
+    }
+
+    /// The nodal load of a unit gauge pressure on the facets of `mesh` (its nodes where the
+    /// wall is now), N per Pa.
+    pub fn unit_load_on(&self, mesh: &Mesh) -> Vec<f64> {
+        let mut unit = vec![0.0; 3 * mesh.node_count()];
+        add_pressure(&mut unit, mesh, &self.facets, 1.0);
+        unit
     }
 }

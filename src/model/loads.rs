@@ -97,6 +97,7 @@ pub fn loads(
             name,
             body: b,
             total,
+            pressure: l.pressure.map(|p| (p, sel.facets.clone())),
         });
     }
     Ok((loads, cavity))

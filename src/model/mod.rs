@@ -100,6 +100,9 @@ pub struct LoadModel {
     pub body: usize,
     /// The total force it applies, N.
     pub total: Vector3<f64>,
+    /// A pressure (Pa) and the facets it acts on: it follows them where they turn (the
+    /// contact steps of a corotated tier apply it to the deformed surface).
+    pub pressure: Option<(f64, Vec<Facet>)>,
 }
 
 /// A probed node.
@@ -180,6 +183,12 @@ pub struct Model {
 }
 
 impl Model {
+    /// Whether the other bodies of a contact step are corotated about the displacements the
+    /// motion carries (every tier that turns the flesh's elements too; not the linear one).
+    pub fn corotates_objects(&self) -> bool {
+        self.flexion.scheme != FlexionScheme::Linear
+    }
+
     /// Warnings about the settings (the model is usable; `report.json` lists them), derived from
     /// the model.
     pub fn warnings(&self) -> Vec<String> {

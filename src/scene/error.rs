@@ -6,12 +6,12 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum SceneError {
     /// The file could not be read.
-    #[error("{file}: cannot read the scene file: {source}")]
+    #[error("{file}: cannot read the scene file: {reason}")]
     Io {
         /// The file.
         file: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (kept out of the error chain so it is said once).
+        reason: std::io::Error,
     },
     /// Malformed TOML or a field of the wrong type or name.
     #[error("{file}:{line}:{column}: {message}")]

@@ -25,9 +25,9 @@ pub const BALL_SCENE: &str = include_str!("../../assets/scenes/default.toml");
 impl Scene {
     /// Reads and parses a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|reason| SceneError::Io {
             file: path.display().to_string(),
-            source,
+            reason,
         })?;
         Scene::parse(&text, &path.display().to_string())
     }

@@ -11,7 +11,7 @@ use super::step_control::StepControl;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
 use crate::model::Model;
-use crate::state::{Frame, HandFrame, HandState, KeyframeStats};
+use crate::state::{Frame, HandFrame, HandState, KeyframeStats, StoppedShort};
 use nalgebra::{Matrix3, Vector3};
 
 /// What changes while a model is solved, besides the hands' states (the `mjData` of this
@@ -199,6 +199,9 @@ impl Workspace {
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
         let mut stats: Vec<Option<KeyframeStats>> = vec![None; moving.len()];
         let (mut kept, mut retries) = (0, 0);
+        // The frame of the last step kept, when it was in contact, and the fraction it reached:
+        // where the keyframe ends if the contact cannot follow the motion further.
+        let mut last: Option<(Frame, f64)> = None;
         loop {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
@@ -208,34 +211,53 @@ impl Workspace {
                 // reports the overloads and that the motion stopped by a threshold.
                 Ok(frame) if control.finished_with(f) || stopped_by_threshold(&frame) => {
                     let mut frame = frame;
+                    let mut short = None;
                     if !control.finished_with(f) {
                         if let Some(c) = frame.contact.as_mut() {
                             c.stopped_by_threshold = true;
                         }
+                        short = Some(StoppedShort {
+                            reached: f,
+                            reason: "a bone's reaction overran its muscle threshold".into(),
+                        });
                     }
                     let touched = usize::from(frame.contact.is_some());
-                    // The keyframe's cost: every contact step's flexion and contact solve.
-                    for (k, (h, _, _)) in moving.iter().enumerate() {
-                        let body = posed.hands[*h].body;
-                        let mut total = stats[k].clone().unwrap_or_default();
-                        total.contact_steps = kept + touched;
-                        total.contact_retries = retries;
-                        if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
-                            fh.stats = total.clone();
-                        }
-                        posed.hands[*h].frame.stats = total;
-                    }
-                    posed.contact = carried_by(model, &frame);
+                    let counts = (kept + touched, retries);
+                    finish(model, posed, moving, &stats, &mut frame, counts, short);
                     return Ok(frame);
                 }
                 Ok(frame) => {
                     kept += usize::from(frame.contact.is_some());
                     posed.contact = carried_by(model, &frame);
                     control.accept(f, true);
+                    last = frame.contact.is_some().then_some((frame, f));
                 }
                 Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
                     retries += 1;
                     (*posed, stats) = before.expect("kept above");
+                }
+                // The contact cannot follow the motion beyond the last step kept, even in the
+                // smallest step: the keyframe ends there, short of its pose — the grasp is not
+                // realisable further with these bodies (a ball squeezed beyond what its tier
+                // represents, skin folded onto itself), and the frame says how far it went.
+                Err(SimError::Contact(e)) if before.is_some() && last.is_some() => {
+                    (*posed, stats) = before.expect("kept above");
+                    let (mut frame, reached) = last.take().expect("kept above");
+                    let short = StoppedShort {
+                        reached,
+                        reason: format!("the contact could not follow the motion further ({e})"),
+                    };
+                    let counts = (kept, retries + 1);
+                    finish(
+                        model,
+                        posed,
+                        moving,
+                        &stats,
+                        &mut frame,
+                        counts,
+                        Some(short),
+                    );
+                    return Ok(frame);
                 }
                 Err(e) => return Err(e),
             }
@@ -309,6 +331,32 @@ impl Workspace {
         posed.frame = hand_frame(model, b, &posed.state, stats);
         result.map(|_| ())
     }
+}
+
+/// Ends a keyframe at `frame`: each moving hand's cost (every contact step's flexion and contact
+/// solve, `counts` = contact steps kept and redone) and where its motion stopped short, in the
+/// frame and in `posed`, which carries the frame's contact on.
+fn finish(
+    model: &Model,
+    posed: &mut Posed,
+    moving: &[(usize, Vec<f64>, Vec<f64>)],
+    stats: &[Option<KeyframeStats>],
+    frame: &mut Frame,
+    (steps, retries): (usize, usize),
+    short: Option<StoppedShort>,
+) {
+    for (k, (h, _, _)) in moving.iter().enumerate() {
+        let body = posed.hands[*h].body;
+        let mut total = stats[k].clone().unwrap_or_default();
+        total.contact_steps = steps;
+        total.contact_retries = retries;
+        total.stopped_short = short.clone();
+        if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
+            fh.stats = total.clone();
+        }
+        posed.hands[*h].frame.stats = total;
+    }
+    posed.contact = carried_by(model, frame);
 }
 
 /// Whether `frame` is a grasp past the muscles: in contact, a bone of a hand overruns its

@@ -13,6 +13,7 @@
 //! the scene's contact method. The bone reactions of equation (8) then include the grasp.
 
 use super::compose::compose;
+use super::corotated::{linearise, loads_at};
 use super::error::SimError;
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
@@ -20,7 +21,6 @@ use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
     ContactProblem, ContactResult, ContactSurface, Master, SurfacePair,
 };
-use crate::fem::assembly::assemble;
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::stress::stress_field_with;
 use crate::fem::DofPartition;
@@ -88,6 +88,7 @@ pub fn solve_grasp(
     }
     // Where the contact is detected and linearised: the reference moved by what is carried.
     let zero = vec![0.0; 3 * model.mesh.node_count()];
+    let carried_given = carried;
     let carried = carried.unwrap_or(&zero);
     let x_now: Vec<Vector3<f64>> = x
         .iter()
@@ -228,7 +229,8 @@ pub fn solve_grasp(
         nodes: x.clone(),
         cells: model.mesh.cells.clone(),
     };
-    let mut k = assemble(&model.pattern, &mesh, &model.cell_materials).map_err(|e| {
+    // (The other bodies corotated about what the motion carries: src/solve/corotated.rs.)
+    let linearised = linearise(model, &mesh, carried_given).map_err(|e| {
         let b = model.cell_body[e.cell];
         let body = &model.bodies[b];
         let element = e.cell - body.cells.start;
@@ -252,6 +254,7 @@ pub fn solve_grasp(
             }
         }
     })?;
+    let mut k = linearised.k;
     let springs = stabilize(model, &mut k, &partition);
     let assembly_ms = ms(t);
 
@@ -287,13 +290,16 @@ pub fn solve_grasp(
     };
     // The step from the carried displacements: loads less the forces they already hold,
     // supports' values less what they already moved; the flesh outside the region stays put.
-    let held = k.mul(carried);
-    let loads: Vec<f64> = model
-        .load_vector
-        .iter()
-        .zip(&held)
-        .map(|(r, f)| r - f)
-        .collect();
+    // f(U_c): K·U_c, plus what the carried rotation of the other bodies adds; the loads with
+    // the pressures on the surface where it is now.
+    let mut held = k.mul(carried);
+    if let Some(offset) = &linearised.offset {
+        for (h, o) in held.iter_mut().zip(offset) {
+            *h += o;
+        }
+    }
+    let (loads_now, unit_gas) = loads_at(model, &x_now, carried_given);
+    let loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
     let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
     let prescribed: Vec<f64> = (0..model.prescribed.len())
         .map(|d| {
@@ -332,13 +338,13 @@ pub fn solve_grasp(
             ContactMethod::Paper => solve_paper(&mut solver, problem, settings, &skin),
         }
         .map_err(|e| {
-            posed_too_deep(
-                model,
-                &surfaces,
-                hands.len(),
-                &x_now,
-                contact_error(model, e),
-            )
+            let e = contact_error(model, e);
+            // A step along the motion only resolves its own motion: how deep the pose is
+            // concerns a keyframe solved in one step.
+            match carried_given {
+                None => posed_too_deep(model, &surfaces, hands.len(), &x_now, e),
+                Some(_) => e,
+            }
         })
     };
     let result = match &model.gas {
@@ -348,7 +354,10 @@ pub fn solve_grasp(
         Some(cavity) => super::gas::solve_with_gas(
             cavity,
             |p| {
-                let loads = cavity.with_gauge(&loads, p);
+                let loads = match &unit_gas {
+                    Some(unit) => cavity.with_gauge_on(&loads, p, unit),
+                    None => cavity.with_gauge(&loads, p),
+                };
                 contact_solve(&ContactProblem {
                     loads: &loads,
                     ..problem
@@ -420,8 +429,10 @@ pub fn solve_grasp(
         hand_frames.push(hf);
     }
     let t = Instant::now();
-    let hand_cell = |c: usize| model.bodies[model.cell_body[c]].hand.is_some();
-    let stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &hand_cell)
+    // Rotation-free strain in the flesh, and in the other bodies where they were corotated.
+    let objects_turned = carried_given.is_some() && model.corotates_objects();
+    let turned = |c: usize| objects_turned || model.bodies[model.cell_body[c]].hand.is_some();
+    let stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &turned)
         .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
     let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.

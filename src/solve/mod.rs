@@ -2,6 +2,7 @@
 //! May import model, state, the kernels and util.
 
 mod compose;
+mod corotated;
 mod driver;
 mod error;
 mod flexion;

@@ -107,6 +107,20 @@ pub struct KeyframeStats {
     /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
+    /// The keyframe ended short of its pose: how far it went and why (`None`: it reached it;
+    /// not written then).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_short: Option<StoppedShort>,
+}
+
+/// A keyframe whose motion ended before its pose: the frame is the last state the solve could
+/// reach, and the grasp is not realisable beyond it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct StoppedShort {
+    /// The fraction of the keyframe's joint motion reached, 0–1.
+    pub reached: f64,
+    /// Why the motion could not go on.
+    pub reason: String,
 }
 
 impl KeyframeStats {
@@ -132,5 +146,8 @@ impl KeyframeStats {
         self.far_digits.retain(|d| step.far_digits.contains(d));
         self.contact_steps += step.contact_steps;
         self.contact_retries += step.contact_retries;
+        if step.stopped_short.is_some() {
+            self.stopped_short = step.stopped_short.clone();
+        }
     }
 }

@@ -10,6 +10,6 @@ mod validity;
 
 pub use cavity::{cavity_state, CavityState};
 pub use frame::{Frame, HandFrame};
-pub use hand::{HandState, KeyframeStats};
+pub use hand::{HandState, KeyframeStats, StoppedShort};
 pub use tactile::contact_pressure;
 pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

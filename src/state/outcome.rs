@@ -117,3 +117,23 @@ pub fn node_bone(hand: &HandModel, n: usize) -> usize {
 pub fn part_of_bone(hand: &HandModel, b: usize) -> usize {
     hand.skeleton.bones[b].digit.map_or(0, |d| d + 1)
 }
+
+/// One warning per hand and frame whose keyframe ended short of its pose
+/// ([`super::StoppedShort`]): how far its motion went and why.
+pub fn stopped_short_warnings(model: &crate::model::Model, frames: &[super::Frame]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, frame) in frames.iter().enumerate() {
+        for h in &frame.hands {
+            if let Some(s) = &h.stats.stopped_short {
+                out.push(format!(
+                    "frame {i}: hand \"{}\" stopped at {:.0} % of its keyframe's motion (the \
+                     grasp is not realisable further; the frame shows where it stopped): {}",
+                    model.bodies[h.body].name,
+                    s.reached * 100.0,
+                    s.reason
+                ));
+            }
+        }
+    }
+    out
+}

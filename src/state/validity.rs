@@ -6,7 +6,7 @@
 //! load the displacement scales as 1/E without bound, where a real body would stiffen.
 
 use super::Frame;
-use crate::fem::hex8::gauss_strains;
+use crate::fem::hex8::{gauss_biot_strains, gauss_strains};
 use crate::model::Model;
 use nalgebra::Vector3;
 
@@ -14,10 +14,12 @@ use nalgebra::Vector3;
 /// scenes reach 10 % at their pressed caps).
 pub const STRAIN_WARNING: f64 = 0.2;
 
-/// The largest |principal strain| at the Gauss points of each non-hand body in `frame`, by
-/// body index (hands follow their own tiers and are skipped: `None`). NaN if any is NaN.
+/// The largest |principal strain| (rotation-free in a contact frame of a corotated tier) at the
+/// Gauss points of each non-hand body in `frame`, by body index (hands follow their own tiers and are skipped: `None`). NaN if any is NaN.
 pub fn largest_strains(model: &Model, frame: &Frame) -> Vec<Option<f64>> {
     let u = &frame.solution.displacement;
+    // In contact, a corotated tier turns the bodies: their strain is the rotation-free one.
+    let turned = frame.contact.is_some() && model.corotates_objects();
     model
         .bodies
         .iter()
@@ -27,7 +29,13 @@ pub fn largest_strains(model: &Model, frame: &Frame) -> Vec<Option<f64>> {
                 for c in body.cells.clone() {
                     let cell = &model.mesh.cells[c];
                     let disp = cell.map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
-                    let Ok(strains) = gauss_strains(&model.mesh.cell_coords(c), &disp) else {
+                    let coords = model.mesh.cell_coords(c);
+                    let strains = if turned {
+                        gauss_biot_strains(&coords, &disp)
+                    } else {
+                        gauss_strains(&coords, &disp)
+                    };
+                    let Ok(strains) = strains else {
                         continue;
                     };
                     for e in strains {

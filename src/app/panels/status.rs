@@ -32,6 +32,19 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         .iter()
         .map(|h| h.stats.relative_residual)
         .fold(frame.solution.stats.relative_residual, f64::max);
+    // A keyframe that ended short of its pose: said first, in red, with how far it went.
+    for h in hands {
+        if let Some(s) = &h.stats.stopped_short {
+            ui.label(
+                RichText::new(format!(
+                    "not realisable: the hand stopped at {:.0} % of the motion",
+                    s.reached * 100.0
+                ))
+                .color(Color32::LIGHT_RED),
+            )
+            .on_hover_text(&s.reason);
+        }
+    }
     Grid::new("status grid").num_columns(2).show(ui, |ui| {
         ui.label("DOFs");
         ui.label(format!("{}", 3 * model.mesh.node_count()))

@@ -1,0 +1,178 @@
+//! The other bodies of a contact step turned with the motion carried so far (issue 15, item 2):
+//! a power grasp squashes and rolls a soft ball through angles where a linear element sees its
+//! rotation as strain. Each contact step linearises the bodies about the displacements U_c the
+//! last step left: every element's stiffness turned by the rotation R_e of its centre
+//! (F = R·U there), K̃ = Σ_e R_e K_e R_eᵀ, with the internal force
+//! f(U_c) = Σ_e R_e K_e (R_eᵀ (X_e + U_e) − X_e), which vanishes for a rigid turn; the step
+//! solves K̃·ΔU = R(x_c) − f(U_c) + Cᵀλ, with the pressures on the surface where it is now
+//! (a follower load: equation (4)'s surface term on the deformed facets). Without carried
+//! displacements (a keyframe solved in one step) every R_e = I and this is the linear step.
+
+use crate::fem::assembly::{assemble, assemble_warped, AssemblyError, Stiffness};
+use crate::fem::hex8::centre_rotation;
+use crate::fem::loads::add_pressure;
+use crate::mesh::Mesh;
+use crate::model::Model;
+use nalgebra::{Matrix3, Vector3};
+
+/// The stiffness of a contact step and the internal force it starts from.
+pub(super) struct Linearised {
+    /// K: the hands' cells on their posed geometry; the other bodies' at rest, turned by their
+    /// carried rotation when corotated.
+    pub k: Stiffness,
+    /// f(U_c) − K·U_c over every dof: what the carried state's internal force adds to K·U_c
+    /// (zero where nothing is turned), so that f(U_c) = K·U_c + this even after supports'
+    /// springs are added to K.
+    pub offset: Option<Vec<f64>>,
+}
+
+/// K for a contact step of `model` on `mesh` (the hands posed, the other bodies at rest), with
+/// the other bodies corotated about `carried` when the model's tier turns its elements and
+/// something is carried.
+pub(super) fn linearise(
+    model: &Model,
+    mesh: &Mesh,
+    carried: Option<&[f64]>,
+) -> Result<Linearised, AssemblyError> {
+    let rotations = match carried {
+        Some(u) if model.corotates_objects() => Some(rotations(model, u)?),
+        _ => None,
+    };
+    let Some(rotations) = rotations else {
+        let k = assemble(&model.pattern, mesh, &model.cell_materials)?;
+        return Ok(Linearised { k, offset: None });
+    };
+    let (k, b) = assemble_warped(&model.pattern, mesh, &model.cell_materials, &rotations)?;
+    let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+    let kx = k.mul(&x);
+    let offset = kx.iter().zip(&b).map(|(a, b)| a - b).collect();
+    Ok(Linearised {
+        k,
+        offset: Some(offset),
+    })
+}
+
+/// Each cell's rotation: the polar rotation at its centre of the carried displacements for the
+/// cells of the other bodies; the identity for the hands' (their flesh was turned by flexion).
+fn rotations(model: &Model, carried: &[f64]) -> Result<Vec<Matrix3<f64>>, AssemblyError> {
+    let mesh = &model.mesh;
+    (0..mesh.cell_count())
+        .map(|c| {
+            if model.bodies[model.cell_body[c]].hand.is_some() {
+                return Ok(Matrix3::identity());
+            }
+            let u = mesh.cells[c]
+                .map(|n| Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]));
+            centre_rotation(&mesh.cell_coords(c), &u)
+                .map_err(|inverted| AssemblyError { cell: c, inverted })
+        })
+        .collect()
+}
+
+/// The load vector of a contact step: the model's, with every pressure on the other bodies
+/// acting on their facets where `positions` put them (where the model corotates them and
+/// something is carried), the rest unchanged. The gas cavity's unit load on the same facets.
+pub(super) fn loads_at(
+    model: &Model,
+    positions: &[Vector3<f64>],
+    carried: Option<&[f64]>,
+) -> (Vec<f64>, Option<Vec<f64>>) {
+    let mut loads = model.load_vector.clone();
+    if carried.is_none() || !model.corotates_objects() {
+        return (loads, None);
+    }
+    let now = Mesh {
+        nodes: positions.to_vec(),
+        cells: model.mesh.cells.clone(),
+    };
+    for l in &model.loads {
+        if let Some((p, facets)) = &l.pressure {
+            add_pressure(&mut loads, &model.mesh, facets, -p);
+            add_pressure(&mut loads, &now, facets, *p);
+        }
+    }
+    let unit = model.gas.as_ref().map(|g| g.unit_load_on(&now));
+    (loads, unit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::assembly::StiffnessPattern;
+    use crate::fem::Material;
+    use crate::mesh::box_mesh;
+    use nalgebra::Rotation3;
+    use std::sync::Arc;
+
+    fn rubber() -> Material {
+        Material {
+            young: 2.0e6,
+            poisson: 0.4,
+            density: 1100.0,
+        }
+    }
+
+    /// f(y) = K̃·y − b for the block turned by `rotation` per cell.
+    fn internal_force(mesh: &Mesh, rotation: &[Matrix3<f64>], y: &[Vector3<f64>]) -> Vec<f64> {
+        let pattern = Arc::new(StiffnessPattern::new(mesh));
+        let materials = vec![rubber(); mesh.cell_count()];
+        let (k, b) = assemble_warped(&pattern, mesh, &materials, rotation).unwrap();
+        let yv: Vec<f64> = y.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+        k.mul(&yv).iter().zip(&b).map(|(a, b)| a - b).collect()
+    }
+
+    /// A block turned rigidly by 60° about a skew axis: the polar rotation of every cell is that
+    /// turn (to round-off), and the corotated internal force vanishes, where the linear one
+    /// (K·U) is of the order of the stiffness times the displacement.
+    #[test]
+    fn a_rigid_turn_has_no_internal_force() {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::new(0.04, 0.02, 0.01), [4, 2, 2]);
+        let turn = Rotation3::from_axis_angle(
+            &nalgebra::Unit::new_normalize(Vector3::new(1.0, 2.0, 0.5)),
+            60f64.to_radians(),
+        );
+        let y: Vec<Vector3<f64>> = mesh.nodes.iter().map(|p| turn * p).collect();
+        let rotations: Vec<Matrix3<f64>> = (0..mesh.cell_count())
+            .map(|c| {
+                let u = mesh.cells[c].map(|n| y[n] - mesh.nodes[n]);
+                centre_rotation(&mesh.cell_coords(c), &u).unwrap()
+            })
+            .collect();
+        for r in &rotations {
+            assert!((r - turn.matrix()).norm() < 1e-12, "{r}");
+        }
+        let f = internal_force(&mesh, &rotations, &y);
+        let corotated = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let linear = internal_force(&mesh, &vec![Matrix3::identity(); mesh.cell_count()], &y);
+        let linear = linear.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(linear > 100.0, "linear {linear} N");
+        assert!(corotated < 1e-9 * linear, "corotated {corotated} N");
+    }
+
+    /// A uniform stretch then turned: the corotated forces are the stretch's forces turned
+    /// (objectivity), to round-off.
+    #[test]
+    fn a_turned_stretch_has_the_stretchs_forces_turned() {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::new(0.04, 0.02, 0.01), [4, 2, 2]);
+        let stretch = Matrix3::from_diagonal(&Vector3::new(1.01, 0.995, 0.998));
+        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), 35f64.to_radians());
+        let stretched: Vec<Vector3<f64>> = mesh.nodes.iter().map(|p| stretch * p).collect();
+        let turned: Vec<Vector3<f64>> = stretched.iter().map(|p| turn * p).collect();
+        let identity = vec![Matrix3::identity(); mesh.cell_count()];
+        let rotations: Vec<Matrix3<f64>> = (0..mesh.cell_count())
+            .map(|c| {
+                let u = mesh.cells[c].map(|n| turned[n] - mesh.nodes[n]);
+                centre_rotation(&mesh.cell_coords(c), &u).unwrap()
+            })
+            .collect();
+        let f0 = internal_force(&mesh, &identity, &stretched);
+        let f1 = internal_force(&mesh, &rotations, &turned);
+        let scale = f0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(scale > 1.0, "{scale} N");
+        for n in 0..mesh.node_count() {
+            let a = turn * Vector3::new(f0[3 * n], f0[3 * n + 1], f0[3 * n + 2]);
+            let b = Vector3::new(f1[3 * n], f1[3 * n + 1], f1[3 * n + 2]);
+            assert!((a - b).norm() < 1e-9 * scale, "node {n}: {a} vs {b}");
+        }
+    }
+}
