@@ -54,11 +54,11 @@ fn check_converged_grasp(preset: Preset) {
         hand_balance.norm() < 1e-6 * grip,
         "{preset:?}: flesh out of balance by {hand_balance:?} N (grip {grip} N)"
     );
-    // The keyframe went in contact steps: the one-step attempt did not settle (redone), then
-    // several steps each kept.
+    // The keyframe went in contact steps (the pose is deeper than one step resolves: no
+    // one-step attempt), several of them kept, at least 50° / 5° of motion.
     let stats = &frame.hands[0].stats;
     assert!(
-        stats.contact_steps >= 2 && stats.contact_retries >= 1,
+        stats.contact_steps >= 8,
         "{preset:?}: {} contact steps, {} redone",
         stats.contact_steps,
         stats.contact_retries

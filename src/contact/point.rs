@@ -364,11 +364,14 @@ pub enum ContactError {
         /// How deep, mm.
         depth_mm: f64,
     },
-    /// A node of one body is deep inside another beyond what contact detection reaches.
+    /// A node of one body is inside another and the contact does not hold it: beyond what
+    /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
+    /// the inner wall and looks outside).
     #[error(
-        "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\", deeper than \
-         contact can resolve (search depth {search_mm:.1} mm): move the bodies apart or raise \
-         solver.contact_search"
+        "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\" and the \
+         contact does not hold it (it went deeper than the search depth, {search_mm:.1} mm, or \
+         through a thin wall): move the bodies apart, pose the motion in smaller keyframes, or \
+         raise solver.contact_search"
     )]
     TooDeep {
         /// The penetrating body.

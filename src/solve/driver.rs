@@ -6,6 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
+use super::proximity::posed_deeper_than;
 use super::statics::solve_static;
 use super::step_control::StepControl;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
@@ -157,6 +158,23 @@ impl Workspace {
         // bodies at rest): exact where the pose brings the skin just onto the bodies. Where that
         // contact does not settle, the keyframe again in contact steps along the motion.
         let start = (has_objects && steps > 1).then(|| posed.clone());
+        // A pose that skinning already puts deeper into a body than contact searches cannot be
+        // solved in one step (that contact never finds the deepest skin): straight to steps.
+        let too_deep = start.is_some()
+            && moving.iter().any(|(h, _, to)| {
+                let hand = &posed.hands[*h];
+                posed_deeper_than(
+                    model,
+                    hand.body,
+                    &hand.state,
+                    to,
+                    model.contact.search_depth,
+                )
+            });
+        if too_deep {
+            let carried = posed.contact.clone();
+            return self.move_in_steps(model, posed, &moving, steps, carried, cancel);
+        }
         match self.move_in_steps(model, posed, &moving, 1, None, cancel) {
             Err(SimError::Contact(first)) if start.is_some() => {
                 *posed = start.expect("kept above");

@@ -479,7 +479,9 @@ fn too_deep(
         .enumerate()
         .map(|(n, p)| p + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
         .collect();
-    let resolved = 0.5 * model.contact.search_depth;
+    // Deeper than the contact's limit and not in contact: a node the contact never held (past a
+    // thin wall, in a shell's cavity, it projects onto the inner wall and looks outside).
+    let resolved = model.contact.penetration_limit();
     let skip = |n: usize| result.contacts.iter().any(|c| c.node == n);
     match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, skip) {
         Some((n, body, depth)) => {
@@ -498,7 +500,7 @@ fn too_deep(
 
 /// The node of `nodes` deepest inside one of the closed `objects` at `positions` (node, the
 /// object's body, depth), among those deeper than `beyond` and not `skip`ped.
-fn deepest_inside(
+pub(super) fn deepest_inside(
     objects: &[ContactSurface],
     nodes: &[usize],
     positions: &[Vector3<f64>],

@@ -13,6 +13,7 @@
 //! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
 //! palmar crease of a deep flexion) is solved by FEM all the same.
 
+use super::grasp::deepest_inside;
 use crate::contact::{connected_pieces, winding_number_of, ContactSurface};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::model::FleshMethod;
@@ -210,4 +211,48 @@ fn crushed_by_skinning(
         }
     }
     crushed
+}
+
+/// Whether the outer skin of hand body `body`, moved by skinning from `state` to the joint angles
+/// `target`, lies deeper than `depth` (m) inside another body of the model at rest (by winding
+/// numbers): what a keyframe solved in one step would have to resolve at once.
+pub fn posed_deeper_than(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    target: &[f64],
+    depth: f64,
+) -> bool {
+    let b = &model.bodies[body];
+    let hand = b.hand.as_deref().expect("posed_deeper_than of a hand body");
+    let flesh = &hand.flesh;
+    let mut skin: Vec<usize> = flesh
+        .skin_quads
+        .iter()
+        .zip(&flesh.skin_outer)
+        .filter(|(_, &outer)| outer)
+        .flat_map(|(q, _)| *q)
+        .collect();
+    skin.sort_unstable();
+    skin.dedup();
+    let motion = state.motion_to(&hand.skeleton.transforms(target));
+    let mut moved = state.positions.clone();
+    hand.weights.apply(
+        model.flexion.blend,
+        &motion,
+        &state.positions,
+        skin.iter().copied(),
+        &mut moved,
+    );
+    let mut positions = model.mesh.nodes.clone();
+    positions[b.nodes.clone()].copy_from_slice(&moved);
+    let objects: Vec<ContactSurface> = (0..model.bodies.len())
+        .filter(|&o| model.bodies[o].hand.is_none())
+        .map(|o| {
+            let quads: Vec<[usize; 4]> = model.bodies[o].facets.iter().map(|f| f.nodes).collect();
+            ContactSurface::from_quads(o, &quads, &model.mesh.nodes)
+        })
+        .collect();
+    let global: Vec<usize> = skin.iter().map(|n| n + b.nodes.start).collect();
+    deepest_inside(&objects, &global, &positions, depth, |_| false).is_some()
 }
