@@ -109,6 +109,7 @@ fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, 
         pairs: &pairs_list,
         friction: &|_, _| 0.0,
         stop: None,
+        crossings: &[],
     };
     let mut s = settings(pairs, method);
     if method == ContactMethod::Paper {
@@ -265,6 +266,7 @@ fn slope_solve(
         pairs: &[],
         friction: &|_, _| mu,
         stop: None,
+        crossings: &[],
     };
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let s = settings(PairSides::SkinNodes, ContactMethod::Lagrange);

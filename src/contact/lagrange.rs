@@ -484,6 +484,7 @@ pub fn solve_with_obstacles(
         pairs: &[],
         friction: &|_, _| 0.0,
         stop: None,
+        crossings: &[],
     };
     solve_lagrange(solver, &problem, &settings)
 }

@@ -24,7 +24,7 @@ pub use point::{
     ContactSummary, ContactTimes, Master, PairSides, Relaxation,
 };
 pub use pressure::nodal_pressure;
-pub use problem::{ContactProblem, FrictionLaw, StopCheck, SurfacePair};
+pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
 pub use surface::{
     connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
     Projection,

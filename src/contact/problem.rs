@@ -23,6 +23,21 @@ pub struct SurfacePair {
     pub slave_surface: Option<usize>,
 }
 
+/// A node whose path over a step of the motion went into another body through one of its
+/// facets: it is held against that facet, not against the one nearest to where it ended (past a
+/// thin wall, the nearest facet is the far side's, and the node would look outside).
+#[derive(Clone, Copy, Debug)]
+pub struct Crossing {
+    /// The node (global).
+    pub node: usize,
+    /// Index into [`ContactProblem::surfaces`]: the surface crossed.
+    pub surface: usize,
+    /// The facet's corners (global).
+    pub nodes: [usize; 3],
+    /// Barycentric weights of the crossing point on the facet.
+    pub weights: [f64; 3],
+}
+
 /// The friction coefficient μ of a node against a master.
 pub type FrictionLaw<'a> = &'a (dyn Fn(usize, &Master) -> f64 + Sync);
 
@@ -54,6 +69,8 @@ pub struct ContactProblem<'a> {
     pub friction: FrictionLaw<'a>,
     /// Threshold check for the paper's iteration.
     pub stop: Option<StopCheck<'a>>,
+    /// Nodes held against the facet their motion crossed (empty: each node meets its nearest).
+    pub crossings: &'a [Crossing],
 }
 
 /// A penetration found at the current displacements.
@@ -133,6 +150,36 @@ impl ContactProblem<'_> {
                 .slave_surface
                 .map(|s| self.surfaces[s].reference_normals());
             for &node in &pair.slaves {
+                // A node that crossed this surface: against the facet it went through.
+                if let Some(c) = self
+                    .crossings
+                    .iter()
+                    .find(|c| c.node == node && c.surface == pair.surface)
+                {
+                    let corners = c.nodes.map(|m| current[m]);
+                    let normal = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
+                    let Some(normal) = normal.try_normalize(0.0) else {
+                        continue;
+                    };
+                    let point: Vector3<f64> = (0..3).map(|i| corners[i] * c.weights[i]).sum();
+                    let gap = normal.dot(&(current[node] - point));
+                    let movable = free(node) || c.nodes.iter().any(|&n| free(n));
+                    if gap < threshold && gap > -settings.search_depth && movable {
+                        out.push(Penetration {
+                            node,
+                            master: Master::Facet {
+                                body: surface.body,
+                                nodes: c.nodes,
+                                weights: c.weights,
+                            },
+                            source: self.obstacles.len() + p,
+                            normal,
+                            gap,
+                            anchor: Vector3::zeros(),
+                        });
+                    }
+                    continue;
+                }
                 let facing = |t: &[usize; 3]| -> bool {
                     let Some(normals) = &normals else { return true };
                     let Some(m) = normals.get(&node) else {

@@ -223,7 +223,7 @@ impl Workspace {
         loop {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
-            match self.contact_step(model, posed, moving, f, cancel, &mut stats) {
+            match self.contact_step(model, posed, moving, f, steps > 1, cancel, &mut stats) {
                 // A step after which a bone's reaction overruns its muscle threshold ends the
                 // keyframe there (the paper: the grasp is not realisable beyond it): the frame
                 // reports the overloads and that the motion stopped by a threshold.
@@ -283,16 +283,24 @@ impl Workspace {
     }
 
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
-    /// with the contact solved from what `posed` carries.
+    /// with the contact solved from what `posed` carries; with `along`, skin whose path over the
+    /// step went into a body is held where it went through.
+    #[allow(clippy::too_many_arguments)]
     fn contact_step(
         &mut self,
         model: &Model,
         posed: &mut Posed,
         moving: &[(usize, Vec<f64>, Vec<f64>)],
         f: f64,
+        along: bool,
         cancel: Option<&CancelCheck>,
         stats: &mut [Option<KeyframeStats>],
     ) -> Result<Frame, SimError> {
+        let previous: Vec<Vec<Vector3<f64>>> = posed
+            .hands
+            .iter()
+            .map(|h| h.frame.positions.clone())
+            .collect();
         for (k, (h, from, to)) in moving.iter().enumerate() {
             // The last step reaches the target exactly (the fractions add up to 1 only to round-off).
             let angles: Vec<f64> = if f >= 1.0 - 1e-12 {
@@ -312,6 +320,7 @@ impl Workspace {
             self.still.as_ref(),
             posed.hands.iter().map(|h| h.frame.clone()).collect(),
             posed.contact.as_deref(),
+            along.then_some(previous.as_slice()),
         )
     }
 

@@ -14,6 +14,7 @@
 
 use super::compose::compose;
 use super::corotated::{linearise, loads_at};
+use super::crossing::crossings;
 use super::error::SimError;
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
@@ -44,8 +45,9 @@ pub fn frame_with_hands(
     still: Option<&Frame>,
     hands: Vec<HandFrame>,
     carried: Option<&[f64]>,
+    previous: Option<&[Vec<Vector3<f64>>]>,
 ) -> Result<Frame, SimError> {
-    if let Some(frame) = solve_grasp(model, &hands, carried)? {
+    if let Some(frame) = solve_grasp(model, &hands, carried, previous)? {
         return Ok(frame);
     }
     match still {
@@ -65,10 +67,15 @@ pub fn frame_with_hands(
 /// on its flexed pose), but the contact is detected and linearised about the carried
 /// configuration: K·ΔU = R − K·U_prev + Cᵀλ with ΔU = U − U_prev, so that a step only has to
 /// resolve the penetration its own motion made.
+///
+/// `previous`: each hand's flexed skin before this step's flexion (in the order of `hands`):
+/// a skin node whose path from there went into a body is held against the facet it crossed
+/// (src/solve/crossing.rs).
 pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
     carried: Option<&[f64]>,
+    previous: Option<&[Vec<Vector3<f64>>]>,
 ) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
     let margin = settings.search_depth;
@@ -169,6 +176,29 @@ pub fn solve_grasp(
     }
     near_skin.sort_unstable();
     near_skin.dedup();
+    // Skin that went into a body over this step's flexion: held where it went through.
+    let crossed = match previous {
+        Some(previous) => {
+            let mut from = x_now.clone();
+            for (h, before) in hands.iter().zip(previous) {
+                let start = model.bodies[h.body].nodes.start;
+                for (i, p) in before.iter().enumerate() {
+                    let n = start + i;
+                    from[n] =
+                        p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]);
+                }
+            }
+            crossings(
+                &surfaces,
+                hands.len(),
+                &near_skin,
+                (&from, &x_now),
+                settings.tolerance,
+                settings.search_depth,
+            )
+        }
+        None => Vec::new(),
+    };
 
     // The flesh solved with the contact: cells within `contact_region` of a near skin node,
     // of digits solved by FEM; free nodes are those of such cells only, not on a bone.
@@ -326,6 +356,7 @@ pub fn solve_grasp(
         pairs: &pairs,
         friction: &friction,
         stop: Some(&stop),
+        crossings: &crossed,
     };
     let mut solver = PartitionedSolver::new(model.ordering);
     let skin: Vec<std::ops::Range<usize>> = hands

@@ -3,6 +3,7 @@
 
 mod compose;
 mod corotated;
+mod crossing;
 mod driver;
 mod error;
 mod flexion;

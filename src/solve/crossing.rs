@@ -1,0 +1,142 @@
+//! Skin that went into another body during a contact step's flexion (issue 15, item 5). A step's
+//! flexion moves fingertip skin by millimetres before contact is detected on the moved
+//! geometry; through a shell's wall thinner than that, a skin node ends in the cavity, where
+//! the facet nearest to it is the inner wall's and it looks outside. Its straight path from
+//! where the last step left it tells which facet it went through: the contact holds it there.
+
+use crate::contact::{connected_pieces, winding_number_of, ContactSurface, Crossing};
+use nalgebra::Vector3;
+
+/// The nodes of `nodes` whose straight path from `from` to `to` (positions over every node; the
+/// other bodies where they are, the same in both) entered a closed piece of one of the surfaces
+/// `surfaces[first..]` and whose nearest facet at `to` does not hold them (it is the far side's,
+/// or sees them outside, or no more than `tolerance` inside): each with the facet its path
+/// crossed first (`Crossing::surface` indexes `surfaces`); the nearest facet is sought within
+/// `search` (the contact's search depth).
+pub(super) fn crossings(
+    surfaces: &[ContactSurface],
+    first: usize,
+    nodes: &[usize],
+    (from, to): (&[Vector3<f64>], &[Vector3<f64>]),
+    tolerance: f64,
+    search: f64,
+) -> Vec<Crossing> {
+    let mut out = Vec::new();
+    for (s, surface) in surfaces.iter().enumerate().skip(first) {
+        let bvh = surface.hierarchy(to, search);
+        for piece in connected_pieces(&surface.triangles) {
+            let corners = piece.iter().flatten().map(|&n| to[n]);
+            let lo = corners
+                .clone()
+                .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
+            let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
+            let within = |p: &Vector3<f64>| (p - lo).min() >= 0.0 && (hi - p).min() >= 0.0;
+            for &n in nodes {
+                if out.iter().any(|c: &Crossing| c.node == n) || !within(&to[n]) {
+                    continue;
+                }
+                if winding_number_of(&to[n], &piece, to).abs() <= 0.5
+                    || winding_number_of(&from[n], &piece, to).abs() > 0.5
+                {
+                    continue;
+                }
+                let Some((nodes, weights)) = first_hit(&from[n], &to[n], &piece, to) else {
+                    continue;
+                };
+                // Where the nearest facet faces the way the node came in and sees it inside,
+                // it holds it as well (a shallow entry): no crossing needed. Past the middle
+                // of a thin wall or body, the nearest facet is the far side's.
+                let [p0, p1, p2] = nodes.map(|m| to[m]);
+                let crossed = (p1 - p0).cross(&(p2 - p0)).normalize();
+                let held = bvh
+                    .project(&to[n], to, None, |_| false)
+                    .is_some_and(|p| p.gap < -tolerance && p.normal.dot(&crossed) > 0.8);
+                if !held {
+                    out.push(Crossing {
+                        node: n,
+                        surface: s,
+                        nodes,
+                        weights,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The triangle of `triangles` that the segment a → b enters first (against its outward normal),
+/// and the barycentric weights of the point where it does (Möller–Trumbore).
+fn first_hit(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    triangles: &[[usize; 3]],
+    positions: &[Vector3<f64>],
+) -> Option<([usize; 3], [f64; 3])> {
+    let d = b - a;
+    let mut best: Option<(f64, [usize; 3], [f64; 3])> = None;
+    for t in triangles {
+        let [p0, p1, p2] = t.map(|n| positions[n]);
+        let (e1, e2) = (p1 - p0, p2 - p0);
+        if e1.cross(&e2).dot(&d) >= 0.0 {
+            continue;
+        }
+        let h = d.cross(&e2);
+        let det = e1.dot(&h);
+        if det.abs() < 1e-30 {
+            continue;
+        }
+        let s = a - p0;
+        let u = s.dot(&h) / det;
+        let q = s.cross(&e1);
+        let v = d.dot(&q) / det;
+        let along = e2.dot(&q) / det;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 || !(0.0..=1.0).contains(&along) {
+            continue;
+        }
+        if best.is_none_or(|(t0, _, _)| along < t0) {
+            best = Some((along, *t, [1.0 - u - v, u, v]));
+        }
+    }
+    best.map(|(_, t, w)| (t, w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube's surface, outward triangles, and a node's path into it through its top.
+    #[test]
+    fn a_path_through_the_top_of_a_cube_crosses_the_top() {
+        let mesh = crate::mesh::box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
+        let quads: Vec<[usize; 4]> = crate::mesh::boundary_facets(&mesh)
+            .iter()
+            .map(|f| f.nodes)
+            .collect();
+        let mut positions = mesh.nodes.clone();
+        let surface = ContactSurface::from_quads(0, &quads, &positions);
+        let node = positions.len();
+        positions.push(Vector3::new(0.3, 0.6, 1.2));
+        let mut to = positions.clone();
+        to[node] = Vector3::new(0.3, 0.6, 0.1);
+        let found = crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let c = found[0];
+        let point: Vector3<f64> = (0..3).map(|i| to[c.nodes[i]] * c.weights[i]).sum();
+        assert!(
+            (point - Vector3::new(0.3, 0.6, 1.0)).norm() < 1e-12,
+            "{point}"
+        );
+        // Ending just under the top: its nearest facet holds it, no crossing needed.
+        to[node] = Vector3::new(0.3, 0.6, 0.9);
+        assert!(crossings(
+            &[ContactSurface::from_quads(0, &quads, &positions)],
+            0,
+            &[node],
+            (&positions, &to),
+            1e-3,
+            1.0
+        )
+        .is_empty());
+    }
+}
