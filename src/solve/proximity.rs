@@ -189,15 +189,7 @@ fn crushed_by_skinning(
     target: &[f64],
 ) -> [bool; PARTS] {
     let flesh = &hand.flesh;
-    let motion = state.motion_to(&hand.skeleton.transforms(target));
-    let mut skinned = state.positions.clone();
-    hand.weights.apply(
-        model.flexion.blend,
-        &motion,
-        &state.positions,
-        0..flesh.mesh.nodes.len(),
-        &mut skinned,
-    );
+    let skinned = skinned_to(model, hand, state, target, 0..flesh.mesh.nodes.len());
     let mut crushed = [false; PARTS];
     for (c, cell) in flesh.mesh.cells.iter().enumerate() {
         let part = flesh.cell_digit[c].map_or(0, |d| d + 1);
@@ -235,15 +227,7 @@ pub fn posed_deeper_than(
         .collect();
     skin.sort_unstable();
     skin.dedup();
-    let motion = state.motion_to(&hand.skeleton.transforms(target));
-    let mut moved = state.positions.clone();
-    hand.weights.apply(
-        model.flexion.blend,
-        &motion,
-        &state.positions,
-        skin.iter().copied(),
-        &mut moved,
-    );
+    let moved = skinned_to(model, hand, state, target, skin.iter().copied());
     let mut positions = model.mesh.nodes.clone();
     positions[b.nodes.clone()].copy_from_slice(&moved);
     let objects: Vec<ContactSurface> = (0..model.bodies.len())
@@ -255,4 +239,25 @@ pub fn posed_deeper_than(
         .collect();
     let global: Vec<usize> = skin.iter().map(|n| n + b.nodes.start).collect();
     deepest_inside(&objects, &global, &positions, depth, |_| false).is_some()
+}
+
+/// The flesh of `hand` in `state` with the nodes `nodes` moved by skinning to the joint angles
+/// `target` (the others where `state` has them).
+fn skinned_to(
+    model: &Model,
+    hand: &crate::hand::HandModel,
+    state: &HandState,
+    target: &[f64],
+    nodes: impl Iterator<Item = usize>,
+) -> Vec<Vector3<f64>> {
+    let motion = state.motion_to(&hand.skeleton.transforms(target));
+    let mut moved = state.positions.clone();
+    hand.weights.apply(
+        model.flexion.blend,
+        &motion,
+        &state.positions,
+        nodes,
+        &mut moved,
+    );
+    moved
 }
