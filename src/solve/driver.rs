@@ -224,6 +224,18 @@ impl Workspace {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
             match self.contact_step(model, posed, moving, f, steps > 1, cancel, &mut stats) {
+                // A step after which a bone's reaction overruns its muscle threshold is halved
+                // while it may, so that the motion stops close to where the threshold is
+                // crossed (a stiff object's reaction grows fast within a step).
+                Ok(frame)
+                    if stopped_by_threshold(&frame)
+                        && !control.finished_with(f)
+                        && before.is_some()
+                        && control.halve() =>
+                {
+                    retries += 1;
+                    (*posed, stats) = before.expect("kept above");
+                }
                 // A step after which a bone's reaction overruns its muscle threshold ends the
                 // keyframe there (the paper: the grasp is not realisable beyond it): the frame
                 // reports the overloads and that the motion stopped by a threshold.
