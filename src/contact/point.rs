@@ -232,6 +232,13 @@ pub struct ContactSummary {
     pub times: ContactTimes,
 }
 
+impl ContactSummary {
+    /// The sum of the normal contact forces, N (a node held against two facets counts twice).
+    pub fn normal_force(&self) -> f64 {
+        self.contacts.iter().map(|c| c.force).sum()
+    }
+}
+
 /// Where a contact frame's time went, ms.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct ContactTimes {
