@@ -6,7 +6,8 @@
 use nalgebra::{Rotation3, Vector3};
 use prehensile::contact::{
     solve_lagrange, solve_paper, Adhesion, ContactError, ContactMethod, ContactProblem,
-    ContactResult, ContactSettings, ContactSurface, Obstacle, PairSides, Relaxation, SurfacePair,
+    ContactResult, ContactSettings, ContactSurface, EmbeddedPoints, Obstacle, PairSides,
+    Relaxation, SurfacePair,
 };
 use prehensile::fem::assembly::{assemble, StiffnessPattern};
 use prehensile::fem::solve::{FillOrdering, PartitionedSolver};
@@ -103,6 +104,7 @@ fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, 
         prescribed: &values,
         loads: &vec![0.0; dofs],
         positions: &mesh.nodes,
+        embedded: &EmbeddedPoints::none(mesh.nodes.len()),
         obstacles: &[],
         obstacle_candidates: &[],
         surfaces: &surfaces,
@@ -257,6 +259,7 @@ fn slope_solve(
         prescribed: &values,
         loads: &vec![0.0; dofs],
         positions: &mesh.nodes,
+        embedded: &EmbeddedPoints::none(mesh.nodes.len()),
         obstacles: &[Obstacle::Plane {
             point: Vector3::zeros(),
             normal,

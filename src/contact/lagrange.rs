@@ -21,6 +21,7 @@
 //! the friction cone.
 
 use super::coulomb::settle_coulomb;
+use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
@@ -53,7 +54,7 @@ pub fn solve_lagrange(
         partition,
         problem.prescribed,
         problem.loads,
-        problem.positions,
+        problem.node_positions(),
     )?;
     let t = Instant::now();
     let mut times = ContactTimes::default();
@@ -226,7 +227,7 @@ pub fn solve_lagrange(
         substitutions += displace(&rows, &lambda, &u0, &mut u, partition, solver)?;
         times.substitution += ms(ts);
         // A body that only weak ground springs hold runs away: no equilibrium with contact.
-        let (node, distance) = (0..problem.positions.len())
+        let (node, distance) = (0..u.len() / 3)
             .map(|n| (n, Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm()))
             .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         if distance > RUNAWAY * settings.search_depth {
@@ -447,6 +448,8 @@ fn contact_points(
         };
         out.push(ContactPoint {
             node: row.node,
+            terms: row.terms.clone(),
+            slave_terms: problem.term_count(row.node),
             master: row.master,
             normal: n,
             force: ln,
@@ -478,6 +481,7 @@ pub fn solve_with_obstacles(
         prescribed,
         loads,
         positions,
+        embedded: &EmbeddedPoints::none(positions.len()),
         obstacles,
         obstacle_candidates: candidates,
         surfaces: &[],

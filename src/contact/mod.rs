@@ -7,6 +7,7 @@
 //! stiffness factorization, with Coulomb friction; and the tactile map.
 
 mod coulomb;
+mod embedded;
 mod lagrange;
 mod obstacle;
 mod paper;
@@ -16,6 +17,7 @@ mod problem;
 mod row;
 mod surface;
 
+pub use embedded::EmbeddedPoints;
 pub use lagrange::{solve_lagrange, solve_with_obstacles};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;

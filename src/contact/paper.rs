@@ -47,7 +47,7 @@ pub fn solve_paper(
         partition,
         problem.prescribed,
         problem.loads,
-        problem.positions,
+        problem.node_positions(),
     )?;
     let t = Instant::now();
     let mut times = ContactTimes::default();
@@ -77,7 +77,8 @@ pub fn solve_paper(
             problem.penetrations(&u, settings, settings.search_depth, PairSides::ObjectNodes);
         let mut now: BTreeMap<usize, Penetration> = BTreeMap::new();
         for p in found {
-            if in_skin(p.node) {
+            // The repelled nodes are the object's (an embedded skin point is not a node).
+            if in_skin(p.node) || p.node >= problem.embedded.first() {
                 continue;
             }
             if p.gap < -settings.tolerance || active.contains_key(&p.node) {
@@ -120,7 +121,7 @@ pub fn solve_paper(
                 &sub,
                 &values,
                 problem.loads,
-                problem.positions,
+                problem.node_positions(),
             )?;
             factorizations += 1;
             times.add_solve(&s.stats);
@@ -140,14 +141,9 @@ pub fn solve_paper(
                 continue;
             }
             reactions.insert(node, r);
-            for a in 0..3 {
-                fresh[3 * node + a] += r[a];
-            }
-            if let Master::Facet { nodes, weights, .. } = p.master {
-                for (m, h) in nodes.iter().zip(weights) {
-                    for a in 0..3 {
-                        fresh[3 * m + a] -= h * r[a];
-                    }
+            for (m, w) in problem.contact_terms(node, &p.master) {
+                for a in 0..3 {
+                    fresh[3 * m + a] += w * r[a];
                 }
             }
         }
@@ -238,6 +234,8 @@ pub fn solve_paper(
             };
             Some(ContactPoint {
                 node: p.node,
+                terms: problem.contact_terms(p.node, &p.master),
+                slave_terms: problem.term_count(p.node),
                 master: p.master,
                 normal: p.normal,
                 force: normal_force,

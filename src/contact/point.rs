@@ -123,11 +123,17 @@ pub enum Adhesion {
     Slip,
 }
 
-/// One node in contact.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One node (or embedded skin point) in contact.
+#[derive(Clone, Debug, PartialEq)]
 pub struct ContactPoint {
-    /// The node (the "slave").
+    /// The slave: a node, or an embedded point (an index past the nodes, see
+    /// [`super::EmbeddedPoints`]).
     pub node: usize,
+    /// The nodes its force acts on, with their weights: the slave's (+w: 1 for a node, the
+    /// shape functions of its cell for an embedded point) and the master facet's (−h·w).
+    pub terms: Vec<(usize, f64)>,
+    /// How many of `terms` are the slave's (they come first).
+    pub slave_terms: usize,
     /// What it touches.
     pub master: Master,
     /// Outward unit normal of the master surface at the contact.
@@ -156,28 +162,26 @@ impl ContactPoint {
         self.normal * self.force + self.tangential
     }
 
-    /// Every node's share of this contact's force: the node's own force, and the equal and
-    /// opposite force shared among the master facet's nodes (R_i = h_i·R_C).
+    /// Every node's share of this contact's force: the slave's force on its node (or on the
+    /// nodes of the cell it is embedded in, by their weights), and the equal and opposite force
+    /// shared among the master facet's nodes (R_i = h_i·R_C).
     pub fn nodal_forces(&self) -> Vec<(usize, Vector3<f64>)> {
         let f = self.force_vector();
-        let mut out = vec![(self.node, f)];
-        if let Master::Facet { nodes, weights, .. } = self.master {
-            for (n, h) in nodes.iter().zip(weights) {
-                out.push((*n, -f * h));
-            }
-        }
-        out
+        self.terms.iter().map(|&(n, w)| (n, f * w)).collect()
     }
 
-    /// Every node's share of the normal force magnitude (for the tactile map), N.
-    pub fn nodal_normal_forces(&self) -> Vec<(usize, f64)> {
-        let mut out = vec![(self.node, self.force)];
-        if let Master::Facet { nodes, weights, .. } = self.master {
-            for (n, h) in nodes.iter().zip(weights) {
-                out.push((*n, self.force * h));
-            }
-        }
-        out
+    /// The node that carries most of the slave (the slave itself when it is a node).
+    pub fn slave_node(&self) -> usize {
+        self.terms[..self.slave_terms]
+            .iter()
+            .fold((self.node, f64::NEG_INFINITY), |a, &(n, w)| {
+                if w > a.1 {
+                    (n, w)
+                } else {
+                    a
+                }
+            })
+            .0
     }
 }
 

@@ -1,6 +1,8 @@
 //! The tactile map: contact pressure at the surface nodes, the nodal normal contact force (on
 //! both sides of a contact: the node, and the facet's nodes by their shares h_i) divided by the
-//! node's share of the boundary facets' area (a quarter of each quad it belongs to).
+//! node's share of the boundary facets' area (a quarter of each quad it belongs to). A contact
+//! point embedded in a cell (the smooth skin's) gives its force to the cell's surface nodes, in
+//! proportion to their weights.
 
 use super::point::ContactPoint;
 use crate::mesh::Facet;
@@ -25,9 +27,15 @@ pub fn nodal_pressure(
     }
     let mut pressure = vec![0.0; nodes.len()];
     for c in contacts {
-        for (n, f) in c.nodal_normal_forces() {
-            if area[n] > 0.0 {
-                pressure[n] += f / area[n];
+        // Each side's share of the normal force over its nodes on the surface.
+        let (slave, master) = c.terms.split_at(c.slave_terms);
+        for side in [slave, master] {
+            let on_surface = |&&(n, w): &&(usize, f64)| area[n] > 0.0 && w != 0.0;
+            let total: f64 = side.iter().filter(on_surface).map(|t| t.1.abs()).sum();
+            if total > 0.0 {
+                for &(n, w) in side.iter().filter(on_surface) {
+                    pressure[n] += c.force * w.abs() / total / area[n];
+                }
             }
         }
     }

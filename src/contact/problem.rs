@@ -2,6 +2,7 @@
 //! touch what (nodes against rigid obstacles, nodes of one body against the facets of another),
 //! with the detection shared by the contact methods.
 
+use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{ContactSettings, Master, PairSides};
 use super::surface::{ContactSurface, SurfaceBvh};
@@ -55,8 +56,12 @@ pub struct ContactProblem<'a> {
     pub prescribed: &'a [f64],
     /// Loads R.
     pub loads: &'a [f64],
-    /// Reference positions X: the displacement U is measured from them.
+    /// Reference positions X of every contact index: the mesh's nodes (the displacement U is
+    /// measured from them), then the embedded points at those positions.
     pub positions: &'a [Vector3<f64>],
+    /// Contact points embedded in the mesh (the smooth skin's vertices), numbered after the
+    /// nodes: they may be slaves and facet corners like nodes.
+    pub embedded: &'a EmbeddedPoints,
     /// Rigid obstacles.
     pub obstacles: &'a [Obstacle],
     /// Nodes that may touch the obstacles.
@@ -91,9 +96,52 @@ pub(crate) struct Penetration {
 }
 
 impl ContactProblem<'_> {
-    /// Current position of node `n` with displacements `u`.
+    /// Current position of contact index `n` (a node or an embedded point) with displacements
+    /// `u`.
     pub fn position(&self, u: &[f64], n: usize) -> Vector3<f64> {
-        self.positions[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
+        if n < self.embedded.first() {
+            self.positions[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
+        } else {
+            self.positions[n] + self.embedded.displacement(u, n)
+        }
+    }
+
+    /// The mesh nodes' reference positions (without the embedded points).
+    pub fn node_positions(&self) -> &[Vector3<f64>] {
+        &self.positions[..self.embedded.first()]
+    }
+
+    /// How many (node, weight) terms contact index `n` has (1 for a node).
+    pub(crate) fn term_count(&self, n: usize) -> usize {
+        if n < self.embedded.first() {
+            1
+        } else {
+            self.embedded.terms(n).len()
+        }
+    }
+
+    /// Whether contact index `n` can move (some dof of it, or of a node it is embedded in, is
+    /// free).
+    pub(crate) fn movable(&self, n: usize) -> bool {
+        let mut any = false;
+        self.embedded.for_each(n, |m, _| {
+            any |= (0..3).any(|a| !self.partition.prescribed[3 * m + a]);
+        });
+        any
+    }
+
+    /// The nodes a contact of `slave` against `master` acts on, with their weights: the slave's
+    /// (+w), the facet corners' (−h·w); the constraint is n·Σ w U ≥ b and the contact force R_C
+    /// on the slave gives w·R_C at each node.
+    pub(crate) fn contact_terms(&self, slave: usize, master: &Master) -> Vec<(usize, f64)> {
+        let mut terms = Vec::new();
+        self.embedded.for_each(slave, |n, w| terms.push((n, w)));
+        if let Master::Facet { nodes, weights, .. } = master {
+            for (&c, &h) in nodes.iter().zip(weights) {
+                self.embedded.for_each(c, |n, w| terms.push((n, -h * w)));
+            }
+        }
+        terms
     }
 
     /// Every node behind an obstacle or a facet by more than `tolerance` (and less than the
@@ -109,7 +157,7 @@ impl ContactProblem<'_> {
             .map(|n| self.position(u, n))
             .collect();
         let mut out = Vec::new();
-        let free = |n: usize| (0..3).any(|a| !self.partition.prescribed[3 * n + a]);
+        let free = |n: usize| self.movable(n);
         for &node in self.obstacle_candidates {
             for (o, obstacle) in self.obstacles.iter().enumerate() {
                 let (gap, normal, anchor) = obstacle.nearest(&current[node]);

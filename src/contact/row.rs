@@ -106,10 +106,7 @@ impl Row {
     }
 
     pub(super) fn new(p: &Penetration, problem: &ContactProblem, u: &[f64], mu: f64) -> Row {
-        let mut terms = vec![(p.node, 1.0)];
-        if let Master::Facet { nodes, weights, .. } = p.master {
-            terms.extend(nodes.iter().zip(weights).map(|(&n, h)| (n, -h)));
-        }
+        let terms = problem.contact_terms(p.node, &p.master);
         let n = p.normal;
         let helper = if n.x.abs() < 0.9 {
             Vector3::x()

@@ -213,7 +213,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
     for p in &c.contacts {
         if let crate::contact::Master::Facet { body, .. } = p.master {
             // The force on the node's body from the facet's body.
-            let a = model.body_of_node(p.node);
+            let a = model.body_of_node(p.slave_node());
             let key = format!("{}/{}", model.bodies[body].name, model.bodies[a].name);
             let entry = bodies.entry(key).or_insert(ObstacleReport {
                 force: [0.0; 3],

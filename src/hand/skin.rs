@@ -18,6 +18,11 @@ pub struct DisplaySkin {
     weights: Vec<f64>,
     /// Quads (outward normals), display vertex indices.
     pub quads: Vec<[u32; 4]>,
+    /// Where each vertex lies on the control net: the control quad (index into the quads it was
+    /// subdivided from) and its bilinear coordinates (u, v) there, corners 0…3 at (0, 0), (1, 0),
+    /// (1, 1), (0, 1). A field known at the control net's vertices reaches the display vertices
+    /// through them.
+    pub control: Vec<(u32, [f64; 2])>,
 }
 
 type Row = Vec<(usize, f64)>;
@@ -128,6 +133,37 @@ fn subdivide(rows: &[Row], quads: &[[usize; 4]]) -> (Vec<Row>, Vec<[usize; 4]>) 
     (new_rows, new_quads)
 }
 
+/// Each vertex's control quad and bilinear coordinates there, for quads made by `levels`
+/// subdivisions of control quads (child `i` of a quad is [corner i, midpoint of edge i → i+1,
+/// centre, midpoint of edge i−1 → i], see [`subdivide`]).
+fn control_coordinates(quads: &[[u32; 4]], vertices: usize, levels: usize) -> Vec<(u32, [f64; 2])> {
+    let per = 4usize.pow(levels as u32);
+    let mut out = vec![(u32::MAX, [0.0; 2]); vertices];
+    for (q, quad) in quads.iter().enumerate() {
+        let mut corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        // The child index at each level, coarsest first.
+        let mut rest = q % per;
+        for level in (0..levels).rev() {
+            let i = rest / 4usize.pow(level as u32);
+            rest %= 4usize.pow(level as u32);
+            let mid = |a: [f64; 2], b: [f64; 2]| [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+            let centre = mid(mid(corners[0], corners[1]), mid(corners[2], corners[3]));
+            corners = [
+                corners[i],
+                mid(corners[i], corners[(i + 1) % 4]),
+                centre,
+                mid(corners[(i + 3) % 4], corners[i]),
+            ];
+        }
+        for (slot, &v) in quad.iter().enumerate() {
+            if out[v as usize].0 == u32::MAX {
+                out[v as usize] = ((q / per) as u32, corners[slot]);
+            }
+        }
+    }
+    out
+}
+
 impl DisplaySkin {
     /// The skin quads of a flesh mesh (node indices) subdivided `levels` times.
     pub fn new(quads: &[[usize; 4]], node_count: usize, levels: usize) -> DisplaySkin {
@@ -163,6 +199,7 @@ impl DisplaySkin {
             skin.offsets.push(skin.nodes.len() as u32);
         }
         skin.quads = q.iter().map(|v| v.map(|i| i as u32)).collect();
+        skin.control = control_coordinates(&skin.quads, rows.len(), levels);
         skin
     }
 
@@ -208,6 +245,27 @@ impl DisplaySkin {
         skin
     }
 
+    /// The (node, weight) terms of display vertex `v`.
+    pub fn terms(&self, v: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
+        (a..b).map(|i| (self.nodes[i] as usize, self.weights[i]))
+    }
+
+    /// Values at every vertex from values at the control net's corners (`corner(q, i)`: corner
+    /// `i` of control quad `q`), bilinear over each control quad.
+    pub fn from_control(&self, corner: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+        self.control
+            .iter()
+            .map(|&(q, [u, v])| {
+                let c = |i| corner(q as usize, i);
+                (1.0 - u) * (1.0 - v) * c(0)
+                    + u * (1.0 - v) * c(1)
+                    + u * v * c(2)
+                    + (1.0 - u) * v * c(3)
+            })
+            .collect()
+    }
+
     /// Number of display vertices.
     pub fn vertex_count(&self) -> usize {
         self.offsets.len() - 1
@@ -245,5 +303,46 @@ impl DisplaySkin {
             .iter()
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_coordinates_place_every_vertex_on_its_control_quad() {
+        // Two equal flat quads side by side: every edge but the shared one is a border (kept
+        // sharp) and the shared one is symmetric, so subdivision is bilinear and a vertex's
+        // position is the bilinear interpolation of its control quad's corners at its
+        // coordinates.
+        let nodes = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(1.0, 2.0, 0.0),
+            Vector3::new(0.0, 2.0, 0.0),
+            Vector3::new(2.0, 0.0, 0.0),
+            Vector3::new(2.0, 2.0, 0.0),
+        ];
+        let quads = [[0, 1, 2, 3], [1, 4, 5, 2]];
+        for levels in 0..3 {
+            let skin = DisplaySkin::new(&quads, nodes.len(), levels);
+            let at = skin.positions(&nodes);
+            for axis in 0..2 {
+                let field = skin.from_control(|q, i| nodes[quads[q][i]][axis]);
+                for (v, p) in at.iter().enumerate() {
+                    assert!(
+                        (field[v] - p[axis]).abs() < 1e-12,
+                        "level {levels}, vertex {v}: {} against {}",
+                        field[v],
+                        p[axis]
+                    );
+                }
+            }
+            assert_eq!(
+                skin.vertex_count(),
+                (2 * 2usize.pow(levels as u32) + 1) * (2usize.pow(levels as u32) + 1)
+            );
+        }
     }
 }

@@ -20,7 +20,7 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
-    ContactProblem, ContactResult, ContactSurface, Master, SurfacePair,
+    ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::stress::stress_field_with;
@@ -346,6 +346,7 @@ pub fn solve_grasp(
         prescribed: &prescribed,
         loads: &loads,
         positions: &x_now,
+        embedded: &EmbeddedPoints::none(x_now.len()),
         obstacles: &model
             .obstacles
             .iter()
