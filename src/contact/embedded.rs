@@ -56,13 +56,22 @@ impl EmbeddedPoints {
         self.len() == 0
     }
 
-    /// The (node, weight) terms of contact index `v`: (v, 1) for a node.
+    /// The (node, weight) terms of embedded point `v` (empty for a node: see [`Self::for_each`]).
     pub fn terms(&self, v: usize) -> &[(usize, f64)] {
         if v < self.first {
             return &[];
         }
         let i = v - self.first;
         &self.terms[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// How many (node, weight) terms contact index `v` has (1 for a node).
+    pub fn term_count(&self, v: usize) -> usize {
+        if v < self.first {
+            1
+        } else {
+            self.terms(v).len()
+        }
     }
 
     /// Calls `f(node, weight)` for every term of contact index `v` ((v, 1) for a node).
@@ -81,13 +90,7 @@ impl EmbeddedPoints {
         if v < self.first {
             return v;
         }
-        self.terms(v)
-            .iter()
-            .fold(
-                (v, f64::NEG_INFINITY),
-                |a, &(n, w)| if w > a.1 { (n, w) } else { a },
-            )
-            .0
+        heaviest(self.terms(v), v)
     }
 
     /// The positions of the nodes `nodes` (one per mesh node) followed by those of every
@@ -112,6 +115,17 @@ impl EmbeddedPoints {
         });
         d
     }
+}
+
+/// The node of the largest weight among `terms` (`none` when there is none).
+pub(super) fn heaviest(terms: &[(usize, f64)], none: usize) -> usize {
+    terms
+        .iter()
+        .fold(
+            (none, f64::NEG_INFINITY),
+            |a, &(n, w)| if w > a.1 { (n, w) } else { a },
+        )
+        .0
 }
 
 #[cfg(test)]

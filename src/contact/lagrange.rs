@@ -449,7 +449,7 @@ fn contact_points(
         out.push(ContactPoint {
             node: row.node,
             terms: row.terms.clone(),
-            slave_terms: problem.term_count(row.node),
+            slave_terms: problem.embedded.term_count(row.node),
             master: row.master,
             normal: n,
             force: ln,

@@ -235,7 +235,7 @@ pub fn solve_paper(
             Some(ContactPoint {
                 node: p.node,
                 terms: problem.contact_terms(p.node, &p.master),
-                slave_terms: problem.term_count(p.node),
+                slave_terms: problem.embedded.term_count(p.node),
                 master: p.master,
                 normal: p.normal,
                 force: normal_force,

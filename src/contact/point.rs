@@ -172,16 +172,7 @@ impl ContactPoint {
 
     /// The node that carries most of the slave (the slave itself when it is a node).
     pub fn slave_node(&self) -> usize {
-        self.terms[..self.slave_terms]
-            .iter()
-            .fold((self.node, f64::NEG_INFINITY), |a, &(n, w)| {
-                if w > a.1 {
-                    (n, w)
-                } else {
-                    a
-                }
-            })
-            .0
+        super::embedded::heaviest(&self.terms[..self.slave_terms], self.node)
     }
 }
 

@@ -111,15 +111,6 @@ impl ContactProblem<'_> {
         &self.positions[..self.embedded.first()]
     }
 
-    /// How many (node, weight) terms contact index `n` has (1 for a node).
-    pub(crate) fn term_count(&self, n: usize) -> usize {
-        if n < self.embedded.first() {
-            1
-        } else {
-            self.embedded.terms(n).len()
-        }
-    }
-
     /// Whether contact index `n` can move (some dof of it, or of a node it is embedded in, is
     /// free).
     pub(crate) fn movable(&self, n: usize) -> bool {

@@ -18,11 +18,8 @@ pub struct DisplaySkin {
     weights: Vec<f64>,
     /// Quads (outward normals), display vertex indices.
     pub quads: Vec<[u32; 4]>,
-    /// Where each vertex lies on the control net: the control quad (index into the quads it was
-    /// subdivided from) and its bilinear coordinates (u, v) there, corners 0…3 at (0, 0), (1, 0),
-    /// (1, 1), (0, 1). A field known at the control net's vertices reaches the display vertices
-    /// through them.
-    pub control: Vec<(u32, [f64; 2])>,
+    /// Catmull–Clark levels from the control net.
+    levels: usize,
 }
 
 type Row = Vec<(usize, f64)>;
@@ -133,9 +130,11 @@ fn subdivide(rows: &[Row], quads: &[[usize; 4]]) -> (Vec<Row>, Vec<[usize; 4]>) 
     (new_rows, new_quads)
 }
 
-/// Each vertex's control quad and bilinear coordinates there, for quads made by `levels`
-/// subdivisions of control quads (child `i` of a quad is [corner i, midpoint of edge i → i+1,
-/// centre, midpoint of edge i−1 → i], see [`subdivide`]).
+/// Where each vertex lies on the control net: its control quad (index into the quads it was
+/// subdivided from) and bilinear coordinates (u, v) there, corners 0…3 at (0, 0), (1, 0),
+/// (1, 1), (0, 1); for quads made by `levels` subdivisions of control quads (child `i` of a
+/// quad is [corner i, midpoint of edge i → i+1, centre, midpoint of edge i−1 → i], see
+/// [`subdivide`]).
 fn control_coordinates(quads: &[[u32; 4]], vertices: usize, levels: usize) -> Vec<(u32, [f64; 2])> {
     let per = 4usize.pow(levels as u32);
     let mut out = vec![(u32::MAX, [0.0; 2]); vertices];
@@ -199,7 +198,7 @@ impl DisplaySkin {
             skin.offsets.push(skin.nodes.len() as u32);
         }
         skin.quads = q.iter().map(|v| v.map(|i| i as u32)).collect();
-        skin.control = control_coordinates(&skin.quads, rows.len(), levels);
+        skin.levels = levels;
         skin
     }
 
@@ -252,9 +251,10 @@ impl DisplaySkin {
     }
 
     /// Values at every vertex from values at the control net's corners (`corner(q, i)`: corner
-    /// `i` of control quad `q`), bilinear over each control quad.
+    /// `i` of control quad `q`), bilinear over each control quad at the vertex's coordinates
+    /// there.
     pub fn from_control(&self, corner: impl Fn(usize, usize) -> f64) -> Vec<f64> {
-        self.control
+        control_coordinates(&self.quads, self.vertex_count(), self.levels)
             .iter()
             .map(|&(q, [u, v])| {
                 let c = |i| corner(q as usize, i);
