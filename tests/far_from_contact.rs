@@ -28,7 +28,7 @@ poisson = 0.4
 name = "hand"
 material = "flesh"
 shape = {{ hand = {{ side = "right", resolution = 0.75 }} }}
-pose = {{ "index.mcp.flex" = 20.0 }}
+pose = {{ "index.mcp.flex" = 19.0 }}
 
 [[body]]
 name = "ball"
@@ -145,14 +145,15 @@ fn a_finger_far_from_the_ball_is_skinned_and_the_finger_near_it_is_unchanged() {
         println!("{bone}: {a:.3e} / {b:.3e} N");
         if bone.starts_with("index") {
             // The index bones' reactions (flexion and contact) are the same.
-            assert!((a - b).abs() < 1e-9 * b.max(1e-3), "{bone}: {a} {b}");
+            assert!((a - b).abs() < 1e-9 * b.max(1e-2), "{bone}: {a} {b}");
         }
     }
     let (rc, rf) = (
         bone_reaction(&cheap, "little.proximal"),
         bone_reaction(&full, "little.proximal"),
     );
-    assert!(rc == 0.0 && rf > 1e-4, "{rc} {rf}");
+    // (Zero but for the contact step's round-off.)
+    assert!(rc < 1e-9 && rf > 1e-4, "{rc} {rf}");
 }
 
 #[test]

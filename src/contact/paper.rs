@@ -264,6 +264,7 @@ pub fn solve_paper(
             stopped_by_threshold: stopped,
             region_cells: 0,
             times,
+            skin_points: Vec::new(),
         },
     })
 }

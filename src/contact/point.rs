@@ -225,6 +225,9 @@ pub struct ContactSummary {
     pub region_cells: usize,
     /// Where the time went.
     pub times: ContactTimes,
+    /// The contact points embedded in each hand's skin: (hand body, contact index of its
+    /// skin's first vertex); the hand's skin vertices are numbered on from there.
+    pub skin_points: Vec<(usize, usize)>,
 }
 
 impl ContactSummary {

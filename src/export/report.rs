@@ -177,7 +177,7 @@ pub struct ContactReport {
     pub substitutions: usize,
     /// Largest penetration at convergence, m.
     pub max_penetration: f64,
-    /// Largest contact pressure, Pa.
+    /// Largest contact pressure, Pa: on the bodies' surface nodes and on the hands' skin.
     pub max_pressure: f64,
     /// Time of the contact iterations, ms.
     pub contact_ms: f64,
@@ -252,7 +252,13 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         factorizations: c.factorizations,
         substitutions: c.substitutions,
         max_penetration: c.max_penetration,
-        max_pressure: pressure.iter().copied().fold(0.0, f64::max),
+        max_pressure: pressure
+            .iter()
+            .copied()
+            .chain(frame.hands.iter().flat_map(|h| {
+                crate::state::skin_pressure(model, frame, h.body).unwrap_or_default()
+            }))
+            .fold(0.0, f64::max),
         contact_ms: c.contact_ms,
         times: c.times.clone(),
     })

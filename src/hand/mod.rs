@@ -16,7 +16,7 @@ mod skinning;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
-pub use model::{HandModel, SKIN_LEVELS};
+pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use shape::SkinShape;
 pub use skeleton::{
     cup_radius, long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton,

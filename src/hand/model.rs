@@ -10,6 +10,11 @@ use super::skinning::SkinningWeights;
 /// Catmull–Clark levels of the display skin.
 pub const SKIN_LEVELS: usize = 2;
 
+/// Catmull–Clark levels of the contact skin: the same smooth skin as the display's, sampled at
+/// the flesh lattice's resolution (one vertex per skin lattice point), so that contact costs no
+/// more rows than the lattice's own skin nodes would.
+pub const CONTACT_SKIN_LEVELS: usize = 0;
+
 /// Everything about a hand that does not change with its pose.
 #[derive(Clone, Debug)]
 pub struct HandModel {
@@ -19,6 +24,9 @@ pub struct HandModel {
     pub flesh: FleshMesh,
     /// The smooth display skin embedded in the flesh.
     pub skin: DisplaySkin,
+    /// The contact surface: the smooth skin at the lattice's resolution, embedded in the flesh
+    /// like the display skin (its vertices on the skin's shape at rest).
+    pub contact_skin: DisplaySkin,
     /// Skinning weights of every flesh node.
     pub weights: SkinningWeights,
     /// The resolution it was meshed at.
@@ -31,19 +39,24 @@ impl HandModel {
         let skeleton = Skeleton::new(side);
         let shape = SkinShape::new(side);
         let flesh = mesh_flesh(&skeleton, &shape, resolution)?;
-        let skin = DisplaySkin::embedded(
-            &flesh.display_quads,
-            &flesh.display_vertices,
-            &flesh.display_cells,
-            &flesh.mesh,
-            SKIN_LEVELS,
-            |p| shape.project(p),
-        );
+        let embedded = |levels| {
+            DisplaySkin::embedded(
+                &flesh.display_quads,
+                &flesh.display_vertices,
+                &flesh.display_cells,
+                &flesh.mesh,
+                levels,
+                |p| shape.project(p),
+            )
+        };
+        let skin = embedded(SKIN_LEVELS);
+        let contact_skin = embedded(CONTACT_SKIN_LEVELS);
         let weights = SkinningWeights::new(&skeleton, &flesh.mesh.nodes, &flesh.node_bone);
         Ok(HandModel {
             skeleton,
             flesh,
             skin,
+            contact_skin,
             weights,
             resolution,
         })

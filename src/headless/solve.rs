@@ -1,6 +1,6 @@
 //! From a scene file to solved frames and written output: what `prehensile solve` does.
 
-use crate::export::hand_geometry::{bones_vtu, frame_obj};
+use crate::export::hand_geometry::{bones_vtu, frame_obj, skin_vtu};
 use crate::export::output::OutputSet;
 use crate::export::report::{frame_report, model_summary, Report};
 use crate::export::vtu::{collection_pvd, frame_vtu};
@@ -84,7 +84,8 @@ pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
 }
 
 /// Writes `report.json`, one `frame_NNNN.vtu` per frame and `frames.pvd` into `dir` (with hands,
-/// also `hand_NNNN.obj`: skin and bones, and `bones_NNNN.vtu`), all or nothing.
+/// also `hand_NNNN.obj`: skin and bones, `bones_NNNN.vtu`, and `skin_NNNN.vtu`: the contact
+/// skin with the tactile map), all or nothing.
 pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     let io = |source| PipelineError::Output {
         dir: dir.display().to_string(),
@@ -105,6 +106,10 @@ pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, Pipelin
         }
         if let Some(vtu) = bones_vtu(&solved.model, frame) {
             out.write(&format!("bones_{i:04}.vtu"), vtu.as_bytes())
+                .map_err(io)?;
+        }
+        if let Some(vtu) = skin_vtu(&solved.model, frame) {
+            out.write(&format!("skin_{i:04}.vtu"), vtu.as_bytes())
                 .map_err(io)?;
         }
     }

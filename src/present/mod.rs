@@ -204,18 +204,20 @@ fn hand_drawing(
     let positions = hand.skin.positions(&nodes);
     let nodal = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { body.nodes.clone().map(f).collect() };
     let scalars = match options.overlay {
-        Overlay::Stress => Some(nodal(&|n| von_mises(&frame.stress.nodal[n]))),
-        Overlay::Displacement => Some(nodal(&|n| frame.solution.node_displacement(n).norm())),
+        Overlay::Stress => Some(
+            hand.skin
+                .interpolate(&nodal(&|n| von_mises(&frame.stress.nodal[n]))),
+        ),
+        Overlay::Displacement => Some(
+            hand.skin
+                .interpolate(&nodal(&|n| frame.solution.node_displacement(n).norm())),
+        ),
+        // The tactile map on the skin itself (the contact is on the smooth skin).
+        Overlay::Pressure => crate::state::skin_pressure(model, frame, b),
         _ => None,
     }
-    // Both fields are non-negative; the skin's weights extrapolate slightly past the cells.
-    .map(|v| {
-        hand.skin
-            .interpolate(&v)
-            .iter()
-            .map(|x| x.max(0.0) as f32)
-            .collect()
-    });
+    // Every field is non-negative; the skin's weights extrapolate slightly past the cells.
+    .map(|v| v.iter().map(|x| x.max(0.0) as f32).collect());
     list.surfaces.push(Surface {
         positions: positions.iter().map(to_f32).collect(),
         indices: hand.skin.triangles().into_iter().flatten().collect(),

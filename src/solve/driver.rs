@@ -6,7 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
-use super::proximity::posed_deeper_than;
+use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::solve_static;
 use super::step_control::StepControl;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
@@ -86,10 +86,22 @@ fn carried_by(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
     Some(carried)
 }
 
+/// A keyframe's motion: each moving hand (index into `Posed::hands`, angles from, angles to),
+/// and the parts of each that skinning would crush over the keyframe.
+type Motion<'a> = (&'a [(usize, Vec<f64>, Vec<f64>)], &'a [[bool; PARTS]]);
+
 /// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
 /// degrees: the skin of a fingertip 8 cm from the joint moves ≈ 7 mm, within what one contact
 /// step resolves from the last converged state.
 pub const CONTACT_STEP_DEG: f64 = 5.0;
+
+/// A keyframe ending in contact is corrected at its pose (contact steps without motion, each
+/// detecting and linearising the contact about the last: a fixed-point iteration on the contact
+/// geometry) until its normal contact force changes by less than this fraction of itself…
+pub const CONTACT_CORRECTION: f64 = 1e-3;
+
+/// … or this many corrections were made.
+const CONTACT_CORRECTIONS: usize = 6;
 
 /// Halvings of a contact step whose contact does not settle before the keyframe gives up
 /// (the smallest step is [`CONTACT_STEP_DEG`] / 2⁴).
@@ -154,10 +166,13 @@ impl Workspace {
             .flat_map(|(_, from, to)| from.iter().zip(to).map(|(a, b)| (b - a).abs()))
             .fold(0.0, f64::max);
         let steps = (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize;
+        // Retried along the motion in at least two steps: a keyframe shorter than one step
+        // (a degree of flexion against a thin wall) may need halving too.
+        let along = steps.max(2);
         // The keyframe in one step first (its contact linearised about the flexed pose, the
         // bodies at rest): exact where the pose brings the skin just onto the bodies. Where that
         // contact does not settle, the keyframe again in contact steps along the motion.
-        let start = (has_objects && steps > 1).then(|| posed.clone());
+        let start = has_objects.then(|| posed.clone());
         // A pose that skinning already puts deeper into a body than contact searches cannot be
         // solved in one step (that contact never finds the deepest skin): straight to steps.
         let too_deep = start.is_some()
@@ -173,13 +188,16 @@ impl Workspace {
             });
         if too_deep {
             let carried = posed.contact.clone();
-            return self.move_in_steps(model, posed, &moving, steps, carried, cancel);
+            return self.move_in_steps(model, posed, &moving, along, carried, cancel);
         }
-        match self.move_in_steps(model, posed, &moving, 1, None, cancel) {
+        // Going on from a frame in contact, from the state it carries (the same formulation
+        // as its own steps: the pose again gives the frame again).
+        let carried = posed.contact.clone();
+        match self.move_in_steps(model, posed, &moving, 1, carried, cancel) {
             Err(SimError::Contact(first)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
-                self.move_in_steps(model, posed, &moving, steps, carried, cancel)
+                self.move_in_steps(model, posed, &moving, along, carried, cancel)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
                         for h in &moving {
@@ -214,6 +232,26 @@ impl Workspace {
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
         posed.contact = carried;
+        // A part that skinning would crush over the whole keyframe is solved in each of its
+        // steps, although no step alone would crush it (the steps' crushes add up).
+        let crushed: Vec<[bool; PARTS]> = moving
+            .iter()
+            .map(|(h, _, to)| {
+                let hand = &posed.hands[*h];
+                match model.flexion.near_contact {
+                    Some(_) => crushed_by_skinning(
+                        model,
+                        model.bodies[hand.body]
+                            .hand
+                            .as_deref()
+                            .expect("a hand body"),
+                        &hand.state,
+                        to,
+                    ),
+                    None => [false; PARTS],
+                }
+            })
+            .collect();
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
         let mut stats: Vec<Option<KeyframeStats>> = vec![None; moving.len()];
         let (mut kept, mut retries) = (0, 0);
@@ -223,7 +261,15 @@ impl Workspace {
         loop {
             let f = control.target();
             let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
-            match self.contact_step(model, posed, moving, f, steps > 1, cancel, &mut stats) {
+            match self.contact_step(
+                model,
+                posed,
+                (moving, &crushed),
+                f,
+                steps > 1,
+                cancel,
+                &mut stats,
+            ) {
                 // A step after which a bone's reaction overruns its muscle threshold is halved
                 // while it may, so that the motion stops close to where the threshold is
                 // crossed (a stiff object's reaction grows fast within a step).
@@ -252,7 +298,18 @@ impl Workspace {
                         });
                     }
                     let touched = usize::from(frame.contact.is_some());
-                    let counts = (kept + touched, retries);
+                    let mut corrections = 0;
+                    if short.is_none() {
+                        (frame, corrections) = self.correct(
+                            model,
+                            posed,
+                            (moving, &crushed),
+                            frame,
+                            cancel,
+                            &mut stats,
+                        );
+                    }
+                    let counts = (kept + touched + corrections, retries);
                     finish(model, posed, moving, &stats, &mut frame, counts, short);
                     return Ok(frame);
                 }
@@ -294,6 +351,50 @@ impl Workspace {
         }
     }
 
+    /// `frame`, reached by the motion's last contact step and in contact, corrected at its pose:
+    /// contact steps without motion from the state each leaves, until the normal contact force
+    /// changes by less than [`CONTACT_CORRECTION`] of itself (at most [`CONTACT_CORRECTIONS`]).
+    /// A step linearises the contact (gaps, normals) about where the last one started; at the
+    /// pose it converges to the frame whose contact is in equilibrium on its own geometry, so
+    /// that the pose solved again from the frame gives the frame again. A correction that does
+    /// not settle leaves the last frame. Returns the frame and the corrections kept.
+    fn correct(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        (moving, crushed): Motion<'_>,
+        mut frame: Frame,
+        cancel: Option<&CancelCheck>,
+        stats: &mut [Option<KeyframeStats>],
+    ) -> (Frame, usize) {
+        let mut kept = 0;
+        for _ in 0..CONTACT_CORRECTIONS {
+            let Some(force) = frame.contact.as_ref().map(|c| c.normal_force()) else {
+                break;
+            };
+            let before = (posed.clone(), stats.to_vec());
+            posed.contact = carried_by(model, &frame);
+            match self.contact_step(model, posed, (moving, crushed), 1.0, false, cancel, stats) {
+                Ok(next) if next.contact.is_some() => {
+                    let change =
+                        (next.contact.as_ref().expect("checked").normal_force() - force).abs();
+                    frame = next;
+                    kept += 1;
+                    if change <= CONTACT_CORRECTION * force.abs().max(1e-9) {
+                        break;
+                    }
+                }
+                // Out of contact or not settled: the last frame stands.
+                _ => {
+                    *posed = before.0;
+                    stats.clone_from_slice(&before.1);
+                    break;
+                }
+            }
+        }
+        (frame, kept)
+    }
+
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
     /// with the contact solved from what `posed` carries; with `along`, skin whose path over the
     /// step went into a body is held where it went through.
@@ -302,7 +403,7 @@ impl Workspace {
         &mut self,
         model: &Model,
         posed: &mut Posed,
-        moving: &[(usize, Vec<f64>, Vec<f64>)],
+        (moving, crushed): Motion<'_>,
         f: f64,
         along: bool,
         cancel: Option<&CancelCheck>,
@@ -320,7 +421,12 @@ impl Workspace {
             } else {
                 from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect()
             };
-            self.move_hand(model, &mut posed.hands[*h], &angles, cancel)?;
+            let hand = &posed.hands[*h];
+            let mut far = far_parts_of(model, hand.body, &hand.state, &angles);
+            for (f, c) in far.iter_mut().zip(crushed[k]) {
+                *f &= !c;
+            }
+            self.move_hand(model, &mut posed.hands[*h], &angles, far, cancel)?;
             let step = &posed.hands[*h].frame.stats;
             match &mut stats[k] {
                 Some(total) => total.absorb(step),
@@ -342,6 +448,7 @@ impl Workspace {
         model: &Model,
         posed: &mut PosedHand,
         target: &[f64],
+        far: [bool; PARTS],
         cancel: Option<&CancelCheck>,
     ) -> Result<(), SimError> {
         let b = posed.body;
@@ -362,7 +469,7 @@ impl Workspace {
         if let Some(cancel) = cancel {
             stepper = stepper.with_cancel(cancel.clone());
         }
-        set_far_parts(model, b, &mut stepper, &posed.state, target);
+        stepper.set_far_parts(far);
         let result = stepper.move_to(&mut posed.state, target);
         self.caches.push((b, stepper.into_caches()));
         // The hand's frame follows its state, also where a failed or cancelled keyframe left it.
@@ -492,20 +599,13 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
     Ok((times, frames))
 }
 
-/// Tells `stepper` which parts of hand `body` stay far from contact on the way from `state`
-/// to `target` (none when `[solver] far_from_contact = "solve"`).
-fn set_far_parts(
-    model: &Model,
-    body: usize,
-    stepper: &mut Flexion,
-    state: &HandState,
-    target: &[f64],
-) {
-    let far = match model.flexion.near_contact {
+/// Which parts of hand `body` stay far from contact on the way from `state` to `target` (none
+/// when `[solver] far_from_contact = "solve"`).
+fn far_parts_of(model: &Model, body: usize, state: &HandState, target: &[f64]) -> [bool; PARTS] {
+    match model.flexion.near_contact {
         Some(distance) => super::proximity::far_parts(model, body, state, target, distance),
-        None => [false; super::proximity::PARTS],
-    };
-    stepper.set_far_parts(far);
+        None => [false; PARTS],
+    }
 }
 
 /// The frame of a model with nothing free (only hands): every displacement and reaction zero.

@@ -9,8 +9,10 @@
 //!   bones do not move further) and the rest of the flesh held where flexion left it;
 //!
 //! with node-to-facet contact both ways between skin and object (object nodes against skin
-//! triangles, skin nodes against object triangles) and against the rigid obstacles, resolved by
-//! the scene's contact method. The bone reactions of equation (8) then include the grasp.
+//! triangles, skin points against object triangles) and against the rigid obstacles, resolved by
+//! the scene's contact method. The skin is the hand's smooth skin (`HandModel::contact_skin`),
+//! its points embedded in the flesh cells (`contact::EmbeddedPoints`). The bone reactions of
+//! equation (8) then include the grasp.
 
 use super::compose::compose;
 use super::corotated::{linearise, loads_at};
@@ -97,24 +99,36 @@ pub fn solve_grasp(
     let zero = vec![0.0; 3 * model.mesh.node_count()];
     let carried_given = carried;
     let carried = carried.unwrap_or(&zero);
-    let x_now: Vec<Vector3<f64>> = x
+    let x_now_nodes: Vec<Vector3<f64>> = x
         .iter()
         .enumerate()
         .map(|(n, p)| p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]))
         .collect();
+    // The hands' contact surface is their smooth skin (item 4): its vertices, embedded in the
+    // flesh cells, are contact points numbered after the mesh's nodes.
+    let mut embedded = EmbeddedPoints::none(model.mesh.node_count());
+    let mut skin_points: Vec<std::ops::Range<usize>> = Vec::new();
     let mut surfaces: Vec<ContactSurface> = Vec::new();
+    let mut skin_quads: Vec<Vec<[usize; 4]>> = Vec::new();
     for h in hands {
         let body = &model.bodies[h.body];
         let hand = body.hand.as_deref().expect("a hand body");
-        let quads: Vec<[usize; 4]> = hand
-            .flesh
-            .skin_quads
-            .iter()
-            .zip(&hand.flesh.skin_outer)
-            .filter(|(_, &outer)| outer)
-            .map(|(q, _)| q.map(|n| n + body.nodes.start))
-            .collect();
-        surfaces.push(ContactSurface::from_quads(h.body, &quads, &x_now));
+        let skin = &hand.contact_skin;
+        let start = embedded.first() + embedded.len();
+        for v in 0..skin.vertex_count() {
+            embedded.push(skin.terms(v).map(|(n, w)| (n + body.nodes.start, w)));
+        }
+        skin_points.push(start..start + skin.vertex_count());
+        skin_quads.push(
+            skin.quads
+                .iter()
+                .map(|q| q.map(|v| start + v as usize))
+                .collect(),
+        );
+    }
+    let x_now = embedded.extend(&x_now_nodes);
+    for (h, quads) in hands.iter().zip(&skin_quads) {
+        surfaces.push(ContactSurface::from_quads(h.body, quads, &x_now));
     }
     for &b in &objects {
         let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
@@ -179,7 +193,7 @@ pub fn solve_grasp(
     // Skin that went into a body over this step's flexion: held where it went through.
     let crossed = match previous {
         Some(previous) => {
-            let mut from = x_now.clone();
+            let mut from = x_now_nodes.clone();
             for (h, before) in hands.iter().zip(previous) {
                 let start = model.bodies[h.body].nodes.start;
                 for (i, p) in before.iter().enumerate() {
@@ -188,6 +202,7 @@ pub fn solve_grasp(
                         p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]);
                 }
             }
+            let from = embedded.extend(&from);
             crossings(
                 &surfaces,
                 hands.len(),
@@ -205,13 +220,13 @@ pub fn solve_grasp(
     let radius = model.contact_region;
     let mut free_node = vec![false; model.mesh.node_count()];
     let mut region_cells = 0;
-    for h in hands {
+    for (h, points) in hands.iter().zip(&skin_points) {
         let body = &model.bodies[h.body];
         let hand = body.hand.as_deref().expect("a hand body");
         let flesh = &hand.flesh;
         let near: Vec<Vector3<f64>> = seeds
             .iter()
-            .filter(|&&n| body.nodes.contains(&n))
+            .filter(|&&n| points.contains(&n))
             .map(|&n| x_now[n])
             .collect();
         if near.is_empty() {
@@ -294,10 +309,12 @@ pub fn solve_grasp(
             .map_or(usize::MAX, |c| model.cell_material[c])
     };
     let friction = |node: usize, master: &Master| -> f64 {
-        let a = model.material_name(node_material(node));
+        let a = model.material_name(node_material(embedded.main_node(node)));
         let b = match master {
             Master::Obstacle(o) => model.obstacles[*o].0.as_str(),
-            Master::Facet { nodes, .. } => model.material_name(node_material(nodes[0])),
+            Master::Facet { nodes, .. } => {
+                model.material_name(node_material(embedded.main_node(nodes[0])))
+            }
         };
         model.friction_between(a, b)
     };
@@ -328,7 +345,7 @@ pub fn solve_grasp(
             *h += o;
         }
     }
-    let (loads_now, unit_gas) = loads_at(model, &x_now, carried_given);
+    let (loads_now, unit_gas) = loads_at(model, &x_now_nodes, carried_given);
     let loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
     let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
     let prescribed: Vec<f64> = (0..model.prescribed.len())
@@ -346,7 +363,7 @@ pub fn solve_grasp(
         prescribed: &prescribed,
         loads: &loads,
         positions: &x_now,
-        embedded: &EmbeddedPoints::none(x_now.len()),
+        embedded: &embedded,
         obstacles: &model
             .obstacles
             .iter()
@@ -374,7 +391,7 @@ pub fn solve_grasp(
             // A step along the motion only resolves its own motion: how deep the pose is
             // concerns a keyframe solved in one step.
             match carried_given {
-                None => posed_too_deep(model, &surfaces, hands.len(), &x_now, e),
+                None => posed_too_deep(model, &surfaces, hands.len(), &x_now, &embedded, e),
                 Some(_) => e,
             }
         })
@@ -410,7 +427,14 @@ pub fn solve_grasp(
         *u += c;
     }
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
-    too_deep(model, &surfaces, hands.len(), &near_skin, &x, &result)?;
+    too_deep(
+        model,
+        (&surfaces, hands.len()),
+        &near_skin,
+        &x,
+        &embedded,
+        &result,
+    )?;
 
     // The frame: objects' displacements from rest, hands' from rest through their pose.
     let u = &result.solution.displacement;
@@ -479,6 +503,11 @@ pub fn solve_grasp(
     summary.times.detection = times.detection;
     summary.times.assembly = assembly_ms;
     summary.times.stress = stress_ms;
+    summary.skin_points = hands
+        .iter()
+        .zip(&skin_points)
+        .map(|(h, r)| (h.body, r.start))
+        .collect();
     Ok(Some(Frame {
         solution,
         stress,
@@ -496,13 +525,14 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
     }
 }
 
-/// A skin node left inside an object (beyond the search depth, contact never found it).
+/// A skin point left inside an object (beyond the search depth, contact never found it).
+/// `surfaces`: the hands' contact skins, then the objects' surfaces (from the `hands`-th).
 fn too_deep(
     model: &Model,
-    surfaces: &[ContactSurface],
-    hands: usize,
+    (surfaces, hands): (&[ContactSurface], usize),
     near_skin: &[usize],
     x: &[Vector3<f64>],
+    embedded: &EmbeddedPoints,
     result: &crate::contact::ContactResult,
 ) -> Result<(), SimError> {
     let u = &result.solution.displacement;
@@ -511,12 +541,16 @@ fn too_deep(
         .enumerate()
         .map(|(n, p)| p + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
         .collect();
-    // Deeper than the contact's limit and not in contact: a node the contact never held (past a
-    // thin wall, in a shell's cavity, it projects onto the inner wall and looks outside).
+    let current = embedded.extend(&current);
+    // Deeper than the contact's limit inside a closed piece of a body (by winding numbers): a
+    // node the contact never held, or held against the wrong facet (past the middle of a thin
+    // wall, or in a shell's cavity, it projects onto the inner wall and looks outside or is
+    // pushed into the cavity). A node the contact holds is within the limit of the outer
+    // surface.
     let resolved = model.contact.penetration_limit();
-    let skip = |n: usize| result.contacts.iter().any(|c| c.node == n);
-    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, skip) {
+    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, |_| false) {
         Some((n, body, depth)) => {
+            let n = embedded.main_node(n);
             let hand_body = model.body_of_node(n);
             Err(SimError::Contact(ContactError::TooDeep {
                 body: model.bodies[hand_body].name.clone(),
@@ -541,9 +575,6 @@ pub(super) fn deepest_inside(
 ) -> Option<(usize, usize, f64)> {
     let mut deepest: Option<(usize, usize, f64)> = None;
     for s in objects {
-        // Nodes within `beyond` of the surface are the contact's (or, when only the
-        // object's nodes are checked, the discretisation's); deeper ones were never found.
-        let bvh = s.hierarchy(positions, beyond);
         let pieces = connected_pieces(&s.triangles);
         let corners = s.triangles.iter().flatten().map(|&n| positions[n]);
         let lo = corners
@@ -555,14 +586,11 @@ pub(super) fn deepest_inside(
             if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) || skip(n) {
                 continue;
             }
-            if bvh
-                .project(&p, positions, None, |_| false)
-                .is_some_and(|q| q.distance <= beyond)
-            {
-                continue;
-            }
             // Inside a piece of the surface (for a shell: within its outer surface, or in its
-            // cavity, having passed the wall): how far from that piece's surface.
+            // cavity, having passed the wall): how far from that piece's surface. Within
+            // `beyond` of it, the contact's (or, when only the object's nodes are checked, the
+            // discretisation's); deeper, never found — also a node deep in a thin wall next to
+            // its far side, which is near a facet but not the piece's it is inside.
             let depth = pieces
                 .iter()
                 .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
@@ -591,6 +619,7 @@ fn posed_too_deep(
     surfaces: &[ContactSurface],
     hands: usize,
     x: &[Vector3<f64>],
+    embedded: &EmbeddedPoints,
     error: SimError,
 ) -> SimError {
     if !matches!(error, SimError::Contact(ContactError::NotConverged { .. })) {
@@ -601,6 +630,7 @@ fn posed_too_deep(
     let beyond = 0.25 * model.contact.search_depth;
     match deepest_inside(&surfaces[hands..], &skin, x, beyond, |_| false) {
         Some((n, body, depth)) => {
+            let n = embedded.main_node(n);
             let hand_body = model.body_of_node(n);
             SimError::Contact(ContactError::PoseTooDeep {
                 reason: error.to_string(),

@@ -18,7 +18,7 @@ mod statics;
 mod statics_nonlinear;
 mod step_control;
 
-pub use driver::{solve_frames, Posed, PosedHand, Workspace, CONTACT_STEP_DEG};
+pub use driver::{solve_frames, Posed, PosedHand, Workspace, CONTACT_CORRECTION, CONTACT_STEP_DEG};
 pub use error::SimError;
 pub use flexion::{CancelCheck, Flexion, FlexionCaches};
 pub use flexion_nonlinear::flesh_internal_forces;

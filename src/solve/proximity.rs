@@ -182,7 +182,7 @@ pub fn far_parts(
 /// Which parts skinning alone would crush on the way from `state` to `target`: a cell of the
 /// part solved by FEM (as `[solver] flesh` says) whose smallest det J at a Gauss point falls
 /// below [`CRUSH_RATIO`] of its value in `state`.
-fn crushed_by_skinning(
+pub(super) fn crushed_by_skinning(
     model: &Model,
     hand: &crate::hand::HandModel,
     state: &HandState,
@@ -205,9 +205,10 @@ fn crushed_by_skinning(
     crushed
 }
 
-/// Whether the outer skin of hand body `body`, moved by skinning from `state` to the joint angles
-/// `target`, lies deeper than `depth` (m) inside another body of the model at rest (by winding
-/// numbers): what a keyframe solved in one step would have to resolve at once.
+/// Whether the skin of hand body `body` (its contact skin, the smooth skin), moved by skinning
+/// from `state` to the joint angles `target`, lies deeper than `depth` (m) inside another body
+/// of the model at rest (by winding numbers): what a keyframe solved in one step would have to
+/// resolve at once.
 pub fn posed_deeper_than(
     model: &Model,
     body: usize,
@@ -217,19 +218,16 @@ pub fn posed_deeper_than(
 ) -> bool {
     let b = &model.bodies[body];
     let hand = b.hand.as_deref().expect("posed_deeper_than of a hand body");
-    let flesh = &hand.flesh;
-    let mut skin: Vec<usize> = flesh
-        .skin_quads
-        .iter()
-        .zip(&flesh.skin_outer)
-        .filter(|(_, &outer)| outer)
-        .flat_map(|(q, _)| *q)
+    let skin = &hand.contact_skin;
+    let mut nodes: Vec<usize> = (0..skin.vertex_count())
+        .flat_map(|v| skin.terms(v).map(|t| t.0))
         .collect();
-    skin.sort_unstable();
-    skin.dedup();
-    let moved = skinned_to(model, hand, state, target, skin.iter().copied());
+    nodes.sort_unstable();
+    nodes.dedup();
+    let moved = skinned_to(model, hand, state, target, nodes.into_iter());
+    // The skin's points numbered after the model's nodes.
     let mut positions = model.mesh.nodes.clone();
-    positions[b.nodes.clone()].copy_from_slice(&moved);
+    positions.extend(skin.positions(&moved));
     let objects: Vec<ContactSurface> = (0..model.bodies.len())
         .filter(|&o| model.bodies[o].hand.is_none())
         .map(|o| {
@@ -237,8 +235,8 @@ pub fn posed_deeper_than(
             ContactSurface::from_quads(o, &quads, &model.mesh.nodes)
         })
         .collect();
-    let global: Vec<usize> = skin.iter().map(|n| n + b.nodes.start).collect();
-    deepest_inside(&objects, &global, &positions, depth, |_| false).is_some()
+    let points: Vec<usize> = (model.mesh.node_count()..positions.len()).collect();
+    deepest_inside(&objects, &points, &positions, depth, |_| false).is_some()
 }
 
 /// The flesh of `hand` in `state` with the nodes `nodes` moved by skinning to the joint angles

@@ -73,7 +73,7 @@ pub struct KeyframeStats {
     pub increments_taken: usize,
     /// Times a step was halved because a cell would have turned inside out.
     pub halvings: usize,
-    /// Cells solved by FEM.
+    /// Cells solved by FEM (over several steps, in the step that solved the most).
     pub fem_cells: usize,
     /// Free dofs of the FEM problem.
     pub free_dofs: usize,
@@ -96,7 +96,8 @@ pub struct KeyframeStats {
     /// Largest relative residual of the linear solves.
     pub relative_residual: f64,
     /// Cells of the FEM region left to skinning because their part of the hand stayed far
-    /// from every other body ([`Flexion::set_far_parts`]).
+    /// from every other body ([`Flexion::set_far_parts`]); over several steps, in the step
+    /// whose `fem_cells` is given.
     pub far_cells: usize,
     /// The digits left to skinning in this keyframe because they stayed far from every other
     /// body: their bones bear no new flexion reaction.
@@ -131,7 +132,13 @@ impl KeyframeStats {
         self.increments += step.increments;
         self.increments_taken += step.increments_taken;
         self.halvings += step.halvings;
-        self.fem_cells = self.fem_cells.max(step.fem_cells);
+        // The cell counts of one step, the largest FEM sub-problem (the FEM region follows
+        // the flesh, step by step): its FEM and skinned cells are those of one region.
+        if step.fem_cells > self.fem_cells {
+            self.fem_cells = step.fem_cells;
+            self.far_cells = step.far_cells;
+            self.far_digits = step.far_digits.clone();
+        }
         self.free_dofs = self.free_dofs.max(step.free_dofs);
         self.prescribed_dofs = self.prescribed_dofs.max(step.prescribed_dofs);
         self.factorizations += step.factorizations;
@@ -142,8 +149,6 @@ impl KeyframeStats {
         self.update_ms += step.update_ms;
         self.total_ms += step.total_ms;
         self.relative_residual = self.relative_residual.max(step.relative_residual);
-        self.far_cells = self.far_cells.min(step.far_cells);
-        self.far_digits.retain(|d| step.far_digits.contains(d));
         self.contact_steps += step.contact_steps;
         self.contact_retries += step.contact_retries;
         if step.stopped_short.is_some() {

@@ -11,5 +11,5 @@ mod validity;
 pub use cavity::{cavity_state, CavityState};
 pub use frame::{Frame, HandFrame};
 pub use hand::{HandState, KeyframeStats, StoppedShort};
-pub use tactile::contact_pressure;
+pub use tactile::{contact_pressure, contact_skin_pressure, skin_pressure};
 pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

@@ -1,11 +1,14 @@
-//! The tactile map of a solved frame: the contact pressure at every node of the model.
+//! The tactile map of a solved frame: the contact pressure at every node of the model, and on
+//! each hand's smooth skin.
 
 use super::Frame;
-use crate::contact::nodal_pressure;
+use crate::contact::{nodal_pressure, Master};
 use crate::model::Model;
 
 /// Contact pressure at every node (Pa, 0 off contact), over the boundary facets of all bodies;
-/// `None` when the frame has no contact.
+/// `None` when the frame has no contact. A hand's contact is on its smooth skin: its lattice
+/// nodes get the share of their cells' skin points (see [`skin_pressure`] for the map on the
+/// skin itself).
 pub fn contact_pressure(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
     let contact = frame.contact.as_ref()?;
     let facets: Vec<crate::mesh::Facet> = model
@@ -18,4 +21,62 @@ pub fn contact_pressure(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
         &facets,
         &contact.contacts,
     ))
+}
+
+/// Contact pressure on hand `body`'s display skin (Pa at each display vertex, 0 off contact):
+/// [`contact_skin_pressure`] carried bilinearly to the display skin over the control quads both
+/// skins share. `None` without contact on this hand's skin.
+pub fn skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
+    // The contact skin is the control net itself (its quads are the control quads).
+    const _: () = assert!(crate::hand::CONTACT_SKIN_LEVELS == 0);
+    let hand = model.bodies[body].hand.as_deref()?;
+    let pressure = contact_skin_pressure(model, frame, body)?;
+    let quads = &hand.contact_skin.quads;
+    Some(
+        hand.skin
+            .from_control(|q, i| pressure[quads[q][i] as usize]),
+    )
+}
+
+/// Contact pressure at each vertex of hand `body`'s contact skin (Pa, 0 off contact): the
+/// normal contact force there (as the slave, or its share h_i as a facet corner) over the
+/// vertex's quarter of the adjacent quads on the deformed skin. `None` without contact on this
+/// hand's skin.
+pub fn contact_skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
+    let contact = frame.contact.as_ref()?;
+    let &(_, first) = contact.skin_points.iter().find(|s| s.0 == body)?;
+    let hand = model.bodies[body].hand.as_deref()?;
+    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
+    let skin = &hand.contact_skin;
+    let count = skin.vertex_count();
+    let local = |v: usize| (v >= first && v < first + count).then(|| v - first);
+    let mut force = vec![0.0; count];
+    for c in &contact.contacts {
+        if let Some(v) = local(c.node) {
+            force[v] += c.force;
+        }
+        if let Master::Facet { nodes, weights, .. } = c.master {
+            for (&m, h) in nodes.iter().zip(weights) {
+                if let Some(v) = local(m) {
+                    force[v] += h * c.force;
+                }
+            }
+        }
+    }
+    let at = skin.positions(positions);
+    let mut area = vec![0.0; count];
+    for q in &skin.quads {
+        let p = q.map(|v| at[v as usize]);
+        let a = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+        for &v in q {
+            area[v as usize] += 0.25 * a;
+        }
+    }
+    Some(
+        force
+            .iter()
+            .zip(&area)
+            .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
+            .collect(),
+    )
 }

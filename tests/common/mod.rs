@@ -42,3 +42,60 @@ pub fn solve_mesh(
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
+
+/// How deep the display skin of hand body `hand` lies inside the outer surface of body `object`
+/// in `frame` (m; 0 when it is all outside), and the depth of the hand's flesh lattice nodes
+/// there, by winding numbers on the deformed geometry.
+pub fn skin_depth_inside(
+    model: &prehensile::model::Model,
+    frame: &prehensile::state::Frame,
+    hand: usize,
+    object: usize,
+) -> (f64, f64) {
+    use prehensile::contact::{
+        connected_pieces, project_on_triangle, winding_number_of, ContactSurface,
+    };
+    let body = &model.bodies[hand];
+    let h = frame
+        .hands
+        .iter()
+        .find(|h| h.body == hand)
+        .expect("a hand frame");
+    let deformed: Vec<Vector3<f64>> = (0..model.mesh.node_count())
+        .map(|n| model.mesh.nodes[n] + frame.solution.node_displacement(n))
+        .collect();
+    let quads: Vec<[usize; 4]> = model.bodies[object]
+        .facets
+        .iter()
+        .map(|f| f.nodes)
+        .collect();
+    let surface = ContactSurface::from_quads(object, &quads, &deformed);
+    // The outer surface: the piece with the largest extent.
+    let extent = |piece: &Vec<[usize; 3]>| {
+        let xs = piece.iter().flatten().map(|&n| deformed[n].x);
+        xs.clone().fold(f64::NEG_INFINITY, f64::max) - xs.fold(f64::INFINITY, f64::min)
+    };
+    let outer = connected_pieces(&surface.triangles)
+        .into_iter()
+        .max_by(|a, b| extent(a).total_cmp(&extent(b)))
+        .expect("a surface");
+    let depth = |p: &Vector3<f64>| -> f64 {
+        if winding_number_of(p, &outer, &deformed).abs() < 0.5 {
+            return 0.0;
+        }
+        outer
+            .iter()
+            .filter_map(|t| project_on_triangle(p, &t.map(|m| deformed[m])))
+            .map(|q| q.distance)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let hand_model = body.hand.as_deref().expect("a hand body");
+    let skin = hand_model
+        .skin
+        .positions(&h.positions)
+        .iter()
+        .map(depth)
+        .fold(0.0, f64::max);
+    let lattice = h.positions.iter().map(depth).fold(0.0, f64::max);
+    (skin, lattice)
+}
