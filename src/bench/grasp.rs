@@ -30,6 +30,10 @@ pub struct GraspRow {
     /// The last frame's contact force on the hands (N), penetration left (m) and the least
     /// fraction of a keyframe's motion reached (1: every pose reached), or the error.
     pub outcome: Result<(f64, f64, f64), String>,
+    /// The last frame's contact force on each digit's bones (thumb … little), N, over the hands.
+    pub digits: [f64; 5],
+    /// The last frame's largest contact pressure on the hands' contact skin, Pa.
+    pub skin_pressure: f64,
 }
 
 /// The built-in default scene with one keyframe at time 1 to `preset` (what pressing the
@@ -102,6 +106,8 @@ pub fn grasp_rows(
                     contact_steps: (0, 0),
                     factorizations: 0,
                     outcome: Err(String::new()),
+                    digits: [0.0; 5],
+                    skin_pressure: 0.0,
                 };
                 match solved {
                     Ok(solved) => {
@@ -125,6 +131,27 @@ pub fn grasp_rows(
                             .map(|s| s.reached)
                             .fold(1.0, f64::min);
                         row.outcome = Ok((force.norm(), left, reached));
+                        for h in &last.hands {
+                            let hand = solved.model.bodies[h.body]
+                                .hand
+                                .as_deref()
+                                .expect("a hand body");
+                            let mut on = [nalgebra::Vector3::zeros(); 5];
+                            for (bone, f) in hand.skeleton.bones.iter().zip(&h.contact_force) {
+                                if let Some(d) = bone.digit {
+                                    on[d] += f;
+                                }
+                            }
+                            for (d, f) in row.digits.iter_mut().zip(on) {
+                                *d += f.norm();
+                            }
+                            let peak =
+                                crate::state::contact_skin_pressure(&solved.model, last, h.body)
+                                    .unwrap_or_default()
+                                    .into_iter()
+                                    .fold(0.0, f64::max);
+                            row.skin_pressure = row.skin_pressure.max(peak);
+                        }
                     }
                     Err(e) => row.outcome = Err(e.to_string()),
                 }
@@ -139,8 +166,9 @@ pub fn grasp_rows(
 pub fn grasp_table(rows: &[GraspRow]) -> String {
     let mut out = String::from(
         "| grasp | resolution | tier | keyframes | s per keyframe | contact steps (redone) | \
-         flexion factorizations | force on the hands (N) | penetration left (µm) |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         flexion factorizations | force on the hands (N) | thumb / index / middle / ring / \
+         little (N) | peak skin pressure (kPa) | penetration left (µm) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let per = r.total_s / r.keyframes.max(1) as f64;
@@ -155,9 +183,21 @@ pub fn grasp_table(rows: &[GraspRow]) -> String {
                 (format!("stopped: {short}…"), "—".into())
             }
         };
+        let (digits, pressure) = match &r.outcome {
+            Ok(_) => (
+                r.digits
+                    .iter()
+                    .map(|f| format!("{f:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(" / "),
+                format!("{:.1}", r.skin_pressure * 1e-3),
+            ),
+            Err(_) => ("—".into(), "—".into()),
+        };
         let _ = writeln!(
             out,
-            "| {} | {} | {:?} | {} | {per:.1} | {} ({}) | {} | {force} | {left} |",
+            "| {} | {} | {:?} | {} | {per:.1} | {} ({}) | {} | {force} | {digits} | {pressure} | \
+             {left} |",
             r.case,
             r.resolution,
             r.tier,
