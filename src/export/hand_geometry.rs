@@ -4,6 +4,7 @@
 
 use crate::model::Model;
 use crate::state::Frame;
+use nalgebra::Vector3;
 use std::fmt::Write;
 
 /// VTK cell type of a triangle.
@@ -80,35 +81,9 @@ pub fn bones_vtu(model: &Model, frame: &Frame) -> Option<String> {
             }
         }
     }
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
-         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece \
-         NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        points.len(),
-        triangles.len()
-    );
-    s.push_str(
-        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-    );
-    for p in &points {
-        let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
-    }
-    s.push_str("</DataArray>\n</Points>\n<Cells>\n");
-    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for t in &triangles {
-        let _ = writeln!(s, "{} {} {}", t[0], t[1], t[2]);
-    }
-    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    for i in 1..=triangles.len() {
-        let _ = write!(s, "{} ", 3 * i);
-    }
-    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for _ in &triangles {
-        let _ = write!(s, "{VTK_TRIANGLE} ");
-    }
-    s.push_str("\n</DataArray>\n</Cells>\n<CellData Scalars=\"bone_id\" Vectors=\"reaction\">\n");
+    let cells: Vec<&[u32]> = triangles.iter().map(|t| t.as_slice()).collect();
+    let mut s = grid_head(&points, &cells, VTK_TRIANGLE);
+    s.push_str("<CellData Scalars=\"bone_id\" Vectors=\"reaction\">\n");
     s.push_str("<DataArray type=\"Int32\" Name=\"bone_id\" format=\"ascii\">\n");
     for b in &ids {
         let _ = write!(s, "{b} ");
@@ -150,35 +125,9 @@ pub fn skin_vtu(model: &Model, frame: &Frame) -> Option<String> {
             owner.push(h.body);
         }
     }
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
-         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece \
-         NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-        points.len(),
-        quads.len()
-    );
-    s.push_str(
-        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-    );
-    for p in &points {
-        let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
-    }
-    s.push_str("</DataArray>\n</Points>\n<Cells>\n");
-    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
-    for q in &quads {
-        let _ = writeln!(s, "{} {} {} {}", q[0], q[1], q[2], q[3]);
-    }
-    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-    for i in 1..=quads.len() {
-        let _ = write!(s, "{} ", 4 * i);
-    }
-    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for _ in &quads {
-        let _ = write!(s, "{VTK_QUAD} ");
-    }
-    s.push_str("\n</DataArray>\n</Cells>\n<PointData Scalars=\"contact_pressure\">\n");
+    let cells: Vec<&[u32]> = quads.iter().map(|q| q.as_slice()).collect();
+    let mut s = grid_head(&points, &cells, VTK_QUAD);
+    s.push_str("<PointData Scalars=\"contact_pressure\">\n");
     s.push_str("<DataArray type=\"Float64\" Name=\"contact_pressure\" format=\"ascii\">\n");
     for p in &pressure {
         let _ = write!(s, "{p} ");
@@ -190,4 +139,43 @@ pub fn skin_vtu(model: &Model, frame: &Frame) -> Option<String> {
     }
     s.push_str("\n</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     Some(s)
+}
+
+/// The head of a VTU unstructured grid of one piece: the points and the cells (each of
+/// `vtk_type`, its point indices), up to and with `</Cells>`; the caller adds the data arrays and
+/// closes with `</Piece></UnstructuredGrid></VTKFile>`.
+fn grid_head(points: &[Vector3<f64>], cells: &[&[u32]], vtk_type: u8) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece \
+         NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        cells.len()
+    );
+    s.push_str(
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+    );
+    for p in points {
+        let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
+    }
+    s.push_str("</DataArray>\n</Points>\n<Cells>\n");
+    s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+    for c in cells {
+        let ids: Vec<String> = c.iter().map(|i| i.to_string()).collect();
+        let _ = writeln!(s, "{}", ids.join(" "));
+    }
+    s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+    let mut offset = 0;
+    for c in cells {
+        offset += c.len();
+        let _ = write!(s, "{offset} ");
+    }
+    s.push_str("\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for _ in cells {
+        let _ = write!(s, "{vtk_type} ");
+    }
+    s.push_str("\n</DataArray>\n</Cells>\n");
+    s
 }

@@ -64,7 +64,13 @@ pub fn add_traction(
     facets: &[Facet],
     t: &Vector3<f64>,
 ) -> Vector3<f64> {
-    add_surface_load(r, mesh, facets, |normal_area| t * normal_area.norm(), |_| None)
+    add_surface_load(
+        r,
+        mesh,
+        facets,
+        |normal_area| t * normal_area.norm(),
+        |_| None,
+    )
 }
 
 /// Integrates a surface load over bilinear facets with 2×2 Gauss points. `density` maps the

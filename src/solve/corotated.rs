@@ -193,9 +193,17 @@ mod tests {
         add_pressure_turned(&mut corotated, &mesh, &facets, 1.0e4, |c| rotations[c]);
         let mut follower = vec![0.0; n];
         add_pressure(&mut follower, &turned, &facets, 1.0e4);
-        let off: Vec<f64> = corotated.iter().zip(&follower).map(|(a, b)| a - b).collect();
+        let off: Vec<f64> = corotated
+            .iter()
+            .zip(&follower)
+            .map(|(a, b)| a - b)
+            .collect();
         assert!(largest(&follower) > 0.1, "{}", largest(&follower));
-        assert!(largest(&off) < 1e-12 * largest(&follower), "{}", largest(&off));
+        assert!(
+            largest(&off) < 1e-12 * largest(&follower),
+            "{}",
+            largest(&off)
+        );
         let (stretched, rotations) = moved(&|p| Vector3::new(1.05 * p.x, p.y, p.z));
         let mut corotated = vec![0.0; n];
         add_pressure_turned(&mut corotated, &mesh, &facets, 1.0e4, |c| rotations[c]);
@@ -207,7 +215,11 @@ mod tests {
         let grown: Vec<f64> = follower.iter().zip(&rest).map(|(a, b)| a - b).collect();
         assert!(largest(&off) < 1e-12 * largest(&rest), "{}", largest(&off));
         // The follower's loads on the faces across x grew by the 5 % of their area.
-        assert!(largest(&grown) > 0.04 * largest(&rest), "{}", largest(&grown));
+        assert!(
+            largest(&grown) > 0.04 * largest(&rest),
+            "{}",
+            largest(&grown)
+        );
     }
 
     /// A uniform stretch then turned: the corotated forces are the stretch's forces turned
