@@ -110,3 +110,33 @@ fn pressure_without_contact_is_a_clear_error() {
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("no contact in this scene"), "{stderr}");
 }
+
+/// The pressure overlay of a frame out of contact, in a scene whose hand reaches the ball later:
+/// the frame is drawn with zero pressure (the legend from 0), not refused. (The viewer takes the
+/// same path when the overlay stays on while the hand lets go.)
+#[test]
+fn pressure_on_a_frame_out_of_contact_is_drawn_as_zero() {
+    let dir = scratch("zero-pressure");
+    let out = dir.join("open.png");
+    let run = bin()
+        .args([
+            "render",
+            "assets/scenes/hand-and-ball.toml",
+            "--frame",
+            "0",
+            "--overlay",
+            "pressure",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let image = image::open(&out).unwrap();
+    assert_eq!((image.width(), image.height()), (160, 90));
+}

@@ -2,7 +2,7 @@
 //! with the image regression tests.
 
 use crate::headless::Solved;
-use crate::present::{draw_list, VisualError, VisualOptions};
+use crate::present::{draw_list, Overlay, VisualError, VisualOptions};
 use crate::render::{Bounds, Camera, DrawList, RenderError, Renderer};
 use image::RgbaImage;
 use thiserror::Error;
@@ -39,6 +39,11 @@ pub enum HeadlessError {
 
 /// The draw lists of every frame.
 pub fn draw_lists(solved: &Solved, options: &VisualOptions) -> Result<Vec<DrawList>, VisualError> {
+    // The pressure overlay of a scene in which nothing ever touches says so (a frame out of
+    // contact in a scene with contact shows zero pressure).
+    if options.overlay == Overlay::Pressure && solved.frames.iter().all(|f| f.contact.is_none()) {
+        return Err(VisualError::NoContact);
+    }
     solved
         .frames
         .iter()

@@ -40,7 +40,7 @@ pub enum Overlay {
     Displacement,
     /// Reaction force of every constraint, as arrows.
     Forces,
-    /// Contact pressure (the tactile map): needs contact, which scenes do not have yet.
+    /// Contact pressure (the tactile map; zero on a frame out of contact).
     Pressure,
 }
 
@@ -213,7 +213,10 @@ fn hand_drawing(
                 .interpolate(&nodal(&|n| frame.solution.node_displacement(n).norm())),
         ),
         // The tactile map on the skin itself (the contact is on the smooth skin).
-        Overlay::Pressure => crate::state::skin_pressure(model, frame, b),
+        Overlay::Pressure => Some(
+            crate::state::skin_pressure(model, frame, b)
+                .unwrap_or_else(|| vec![0.0; hand.skin.vertex_count()]),
+        ),
         _ => None,
     }
     // Every field is non-negative; the skin's weights extrapolate slightly past the cells.
@@ -318,10 +321,10 @@ pub fn draw_list(
             expected,
         });
     }
-    if options.overlay == Overlay::Pressure && frame.contact.is_none() {
-        return Err(VisualError::NoContact);
-    }
-    let pressure = crate::state::contact_pressure(model, frame);
+    // A frame out of contact has no contact pressure: zero everywhere (the map of a hand that
+    // has let go of the ball).
+    let pressure = crate::state::contact_pressure(model, frame)
+        .unwrap_or_else(|| vec![0.0; model.mesh.node_count()]);
     let scale = options.displacement_scale;
     let mut list = DrawList::default();
     let mut bone_loads = Vec::new();
@@ -347,9 +350,7 @@ pub fn draw_list(
                     .map(|&n| frame.solution.node_displacement(n).norm() as f32)
                     .collect(),
             ),
-            Overlay::Pressure => pressure
-                .as_ref()
-                .map(|p| nodes.iter().map(|&n| p[n] as f32).collect()),
+            Overlay::Pressure => Some(nodes.iter().map(|&n| pressure[n] as f32).collect()),
             _ => None,
         };
         list.surfaces.push(surface);
@@ -547,17 +548,22 @@ mod tests {
         assert_eq!(list.arrows.len(), 2);
         let tip = Vec3::from(list.arrows[1].origin) + Vec3::from(list.arrows[1].vector);
         assert!((tip - Vec3::new(0.5, 0.5, 0.99)).length() < 1e-4, "{tip}");
-        assert_eq!(
-            draw_list(
-                &s.model,
-                &s.frames[0],
-                &VisualOptions {
-                    overlay: Overlay::Pressure,
-                    ..opts
-                }
-            )
-            .unwrap_err(),
-            VisualError::NoContact
-        );
+        // Out of contact, the tactile map is zero everywhere (not an error: the frame of a
+        // hand that let go in a scene with contact).
+        let pressure = draw_list(
+            &s.model,
+            &s.frames[0],
+            &VisualOptions {
+                overlay: Overlay::Pressure,
+                ..opts
+            },
+        )
+        .unwrap();
+        let scalars: Vec<f32> = pressure
+            .surfaces
+            .iter()
+            .flat_map(|s| s.scalars.clone().unwrap())
+            .collect();
+        assert!(!scalars.is_empty() && scalars.iter().all(|&p| p == 0.0));
     }
 }
