@@ -516,3 +516,69 @@ fn f_one_45_degree_increment_is_worse_than_10_degree_ones_and_warns() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------------------------
+// (f) The finger press on a ball too soft for its air: the error names the strain, and its
+// advice removes it.
+
+/// `finger-press-ball.toml` with the ball's Young's modulus `young`.
+fn soft_press(young: f64) -> Scene {
+    let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
+    let mut scene = Scene::parse(&text, "press.toml").unwrap();
+    let rubber = scene
+        .material
+        .iter_mut()
+        .find(|m| m.name == "rubber")
+        .unwrap();
+    rubber.young = young;
+    scene
+}
+
+#[test]
+fn f_a_grasp_on_a_ball_its_air_overinflates_is_told_as_that_strain_with_advice_that_works() {
+    use prehensile::solve::SimError;
+    // E = 1e4 Pa against 30 kPa of air: the table cannot hold the ball the air blows up (the
+    // static frame's contact with the table fails); E = 1e5 Pa: contact with the finger turns
+    // an element of the ball inside out. Either way the cause is the static frame's strain.
+    for young in [1e4, 1e5] {
+        let scene = soft_press(young);
+        let model = Model::build(&scene, "press.toml").unwrap();
+        let error = solve_frames(&model).unwrap_err();
+        let message = error.to_string();
+        println!("E = {young:.0e} Pa: {message}");
+        let SimError::BeyondSmallStrain {
+            body,
+            strain,
+            factor,
+            cause,
+            ..
+        } = error
+        else {
+            panic!("{message}");
+        };
+        assert_eq!(body, "ball");
+        assert!(strain > 1.0 && (factor - strain / 0.1).abs() < 1e-12 * factor);
+        assert!(message.contains("Young's modulus ≥") && message.contains(&cause.to_string()));
+        // The advice: E times the factor (rounded up by 1 %) — the ball's air alone then
+        // strains it 10 % / 1.01 (linear elasticity scales exactly), the static frame on its
+        // table under the 20 % warning, and no error blames the strain.
+        let advised = soft_press(young * factor * 1.01);
+        let model = Model::build(&advised, "advised.toml").unwrap();
+        let still = prehensile::solve::solve_static(
+            &model,
+            &mut prehensile::fem::solve::PartitionedSolver::new(model.ordering),
+        )
+        .unwrap();
+        let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+        let now = prehensile::state::largest_strains(&model, &still)[ball].unwrap();
+        println!(
+            "advised E = {:.3e} Pa: static strain {now:.4}",
+            young * factor * 1.01
+        );
+        assert!(now <= prehensile::state::STRAIN_WARNING, "{now}");
+        if let Err(e) = solve_frames(&model) {
+            assert!(!matches!(e, SimError::BeyondSmallStrain { .. }), "{e}");
+            println!("then: {e}");
+        }
+    }
+}

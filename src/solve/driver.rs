@@ -7,12 +7,14 @@ use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
-use super::statics::solve_static;
+use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
 use crate::model::Model;
-use crate::state::{Frame, HandFrame, HandState, KeyframeStats, StoppedShort};
+use crate::state::{
+    largest_strains, Frame, HandFrame, HandState, KeyframeStats, StoppedShort, STRAIN_WARNING,
+};
 use nalgebra::{Matrix3, Vector3};
 
 /// What changes while a model is solved, besides the hands' states (the `mjData` of this
@@ -119,10 +121,19 @@ impl Workspace {
         } else if floating && has_hands {
             None
         } else {
-            Some(solve_static(
-                model,
-                &mut PartitionedSolver::new(model.ordering),
-            )?)
+            let mut solver = PartitionedSolver::new(model.ordering);
+            match solve_static(model, &mut solver) {
+                Ok(frame) => Some(frame),
+                // Contact with the obstacles failed: told as the strain of the bodies under
+                // their loads alone, where that is beyond small strain.
+                Err(e) if !model.obstacles.is_empty() => {
+                    return Err(match solve_static_alone(model, &mut solver) {
+                        Ok(alone) => beyond_small_strain(model, &alone, e),
+                        Err(_) => e,
+                    })
+                }
+                Err(e) => return Err(e),
+            }
         };
         Ok(Workspace {
             still,
@@ -130,6 +141,16 @@ impl Workspace {
         })
     }
 
+    /// `error`, met by a keyframe, told as the static frame's strain where that frame already
+    /// strains a body beyond [`STRAIN_WARNING`]: contact on a ball inflated by its own air
+    /// far past small strain fails in ways (a runaway, an inverted element) whose own advice
+    /// does not help. Errors of the hands' flexion, and cancellations, are left as they are.
+    fn beyond_small_strain(&self, model: &Model, error: SimError) -> SimError {
+        match self.still.as_ref() {
+            Some(still) => beyond_small_strain(model, still, error),
+            None => error,
+        }
+    }
     /// Moves each hand of `targets` (hand body, joint angles in degrees) from where `posed`
     /// holds it by flexion increments, and solves the frame with every hand. In a scene with
     /// other bodies the motion goes in contact steps of at most [`CONTACT_STEP_DEG`]: after each,
@@ -140,6 +161,18 @@ impl Workspace {
     /// as they are. `cancel` is asked before every increment: a cancelled hand stays at its last
     /// completed increment.
     pub fn move_hands(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        targets: &[(usize, Vec<f64>)],
+        cancel: Option<&CancelCheck>,
+    ) -> Result<Frame, SimError> {
+        self.move_hands_as_asked(model, posed, targets, cancel)
+            .map_err(|e| self.beyond_small_strain(model, e))
+    }
+
+    /// [`Workspace::move_hands`] without the static frame's strain told.
+    fn move_hands_as_asked(
         &mut self,
         model: &Model,
         posed: &mut Posed,
@@ -560,6 +593,64 @@ fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
             }
         })
         .collect()
+}
+
+/// `error` told as the strain of `still`, the static frame, where it strains a body beyond
+/// [`STRAIN_WARNING`] (see [`Workspace::beyond_small_strain`]); otherwise `error`.
+fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimError {
+    let object = |name: &str| {
+        model
+            .bodies
+            .iter()
+            .any(|b| b.name == name && b.hand.is_none())
+    };
+    let relevant = match &error {
+        SimError::Contact(_) | SimError::Gas { .. } => true,
+        SimError::InvertedElement { body, .. } => object(body),
+        _ => false,
+    };
+    if !relevant {
+        return error;
+    }
+    let worst = largest_strains(model, still)
+        .into_iter()
+        .enumerate()
+        .filter_map(|(b, s)| Some((b, s?)))
+        .filter(|(_, s)| s.is_finite() && *s > STRAIN_WARNING)
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((b, strain)) = worst else {
+        return error;
+    };
+    // Linear elasticity scales exactly: E × factor brings the loads' strain to half the
+    // warning, a margin for what contact with the obstacles adds (the table under a ball).
+    let factor = strain / (0.5 * STRAIN_WARNING);
+    // Each material of the body once, with its Young's modulus (regions may give a cell
+    // another material).
+    let mut materials: Vec<(usize, f64)> = model.bodies[b]
+        .cells
+        .clone()
+        .map(|c| (model.cell_material[c], model.cell_materials[c].young))
+        .collect();
+    materials.sort_by_key(|m| m.0);
+    materials.dedup_by_key(|m| m.0);
+    let advice = materials
+        .iter()
+        .map(|&(m, young)| {
+            format!(
+                "material \"{}\": Young's modulus ≥ {:.3e} Pa (now {young:.3e})",
+                model.material_name(m),
+                young * factor
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    SimError::BeyondSmallStrain {
+        body: model.bodies[b].name.clone(),
+        strain,
+        factor,
+        advice,
+        cause: Box::new(error),
+    }
 }
 
 /// Solves every frame of the model: the static frame of the other bodies, every hand carried

@@ -105,6 +105,30 @@ pub enum SimError {
         /// Why.
         source: Box<crate::fem::NonlinearError>,
     },
+    /// A keyframe failed on a scene whose static frame already strains a body far beyond
+    /// small-strain elasticity (`state::STRAIN_WARNING`): that is the cause to mend first.
+    #[error(
+        "body \"{body}\" strains {:.0} % under its own loads (the static frame, before any \
+         hand moves): far outside small-strain elasticity, whose displacements grow as 1/E without \
+         bound, so the grasp cannot be solved on it ({cause}). Make the body stiffer — {advice} — \
+         or its loads {}× smaller",
+        strain * 100.0,
+        times(*factor)
+    )]
+    BeyondSmallStrain {
+        /// The body.
+        body: String,
+        /// Its largest principal strain in the static frame.
+        strain: f64,
+        /// The factor by which its Young's moduli must grow (or its loads shrink) for the
+        /// strain of its loads alone to be half `STRAIN_WARNING` (linear elasticity scales
+        /// exactly; the half leaves room for what contact with obstacles adds).
+        factor: f64,
+        /// Each of its materials with the Young's modulus that does it.
+        advice: String,
+        /// The error the keyframe met.
+        cause: Box<SimError>,
+    },
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
@@ -113,6 +137,15 @@ pub enum SimError {
         /// Why.
         source: SolveError,
     },
+}
+
+/// A factor with three significant digits (12.3, 1.23, 5565).
+fn times(factor: f64) -> String {
+    match factor {
+        f if f >= 100.0 => format!("{f:.0}"),
+        f if f >= 10.0 => format!("{f:.1}"),
+        f => format!("{f:.2}"),
+    }
 }
 
 fn element_note(element: &Option<usize>) -> String {

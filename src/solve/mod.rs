@@ -23,3 +23,4 @@ pub use error::SimError;
 pub use flexion::{CancelCheck, Flexion, FlexionCaches};
 pub use flexion_nonlinear::flesh_internal_forces;
 pub use linear_factor::LinearFactor;
+pub use statics::solve_static;

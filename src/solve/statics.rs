@@ -14,6 +14,23 @@ use std::time::Instant;
 
 /// Solves the static equilibrium of the model (equation (5) partitioned as (6)–(8)).
 pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Frame, SimError> {
+    solve_static_with(model, solver, true)
+}
+
+/// The static equilibrium of the bodies under their loads alone, the rigid obstacles ignored
+/// (what the loads do to the bodies, where contact with the obstacles failed).
+pub fn solve_static_alone(
+    model: &Model,
+    solver: &mut PartitionedSolver,
+) -> Result<Frame, SimError> {
+    solve_static_with(model, solver, false)
+}
+
+fn solve_static_with(
+    model: &Model,
+    solver: &mut PartitionedSolver,
+    obstacles: bool,
+) -> Result<Frame, SimError> {
     if model.nonlinear_statics {
         return super::statics_nonlinear::solve_static_nonlinear(model);
     }
@@ -29,7 +46,7 @@ pub fn solve_static(model: &Model, solver: &mut PartitionedSolver) -> Result<Fra
     let springs = super::stabilize::stabilize(model, &mut k, &model.partition);
     let assembly_ms = ms(t);
     let solve_error = |source: SolveError| SimError::solve(model, source);
-    let (solution, contact) = if model.obstacles.is_empty() {
+    let (solution, contact) = if model.obstacles.is_empty() || !obstacles {
         let solution = match &model.gas {
             None => solver
                 .solve(
