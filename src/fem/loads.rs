@@ -5,7 +5,7 @@ use super::assembly::AssemblyError;
 use super::hex8::element_body_force;
 use super::material::Material;
 use crate::mesh::{Facet, Mesh};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 /// Adds the consistent nodal forces of gravity, f_a = ∫ N_a ρ g dV, to `r`; returns the total.
 pub fn add_gravity(
@@ -32,28 +32,7 @@ pub fn add_gravity(
 /// their outward normal like a gas: f_a = −p ∫ N_a n dA (the surface term RS of equation (4)).
 /// Returns the total force.
 pub fn add_pressure(r: &mut [f64], mesh: &Mesh, facets: &[Facet], p: f64) -> Vector3<f64> {
-    add_surface_load(r, mesh, facets, |normal_area| normal_area * (-p), |_| None)
-}
-
-/// Adds the nodal forces of a pressure `p` on `facets` of `mesh`, each facet's forces turned by
-/// the rotation `turn(cell)` of the cell it bounds: a pressure that turns with the wall it acts
-/// on without following its stretch (the corotational counterpart of [`add_pressure`]: on a
-/// wall only stretched, the same forces; on a wall turned rigidly, the forces turned with it).
-/// Returns the total force.
-pub fn add_pressure_turned(
-    r: &mut [f64],
-    mesh: &Mesh,
-    facets: &[Facet],
-    p: f64,
-    turn: impl Fn(usize) -> Matrix3<f64>,
-) -> Vector3<f64> {
-    add_surface_load(
-        r,
-        mesh,
-        facets,
-        |normal_area| normal_area * (-p),
-        |c| Some(turn(c)),
-    )
+    add_surface_load(r, mesh, facets, |normal_area| normal_area * (-p))
 }
 
 /// Adds the consistent nodal forces of a uniform traction `t` (Pa, a force per unit area in a
@@ -64,24 +43,16 @@ pub fn add_traction(
     facets: &[Facet],
     t: &Vector3<f64>,
 ) -> Vector3<f64> {
-    add_surface_load(
-        r,
-        mesh,
-        facets,
-        |normal_area| t * normal_area.norm(),
-        |_| None,
-    )
+    add_surface_load(r, mesh, facets, |normal_area| t * normal_area.norm())
 }
 
 /// Integrates a surface load over bilinear facets with 2×2 Gauss points. `density` maps the
-/// outward normal scaled by the area element (∂x/∂s × ∂x/∂t) to the force per unit (s, t);
-/// `turn(cell)`, when it gives a rotation, turns the forces of a facet of that cell.
+/// outward normal scaled by the area element (∂x/∂s × ∂x/∂t) to the force per unit (s, t).
 fn add_surface_load(
     r: &mut [f64],
     mesh: &Mesh,
     facets: &[Facet],
     density: impl Fn(Vector3<f64>) -> Vector3<f64>,
-    turn: impl Fn(usize) -> Option<Matrix3<f64>>,
 ) -> Vector3<f64> {
     const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
     let g = 1.0 / 3f64.sqrt();
@@ -101,11 +72,6 @@ fn add_surface_load(
             let load = density(dxs.cross(&dxt));
             for a in 0..4 {
                 f[a] += load * n[a];
-            }
-        }
-        if let Some(rotation) = turn(facet.cell) {
-            for fa in &mut f {
-                *fa = rotation * *fa;
             }
         }
         for a in 0..4 {

@@ -4,9 +4,9 @@
 //! when the finger is released.
 
 use crate::fem::cavity::{check_closed, enclosed_volume};
-use crate::fem::loads::{add_pressure, add_pressure_turned};
+use crate::fem::loads::add_pressure;
 use crate::mesh::{Facet, Mesh};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 /// The standard atmosphere, Pa: the ambient pressure when the scene gives none.
 pub const STANDARD_AMBIENT: f64 = 101_325.0;
@@ -121,15 +121,6 @@ impl GasCavity {
     pub fn unit_load_on(&self, mesh: &Mesh) -> Vec<f64> {
         let mut unit = vec![0.0; 3 * mesh.node_count()];
         add_pressure(&mut unit, mesh, &self.facets, 1.0);
-        unit
-    }
-
-    /// The nodal load of a unit gauge pressure on the facets of `mesh`, each facet's turned by
-    /// the rotation `turn(cell)` of its cell (a pressure turning with the wall: see
-    /// [`add_pressure_turned`]), N per Pa.
-    pub fn unit_load_turned(&self, mesh: &Mesh, turn: impl Fn(usize) -> Matrix3<f64>) -> Vec<f64> {
-        let mut unit = vec![0.0; 3 * mesh.node_count()];
-        add_pressure_turned(&mut unit, mesh, &self.facets, 1.0, turn);
         unit
     }
 }

@@ -4,16 +4,13 @@
 //! last step left: every element's stiffness turned by the rotation R_e of its centre
 //! (F = R·U there), K̃ = Σ_e R_e K_e R_eᵀ, with the internal force
 //! f(U_c) = Σ_e R_e K_e (R_eᵀ (X_e + U_e) − X_e), which vanishes for a rigid turn; the step
-//! solves K̃·ΔU = R(U_c) − f(U_c) + Cᵀλ, with each facet's pressure load (equation (4)'s
-//! surface term on the rest facet) turned by the rotation of the element it bounds: the load
-//! turns with a rolled ball and, like the corotated strain, does not follow the wall's stretch,
-//! so that a pressurised ball only touched is where the static (linear) frame has it. Without
-//! carried displacements (a keyframe solved in one step) every R_e = I and this is the linear
-//! step.
+//! solves K̃·ΔU = R(x_c) − f(U_c) + Cᵀλ, with the pressures on the surface where it is now
+//! (a follower load: equation (4)'s surface term on the deformed facets). Without carried
+//! displacements (a keyframe solved in one step) every R_e = I and this is the linear step.
 
 use crate::fem::assembly::{assemble, assemble_warped, AssemblyError, Stiffness};
 use crate::fem::hex8::centre_rotation;
-use crate::fem::loads::{add_pressure, add_pressure_turned};
+use crate::fem::loads::add_pressure;
 use crate::mesh::Mesh;
 use crate::model::Model;
 use nalgebra::{Matrix3, Vector3};
@@ -27,8 +24,6 @@ pub(super) struct Linearised {
     /// (zero where nothing is turned), so that f(U_c) = K·U_c + this even after supports'
     /// springs are added to K.
     pub offset: Option<Vec<f64>>,
-    /// Each cell's rotation R_e, when the bodies are corotated.
-    pub rotations: Option<Vec<Matrix3<f64>>>,
 }
 
 /// K for a contact step of `model` on `mesh` (the hands posed, the other bodies at rest), with
@@ -45,11 +40,7 @@ pub(super) fn linearise(
     };
     let Some(rotations) = rotations else {
         let k = assemble(&model.pattern, mesh, &model.cell_materials)?;
-        return Ok(Linearised {
-            k,
-            offset: None,
-            rotations: None,
-        });
+        return Ok(Linearised { k, offset: None });
     };
     let (k, b) = assemble_warped(&model.pattern, mesh, &model.cell_materials, &rotations)?;
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
@@ -58,7 +49,6 @@ pub(super) fn linearise(
     Ok(Linearised {
         k,
         offset: Some(offset),
-        rotations: Some(rotations),
     })
 }
 
@@ -80,27 +70,28 @@ fn rotations(model: &Model, carried: &[f64]) -> Result<Vec<Matrix3<f64>>, Assemb
 }
 
 /// The load vector of a contact step: the model's, with every pressure on the other bodies
-/// turned facet by facet with the element it bounds (`rotations`, when the model corotates
-/// them and something is carried), the rest unchanged. The gas cavity's unit load alike.
+/// acting on their facets where `positions` put them (where the model corotates them and
+/// something is carried), the rest unchanged. The gas cavity's unit load on the same facets.
 pub(super) fn loads_at(
     model: &Model,
-    rotations: Option<&[Matrix3<f64>]>,
+    positions: &[Vector3<f64>],
+    carried: Option<&[f64]>,
 ) -> (Vec<f64>, Option<Vec<f64>>) {
     let mut loads = model.load_vector.clone();
-    let Some(rotations) = rotations else {
+    if carried.is_none() || !model.corotates_objects() {
         return (loads, None);
+    }
+    let now = Mesh {
+        nodes: positions.to_vec(),
+        cells: model.mesh.cells.clone(),
     };
-    let turn = |c: usize| rotations[c];
     for l in &model.loads {
         if let Some((p, facets)) = &l.pressure {
             add_pressure(&mut loads, &model.mesh, facets, -p);
-            add_pressure_turned(&mut loads, &model.mesh, facets, *p, turn);
+            add_pressure(&mut loads, &now, facets, *p);
         }
     }
-    let unit = model
-        .gas
-        .as_ref()
-        .map(|g| g.unit_load_turned(&model.mesh, turn));
+    let unit = model.gas.as_ref().map(|g| g.unit_load_on(&now));
     (loads, unit)
 }
 
@@ -156,70 +147,6 @@ mod tests {
         let linear = linear.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         assert!(linear > 100.0, "linear {linear} N");
         assert!(corotated < 1e-9 * linear, "corotated {corotated} N");
-    }
-
-    /// A pressure on a block turned rigidly by 60°: each facet's rest load turned with its
-    /// element is the pressure on the turned block (to round-off); on the block stretched by
-    /// 5 % in x (polar rotation I) it stays the rest load, where a follower load grows with the
-    /// faces' area.
-    #[test]
-    fn a_turned_pressure_turns_with_the_wall_and_ignores_its_stretch() {
-        use crate::fem::loads::{add_pressure, add_pressure_turned};
-        use crate::mesh::boundary_facets;
-        let mesh = box_mesh(Vector3::zeros(), Vector3::new(0.04, 0.02, 0.01), [4, 2, 2]);
-        let facets = boundary_facets(&mesh);
-        let n = 3 * mesh.node_count();
-        let moved = |map: &dyn Fn(&Vector3<f64>) -> Vector3<f64>| -> (Mesh, Vec<Matrix3<f64>>) {
-            let nodes: Vec<Vector3<f64>> = mesh.nodes.iter().map(map).collect();
-            let rotations = (0..mesh.cell_count())
-                .map(|c| {
-                    let u = mesh.cells[c].map(|i| nodes[i] - mesh.nodes[i]);
-                    centre_rotation(&mesh.cell_coords(c), &u).unwrap()
-                })
-                .collect();
-            let now = Mesh {
-                nodes,
-                cells: mesh.cells.clone(),
-            };
-            (now, rotations)
-        };
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let turn = Rotation3::from_axis_angle(
-            &nalgebra::Unit::new_normalize(Vector3::new(1.0, 2.0, 0.5)),
-            60f64.to_radians(),
-        );
-        let (turned, rotations) = moved(&|p| turn * p);
-        let mut corotated = vec![0.0; n];
-        add_pressure_turned(&mut corotated, &mesh, &facets, 1.0e4, |c| rotations[c]);
-        let mut follower = vec![0.0; n];
-        add_pressure(&mut follower, &turned, &facets, 1.0e4);
-        let off: Vec<f64> = corotated
-            .iter()
-            .zip(&follower)
-            .map(|(a, b)| a - b)
-            .collect();
-        assert!(largest(&follower) > 0.1, "{}", largest(&follower));
-        assert!(
-            largest(&off) < 1e-12 * largest(&follower),
-            "{}",
-            largest(&off)
-        );
-        let (stretched, rotations) = moved(&|p| Vector3::new(1.05 * p.x, p.y, p.z));
-        let mut corotated = vec![0.0; n];
-        add_pressure_turned(&mut corotated, &mesh, &facets, 1.0e4, |c| rotations[c]);
-        let mut rest = vec![0.0; n];
-        add_pressure(&mut rest, &mesh, &facets, 1.0e4);
-        let mut follower = vec![0.0; n];
-        add_pressure(&mut follower, &stretched, &facets, 1.0e4);
-        let off: Vec<f64> = corotated.iter().zip(&rest).map(|(a, b)| a - b).collect();
-        let grown: Vec<f64> = follower.iter().zip(&rest).map(|(a, b)| a - b).collect();
-        assert!(largest(&off) < 1e-12 * largest(&rest), "{}", largest(&off));
-        // The follower's loads on the faces across x grew by the 5 % of their area.
-        assert!(
-            largest(&grown) > 0.04 * largest(&rest),
-            "{}",
-            largest(&grown)
-        );
     }
 
     /// A uniform stretch then turned: the corotated forces are the stretch's forces turned

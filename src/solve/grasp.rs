@@ -345,7 +345,7 @@ pub fn solve_grasp(
             *h += o;
         }
     }
-    let (loads_now, unit_gas) = loads_at(model, linearised.rotations.as_deref());
+    let (loads_now, unit_gas) = loads_at(model, &x_now_nodes, carried_given);
     let loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
     let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
     let prescribed: Vec<f64> = (0..model.prescribed.len())
