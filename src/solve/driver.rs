@@ -271,18 +271,7 @@ impl Workspace {
             .iter()
             .map(|(h, _, to)| {
                 let hand = &posed.hands[*h];
-                match model.flexion.near_contact {
-                    Some(_) => crushed_by_skinning(
-                        model,
-                        model.bodies[hand.body]
-                            .hand
-                            .as_deref()
-                            .expect("a hand body"),
-                        &hand.state,
-                        to,
-                    ),
-                    None => [false; PARTS],
-                }
+                crushed_parts_of(model, hand.body, &hand.state, to)
             })
             .collect();
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
@@ -695,6 +684,23 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
 fn far_parts_of(model: &Model, body: usize, state: &HandState, target: &[f64]) -> [bool; PARTS] {
     match model.flexion.near_contact {
         Some(distance) => super::proximity::far_parts(model, body, state, target, distance),
+        None => [false; PARTS],
+    }
+}
+
+/// Which parts of hand `body` skinning would crush on the way from `state` to `target` (none
+/// when `[solver] far_from_contact = "solve"`: nothing is skinned then).
+fn crushed_parts_of(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    target: &[f64],
+) -> [bool; PARTS] {
+    match model.flexion.near_contact {
+        Some(_) => {
+            let hand = model.bodies[body].hand.as_deref().expect("a hand body");
+            crushed_by_skinning(model, hand, state, target)
+        }
         None => [false; PARTS],
     }
 }
