@@ -68,3 +68,58 @@ fn the_same_pose_again_from_a_frame_in_contact_gives_the_same_forces() {
     assert!(bones_off < tolerance, "{refelt:?} vs {felt:?} N");
     assert!(moved < tolerance, "{moved}");
 }
+
+/// Corrections at the pose are for the hands' contact: a keyframe that ends in it is corrected
+/// (at most six times, and where the last still changed the force the frame says by how much);
+/// one whose hand has let go, the ball left on its table alone, is not (it was, once per
+/// keyframe, while the corrections measured the table's force with the hand's).
+#[test]
+fn only_the_hands_contact_is_corrected_at_the_pose() {
+    let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
+    let scene = Scene::parse(&text, "press.toml").unwrap();
+    let solved = solve_scene(&scene, "press.toml").unwrap();
+    let (model, shown) = (&solved.model, solved.frames.last().unwrap());
+    let stats = &shown.hands[0].stats;
+    assert!(
+        (1..=6).contains(&stats.pose_corrections),
+        "{} corrections",
+        stats.pose_corrections
+    );
+    assert!(stats.contact_steps >= stats.pose_corrections);
+    if let Some(change) = stats.unsettled_at_pose {
+        assert!(change > CONTACT_CORRECTION && stats.pose_corrections == 6);
+    }
+    for (i, frame) in solved.frames.iter().enumerate() {
+        let unsettled = frame.hands[0].stats.unsettled_at_pose;
+        println!(
+            "frame {i}: {} corrections, unsettled {unsettled:?}",
+            frame.hands[0].stats.pose_corrections
+        );
+        let warned = solved.report.warnings.iter().any(|w| {
+            w.starts_with(&format!("frame {i}: ")) && w.contains("corrections at the pose")
+        });
+        assert_eq!(warned, unsettled.is_some(), "frame {i}");
+    }
+    // The finger lifted off: the ball stays on its table (contact with the obstacle only).
+    let mut workspace = Workspace::new(model).unwrap();
+    let mut posed = Posed::of_frame(model, shown);
+    let hand = model.bodies[shown.hands[0].body].hand.as_deref().unwrap();
+    let mut angles = shown.hands[0].angles.clone();
+    let mcp = hand
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "index.mcp.flex")
+        .unwrap();
+    angles[mcp] = 0.0;
+    let lifted = workspace
+        .move_hands(model, &mut posed, &[(shown.hands[0].body, angles)], None)
+        .unwrap();
+    // The frame keeps the table's contact (here without force: the ball is held at its base).
+    let contact = lifted.contact.as_ref().expect("the table's contact");
+    assert!(
+        contact.contacts.iter().all(|c| c.obstacle().is_some()),
+        "only the table may touch"
+    );
+    assert_eq!(lifted.hands[0].stats.pose_corrections, 0);
+}

@@ -80,10 +80,12 @@ pub fn solve_lagrange(
     times.search += ms(ts);
     let mut couplings = Couplings::new();
     let mut refreshes = 0;
+    let mut at_iteration_cap = false;
     const MAX_REFRESH: usize = 3;
     loop {
         iterations += 1;
         if iterations > settings.max_iterations {
+            at_iteration_cap = true;
             // The active set still changes (rows that hardly touch join and leave in turn,
             // where the smooth skin's points share the nodes of a cell): the last settled set
             // is in equilibrium with no pulling contact; it stands if nothing penetrates
@@ -289,6 +291,7 @@ pub fn solve_lagrange(
             region_cells: 0,
             times,
             skin_points: Vec::new(),
+            at_iteration_cap,
         },
     })
 }

@@ -265,6 +265,7 @@ pub fn solve_paper(
             region_cells: 0,
             times,
             skin_points: Vec::new(),
+            at_iteration_cap: false,
         },
     })
 }

@@ -221,6 +221,10 @@ pub struct ContactSummary {
     pub last_change: f64,
     /// The iteration was stopped because a bone's reaction overran its threshold.
     pub stopped_by_threshold: bool,
+    /// The active set still changed at the iteration cap (rows that hardly touch joining and
+    /// leaving in turn): the last settled set was kept, every contact pushing and the
+    /// penetration within the limit, though beyond the tolerance.
+    pub at_iteration_cap: bool,
     /// Hand cells solved with the contact (0 without a hand).
     pub region_cells: usize,
     /// Where the time went.
@@ -353,17 +357,15 @@ pub enum ContactError {
     },
     /// The contact of a posed grasp did not settle, and the pose put skin deep into a body.
     #[error(
-        "{reason}. The pose drives the skin of \"{body}\" {depth_mm:.1} mm into \"{other}\" \
-         (node {node}): pose a grasp with the skin just reaching the object, as the paper does \
+        "{reason}. The pose drives the skin of {place} {depth_mm:.1} mm into \"{other}\": \
+         pose a grasp with the skin just reaching the object, as the paper does \
          (a few millimetres in at most) — open the joints towards it or move it"
     )]
     PoseTooDeep {
         /// Why the contact stopped.
         reason: String,
-        /// The hand.
-        body: String,
-        /// Its deepest skin node.
-        node: usize,
+        /// Where: the hand, its deepest skin point, the bone under it and its position.
+        place: String,
         /// The body entered.
         other: String,
         /// How deep, mm.
@@ -373,16 +375,15 @@ pub enum ContactError {
     /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
     /// the inner wall and looks outside).
     #[error(
-        "node {node} of body \"{body}\" lies {depth_mm:.1} mm inside body \"{other}\" and the \
+        "{place} lies {depth_mm:.1} mm inside body \"{other}\" and the \
          contact does not hold it (it went deeper than the search depth, {search_mm:.1} mm, or \
          through a thin wall): move the bodies apart, pose the motion in smaller keyframes, or \
          raise solver.contact_search"
     )]
     TooDeep {
-        /// The penetrating body.
-        body: String,
-        /// Its node.
-        node: usize,
+        /// Where: the penetrating body, its node or skin point (with the bone under it) and
+        /// its position.
+        place: String,
         /// The penetrated body.
         other: String,
         /// Estimated depth, mm.

@@ -171,6 +171,9 @@ pub struct ContactReport {
     pub region_cells: usize,
     /// Active-set iterations.
     pub iterations: usize,
+    /// The active set still changed at the iteration cap and its last settled set was kept
+    /// (every contact pushing, the penetration within the limit, not within the tolerance).
+    pub at_iteration_cap: bool,
     /// Factorizations (one: constraints are added through the Schur complement).
     pub factorizations: usize,
     /// Substitutions with the reused factor.
@@ -249,6 +252,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
         last_change: c.last_change,
         region_cells: c.region_cells,
         iterations: c.iterations,
+        at_iteration_cap: c.at_iteration_cap,
         factorizations: c.factorizations,
         substitutions: c.substitutions,
         max_penetration: c.max_penetration,

@@ -7,7 +7,7 @@ use crate::export::vtu::{collection_pvd, frame_vtu};
 use crate::model::Model;
 use crate::scene::{Scene, SceneError};
 use crate::solve::{solve_frames, SimError};
-use crate::state::outcome::stopped_short_warnings;
+use crate::state::outcome::keyframe_warnings;
 use crate::state::{small_strain_warnings, Frame};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -61,7 +61,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
             .warnings()
             .into_iter()
             .chain(small_strain_warnings(&model, &frames))
-            .chain(stopped_short_warnings(&model, &frames))
+            .chain(keyframe_warnings(&model, &frames))
             .collect(),
         frames: frames
             .iter()

@@ -202,8 +202,8 @@ impl Workspace {
         // Retried along the motion in at least two steps: a keyframe shorter than one step
         // (a degree of flexion against a thin wall) may need halving too.
         let along = steps.max(2);
-        // The keyframe in one step first (its contact linearised about the flexed pose, the
-        // bodies at rest): exact where the pose brings the skin just onto the bodies. Where that
+        // The keyframe in one step first (its contact linearised about the flexed pose and what
+        // the last frame carried): exact where the pose brings the skin just onto the bodies. Where that
         // contact does not settle, the keyframe again in contact steps along the motion.
         let start = has_objects.then(|| posed.clone());
         // A pose that skinning already puts deeper into a body than contact searches cannot be
@@ -321,15 +321,20 @@ impl Workspace {
                     }
                     let touched = usize::from(frame.contact.is_some());
                     let mut corrections = 0;
+                    let mut unsettled = None;
                     if short.is_none() {
-                        (frame, corrections) = self.correct(
+                        (frame, corrections, unsettled) = self.correct(
                             model,
                             posed,
                             (moving, &crushed),
                             frame,
                             cancel,
                             &mut stats,
-                        );
+                        )?;
+                    }
+                    for s in stats.iter_mut().flatten() {
+                        s.pose_corrections = corrections;
+                        s.unsettled_at_pose = unsettled;
                     }
                     let counts = (kept + touched + corrections, retries);
                     finish(model, posed, moving, &stats, &mut frame, counts, short);
@@ -374,12 +379,16 @@ impl Workspace {
     }
 
     /// `frame`, reached by the motion's last contact step and in contact, corrected at its pose:
-    /// contact steps without motion from the state each leaves, until the normal contact force
-    /// changes by less than [`CONTACT_CORRECTION`] of itself (at most [`CONTACT_CORRECTIONS`]).
-    /// A step linearises the contact (gaps, normals) about where the last one started; at the
-    /// pose it converges to the frame whose contact is in equilibrium on its own geometry, so
-    /// that the pose solved again from the frame gives the frame again. A correction that does
-    /// not settle leaves the last frame. Returns the frame and the corrections kept.
+    /// contact steps without motion from the state each leaves, until the hands' normal contact
+    /// force changes by less than [`CONTACT_CORRECTION`] of itself (at most
+    /// [`CONTACT_CORRECTIONS`]). A step linearises the contact (gaps, normals) about where the
+    /// last one started; at the pose it converges to the frame whose contact is in equilibrium on
+    /// its own geometry, so that the pose solved again from the frame gives the frame again. A
+    /// frame whose hands touch nothing (an object only on its table) needs no correction: the
+    /// obstacles' contact is solved with the bodies at rest. A correction that does not settle
+    /// leaves the last frame; cancelling stops it. Returns the frame, the corrections kept and,
+    /// when the last one still changed the force by more than [`CONTACT_CORRECTION`], that
+    /// relative change.
     fn correct(
         &mut self,
         model: &Model,
@@ -388,24 +397,28 @@ impl Workspace {
         mut frame: Frame,
         cancel: Option<&CancelCheck>,
         stats: &mut [Option<KeyframeStats>],
-    ) -> (Frame, usize) {
+    ) -> Result<(Frame, usize, Option<f64>), SimError> {
         let mut kept = 0;
+        let mut unsettled = None;
         for _ in 0..CONTACT_CORRECTIONS {
-            let Some(force) = frame.contact.as_ref().map(|c| c.normal_force()) else {
+            let force = hand_contact_force(model, &frame);
+            if force <= 0.0 {
                 break;
-            };
+            }
             let before = (posed.clone(), stats.to_vec());
             posed.contact = carried_by(model, &frame);
             match self.contact_step(model, posed, (moving, crushed), 1.0, false, cancel, stats) {
-                Ok(next) if next.contact.is_some() => {
-                    let change =
-                        (next.contact.as_ref().expect("checked").normal_force() - force).abs();
+                Ok(next) if hand_contact_force(model, &next) > 0.0 => {
+                    let change = (hand_contact_force(model, &next) - force).abs() / force;
                     frame = next;
                     kept += 1;
-                    if change <= CONTACT_CORRECTION * force.abs().max(1e-9) {
+                    if change <= CONTACT_CORRECTION {
+                        unsettled = None;
                         break;
                     }
+                    unsettled = Some(change);
                 }
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
                 // Out of contact or not settled: the last frame stands.
                 _ => {
                     *posed = before.0;
@@ -414,7 +427,7 @@ impl Workspace {
                 }
             }
         }
-        (frame, kept)
+        Ok((frame, kept, unsettled))
     }
 
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
@@ -525,6 +538,21 @@ fn finish(
         posed.hands[*h].frame.stats = total;
     }
     posed.contact = carried_by(model, frame);
+}
+
+/// The normal contact force on the hands in `frame`, N: the contacts one of whose nodes (skin
+/// point's cell, or facet) belongs to a hand body; an object on its table alone gives 0.
+fn hand_contact_force(model: &Model, frame: &Frame) -> f64 {
+    let Some(contact) = frame.contact.as_ref() else {
+        return 0.0;
+    };
+    let on_hand = |n: usize| model.bodies[model.body_of_node(n)].hand.is_some();
+    contact
+        .contacts
+        .iter()
+        .filter(|c| c.terms.iter().any(|&(n, _)| on_hand(n)))
+        .map(|c| c.force)
+        .sum()
 }
 
 /// Whether `frame` is a grasp past the muscles: in contact, a bone of a hand overruns its

@@ -548,30 +548,57 @@ fn too_deep(
     // pushed into the cavity). A node the contact holds is within the limit of the outer
     // surface.
     let resolved = model.contact.penetration_limit();
-    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved, |_| false) {
-        Some((n, body, depth)) => {
-            let n = embedded.main_node(n);
-            let hand_body = model.body_of_node(n);
-            Err(SimError::Contact(ContactError::TooDeep {
-                body: model.bodies[hand_body].name.clone(),
-                node: n - model.bodies[hand_body].nodes.start,
-                other: model.bodies[body].name.clone(),
-                depth_mm: depth * 1e3,
-                search_mm: model.contact.search_depth * 1e3,
-            }))
-        }
+    match deepest_inside(&surfaces[hands..], near_skin, &current, resolved) {
+        Some((n, body, depth)) => Err(SimError::Contact(ContactError::TooDeep {
+            place: place_of(model, embedded, n, &current[n]),
+            other: model.bodies[body].name.clone(),
+            depth_mm: depth * 1e3,
+            search_mm: model.contact.search_depth * 1e3,
+        })),
         None => Ok(()),
     }
 }
 
+/// Where contact point `n` (a mesh node, or a skin point embedded past them) at `position` is,
+/// for an error: "\"hand\" (skin point 812, over bone index.distal, at (x, y, z) mm)", or
+/// "\"ball\" (node 40, at …)" (numbered within its body).
+fn place_of(model: &Model, embedded: &EmbeddedPoints, n: usize, position: &Vector3<f64>) -> String {
+    let node = embedded.main_node(n);
+    let b = model.body_of_node(node);
+    let body = &model.bodies[b];
+    let at = format!(
+        ", at ({:.1}, {:.1}, {:.1}) mm",
+        position.x * 1e3,
+        position.y * 1e3,
+        position.z * 1e3
+    );
+    let local = node - body.nodes.start;
+    let bone = body.hand.as_deref().map(|hand| {
+        let bone = crate::state::outcome::node_bone(hand, local);
+        format!(", over bone {}", hand.skeleton.bones[bone].name)
+    });
+    if n >= embedded.first() {
+        // Skin points are numbered after the mesh's nodes, each hand's from its own first.
+        let first = (embedded.first()..n)
+            .rev()
+            .take_while(|&v| model.body_of_node(embedded.main_node(v)) == b)
+            .last()
+            .unwrap_or(n);
+        let bone = bone.unwrap_or_default();
+        format!("\"{}\" (skin point {}{bone}{at})", body.name, n - first)
+    } else {
+        let bone = bone.unwrap_or_default();
+        format!("\"{}\" (node {local}{bone}{at})", body.name)
+    }
+}
+
 /// The node of `nodes` deepest inside one of the closed `objects` at `positions` (node, the
-/// object's body, depth), among those deeper than `beyond` and not `skip`ped.
+/// object's body, depth), among those deeper than `beyond`.
 pub(super) fn deepest_inside(
     objects: &[ContactSurface],
     nodes: &[usize],
     positions: &[Vector3<f64>],
     beyond: f64,
-    skip: impl Fn(usize) -> bool,
 ) -> Option<(usize, usize, f64)> {
     let mut deepest: Option<(usize, usize, f64)> = None;
     for s in objects {
@@ -583,7 +610,7 @@ pub(super) fn deepest_inside(
         let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
         for &n in nodes {
             let p = positions[n];
-            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) || skip(n) {
+            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
                 continue;
             }
             // Inside a piece of the surface (for a shell: within its outer surface, or in its
@@ -628,18 +655,13 @@ fn posed_too_deep(
     let skin: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
     // Deeper than a quarter of the search depth: well past what one contact step moves.
     let beyond = 0.25 * model.contact.search_depth;
-    match deepest_inside(&surfaces[hands..], &skin, x, beyond, |_| false) {
-        Some((n, body, depth)) => {
-            let n = embedded.main_node(n);
-            let hand_body = model.body_of_node(n);
-            SimError::Contact(ContactError::PoseTooDeep {
-                reason: error.to_string(),
-                body: model.bodies[hand_body].name.clone(),
-                node: n - model.bodies[hand_body].nodes.start,
-                other: model.bodies[body].name.clone(),
-                depth_mm: depth * 1e3,
-            })
-        }
+    match deepest_inside(&surfaces[hands..], &skin, x, beyond) {
+        Some((n, body, depth)) => SimError::Contact(ContactError::PoseTooDeep {
+            reason: error.to_string(),
+            place: place_of(model, embedded, n, &x[n]),
+            other: model.bodies[body].name.clone(),
+            depth_mm: depth * 1e3,
+        }),
         None => error,
     }
 }

@@ -236,7 +236,7 @@ pub fn posed_deeper_than(
         })
         .collect();
     let points: Vec<usize> = (model.mesh.node_count()..positions.len()).collect();
-    deepest_inside(&objects, &points, &positions, depth, |_| false).is_some()
+    deepest_inside(&objects, &points, &positions, depth).is_some()
 }
 
 /// The flesh of `hand` in `state` with the nodes `nodes` moved by skinning to the joint angles

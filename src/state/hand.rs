@@ -102,9 +102,17 @@ pub struct KeyframeStats {
     /// The digits left to skinning in this keyframe because they stayed far from every other
     /// body: their bones bear no new flexion reaction.
     pub far_digits: Vec<String>,
-    /// Contact solves kept on the way (contact steps along the motion; 1 for a keyframe solved
-    /// in one step with its contact, 0 without contact).
+    /// Contact solves kept on the way: the contact steps along the motion (1 for a keyframe
+    /// solved in one step with its contact, 0 without contact) and the corrections at the pose.
     pub contact_steps: usize,
+    /// Of `contact_steps`, the corrections at the pose (contact steps without motion until the
+    /// hands' contact force settles).
+    pub pose_corrections: usize,
+    /// The relative change of the hands' contact force in the last correction, when the
+    /// corrections ended without settling to `solve::CONTACT_CORRECTION` (the forces shown are
+    /// that uncertain); not written when they settled.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsettled_at_pose: Option<f64>,
     /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
@@ -150,6 +158,10 @@ impl KeyframeStats {
         self.total_ms += step.total_ms;
         self.relative_residual = self.relative_residual.max(step.relative_residual);
         self.contact_steps += step.contact_steps;
+        self.pose_corrections += step.pose_corrections;
+        if step.unsettled_at_pose.is_some() {
+            self.unsettled_at_pose = step.unsettled_at_pose;
+        }
         self.contact_retries += step.contact_retries;
         if step.stopped_short.is_some() {
             self.stopped_short = step.stopped_short.clone();

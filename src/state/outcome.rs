@@ -119,11 +119,34 @@ pub fn part_of_bone(hand: &HandModel, b: usize) -> usize {
 }
 
 /// One warning per hand and frame whose keyframe ended short of its pose
-/// ([`super::StoppedShort`]): how far its motion went and why.
-pub fn stopped_short_warnings(model: &crate::model::Model, frames: &[super::Frame]) -> Vec<String> {
+/// ([`super::StoppedShort`]): how far its motion went and why; and one where the corrections at
+/// the pose ended before its contact force settled, with how much it still changed; and one
+/// per frame whose contact's active set was kept at the iteration cap.
+pub fn keyframe_warnings(model: &crate::model::Model, frames: &[super::Frame]) -> Vec<String> {
     let mut out = Vec::new();
     for (i, frame) in frames.iter().enumerate() {
+        if let Some(c) = frame.contact.as_ref().filter(|c| c.at_iteration_cap) {
+            out.push(format!(
+                "frame {i}: the contact's active set still changed after {} iterations \
+                 (contacts that hardly touch joining and leaving in turn); the last settled set \
+                 was kept: every contact pushes, penetration {:.1} µm (limit {:.1} µm)",
+                c.iterations,
+                c.max_penetration * 1e6,
+                model.contact.penetration_limit() * 1e6
+            ));
+        }
         for h in &frame.hands {
+            if let Some(change) = h.stats.unsettled_at_pose {
+                out.push(format!(
+                    "frame {i}: the contact force of hand \"{}\" still changed by {:.2} % in the \
+                     last of its {} corrections at the pose: its contact and bone forces are \
+                     uncertain by about that much (its contact points still move between facets \
+                     from one correction to the next)",
+                    model.bodies[h.body].name,
+                    change * 100.0,
+                    h.stats.pose_corrections
+                ));
+            }
             if let Some(s) = &h.stats.stopped_short {
                 out.push(format!(
                     "frame {i}: hand \"{}\" stopped at {:.0} % of its keyframe's motion (the \

@@ -44,6 +44,18 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             )
             .on_hover_text(&s.reason);
         }
+        if let Some(change) = h.stats.unsettled_at_pose {
+            ui.label(
+                RichText::new(format!(
+                    "contact forces uncertain by {:.2} % (unsettled at the pose)",
+                    change * 100.0
+                ))
+                .color(Color32::YELLOW),
+            )
+            .on_hover_text(
+                "the corrections at the pose ended while the hand's contact force still changed",
+            );
+        }
     }
     Grid::new("status grid").num_columns(2).show(ui, |ui| {
         ui.label("DOFs");
