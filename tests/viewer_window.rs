@@ -79,10 +79,19 @@ fn xvfb() -> (Child, String) {
          .ci/run installs it)"
     );
     for n in 90..120 {
-        if Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-            || Path::new(&format!("/tmp/.X{n}-lock")).exists()
-        {
+        // A display is taken while its lock names a live server (a killed Xvfb leaves its lock
+        // and socket behind; Xvfb itself replaces a stale lock).
+        let lock = std::fs::read_to_string(format!("/tmp/.X{n}-lock")).ok();
+        let alive = lock
+            .as_deref()
+            .is_some_and(|pid| Path::new(&format!("/proc/{}", pid.trim())).exists());
+        if alive || (lock.is_none() && Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()) {
             continue;
+        }
+        if lock.is_some() {
+            // Stale: its socket would look like the new server's.
+            let _ = std::fs::remove_file(format!("/tmp/.X11-unix/X{n}"));
+            let _ = std::fs::remove_file(format!("/tmp/.X{n}-lock"));
         }
         let display = format!(":{n}");
         let child = Command::new("Xvfb")
