@@ -133,6 +133,12 @@ pub struct StoppedShort {
 }
 
 impl KeyframeStats {
+    /// The change of the hands' contact force in the last correction at the pose above which a
+    /// frame is said to be unsettled (the report's warning, the viewer's status): 1 %. Below it
+    /// the corrections' jitter (contact points moving between facets) is recorded in
+    /// `unsettled_at_pose` only.
+    pub const UNSETTLED_WARNING: f64 = 0.01;
+
     /// Adds the cost of `step`, a later part of the same keyframe: counts and times add up, the
     /// sizes and the residual are the largest; skinned far from contact are the digits (and
     /// cells) skinned in every part.

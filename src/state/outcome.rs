@@ -120,7 +120,8 @@ pub fn part_of_bone(hand: &HandModel, b: usize) -> usize {
 
 /// One warning per hand and frame whose keyframe ended short of its pose
 /// ([`super::StoppedShort`]): how far its motion went and why; and one where the corrections at
-/// the pose ended before its contact force settled, with how much it still changed; and one
+/// the pose ended with its contact force still changing by more than
+/// [`super::KeyframeStats::UNSETTLED_WARNING`], with how much; and one
 /// per frame whose contact's active set was kept at the iteration cap.
 pub fn keyframe_warnings(model: &crate::model::Model, frames: &[super::Frame]) -> Vec<String> {
     let mut out = Vec::new();
@@ -136,7 +137,11 @@ pub fn keyframe_warnings(model: &crate::model::Model, frames: &[super::Frame]) -
             ));
         }
         for h in &frame.hands {
-            if let Some(change) = h.stats.unsettled_at_pose {
+            if let Some(change) = h
+                .stats
+                .unsettled_at_pose
+                .filter(|&c| c > super::KeyframeStats::UNSETTLED_WARNING)
+            {
                 out.push(format!(
                     "frame {i}: the contact force of hand \"{}\" still changed by {:.2} % in the \
                      last of its {} corrections at the pose: its contact and bone forces are \

@@ -44,7 +44,11 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             )
             .on_hover_text(&s.reason);
         }
-        if let Some(change) = h.stats.unsettled_at_pose {
+        if let Some(change) = h
+            .stats
+            .unsettled_at_pose
+            .filter(|&c| c > crate::state::KeyframeStats::UNSETTLED_WARNING)
+        {
             ui.label(
                 RichText::new(format!(
                     "contact forces uncertain by {:.2} % (unsettled at the pose)",
