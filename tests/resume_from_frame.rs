@@ -11,11 +11,16 @@ use prehensile::scene::Scene;
 use prehensile::solve::{Posed, Workspace, CONTACT_CORRECTION};
 use prehensile::state::KeyframeStats;
 
-#[test]
-fn the_same_pose_again_from_a_frame_in_contact_gives_the_same_forces() {
+/// The shipped finger press, solved.
+fn finger_press() -> prehensile::headless::Solved {
     let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
     let scene = Scene::parse(&text, "press.toml").unwrap();
-    let solved = solve_scene(&scene, "press.toml").unwrap();
+    solve_scene(&scene, "press.toml").unwrap()
+}
+
+#[test]
+fn the_same_pose_again_from_a_frame_in_contact_gives_the_same_forces() {
+    let solved = finger_press();
     let (model, shown) = (&solved.model, solved.frames.last().unwrap());
     let contact = shown.contact.as_ref().expect("the finger presses the ball");
     let grip: f64 = contact.contacts.iter().map(|c| c.force).sum();
@@ -76,9 +81,7 @@ fn the_same_pose_again_from_a_frame_in_contact_gives_the_same_forces() {
 /// keyframe, while the corrections measured the table's force with the hand's).
 #[test]
 fn only_the_hands_contact_is_corrected_at_the_pose() {
-    let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
-    let scene = Scene::parse(&text, "press.toml").unwrap();
-    let solved = solve_scene(&scene, "press.toml").unwrap();
+    let solved = finger_press();
     let (model, shown) = (&solved.model, solved.frames.last().unwrap());
     let stats = &shown.hands[0].stats;
     assert!(
