@@ -380,3 +380,49 @@ fn skinning_can_be_chosen_per_digit() {
     assert!(little.1 > 1e-3 && little.0 < 1e-2 * little.1);
     assert!(index.1 < 1e-12 && index.0 > 1e-4);
 }
+
+/// A fine lattice leaves no cells bridging a joint space: the band of nodes that follow the
+/// nearer of two bones is never thinner than at resolution 1. At resolution 2 the index's PIP
+/// flexion used to turn a crease cell (two layers of cells across the 1.2 mm joint space) inside
+/// out at 30.6°; it now reaches 45° with the flesh's volume kept (measured −0.014 %).
+#[test]
+fn resolution_2_flexes_the_pip_past_where_its_joint_space_cells_were_crushed() {
+    let text = std::fs::read_to_string("assets/scenes/finger-flexion.toml").unwrap();
+    let text = text.replace("resolution = 1.0", "resolution = 2.0");
+    // The first keyframe only (PIP 45°).
+    let first = text.find("[[keyframe]]").unwrap();
+    let second = first + 1 + text[first + 1..].find("[[keyframe]]").unwrap();
+    let text = format!(
+        "{}{}",
+        &text[..second],
+        &text[text.find("[[camera]]").unwrap()..]
+    );
+    let scene = prehensile::scene::Scene::parse(&text, "flex.toml").unwrap();
+    let solved =
+        prehensile::headless::solve_scene(&scene, "flex.toml").unwrap_or_else(|e| panic!("{e}"));
+    let frame = solved.frames.last().unwrap();
+    let pip = hand()
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "index.pip")
+        .unwrap();
+    assert!((frame.hands[0].angles[pip] - 45.0).abs() < 1e-9);
+    let report = &solved.report.frames.last().unwrap().hands["hand"];
+    assert!(
+        report.volume_change.abs() < 1e-3,
+        "volume change {}",
+        report.volume_change
+    );
+    // The bones balance the flesh (no external load): their reactions sum to round-off.
+    let sum = Vector3::from(report.bone_reaction_sum).norm();
+    let largest = report
+        .bones
+        .values()
+        .map(|b| b.magnitude)
+        .fold(0.0, f64::max);
+    assert!(
+        largest > 0.1 && sum < 1e-9 * largest.max(1.0),
+        "{sum} of {largest} N"
+    );
+}

@@ -257,8 +257,12 @@ pub fn mesh_flesh(
         }
         group
     };
-    // Nodes in a joint space (within half a cell of two bones that move relative to each other)
-    // follow the nearer bone; the cells between them are then left out below.
+    // Nodes in a joint space (within half a cell of two bones that move relative to each other,
+    // and never a thinner band than at resolution 1) follow the nearer bone; the cells between
+    // them are then left out below. A finer lattice used to leave two layers of cells bridging
+    // the joint space, sheared as the joint flexes: at resolution 2 the index's PIP crease cell
+    // turned inside out at 30°.
+    let joint_band = (0.5 * h).max(0.5 * BASE_SPACING);
     for (n, p) in nodes.iter().enumerate() {
         if node_bone[n].is_some() {
             continue;
@@ -268,7 +272,7 @@ pub fn mesh_flesh(
             .iter()
             .enumerate()
             .map(|(b, bone)| (bone.distance(p), b))
-            .filter(|(d, _)| *d < 0.5 * h)
+            .filter(|(d, _)| *d < joint_band)
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
         if near.len() >= 2 && near.iter().any(|(_, b)| group[*b] != group[near[0].1]) {
