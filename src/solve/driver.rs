@@ -407,9 +407,11 @@ impl Workspace {
             }
             let before = (posed.clone(), stats.to_vec());
             posed.contact = carried_by(model, &frame);
-            match self.contact_step(model, posed, (moving, crushed), 1.0, false, cancel, stats) {
-                Ok(next) if hand_contact_force(model, &next) > 0.0 => {
-                    let change = (hand_contact_force(model, &next) - force).abs() / force;
+            let step =
+                self.contact_step(model, posed, (moving, crushed), 1.0, false, cancel, stats);
+            match step.map(|next| (hand_contact_force(model, &next), next)) {
+                Ok((now, next)) if now > 0.0 => {
+                    let change = (now - force).abs() / force;
                     frame = next;
                     kept += 1;
                     if change <= CONTACT_CORRECTION {

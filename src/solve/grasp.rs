@@ -391,7 +391,10 @@ pub fn solve_grasp(
             // A step along the motion only resolves its own motion: how deep the pose is
             // concerns a keyframe solved in one step.
             match carried_given {
-                None => posed_too_deep(model, &surfaces, hands.len(), &x_now, &embedded, e),
+                None => {
+                    let skin = (&embedded, skin_points.as_slice());
+                    posed_too_deep(model, &surfaces, hands.len(), &x_now, skin, e)
+                }
                 Some(_) => e,
             }
         })
@@ -432,7 +435,7 @@ pub fn solve_grasp(
         (&surfaces, hands.len()),
         &near_skin,
         &x,
-        &embedded,
+        (&embedded, &skin_points),
         &result,
     )?;
 
@@ -532,7 +535,7 @@ fn too_deep(
     (surfaces, hands): (&[ContactSurface], usize),
     near_skin: &[usize],
     x: &[Vector3<f64>],
-    embedded: &EmbeddedPoints,
+    (embedded, skin): (&EmbeddedPoints, &[std::ops::Range<usize>]),
     result: &crate::contact::ContactResult,
 ) -> Result<(), SimError> {
     let u = &result.solution.displacement;
@@ -550,7 +553,7 @@ fn too_deep(
     let resolved = model.contact.penetration_limit();
     match deepest_inside(&surfaces[hands..], near_skin, &current, resolved) {
         Some((n, body, depth)) => Err(SimError::Contact(ContactError::TooDeep {
-            place: place_of(model, embedded, n, &current[n]),
+            place: place_of(model, (embedded, skin), n, &current[n]),
             other: model.bodies[body].name.clone(),
             depth_mm: depth * 1e3,
             search_mm: model.contact.search_depth * 1e3,
@@ -559,10 +562,16 @@ fn too_deep(
     }
 }
 
-/// Where contact point `n` (a mesh node, or a skin point embedded past them) at `position` is,
-/// for an error: "\"hand\" (skin point 812, over bone index.distal, at (x, y, z) mm)", or
-/// "\"ball\" (node 40, at …)" (numbered within its body).
-fn place_of(model: &Model, embedded: &EmbeddedPoints, n: usize, position: &Vector3<f64>) -> String {
+/// Where contact point `n` (a mesh node, or a skin point embedded past them; `skin`: each
+/// hand's range of them) at `position` is, for an error: "\"hand\" (skin point 812, over bone
+/// index.distal, at (x, y, z) mm)", or "\"ball\" (node 40, at …)" (numbered within its body,
+/// or its hand's skin as in `skin_NNNN.vtu`).
+fn place_of(
+    model: &Model,
+    (embedded, skin): (&EmbeddedPoints, &[std::ops::Range<usize>]),
+    n: usize,
+    position: &Vector3<f64>,
+) -> String {
     let node = embedded.main_node(n);
     let b = model.body_of_node(node);
     let body = &model.bodies[b];
@@ -577,18 +586,10 @@ fn place_of(model: &Model, embedded: &EmbeddedPoints, n: usize, position: &Vecto
         let bone = crate::state::outcome::node_bone(hand, local);
         format!(", over bone {}", hand.skeleton.bones[bone].name)
     });
-    if n >= embedded.first() {
-        // Skin points are numbered after the mesh's nodes, each hand's from its own first.
-        let first = (embedded.first()..n)
-            .rev()
-            .take_while(|&v| model.body_of_node(embedded.main_node(v)) == b)
-            .last()
-            .unwrap_or(n);
-        let bone = bone.unwrap_or_default();
-        format!("\"{}\" (skin point {}{bone}{at})", body.name, n - first)
-    } else {
-        let bone = bone.unwrap_or_default();
-        format!("\"{}\" (node {local}{bone}{at})", body.name)
+    let bone = bone.unwrap_or_default();
+    match skin.iter().find(|r| r.contains(&n)) {
+        Some(r) => format!("\"{}\" (skin point {}{bone}{at})", body.name, n - r.start),
+        None => format!("\"{}\" (node {local}{bone}{at})", body.name),
     }
 }
 
@@ -646,19 +647,19 @@ fn posed_too_deep(
     surfaces: &[ContactSurface],
     hands: usize,
     x: &[Vector3<f64>],
-    embedded: &EmbeddedPoints,
+    (embedded, skin): (&EmbeddedPoints, &[std::ops::Range<usize>]),
     error: SimError,
 ) -> SimError {
     if !matches!(error, SimError::Contact(ContactError::NotConverged { .. })) {
         return error;
     }
-    let skin: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
+    let skin_nodes: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
     // Deeper than a quarter of the search depth: well past what one contact step moves.
     let beyond = 0.25 * model.contact.search_depth;
-    match deepest_inside(&surfaces[hands..], &skin, x, beyond) {
+    match deepest_inside(&surfaces[hands..], &skin_nodes, x, beyond) {
         Some((n, body, depth)) => SimError::Contact(ContactError::PoseTooDeep {
             reason: error.to_string(),
-            place: place_of(model, embedded, n, &x[n]),
+            place: place_of(model, (embedded, skin), n, &x[n]),
             other: model.bodies[body].name.clone(),
             depth_mm: depth * 1e3,
         }),
