@@ -457,7 +457,8 @@ fn the_nonlinear_tier_key_solves_a_hand_scene_and_writes_no_nan() {
     assert!(files >= 4, "{files}");
     let _ = std::fs::remove_dir_all(&dir);
 
-    // A hand and another body: allowed, with a warning that contact frames stay linear.
+    // A hand and another body: allowed, with a warning that the flesh of contact frames is
+    // linearised.
     let with_ball = format!(
         "{HAND_SCENE}\n[[body]]\nname = \"ball\"\nmaterial = \"flesh\"\nshape = {{ sphere = {{ \
          center = [0.3, 0.0, 0.0], radius = 0.02, cells = 2 }} }}\n\n[[constraint]]\nname = \
@@ -471,7 +472,7 @@ fn the_nonlinear_tier_key_solves_a_hand_scene_and_writes_no_nan() {
         model
             .warnings()
             .iter()
-            .any(|w| w.contains("linear contact step")),
+            .any(|w| w.contains("flesh near the contact is linearised")),
         "{:?}",
         model.warnings()
     );

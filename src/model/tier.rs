@@ -160,19 +160,19 @@ pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec
     out
 }
 
-/// With `tier = "nonlinear"`, a scene with a hand and another body: the frames where the hand
-/// touches the body are solved by the contact step, which stays linear (the object small-strain
-/// from rest, the flesh near the contact linearised about its posed state; `super::grasp`).
+/// With `tier = "nonlinear"`, a scene with a hand and another body: in the frames where the hand
+/// touches the body, the body is Neo-Hookean (`solve::hyperelastic_objects`) but the flesh near
+/// the contact is linearised about the pose flexion gave it (`super::grasp`).
 pub(super) fn nonlinear_contact_warning(
     nonlinear: bool,
     has_hand: bool,
     has_object: bool,
 ) -> Option<String> {
     (nonlinear && has_hand && has_object).then(|| {
-        "solver.tier = \"nonlinear\": the hands flex by nonlinear increments and bodies \
-         untouched by a hand are solved by Newton, but a frame where a hand touches a body is \
-         solved by the linear contact step (the body small-strain from rest, the flesh near the \
-         contact linearised about its posed state; see docs/elements.md)"
+        "solver.tier = \"nonlinear\": the hands flex by nonlinear increments and the other \
+         bodies are Neo-Hookean, also where a hand touches them, but in those frames the flesh \
+         near the contact is linearised about the pose its flexion reached (see \
+         docs/contact.md)"
             .to_string()
     })
 }

@@ -18,6 +18,7 @@ use super::compose::compose;
 use super::corotated::{linearise, loads_at};
 use super::crossing::crossings;
 use super::error::SimError;
+use super::hyperelastic_objects::{neo_hookean_objects, with_neo_hookean_stress};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
@@ -488,11 +489,16 @@ pub fn solve_grasp(
         hand_frames.push(hf);
     }
     let t = Instant::now();
-    // Rotation-free strain in the flesh, and in the other bodies where they were corotated.
+    // Rotation-free strain in the flesh, and in the other bodies where they were corotated;
+    // their Cauchy stress where they are Neo-Hookean.
     let objects_turned = carried_given.is_some() && model.corotates_objects();
     let turned = |c: usize| objects_turned || model.bodies[model.cell_body[c]].hand.is_some();
-    let stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &turned)
+    let mut stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &turned)
         .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
+    if neo_hookean_objects(model) {
+        stress = with_neo_hookean_stress(model, stress, &frame_u)
+            .map_err(|(c, det)| SimError::inverted(model, c, det))?;
+    }
     let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
     let ContactResult {

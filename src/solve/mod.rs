@@ -10,6 +10,7 @@ mod flexion;
 mod flexion_nonlinear;
 mod gas;
 mod grasp;
+mod hyperelastic_objects;
 mod linear_factor;
 pub mod proximity;
 mod region;

@@ -1,35 +1,25 @@
 //! The static frame with `[solver] tier = "nonlinear"`: the same model (mesh, prescribed
 //! displacements, dead loads) solved at large deformation with the Neo-Hookean hexahedron and
-//! Newton–Raphson (`fem::newton`), stresses as Cauchy stress at the Gauss points. Contact with
-//! obstacles is not yet supported with this tier.
+//! Newton–Raphson (`fem::newton`), stresses as Cauchy stress at the Gauss points. With rigid
+//! obstacles, each Newton iteration solves the obstacles' contact on its linearisation
+//! (`with_obstacles`): K_T(U)·ΔU = R − f(U) + Cᵀλ, the gaps measured where U puts the nodes.
 
 use super::error::SimError;
+use super::stabilize::{check_held, stabilize};
+use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
 use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::newton::{solve_body, NewtonSettings, NonlinearError, StepFailure};
+use crate::fem::solve::PartitionedSolver;
 use crate::fem::solve::{Solution, SolveStats};
 use crate::fem::stress::from_gauss;
 use crate::model::Model;
 use crate::state::Frame;
 use crate::util::timing::ms;
+use nalgebra::Vector3;
 use std::time::Instant;
 
 /// Solves the static equilibrium of the model with the nonlinear tier.
 pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
-    let all_bodies = || {
-        model
-            .bodies
-            .iter()
-            .map(|b| b.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    if !model.obstacles.is_empty() {
-        return Err(SimError::Unsupported(format!(
-            "[solver] tier = \"nonlinear\" with obstacles (contact) is not yet supported: remove \
-             the [[obstacle]] tables or use the linear tier (bodies: {})",
-            all_bodies()
-        )));
-    }
     let body_of_cell = |cell: usize| {
         let b = model.cell_body[cell];
         (
@@ -57,6 +47,21 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             relative_det: e.relative_det,
         }
     })?;
+    if !model.obstacles.is_empty() {
+        let (solution, contact) = with_obstacles(model, &body)?;
+        let t = Instant::now();
+        let gauss = body
+            .cauchy_stress(&solution.displacement)
+            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+        return Ok(Frame {
+            solution,
+            stress: from_gauss(&model.mesh, gauss),
+            assembly_ms: 0.0,
+            stress_ms: ms(t),
+            hands: Vec::new(),
+            contact: Some(contact),
+        });
+    }
     let result = solve_body(
         &body,
         &model.partition,
@@ -73,7 +78,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
                 let (body, element) = body_of_cell(*cell);
                 (body, Some(element))
             }
-            _ => (all_bodies(), None),
+            _ => (all_bodies(model), None),
         };
         SimError::Nonlinear {
             body,
@@ -116,4 +121,157 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
         hands: Vec::new(),
         contact: None,
     })
+}
+
+/// Newton iterations at most for the static frame against the obstacles.
+const OBSTACLE_NEWTON_ITERATIONS: usize = 30;
+
+/// Newton has converged when an iteration moves no dof by more than this share of the largest
+/// displacement.
+const OBSTACLE_NEWTON_TOLERANCE: f64 = 1e-8;
+
+/// An element turned inside out at the displacement evaluated.
+fn inverted(model: &Model, cell: usize, det_f: f64) -> SimError {
+    let b = model.cell_body[cell];
+    SimError::InvertedElement {
+        body: model.bodies[b].name.clone(),
+        element: cell - model.bodies[b].cells.start,
+        relative_det: det_f,
+    }
+}
+
+/// Load increments tried, in turn, for the static frame against the obstacles: the whole load
+/// at once, then in ever more increments where Newton fails.
+const OBSTACLE_LOAD_INCREMENTS: [usize; 5] = [1, 2, 4, 8, 16];
+
+/// The static frame against the rigid obstacles, by Newton–Raphson with the contact of each
+/// iteration solved exactly on its linearisation: K_T(U)·ΔU = t·R − f(U) − S·U + Cᵀλ (S the
+/// stabilising springs of floating bodies, `stabilize.rs`; t the load factor), the gaps
+/// measured where U puts the nodes, until ΔU vanishes. The multipliers are the whole contact
+/// forces (f(U) is in the right-hand side), and the reactions K_T·ΔU − (t·R − f(U) − S·U) − Cᵀλ
+/// at the supports are theirs at the converged U. The loads are dead (on the rest geometry),
+/// as without obstacles. Where Newton fails (no convergence, an element turned inside out) the
+/// loads and prescribed displacements are applied in increments, 2, 4 … 16.
+fn with_obstacles(
+    model: &Model,
+    body: &HyperelasticBody,
+) -> Result<(Solution, crate::contact::ContactSummary), SimError> {
+    let t = Instant::now();
+    let mut failure = None;
+    for increments in OBSTACLE_LOAD_INCREMENTS {
+        let mut u = vec![0.0; model.load_vector.len()];
+        let mut last = None;
+        for i in 1..=increments {
+            match newton_at(model, body, &mut u, i as f64 / increments as f64) {
+                Ok(result) => last = Some(result),
+                Err(e @ (SimError::Nonlinear { .. } | SimError::InvertedElement { .. })) => {
+                    failure = Some(e);
+                    last = None;
+                    break;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        if let Some(mut result) = last {
+            result.solution.stats.solve_ms = ms(t);
+            result.summary.contact_ms = ms(t);
+            return Ok((result.solution, result.summary));
+        }
+    }
+    Err(failure.expect("a failure when no increment count succeeded"))
+}
+
+/// Newton iterations from `u` to the equilibrium under the load factor `factor` (loads and
+/// prescribed displacements scaled alike) with the obstacles' contact; `u` ends there.
+fn newton_at(
+    model: &Model,
+    body: &HyperelasticBody,
+    u: &mut [f64],
+    factor: f64,
+) -> Result<ContactResult, SimError> {
+    let nodes = &model.mesh.nodes;
+    let obstacles: Vec<Obstacle> = model.obstacles.iter().map(|o| o.1.clone()).collect();
+    let mut solver = PartitionedSolver::new(model.ordering);
+    let mut last_change = f64::INFINITY;
+    for _ in 0..OBSTACLE_NEWTON_ITERATIONS {
+        let mut k = body
+            .tangent(u)
+            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+        let (_, internal) = body
+            .internal_forces(u)
+            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+        let without_springs = k.mul(u);
+        let springs = stabilize(model, &mut k, &model.partition);
+        let with_springs = k.mul(u);
+        let loads: Vec<f64> = (0..u.len())
+            .map(|d| {
+                factor * model.load_vector[d] - internal[d] - (with_springs[d] - without_springs[d])
+            })
+            .collect();
+        let prescribed: Vec<f64> = (0..u.len())
+            .map(|d| factor * model.prescribed[d] - u[d])
+            .collect();
+        let positions: Vec<Vector3<f64>> = (0..nodes.len())
+            .map(|n| nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
+            .collect();
+        let mut result = solve_with_obstacles(
+            &mut solver,
+            &k,
+            &model.partition,
+            &prescribed,
+            &loads,
+            &positions,
+            &model.contact_candidates,
+            &obstacles,
+            model.contact,
+        )
+        .map_err(|e| match e {
+            ContactError::Solve(source) => SimError::solve(model, source),
+            other => SimError::Contact(other),
+        })?;
+        let du = &result.solution.displacement;
+        let change = du.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (a, b) in u.iter_mut().zip(du) {
+            *a += b;
+        }
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(SimError::Nonlinear {
+                body: all_bodies(model),
+                element: None,
+                source: Box::new(NonlinearError::NonFinite("the computed displacement")),
+            });
+        }
+        let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        last_change = change / scale.max(f64::MIN_POSITIVE);
+        if change <= OBSTACLE_NEWTON_TOLERANCE * scale {
+            result.solution.displacement = u.to_vec();
+            check_held(model, &springs, &result).map_err(SimError::Contact)?;
+            return Ok(result);
+        }
+    }
+    Err(SimError::Nonlinear {
+        body: all_bodies(model),
+        element: None,
+        source: Box::new(NonlinearError::StepFailed {
+            from: 0.0,
+            to: factor,
+            step: factor,
+            cuts: 0,
+            reason: StepFailure::NotConverged {
+                iterations: OBSTACLE_NEWTON_ITERATIONS,
+                residual: last_change,
+            },
+            inverted: None,
+        }),
+    })
+}
+
+/// The names of every body, for an error that concerns them all.
+fn all_bodies(model: &Model) -> String {
+    model
+        .bodies
+        .iter()
+        .map(|b| b.name.clone())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
