@@ -28,15 +28,12 @@ pub(super) struct Linearised {
 
 /// K for a contact step of `model` on `mesh` (the hands posed, the other bodies at rest), with
 /// the other bodies corotated about `carried` when the model's tier turns its elements and
-/// something is carried; with the nonlinear tier, Neo-Hookean (`hyperelastic_objects.rs`).
+/// something is carried (the nonlinear tier's are Neo-Hookean: `hyperelastic_objects.rs`).
 pub(super) fn linearise(
     model: &Model,
     mesh: &Mesh,
     carried: Option<&[f64]>,
 ) -> Result<Linearised, AssemblyError> {
-    if super::hyperelastic_objects::neo_hookean_objects(model) {
-        return super::hyperelastic_objects::linearise_neo_hookean(model, mesh, carried);
-    }
     let rotations = match carried {
         Some(u) if model.corotates_objects() => Some(rotations(model, u)?),
         _ => None,

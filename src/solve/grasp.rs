@@ -18,7 +18,9 @@ use super::compose::compose;
 use super::corotated::{linearise, loads_at};
 use super::crossing::crossings;
 use super::error::SimError;
-use super::hyperelastic_objects::{neo_hookean_objects, with_neo_hookean_stress};
+use super::hyperelastic_objects::{
+    linearise_neo_hookean, neo_hookean_objects, with_neo_hookean_stress,
+};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
@@ -275,8 +277,14 @@ pub fn solve_grasp(
         nodes: x.clone(),
         cells: model.mesh.cells.clone(),
     };
-    // (The other bodies corotated about what the motion carries: src/solve/corotated.rs.)
-    let linearised = linearise(model, &mesh, carried_given).map_err(|e| {
+    // (The other bodies corotated about what the motion carries, src/solve/corotated.rs, or
+    // Neo-Hookean about it, src/solve/hyperelastic_objects.rs.)
+    let linearised = if neo_hookean_objects(model) {
+        linearise_neo_hookean(model, &mesh, carried_given)
+    } else {
+        linearise(model, &mesh, carried_given)
+    };
+    let linearised = linearised.map_err(|e| {
         let b = model.cell_body[e.cell];
         let body = &model.bodies[b];
         let element = e.cell - body.cells.start;
