@@ -28,7 +28,7 @@ use crate::contact::{
     ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
 use crate::fem::solve::PartitionedSolver;
-use crate::fem::stress::stress_field_with;
+use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
 use crate::mesh::Mesh;
 use crate::model::Model;
@@ -501,8 +501,17 @@ pub fn solve_grasp(
     // their Cauchy stress where they are Neo-Hookean.
     let objects_turned = carried_given.is_some() && model.corotates_objects();
     let turned = |c: usize| objects_turned || model.bodies[model.cell_body[c]].hand.is_some();
-    let mut stress = stress_field_with(&model.mesh, &model.cell_materials, &frame_u, &turned)
-        .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
+    // (Neo-Hookean bodies get theirs below, not the small-strain one first.)
+    let neo_hookean =
+        |c: usize| neo_hookean_objects(model) && model.bodies[model.cell_body[c]].hand.is_none();
+    let mut stress = stress_field_except(
+        &model.mesh,
+        &model.cell_materials,
+        &frame_u,
+        &turned,
+        &neo_hookean,
+    )
+    .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
     if neo_hookean_objects(model) {
         stress = with_neo_hookean_stress(model, stress, &frame_u)
             .map_err(|(c, det)| SimError::inverted(model, c, det))?;

@@ -52,7 +52,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
         let t = Instant::now();
         let gauss = body
             .cauchy_stress(&solution.displacement)
-            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
         return Ok(Frame {
             solution,
             stress: from_gauss(&model.mesh, gauss),
@@ -130,16 +130,6 @@ const OBSTACLE_NEWTON_ITERATIONS: usize = 30;
 /// displacement.
 const OBSTACLE_NEWTON_TOLERANCE: f64 = 1e-8;
 
-/// An element turned inside out at the displacement evaluated.
-fn inverted(model: &Model, cell: usize, det_f: f64) -> SimError {
-    let b = model.cell_body[cell];
-    SimError::InvertedElement {
-        body: model.bodies[b].name.clone(),
-        element: cell - model.bodies[b].cells.start,
-        relative_det: det_f,
-    }
-}
-
 /// Load increments tried, in turn, for the static frame against the obstacles: the whole load
 /// at once, then in ever more increments where Newton fails.
 const OBSTACLE_LOAD_INCREMENTS: [usize; 5] = [1, 2, 4, 8, 16];
@@ -196,10 +186,10 @@ fn newton_at(
     for _ in 0..OBSTACLE_NEWTON_ITERATIONS {
         let mut k = body
             .tangent(u)
-            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
         let (_, internal) = body
             .internal_forces(u)
-            .map_err(|e| inverted(model, e.cell, e.det_f))?;
+            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
         let without_springs = k.mul(u);
         let springs = stabilize(model, &mut k, &model.partition);
         let with_springs = k.mul(u);
