@@ -42,3 +42,55 @@ fn the_papers_iteration_on_a_stiff_ball_stops_and_the_advice_works() {
         assert!(largest.is_finite() && largest < 0.1, "{largest} m");
     }
 }
+
+/// The paper's iteration inside the contact steps along a motion: on the five-digit grasp of a
+/// ball stiffer than the flesh (E = 2 MPa against 50 kPa) it cannot follow the closing hand.
+/// That is the method's failure, not the grasp's limit: the command exits non-zero, writes no
+/// frame, and its advice (the exact method) solves the same motion to the pose.
+#[test]
+fn the_papers_iteration_along_a_motion_fails_with_exit_code_and_the_advice_works() {
+    let text = std::fs::read_to_string("assets/scenes/hand-grasp-ball.toml")
+        .unwrap()
+        .replace("resolution = 1.0", "resolution = 0.75");
+    assert!(text.contains("resolution = 0.75"));
+    let paper = text.replace("contact = \"lagrange\"", "contact = \"paper\"");
+    assert!(paper.contains("contact = \"paper\""));
+    let dir = std::env::temp_dir().join(format!("paper-motion-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("paper.toml");
+    std::fs::write(&scene, &paper).unwrap();
+    let out = dir.join("out");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .arg("solve")
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        !run.status.success(),
+        "exit 0 on a failed iteration: {stderr}"
+    );
+    assert!(
+        stderr.contains("could not follow the motion beyond"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("contact = \"lagrange\""), "{stderr}");
+    // Nothing half-written: no report and no frame.
+    assert!(!out.join("report.json").exists());
+    assert!(!out.join("frames.pvd").exists());
+    // The advice: the exact method reaches the grasp pose with the fingers in contact.
+    let solved = solve_scene(&Scene::parse(&text, "grasp.toml").unwrap(), "grasp.toml").unwrap();
+    let last = solved.frames.last().unwrap();
+    let contact = last.contact.as_ref().expect("the grasp touches the ball");
+    assert!(contact.max_penetration <= solved.model.contact.penetration_limit());
+    for h in &last.hands {
+        assert!(
+            h.stats.stopped_short.is_none(),
+            "the exact method stopped short: {:?}",
+            h.stats.stopped_short
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -9,6 +9,7 @@ use super::grasp::frame_with_hands;
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
+use crate::contact::ContactMethod;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
 use crate::model::Model;
@@ -349,6 +350,17 @@ impl Workspace {
                 Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
                     retries += 1;
                     (*posed, stats) = before.expect("kept above");
+                }
+                // The paper's iteration failing is a failure of the method: the exact method
+                // may follow the motion, so it is an error (the command exits non-zero), not
+                // the grasp's limit.
+                Err(SimError::Contact(cause))
+                    if before.is_some() && model.contact.method == ContactMethod::Paper =>
+                {
+                    return Err(SimError::PaperCannotFollow {
+                        reached: control.reached(),
+                        cause,
+                    });
                 }
                 // The contact cannot follow the motion beyond the last step kept, even in the
                 // smallest step: the keyframe ends there, short of its pose — the grasp is not

@@ -95,6 +95,23 @@ pub enum SimError {
     /// A combination of settings the solver does not support yet.
     #[error("{0}")]
     Unsupported(String),
+    /// The paper's contact iteration (`[solver] contact = "paper"`) failed in the smallest
+    /// contact step along a keyframe's motion: a failure of the method, not a limit of the
+    /// grasp, so no frame is given for it.
+    #[error(
+        "the paper's contact iteration could not follow the motion beyond {:.0} % of the \
+         keyframe, even in its smallest contact step ({cause}). Its iteration is one-sided \
+         (object nodes repelled onto the skin's facets) and converges only where the object is \
+         softer than the flesh under it; solve the scene with `[solver] contact = \"lagrange\"`, \
+         which resolves the contact exactly along the motion",
+        reached * 100.0
+    )]
+    PaperCannotFollow {
+        /// The fraction of the keyframe's motion its last converged step reached.
+        reached: f64,
+        /// The contact error of the smallest step.
+        cause: ContactError,
+    },
     /// The nonlinear tier failed (`[solver] tier = "nonlinear"`).
     #[error("body \"{body}\"{}: {source}", element_note(.element))]
     Nonlinear {

@@ -38,6 +38,11 @@ impl StepControl {
         self.done >= 1.0 - 1e-12
     }
 
+    /// The fraction of the keyframe done (the steps accepted).
+    pub(crate) fn reached(&self) -> f64 {
+        self.done
+    }
+
     /// The fraction the next step reaches.
     pub(crate) fn target(&self) -> f64 {
         (self.done + self.step).min(1.0)
