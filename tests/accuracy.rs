@@ -6,8 +6,9 @@
 
 use nalgebra::Vector3;
 use prehensile::bench::accuracy::{
-    doc_text, plot_png, problem_rows, problem_table, run_scene, Embedding, HandReference, Machine,
-    Outcome, ProblemId, Results, Row, Variant, GUIDANCE_BEGIN, GUIDANCE_END,
+    doc_text, merged_text, plot_png, problem_rows, problem_table, run_scene, Embedding,
+    HandReference, Machine, Outcome, ProblemId, Results, Row, Variant, GUIDANCE_BEGIN,
+    GUIDANCE_END,
 };
 use prehensile::mesh::box_mesh;
 use prehensile::scene::ElementName;
@@ -236,4 +237,52 @@ fn the_plot_and_the_document_are_written_from_the_rows_and_keep_the_guidance() {
     let second = doc_text(&results, &machine, "images/p.png", "x", Some(&edited));
     assert!(second.contains("Pick incompatible modes."));
     assert!(!second.contains("NaN"));
+}
+
+/// `--only`: the sections of the problems run replace theirs in the document; every other
+/// section, the guidance and the plot link stay word for word (a whole document written from
+/// one problem once cut two sections off).
+#[test]
+fn a_run_of_some_problems_replaces_only_their_sections() {
+    let machine = Machine::now();
+    let existing = "# Speed against accuracy\n\nheader\n\n![plot](images/p.png)\n\n\
+                    <!-- guidance: written from the numbers, kept by the bench -->\nkeep me\n\
+                    <!-- end of guidance -->\n\n\
+                    ## (a) cantilever: tip deflection against Timoshenko\n\nold cantilever rows\n\n\
+                    ## (b) thick sphere under pressure: radial displacement against Lamé\n\nLamé rows\n\n\
+                    Reproduce: `cargo run --release -- bench accuracy`\n";
+    let results = Results {
+        rows: cantilever_rows(),
+        ..Default::default()
+    };
+    let merged = merged_text(
+        existing,
+        &results,
+        &machine,
+        "prehensile bench accuracy --only cantilever",
+    );
+    assert!(!merged.contains("old cantilever rows"), "{merged}");
+    assert!(merged.contains("| linear | 8×1×1 |"), "{merged}");
+    assert!(merged.contains("--only cantilever"), "{merged}");
+    for kept in [
+        "header",
+        "![plot](images/p.png)",
+        "keep me",
+        "Lamé rows",
+        "Reproduce: ",
+    ] {
+        assert!(merged.contains(kept), "{kept} lost: {merged}");
+    }
+    // In order: the new cantilever section before Lamé's, once.
+    assert_eq!(merged.matches("## (a) cantilever").count(), 1);
+    assert!(merged.find("## (a)").unwrap() < merged.find("## (b)").unwrap());
+    assert!(merged.find("Lamé rows").unwrap() < merged.find("Reproduce: ").unwrap());
+    // A problem the document lacks goes before the closing line.
+    let without = existing.replace(
+        "## (a) cantilever: tip deflection against Timoshenko\n\nold cantilever rows\n\n",
+        "",
+    );
+    let merged = merged_text(&without, &results, &machine, "x");
+    assert!(merged.find("## (a)").unwrap() < merged.find("Reproduce: ").unwrap());
+    assert!(merged.find("Lamé rows").unwrap() < merged.find("## (a)").unwrap());
 }

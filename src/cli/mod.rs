@@ -415,9 +415,7 @@ fn accuracy(
     let results = ba::accuracy_results(&settings, &mut |line| eprintln!("{line}"))
         .map_err(anyhow::Error::msg)?;
     for p in &settings.problems {
-        println!("\n## {}\n", p.title());
-        print!("{}", ba::problem_table(&results, *p));
-        print!("\n{}", ba::summary(&results, *p));
+        print!("\n{}", ba::problem_section(&results, *p));
     }
     if no_write {
         return Ok(());
@@ -425,6 +423,22 @@ fn accuracy(
     let command = std::env::args()
         .skip(1)
         .fold(String::from("prehensile"), |s, a| s + " " + &a);
+    // Some problems only: their sections replace those of the document, whose other sections
+    // and plot stay (a whole document of one problem would lose the others).
+    if !only.is_empty() {
+        if let Ok(existing) = std::fs::read_to_string(doc) {
+            let text = ba::merged_text(&existing, &results, &machine, &command);
+            ba::write_atomic(doc, &text).with_context(|| doc.display().to_string())?;
+            println!(
+                "\nwrote the sections of {} into {} (the plot, {}, is left as it was: run \
+                 without --only to redraw it)",
+                only.join(", "),
+                doc.display(),
+                plot.display()
+            );
+            return Ok(());
+        }
+    }
     let title = format!(
         "Speed against accuracy{}: {}",
         if quick { " (quick)" } else { "" },

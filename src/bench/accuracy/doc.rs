@@ -140,31 +140,7 @@ pub fn doc_text(
         .filter(|p| results.rows.iter().any(|r| r.problem == *p))
         .collect();
     for p in problems {
-        let _ = writeln!(s, "## {}\n\n{}\n", p.title(), description(p));
-        if let Some(r) = results.references.iter().find(|r| r.problem == p) {
-            let _ = writeln!(
-                s,
-                "Reference: tier `{}` at resolution {} with increments of at most {}° ({:.1} s); \
-                 it gives {}.{}\n",
-                r.variant.tier_name(),
-                r.resolution,
-                r.step_deg,
-                r.solve_ms / 1e3,
-                r.facts,
-                r.skipped
-                    .iter()
-                    .map(|(v, why)| format!(
-                        " Tier `{}` was tried first and not used: {}",
-                        v.tier_name(),
-                        why
-                    ))
-                    .collect::<String>()
-            );
-        }
-        s.push_str(&problem_table(results, p));
-        s.push('\n');
-        s.push_str(&summary(results, p));
-        s.push('\n');
+        s.push_str(&problem_section(results, p));
     }
     let _ = writeln!(
         s,
@@ -172,6 +148,73 @@ pub fn doc_text(
          `--only cantilever,lame` for some problems; `--steps 20,10,5` for other increments)."
     );
     s
+}
+
+/// One problem's section: title, description, reference (hand problems), table and front.
+pub fn problem_section(results: &Results, p: ProblemId) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "## {}\n\n{}\n", p.title(), description(p));
+    if let Some(r) = results.references.iter().find(|r| r.problem == p) {
+        let _ = writeln!(
+            s,
+            "Reference: tier `{}` at resolution {} with increments of at most {}° ({:.1} s); \
+             it gives {}.{}\n",
+            r.variant.tier_name(),
+            r.resolution,
+            r.step_deg,
+            r.solve_ms / 1e3,
+            r.facts,
+            r.skipped
+                .iter()
+                .map(|(v, why)| format!(
+                    " Tier `{}` was tried first and not used: {}",
+                    v.tier_name(),
+                    why
+                ))
+                .collect::<String>()
+        );
+    }
+    s.push_str(&problem_table(results, p));
+    s.push('\n');
+    s.push_str(&summary(results, p));
+    s.push('\n');
+    s
+}
+
+/// `existing` (the document) with the sections of the problems in `results` replaced by this
+/// run's (`--only`): the other problems' sections, the guidance and the plot stay as they were,
+/// and each replaced section says which run it is from.
+pub fn merged_text(existing: &str, results: &Results, machine: &Machine, command: &str) -> String {
+    let mut text = existing.to_string();
+    for p in ProblemId::ALL
+        .into_iter()
+        .filter(|p| results.rows.iter().any(|r| r.problem == *p))
+    {
+        let section = problem_section(results, p);
+        let section = section.replacen(
+            "\n\n",
+            &format!(
+                "\n\nRows of `{command}` on {} (the other sections, and the plot, are from earlier \
+                 runs).\n\n",
+                machine.summary()
+            ),
+            1,
+        );
+        let title = format!("## {}\n", p.title());
+        let reproduce = text.find("Reproduce: ").unwrap_or(text.len());
+        match text.find(&title) {
+            Some(a) => {
+                let after = a + title.len();
+                let b = text[after..]
+                    .find("\n## ")
+                    .map(|i| after + i + 1)
+                    .unwrap_or(reproduce.max(after));
+                text.replace_range(a..b, &section);
+            }
+            None => text.insert_str(reproduce, &section),
+        }
+    }
+    text
 }
 
 /// Writes `text` to `path` through a temporary file and a rename.

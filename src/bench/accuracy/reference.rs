@@ -66,6 +66,15 @@ pub fn find_reference(
     let (resolution, step) = problem.reference(quick);
     let mut skipped = Vec::new();
     for variant in variant::reference_candidates(step) {
+        if let Some(why) = problem.not_a_reference(&variant) {
+            progress(&format!(
+                "{} reference {}: not used: {why}",
+                problem.key(),
+                variant.label()
+            ));
+            skipped.push((variant, why.to_string()));
+            continue;
+        }
         let mut scene = problem.scene(resolution);
         variant.apply(&mut scene);
         let name = format!(
