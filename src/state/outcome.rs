@@ -21,7 +21,8 @@ pub struct Overload {
     pub threshold: f64,
     /// By how much the reaction overruns it, N.
     pub excess: f64,
-    /// Unit direction in which the object pushes the bone (the finger should give way along it).
+    /// Unit direction in which the flesh pushes the bone: what the object presses on it and the
+    /// flesh's own resistance to the flexion (the finger should give way along it).
     pub push: [f64; 3],
     /// The joint whose muscles the push loads most.
     pub joint: String,
@@ -82,7 +83,7 @@ pub fn overloads(
             )
         } else {
             format!(
-                "{} {joint}: the object pushes {} along ({:.2}, {:.2}, {:.2}) with {:.1} N, {:.1} N \
+                "{} {joint}: the flesh pushes {} along ({:.2}, {:.2}, {:.2}) with {:.1} N, {:.1} N \
                  more than its muscles hold",
                 if moment < 0.0 { "decrease" } else { "increase" },
                 bone.name,
