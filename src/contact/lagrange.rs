@@ -127,7 +127,20 @@ pub fn solve_lagrange(
                 let key = (p.node, p.source);
                 let same_facet = |r: &Row| r.key() == key && r.master == p.master;
                 if let Some(i) = rows.iter().position(|r| r.key() == key) {
-                    if rows.iter().any(same_facet) || matches!(p.master, Master::Obstacle(_)) {
+                    if matches!(p.master, Master::Obstacle(_)) {
+                        continue;
+                    }
+                    if let Some(j) = rows.iter().position(same_facet) {
+                        // Held against this facet, yet through it on the current geometry
+                        // beyond the limit: the facet turned or dented since the row was
+                        // linearised. The row is linearised again where the node and the facet
+                        // are now (its id is new: no coupling is reused).
+                        if -p.gap > settings.penetration_limit() {
+                            let old = rows.remove(j);
+                            let mut row = Row::new(&p, problem, &u, old.mu);
+                            row.reference = old.reference;
+                            fresh.push(row);
+                        }
                         continue;
                     }
                     // The node slid onto another facet. Its old row stays: where the other
