@@ -3,6 +3,8 @@
 //! geometry; through a shell's wall thinner than that, a skin node ends in the cavity, where
 //! the facet nearest to it is the inner wall's and it looks outside. Its straight path from
 //! where the last step left it tells which facet it went through: the contact holds it there.
+//! A node that was already just inside (held by the contact within its tolerance) and went
+//! deeper is held against the facet nearest to where it was.
 
 use crate::contact::{connected_pieces, winding_number_of, ContactSurface, Crossing};
 use nalgebra::Vector3;
@@ -31,16 +33,27 @@ pub(super) fn crossings(
                 .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
             let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
             let within = |p: &Vector3<f64>| (p - lo).min() >= 0.0 && (hi - p).min() >= 0.0;
+            let mut in_piece: Option<std::collections::HashSet<[usize; 3]>> = None;
             for &n in nodes {
                 if out.iter().any(|c: &Crossing| c.node == n) || !within(&to[n]) {
                     continue;
                 }
-                if winding_number_of(&to[n], &piece, to).abs() <= 0.5
-                    || winding_number_of(&from[n], &piece, to).abs() > 0.5
-                {
+                if winding_number_of(&to[n], &piece, to).abs() <= 0.5 {
                     continue;
                 }
-                let Some((nodes, weights)) = first_hit(&from[n], &to[n], &piece, to) else {
+                // A node already inside where the step started (the contact held it there,
+                // within its tolerance) went deeper: the facet nearest to where it was is the
+                // one that held it. Otherwise, the facet its path went through.
+                let hit = if winding_number_of(&from[n], &piece, to).abs() > 0.5 {
+                    in_piece.get_or_insert_with(|| piece.iter().copied().collect());
+                    let set = in_piece.as_ref().expect("set above");
+                    bvh.project(&from[n], to, None, |t| !set.contains(t))
+                        .filter(|p| p.gap <= 0.0)
+                        .map(|p| (p.nodes, p.weights))
+                } else {
+                    first_hit(&from[n], &to[n], &piece, to)
+                };
+                let Some((nodes, weights)) = hit else {
                     continue;
                 };
                 // Where the nearest facet faces the way the node came in and sees it inside,
@@ -104,6 +117,36 @@ fn first_hit(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A node already just inside the top (held there by the contact) that goes on past the
+    /// middle of the cube, where the bottom is nearer: held against the top, at the point
+    /// nearest to where it was.
+    #[test]
+    fn a_node_already_inside_that_goes_deeper_is_held_where_it_was() {
+        let mesh = crate::mesh::box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
+        let quads: Vec<[usize; 4]> = crate::mesh::boundary_facets(&mesh)
+            .iter()
+            .map(|f| f.nodes)
+            .collect();
+        let mut positions = mesh.nodes.clone();
+        let node = positions.len();
+        positions.push(Vector3::new(0.3, 0.6, 0.999));
+        let mut to = positions.clone();
+        to[node] = Vector3::new(0.35, 0.6, 0.3);
+        let surface = ContactSurface::from_quads(0, &quads, &positions);
+        let found = crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let c = found[0];
+        let point: Vector3<f64> = (0..3).map(|i| to[c.nodes[i]] * c.weights[i]).sum();
+        assert!(
+            (point - Vector3::new(0.3, 0.6, 1.0)).norm() < 1e-12,
+            "{point}"
+        );
+        // Going only a little deeper, the top still holds it: no crossing needed.
+        to[node] = Vector3::new(0.3, 0.6, 0.8);
+        let surface = ContactSurface::from_quads(0, &quads, &positions);
+        assert!(crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0).is_empty());
+    }
 
     /// A unit cube's surface, outward triangles, and a node's path into it through its top.
     #[test]
