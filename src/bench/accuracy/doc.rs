@@ -62,8 +62,11 @@ fn description(problem: ProblemId) -> &'static str {
              against the reference tier and step on the row's own mesh (the tier's and the \
              step's error alone). Time per keyframe: the solve of the two frames (rest → initial \
              pose, then the grasp keyframe with contact) divided by two. With the `nonlinear` \
-             tier the hand flexes by Newton increments but the contact step stays linear (the \
-             ball small-strain, the flesh near the contact linearised about its posed state)."
+             tier the hand flexes by Newton increments and the ball is Neo-Hookean in the \
+             contact steps (one Newton iteration each, iterated at the pose), the flesh near the \
+             contact linearised about its posed state; the air follows the wall without its \
+             load stiffness, so its corrections at the pose do not settle (the report's \
+             warning gives by how much)."
         }
     }
 }
@@ -167,7 +170,7 @@ pub fn problem_section(results: &Results, p: ProblemId) -> String {
             r.skipped
                 .iter()
                 .map(|(v, why)| format!(
-                    " Tier `{}` was tried first and not used: {}",
+                    " Tier `{}` was tried first and not used: {}.",
                     v.tier_name(),
                     why
                 ))
