@@ -118,68 +118,62 @@ fn first_hit(
 mod tests {
     use super::*;
 
+    /// A unit cube's surface (outward triangles from its quads) and its corner positions.
+    fn unit_cube() -> (Vec<[usize; 4]>, Vec<Vector3<f64>>) {
+        let mesh = crate::mesh::box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
+        let quads = crate::mesh::boundary_facets(&mesh)
+            .iter()
+            .map(|f| f.nodes)
+            .collect();
+        (quads, mesh.nodes)
+    }
+
+    /// The crossings of the cube's surface by one node moving `from` → `to`.
+    fn crossings_of(from: Vector3<f64>, to: Vector3<f64>) -> (Vec<Crossing>, Vec<Vector3<f64>>) {
+        let (quads, mut positions) = unit_cube();
+        let node = positions.len();
+        positions.push(from);
+        let mut moved = positions.clone();
+        moved[node] = to;
+        let surface = ContactSurface::from_quads(0, &quads, &positions);
+        let found = crossings(&[surface], 0, &[node], (&positions, &moved), 1e-3, 1.0);
+        (found, moved)
+    }
+
+    /// Where the one crossing found holds its node.
+    fn held_at(found: &[Crossing], positions: &[Vector3<f64>]) -> Vector3<f64> {
+        assert_eq!(found.len(), 1, "{found:?}");
+        let c = found[0];
+        (0..3).map(|i| positions[c.nodes[i]] * c.weights[i]).sum()
+    }
+
     /// A node already just inside the top (held there by the contact) that goes on past the
     /// middle of the cube, where the bottom is nearer: held against the top, at the point
     /// nearest to where it was.
     #[test]
     fn a_node_already_inside_that_goes_deeper_is_held_where_it_was() {
-        let mesh = crate::mesh::box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
-        let quads: Vec<[usize; 4]> = crate::mesh::boundary_facets(&mesh)
-            .iter()
-            .map(|f| f.nodes)
-            .collect();
-        let mut positions = mesh.nodes.clone();
-        let node = positions.len();
-        positions.push(Vector3::new(0.3, 0.6, 0.999));
-        let mut to = positions.clone();
-        to[node] = Vector3::new(0.35, 0.6, 0.3);
-        let surface = ContactSurface::from_quads(0, &quads, &positions);
-        let found = crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0);
-        assert_eq!(found.len(), 1, "{found:?}");
-        let c = found[0];
-        let point: Vector3<f64> = (0..3).map(|i| to[c.nodes[i]] * c.weights[i]).sum();
+        let from = Vector3::new(0.3, 0.6, 0.999);
+        let (found, moved) = crossings_of(from, Vector3::new(0.35, 0.6, 0.3));
+        let point = held_at(&found, &moved);
         assert!(
             (point - Vector3::new(0.3, 0.6, 1.0)).norm() < 1e-12,
             "{point}"
         );
         // Going only a little deeper, the top still holds it: no crossing needed.
-        to[node] = Vector3::new(0.3, 0.6, 0.8);
-        let surface = ContactSurface::from_quads(0, &quads, &positions);
-        assert!(crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0).is_empty());
+        assert!(crossings_of(from, Vector3::new(0.3, 0.6, 0.8)).0.is_empty());
     }
 
-    /// A unit cube's surface, outward triangles, and a node's path into it through its top.
+    /// A node's path into the cube through its top.
     #[test]
     fn a_path_through_the_top_of_a_cube_crosses_the_top() {
-        let mesh = crate::mesh::box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
-        let quads: Vec<[usize; 4]> = crate::mesh::boundary_facets(&mesh)
-            .iter()
-            .map(|f| f.nodes)
-            .collect();
-        let mut positions = mesh.nodes.clone();
-        let surface = ContactSurface::from_quads(0, &quads, &positions);
-        let node = positions.len();
-        positions.push(Vector3::new(0.3, 0.6, 1.2));
-        let mut to = positions.clone();
-        to[node] = Vector3::new(0.3, 0.6, 0.1);
-        let found = crossings(&[surface], 0, &[node], (&positions, &to), 1e-3, 1.0);
-        assert_eq!(found.len(), 1, "{found:?}");
-        let c = found[0];
-        let point: Vector3<f64> = (0..3).map(|i| to[c.nodes[i]] * c.weights[i]).sum();
+        let from = Vector3::new(0.3, 0.6, 1.2);
+        let (found, moved) = crossings_of(from, Vector3::new(0.3, 0.6, 0.1));
+        let point = held_at(&found, &moved);
         assert!(
             (point - Vector3::new(0.3, 0.6, 1.0)).norm() < 1e-12,
             "{point}"
         );
         // Ending just under the top: its nearest facet holds it, no crossing needed.
-        to[node] = Vector3::new(0.3, 0.6, 0.9);
-        assert!(crossings(
-            &[ContactSurface::from_quads(0, &quads, &positions)],
-            0,
-            &[node],
-            (&positions, &to),
-            1e-3,
-            1.0
-        )
-        .is_empty());
+        assert!(crossings_of(from, Vector3::new(0.3, 0.6, 0.9)).0.is_empty());
     }
 }
