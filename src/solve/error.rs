@@ -100,11 +100,12 @@ pub enum SimError {
     /// grasp, so no frame is given for it.
     #[error(
         "the paper's contact iteration could not follow the motion beyond {:.0} % of the \
-         keyframe, even in its smallest contact step ({cause}). Its iteration is one-sided \
+         keyframe, even in its smallest contact step ({}). Its iteration is one-sided \
          (object nodes repelled onto the skin's facets) and converges only where the object is \
          softer than the flesh under it; solve the scene with `[solver] contact = \"lagrange\"`, \
          which resolves the contact exactly along the motion",
-        reached * 100.0
+        reached * 100.0,
+        what_failed(cause)
     )]
     PaperCannotFollow {
         /// The fraction of the keyframe's motion its last converged step reached.
@@ -195,5 +196,35 @@ impl SimError {
                 .join(", "),
         };
         SimError::Solve { body, source }
+    }
+}
+
+/// What a contact step of the paper's iteration met, without the advice its own message gives
+/// (raise the iterations, move the bodies apart): for the paper's iteration the advice that
+/// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
+fn what_failed(cause: &ContactError) -> String {
+    match cause {
+        ContactError::NotConverged {
+            iterations,
+            penetration,
+            change,
+            ..
+        } => format!(
+            "it did not converge in {iterations} iterations: the displacements still changed by \
+             {change:.3e} m, largest penetration {penetration:.3e} m"
+        ),
+        ContactError::StoppedBeforeConvergence {
+            iterations, change, ..
+        } => format!(
+            "a bone's threshold stopped it at iteration {iterations}, its displacements still \
+             changing by {change:.3e} m"
+        ),
+        ContactError::TooDeep {
+            place,
+            other,
+            depth_mm,
+            ..
+        } => format!("it left {place} {depth_mm:.1} mm inside body \"{other}\""),
+        other => other.to_string(),
     }
 }
