@@ -3,6 +3,8 @@
 //! changing by metres: that is no grasp, so the solve stops with an error that says so (the
 //! command exits non-zero) instead of writing the iterate — and the method it advises solves it.
 
+mod common;
+
 use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;
 
@@ -60,13 +62,7 @@ fn the_papers_iteration_along_a_motion_fails_with_exit_code_and_the_advice_works
     let scene = dir.join("paper.toml");
     std::fs::write(&scene, &paper).unwrap();
     let out = dir.join("out");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
-        .arg("solve")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let run = common::solve_cli(&scene, &out);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(
         !run.status.success(),

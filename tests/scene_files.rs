@@ -1,6 +1,8 @@
 //! Scene files and the `solve` command: the documented example works as written, bad input is
 //! refused with an error naming the file and the field, and nothing is left in `--out`.
 
+mod common;
+
 use prehensile::headless::solve_scene_file;
 use serde_json::Value;
 use std::path::PathBuf;
@@ -132,13 +134,7 @@ fn refused(name: &str, text: &str) -> String {
     let scene = dir.join(format!("{name}.toml"));
     std::fs::write(&scene, text).unwrap();
     let out = dir.join("out");
-    let result = bin()
-        .arg("solve")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let result = common::solve_cli(&scene, &out);
     assert!(!result.status.success(), "{name} was accepted");
     assert!(!out.exists(), "{name}: output folder was created");
     let err = String::from_utf8_lossy(&result.stderr).to_string();

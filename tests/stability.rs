@@ -2,6 +2,8 @@
 //! stops with a clear diagnostic, and never leaves a NaN or an infinity in a displacement, a
 //! reaction, a stress or `report.json`. The outcomes are tabulated in docs/stability.md.
 
+mod common;
+
 use nalgebra::Vector3;
 use prehensile::export::report::{frame_report, model_summary, Report};
 use prehensile::fem::hex8::{relative_min_jacobian, scaled_jacobian};
@@ -492,13 +494,7 @@ fn f_one_45_degree_increment_is_worse_than_10_degree_ones_and_warns() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("step.toml");
     std::fs::write(&file, text(45.0)).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
-        .arg("solve")
-        .arg(&file)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
+    let out = common::solve_cli(&file, &dir.join("out"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(

@@ -216,8 +216,8 @@ fn what_failed(cause: &ContactError) -> String {
         ContactError::StoppedBeforeConvergence {
             iterations, change, ..
         } => format!(
-            "a bone's threshold stopped it at iteration {iterations}, its displacements still \
-             changing by {change:.3e} m"
+            "a bone's threshold stopped it at iteration {iterations}, before it converged: its \
+             displacements still changed by {change:.3e} m"
         ),
         ContactError::TooDeep {
             place,

@@ -99,3 +99,14 @@ pub fn skin_depth_inside(
     let lattice = h.positions.iter().map(depth).fold(0.0, f64::max);
     (skin, lattice)
 }
+
+/// `prehensile solve <scene> --out <out>`, run as a user runs it.
+pub fn solve_cli(scene: &std::path::Path, out: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .arg("solve")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("the prehensile binary runs")
+}
