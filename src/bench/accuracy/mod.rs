@@ -257,9 +257,9 @@ impl ProblemId {
     pub fn reference(self, quick: bool) -> (f64, f64) {
         match (self, quick) {
             (_, true) => (1.0, 5.0),
-            // The grip converges under refinement (1.5 to 2: Σ|F| within 1.1 %, each digit
-            // within 4 %; docs/performance.md) and the corotated step barely matters (10° and 20°
-            // within 0.07 % of 5°): resolution 2 with 10° steps.
+            // The grip converges under refinement (1.5 to 2: Σ|F| within 0.14 %, each digit
+            // carrying a tenth of it within 3.8 %; tests/grip_convergence.rs) and the corotated
+            // step barely matters (20° and 10° within 0.03 %): resolution 2 with 10° steps.
             (ProblemId::Grasp, false) => (2.0, 10.0),
             (_, false) => (1.5, 2.5),
         }
