@@ -122,7 +122,7 @@ pub fn doc_text(
          find your error budget on the problem closest to your scene and take the fastest ● run \
          within it.\n\
          - `n/a`: the tier does not apply to the problem, with the reason; for tiers the solver \
-         refuses (today: `nonlinear` with rigid obstacles) the reason is \
+         refuses (none today; `nonlinear` with a gas cavity is the one left) the reason is \
          the solver's own message, and the bench measures them as soon as the solver takes \
          them. `failed`: the tier applies, but the solve stopped (the solver's message).\n\n",
     );
