@@ -186,10 +186,15 @@ impl PartitionedSolver {
             ..Default::default()
         };
 
-        let reuse = self
-            .analysis
-            .as_ref()
-            .is_some_and(|a| Arc::ptr_eq(&a.pattern, &k.pattern) && a.partition == *partition);
+        // The analysis holds for the same pattern, or an equal one built again (a flexion
+        // increment's region rebuilt over the same cells), with the same prescribed dofs.
+        let reuse = self.analysis.as_ref().is_some_and(|a| {
+            let same_pattern = Arc::ptr_eq(&a.pattern, &k.pattern)
+                || (a.pattern.dofs == k.pattern.dofs
+                    && a.pattern.col_ptr == k.pattern.col_ptr
+                    && a.pattern.row_idx == k.pattern.row_idx);
+            same_pattern && a.partition == *partition
+        });
         if !reuse {
             let t = Instant::now();
             self.analysis = Some(analyse(&k.pattern, partition, positions, self.ordering)?);
