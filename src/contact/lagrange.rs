@@ -335,13 +335,7 @@ fn settle(
     if m == 0 {
         return Ok(DVector::zeros(0));
     }
-    let mut g = DMatrix::zeros(m, m);
-    for i in 0..m {
-        for j in i..m {
-            g[(i, j)] = coupling(cache, &rows[i], 0, &rows[j], 0, partition);
-            g[(j, i)] = g[(i, j)];
-        }
-    }
+    let g = normal_couplings(rows, partition, cache);
     let c = DVector::from_fn(m, |i, _| rows[i].apply(0, u0) - rows[i].bound);
     let (held, lambda) = match complementary(&g, &c) {
         Ok(settled) => settled,
@@ -369,6 +363,19 @@ fn settle(
     }
     *rows = kept;
     Ok(DVector::from_vec(out))
+}
+
+/// G = C·K11⁻¹·Cᵀ over the normal axes of `rows` (frictionless), from the coupling cache.
+fn normal_couplings(rows: &[Row], partition: &DofPartition, cache: &mut Couplings) -> DMatrix<f64> {
+    let m = rows.len();
+    let mut g = DMatrix::zeros(m, m);
+    for i in 0..m {
+        for j in i..m {
+            g[(i, j)] = coupling(cache, &rows[i], 0, &rows[j], 0, partition);
+            g[(j, i)] = g[(i, j)];
+        }
+    }
+    g
 }
 
 /// The solution of the linear complementarity problem w = G·λ + c, λ ≥ 0, w ≥ 0, λ·w = 0 (G
@@ -441,13 +448,7 @@ fn release_one_at_a_time(
         if m == 0 {
             return Ok(DVector::zeros(0));
         }
-        let mut g = DMatrix::zeros(m, m);
-        for i in 0..m {
-            for j in i..m {
-                g[(i, j)] = coupling(cache, &rows[i], 0, &rows[j], 0, partition);
-                g[(j, i)] = g[(i, j)];
-            }
-        }
+        let g = normal_couplings(rows, partition, cache);
         let rhs = DVector::from_fn(m, |i, _| rows[i].bound - rows[i].apply(0, u0));
         let Some(lambda) = solve_held(g, &rhs) else {
             return Err(ContactError::Singular { active: m });
