@@ -73,6 +73,22 @@ fn a_second_solve_with_new_prescribed_values_reuses_the_symbolic_analysis_and_is
         .solve(&k, &DofPartition::new(mask), &values, &loads, &mesh.nodes)
         .unwrap();
     assert!(!third.stats.symbolic_reused);
+    // The same mesh's pattern built again (a flexion increment rebuilds its region's): equal,
+    // so the analysis of the first partition holds again, and the solve gives the first's
+    // displacements on K assembled on it (the factor was made for the third partition).
+    let rebuilt = Arc::new(StiffnessPattern::new(&mesh));
+    assert!(!Arc::ptr_eq(&rebuilt, &pattern));
+    let k_again = assemble(&rebuilt, &mesh, &vec![RUBBER; mesh.cell_count()]).unwrap();
+    let _ = solver
+        .solve(&k, &partition, &values, &loads, &mesh.nodes)
+        .unwrap();
+    let fourth = solver
+        .solve(&k_again, &partition, &values, &loads, &mesh.nodes)
+        .unwrap();
+    assert!(fourth.stats.symbolic_reused);
+    for d in 0..values.len() {
+        assert!((fourth.displacement[d] - first.displacement[d]).abs() < 1e-13);
+    }
 }
 
 #[test]
