@@ -337,32 +337,27 @@ fn settle(
     }
     let g = normal_couplings(rows, partition, cache);
     let c = DVector::from_fn(m, |i, _| rows[i].apply(0, u0) - rows[i].bound);
+    // Rows off the set are released; where the rounds did not settle, the most pulling row
+    // is then released one at a time from their last set.
     let (held, lambda) = match complementary(&g, &c) {
-        Ok(settled) => settled,
-        Err(last) => {
-            // From the last set, the most pulling row released one at a time.
-            for (i, row) in std::mem::take(rows).into_iter().enumerate() {
-                if last[i] {
-                    rows.push(row);
-                } else {
-                    released.push(row);
-                }
-            }
-            return release_one_at_a_time(rows, released, u0, partition, cache);
-        }
+        Ok((held, lambda)) => (held, Some(lambda)),
+        Err(last) => (last, None),
     };
     let mut out = Vec::with_capacity(m);
-    let mut kept = Vec::with_capacity(m);
     for (i, row) in std::mem::take(rows).into_iter().enumerate() {
         if held[i] {
-            out.push(lambda[i]);
-            kept.push(row);
+            if let Some(l) = &lambda {
+                out.push(l[i]);
+            }
+            rows.push(row);
         } else {
             released.push(row);
         }
     }
-    *rows = kept;
-    Ok(DVector::from_vec(out))
+    match lambda {
+        Some(_) => Ok(DVector::from_vec(out)),
+        None => release_one_at_a_time(rows, released, u0, partition, cache),
+    }
 }
 
 /// G = C·K11⁻¹·Cᵀ over the normal axes of `rows` (frictionless), from the coupling cache.
