@@ -92,12 +92,14 @@ fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, 
             surface: 0,
             primary: true,
             slave_surface: Some(1),
+            own: None,
         },
         SurfacePair {
             slaves: surfaces[0].nodes(),
             surface: 1,
             primary: false,
             slave_surface: Some(0),
+            own: None,
         },
     ];
     let problem = ContactProblem {

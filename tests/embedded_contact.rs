@@ -226,6 +226,7 @@ fn embedded_points_pressing_a_second_block_give_springs_in_series() {
         surface: 0,
         primary: false,
         slave_surface: None,
+        own: None,
     }];
     let problem = ContactProblem {
         k: &k,

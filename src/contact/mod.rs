@@ -15,6 +15,7 @@ mod point;
 mod pressure;
 mod problem;
 mod row;
+mod self_contact;
 mod surface;
 
 pub use embedded::EmbeddedPoints;
@@ -27,6 +28,7 @@ pub use point::{
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
+pub use self_contact::OwnNeighbourhood;
 pub use surface::{
     connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
     Projection,

@@ -5,10 +5,12 @@
 use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{ContactSettings, Master, PairSides};
+use super::self_contact::OwnNeighbourhood;
 use super::surface::{ContactSurface, SurfaceBvh};
 use crate::fem::assembly::Stiffness;
 use crate::fem::DofPartition;
 use nalgebra::Vector3;
+use std::sync::Arc;
 
 /// The nodes `slaves` may not enter the surface `surface`.
 #[derive(Clone, Debug)]
@@ -22,6 +24,9 @@ pub struct SurfacePair {
     /// The surface the slave nodes lie on: a node only meets facets that face it (their
     /// normals opposed), so a node through a thin wall is not pushed out of its far side.
     pub slave_surface: Option<usize>,
+    /// For slaves on the surface they meet (self-contact): the facets each may not meet, its
+    /// own neighbourhood on the rest geometry ([`OwnNeighbourhood`]).
+    pub own: Option<Arc<OwnNeighbourhood>>,
 }
 
 /// A node whose path over a step of the motion went into another body through one of its
@@ -233,9 +238,17 @@ impl ContactProblem<'_> {
                     .as_ref()
                     .expect("a wanted surface");
                 let own = normals.as_ref().and_then(|m| m.get(&node));
-                let Some(nearest) =
-                    bvh.project(&current[node], &current, own, |t| t.contains(&node))
-                else {
+                // Its own facets, and on its own surface its neighbourhood, are not met.
+                let apart = |t: &[usize; 3]| {
+                    t.contains(&node)
+                        || pair.own.as_ref().is_some_and(|o| {
+                            let (start, now) =
+                                (t.map(|m| self.positions[m]), t.map(|m| current[m]));
+                            o.excludes(node, t)
+                                || own.is_none_or(|m| !o.meets((&current[node], m), &start, &now))
+                        })
+                };
+                let Some(nearest) = bvh.project(&current[node], &current, own, apart) else {
                     continue;
                 };
                 if nearest.gap >= threshold {
@@ -252,9 +265,7 @@ impl ContactProblem<'_> {
                 } else {
                     let band = nearest.distance + 0.1 * settings.search_depth;
                     let alternative = bvh
-                        .project(&current[node], &current, own, |t| {
-                            t.contains(&node) || !facing(t)
-                        })
+                        .project(&current[node], &current, own, |t| apart(t) || !facing(t))
                         .filter(|p| p.distance <= band);
                     match alternative {
                         Some(p) => p,

@@ -49,7 +49,7 @@ impl Model {
         for b in floating_bodies(scene, &bodies, &mesh, &mask).map_err(err)? {
             bodies[b].floating = true;
         }
-        let flexion = flexion_settings(&scene.solver).map_err(err)?;
+        let mut flexion = flexion_settings(&scene.solver).map_err(err)?;
         let keyframes = keyframes(scene, &bodies).map_err(err)?;
         let cameras = cameras(scene).map_err(err)?;
 
@@ -57,6 +57,11 @@ impl Model {
         let contact_candidates = contact_candidates(&bodies);
         let largest = bodies.iter().map(|b| b.size).fold(0.0, f64::max);
         let contact = contact_settings(&scene.solver, largest).map_err(err)?;
+        // Experimental, off unless asked for (docs/hand.md, "Self-contact").
+        flexion.self_contact = match scene.solver.self_contact {
+            Some(true) => Some(contact),
+            _ => None,
+        };
         let contact_region = scene.solver.contact_region.unwrap_or(0.008);
         let friction = friction_table(scene).map_err(err)?;
         let node_cell = node_cells(&mesh);

@@ -1,6 +1,7 @@
 //! How the hands' flesh moves: the flexion settings resolved from `[solver]` (method per part,
 //! increment scheme, FEM region, skinning blend, volumetric integration, near-contact distance).
 
+use crate::contact::ContactSettings;
 use crate::fem::Volumetric;
 use crate::hand::Blend;
 
@@ -74,6 +75,11 @@ pub struct FlexionSettings {
     /// flesh follows the bones by skinning (`solve::proximity`). `None`: every part is solved
     /// as `methods` says.
     pub near_contact: Option<f64>,
+    /// Self-contact of the skin in the increments (the contact settings it is solved with), or
+    /// `None` (the default) when the skin may pass through itself. Experimental, asked for by
+    /// `[solver] self_contact = true`; solved by the corotational and the paper's increments
+    /// only (docs/hand.md, "Self-contact").
+    pub self_contact: Option<ContactSettings>,
 }
 
 impl Default for FlexionSettings {
@@ -86,6 +92,7 @@ impl Default for FlexionSettings {
             scheme: FlexionScheme::Corotational,
             volumetric: Volumetric::MeanDilatation,
             near_contact: Some(0.01),
+            self_contact: None,
         }
     }
 }

@@ -157,6 +157,13 @@ pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec
             flexion.max_step_deg
         ));
     }
+    if has_hand && flexion.self_contact.is_some() && !incremental {
+        out.push(
+            "solver.self_contact = true: the skin's self-contact is solved in the corotational \
+             and the paper's increments only; this tier's flesh may still pass through itself"
+                .to_string(),
+        );
+    }
     out
 }
 

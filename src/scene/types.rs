@@ -206,6 +206,10 @@ pub struct SolverSettings {
     /// Radius around the contact within which hand flesh is solved with it, m (default 0.008).
     #[serde(default)]
     pub contact_region: Option<f64>,
+    /// Whether a hand's skin is kept from passing through itself in the flexion increments
+    /// (default false; experimental: docs/hand.md, "Self-contact").
+    #[serde(default)]
+    pub self_contact: Option<bool>,
     /// Default Coulomb friction coefficient of every contact (default 0).
     #[serde(default)]
     pub friction: Option<f64>,

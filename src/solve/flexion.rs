@@ -15,6 +15,7 @@
 use super::error::SimError;
 use super::linear_factor::LinearFactor;
 use super::region::{sub_problem, SubProblem};
+use super::self_contact::{Increment, OwnSkin};
 use super::step_control::StepControl;
 use crate::fem::assembly::{assemble, assemble_warped};
 use crate::fem::hex8::relative_min_jacobian;
@@ -210,6 +211,12 @@ impl<'a> Flexion<'a> {
             return Ok(stats);
         };
         const MAX_HALVINGS: usize = 4;
+        // The region's skin, kept out of itself (the scheme's increments are linear: the paper's
+        // and the corotated ones).
+        let own_skin = match (&self.settings.self_contact, &plan.sub) {
+            (Some(contact), Some(sub)) => OwnSkin::new(self.hand, sub, contact),
+            _ => None,
+        };
 
         // March from 0 to 1 in fractions of the keyframe; an increment that would turn a cell
         // inside out is retried with half the step, up to MAX_HALVINGS times.
@@ -233,7 +240,8 @@ impl<'a> Flexion<'a> {
                     FlexionScheme::Corotational => Some(cell_rotations(self.hand, sub, &delta)),
                     _ => None,
                 };
-                match self.solve_increment(sub, state, &mut next, rotations, &mut stats)? {
+                let own = own_skin.as_ref();
+                match self.solve_increment(sub, own, state, &mut next, rotations, &mut stats)? {
                     None => {}
                     Some(_) if control.halve() => {
                         stats.halvings += 1;
@@ -511,6 +519,7 @@ impl Flexion<'_> {
     fn solve_increment(
         &mut self,
         sub: &SubProblem,
+        own_skin: Option<&OwnSkin>,
         state: &mut HandState,
         next: &mut [Vector3<f64>],
         rotations: Option<Vec<Matrix3<f64>>>,
@@ -550,14 +559,32 @@ impl Flexion<'_> {
                 prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
             }
         }
-        let solution = self
-            .caches
-            .solver
-            .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
-            .map_err(|source| SimError::Solve {
-                body: self.body.clone(),
-                source,
-            })?;
+        let solution = match own_skin {
+            None => self
+                .caches
+                .solver
+                .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
+                .map_err(|source| SimError::Solve {
+                    body: self.body.clone(),
+                    source,
+                })?,
+            Some(skin) => {
+                let result =
+                    self.with_self_contact(skin, &k, sub, (&prescribed, &loads), &mesh, absolute)?;
+                stats.self_contacts = result.contacts.len();
+                stats.self_contact_force = result.normal_force();
+                let mut solution = result.solution;
+                if absolute {
+                    // Back to positions: the unknowns of the corotated increment.
+                    for (i, p) in mesh.nodes.iter().enumerate() {
+                        for a in 0..3 {
+                            solution.displacement[3 * i + a] += p[a];
+                        }
+                    }
+                }
+                solution
+            }
+        };
         let s = &solution.stats;
         stats.symbolic_ms += s.symbolic_ms;
         stats.factorization_ms += s.factorization_ms;
@@ -591,6 +618,47 @@ impl Flexion<'_> {
             }
         }
         Ok(None)
+    }
+}
+
+impl Flexion<'_> {
+    /// The increment with the region's skin kept out of itself (src/solve/self_contact.rs),
+    /// its unknowns the displacements from `mesh` (the region where the increment starts): the
+    /// corotated increment's (`absolute`: its unknowns are the new positions, its prescribed
+    /// values the bones' new positions) is shifted by the current positions.
+    fn with_self_contact(
+        &mut self,
+        skin: &OwnSkin,
+        k: &crate::fem::assembly::Stiffness,
+        sub: &SubProblem,
+        (prescribed, loads): (&[f64], &[f64]),
+        mesh: &Mesh,
+        absolute: bool,
+    ) -> Result<crate::contact::ContactResult, SimError> {
+        let (prescribed, loads) = if absolute {
+            let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+            let kx = k.mul(&x);
+            let loads: Vec<f64> = loads.iter().zip(&kx).map(|(r, f)| r - f).collect();
+            let prescribed: Vec<f64> = prescribed.iter().zip(&x).map(|(p, x)| p - x).collect();
+            (prescribed, loads)
+        } else {
+            (prescribed.to_vec(), loads.to_vec())
+        };
+        let increment = Increment {
+            k,
+            partition: &sub.partition,
+            prescribed: &prescribed,
+            loads: &loads,
+            nodes: &mesh.nodes,
+        };
+        skin.solve(&mut self.caches.solver, increment)
+            .map_err(|e| match e {
+                crate::contact::ContactError::Solve(source) => SimError::Solve {
+                    body: self.body.clone(),
+                    source,
+                },
+                other => SimError::Contact(other),
+            })
     }
 }
 

@@ -179,12 +179,14 @@ pub fn solve_grasp(
                 surface: i,
                 primary: true,
                 slave_surface: Some(s),
+                own: None,
             });
             pairs.push(SurfacePair {
                 slaves: skin_near,
                 surface: s,
                 primary: false,
                 slave_surface: Some(i),
+                own: None,
             });
         }
     }

@@ -14,6 +14,7 @@ mod hyperelastic_objects;
 mod linear_factor;
 pub mod proximity;
 mod region;
+mod self_contact;
 mod stabilize;
 mod statics;
 mod statics_nonlinear;

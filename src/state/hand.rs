@@ -116,6 +116,11 @@ pub struct KeyframeStats {
     /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
+    /// Skin points of the hand held against its own skin at the end of the flexion (the fold
+    /// of a crease, a fingertip on the palm, fingers side by side; issue 16).
+    pub self_contacts: usize,
+    /// The sum of their normal forces, N.
+    pub self_contact_force: f64,
     /// The keyframe ended short of its pose: how far it went and why (`None`: it reached it;
     /// not written then).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -169,6 +174,11 @@ impl KeyframeStats {
             self.unsettled_at_pose = step.unsettled_at_pose;
         }
         self.contact_retries += step.contact_retries;
+        // The flexion's end is the later step's.
+        if step.increments_taken > 0 {
+            self.self_contacts = step.self_contacts;
+            self.self_contact_force = step.self_contact_force;
+        }
         if step.stopped_short.is_some() {
             self.stopped_short = step.stopped_short.clone();
         }

@@ -1,0 +1,143 @@
+//! Self-contact in the flexion increments (issue 16): the hand's smooth skin may not pass through
+//! itself — the two sides of a flexion crease, phalanx against phalanx, fingertip against palm,
+//! finger against finger.
+//!
+//! Each increment of the FEM region is solved as a contact problem: equations (7)–(8) on the
+//! increment's stiffness, with the region's skin points (the contact skin's vertices embedded in
+//! its cells) as slaves against the region's own skin facets, every pair but a point's own
+//! neighbourhood (`contact::OwnNeighbourhood`), by the exact method (`contact::solve_lagrange`:
+//! an active set of multipliers through the Schur complement of the increment's factor). The
+//! contact forces are internal to the hand: they push flesh against flesh, and where they reach a
+//! bone node they go into its reaction (equation (8)), so the bones feel the fold.
+
+use super::region::SubProblem;
+use crate::contact::{
+    solve_lagrange, ContactError, ContactProblem, ContactResult, ContactSettings, ContactSurface,
+    EmbeddedPoints, OwnNeighbourhood, PairSides, SurfacePair,
+};
+use crate::fem::assembly::Stiffness;
+use crate::fem::solve::PartitionedSolver;
+use crate::hand::HandModel;
+use nalgebra::Vector3;
+use std::sync::Arc;
+
+/// The skin of a keyframe's FEM region as a contact surface on the region's own nodes.
+pub(super) struct OwnSkin {
+    /// The skin points kept (every term in the region), over the region's local nodes.
+    embedded: EmbeddedPoints,
+    /// Skin quads with all four corners kept, in contact indices.
+    quads: Vec<[usize; 4]>,
+    /// Which facets each point may not meet.
+    own: Arc<OwnNeighbourhood>,
+    /// The contact settings of the self-contact.
+    settings: ContactSettings,
+}
+
+/// The neighbourhood radius of the self-contact in lattice spacings: skin points nearer than
+/// this along the skin at rest are kept apart by the flesh between them, not by contact.
+const NEIGHBOURHOOD_SPACINGS: f64 = 2.0;
+
+impl OwnSkin {
+    /// The skin of `sub`'s region of `hand`, or `None` when it has no facet.
+    pub(super) fn new(
+        hand: &HandModel,
+        sub: &SubProblem,
+        settings: &ContactSettings,
+    ) -> Option<OwnSkin> {
+        let skin = &hand.contact_skin;
+        let mut local = vec![usize::MAX; hand.flesh.mesh.nodes.len()];
+        for (i, &n) in sub.nodes.iter().enumerate() {
+            local[n] = i;
+        }
+        let mut embedded = EmbeddedPoints::none(sub.nodes.len());
+        let mut index = vec![usize::MAX; skin.vertex_count()];
+        for (v, slot) in index.iter_mut().enumerate() {
+            let terms: Vec<(usize, f64)> = skin.terms(v).map(|(n, w)| (local[n], w)).collect();
+            if terms.iter().all(|t| t.0 != usize::MAX) {
+                *slot = embedded.push(terms);
+            }
+        }
+        let quads: Vec<[usize; 4]> = skin
+            .quads
+            .iter()
+            .map(|q| q.map(|v| index[v as usize]))
+            .filter(|q| q.iter().all(|&i| i != usize::MAX))
+            .collect();
+        if quads.is_empty() {
+            return None;
+        }
+        let rest = embedded.extend(&sub.mesh.nodes);
+        let radius = NEIGHBOURHOOD_SPACINGS * hand.flesh.spacing;
+        // The same flesh seen from behind: deeper than a lattice spacing behind a facet (skin
+        // about in its plane at rest, the other side of a crease, may meet it), within twice the
+        // depth the contact searches.
+        let behind = (hand.flesh.spacing, 2.0 * settings.search_depth);
+        let triangles = ContactSurface::from_quads(0, &quads, &rest).triangles;
+        let own = OwnNeighbourhood::new(rest, &triangles, radius, behind);
+        Some(OwnSkin {
+            embedded,
+            quads,
+            own: Arc::new(own),
+            settings: ContactSettings {
+                pairs: PairSides::Both,
+                ..*settings
+            },
+        })
+    }
+
+    /// Solves the increment K·ΔU = R with the prescribed ΔU and the skin kept out of itself,
+    /// from the region's nodes at `nodes` (ΔU measured from them). Frictionless: skin folding
+    /// on skin slides.
+    pub(super) fn solve(
+        &self,
+        solver: &mut PartitionedSolver,
+        increment: Increment,
+    ) -> Result<ContactResult, ContactError> {
+        let Increment {
+            k,
+            partition,
+            prescribed,
+            loads,
+            nodes,
+        } = increment;
+        let positions = self.embedded.extend(nodes);
+        let surfaces = vec![ContactSurface::from_quads(0, &self.quads, &positions)];
+        let pairs = vec![SurfacePair {
+            slaves: surfaces[0].nodes(),
+            surface: 0,
+            primary: true,
+            slave_surface: Some(0),
+            own: Some(self.own.clone()),
+        }];
+        let problem = ContactProblem {
+            k,
+            partition,
+            prescribed,
+            loads,
+            positions: &positions,
+            embedded: &self.embedded,
+            obstacles: &[],
+            obstacle_candidates: &[],
+            surfaces: &surfaces,
+            pairs: &pairs,
+            friction: &|_, _| 0.0,
+            stop: None,
+            crossings: &[],
+        };
+        solve_lagrange(solver, &problem, &self.settings)
+    }
+}
+
+/// One increment's linear problem on the region's local dofs.
+pub(super) struct Increment<'a> {
+    /// The increment's stiffness.
+    pub(super) k: &'a Stiffness,
+    /// Bone nodes and the region's edge prescribed.
+    pub(super) partition: &'a crate::fem::DofPartition,
+    /// ΔU at the prescribed dofs.
+    pub(super) prescribed: &'a [f64],
+    /// The loads less what the current positions already hold.
+    pub(super) loads: &'a [f64],
+    /// The region's nodes where the increment starts.
+    pub(super) nodes: &'a [Vector3<f64>],
+}
