@@ -1,8 +1,12 @@
 //! Self-contact of the hand's skin in the flexion increments (issue 16, experimental:
-//! `[solver] self_contact = true`). The middle finger adducted against the ring finger (middle
-//! MCP abduction 0 → −5°, 1° increments, the whole hand by FEM, resolution 1): its skin presses on
-//! the ring's and does not enter it, the ring's bones feel the press, and the hand's bones
-//! balance — the contact forces are internal to the hand.
+//! `[solver] self_contact = true`), at resolution 1:
+//!
+//! - the middle finger adducted against the ring finger (middle MCP abduction 0 → −5°, 1°
+//!   increments, the whole hand by FEM): its skin presses on the ring's and does not enter it,
+//!   the ring's bones feel the press, and the hand's bones balance — the contact forces are
+//!   internal to the hand;
+//! - the index PIP flexed to 110°: the palmar skin of its crease folds onto itself without
+//!   crossing (a surface self-intersection check: triangle against triangle).
 
 use nalgebra::Vector3;
 use prehensile::contact::{winding_number_of, ContactSettings};
@@ -25,30 +29,40 @@ const FLESH: Material = Material {
     density: 1050.0,
 };
 
-/// The middle MCP abducted to `angle` from rest in 1° increments, with or without self-contact.
-fn adducted(angle: f64, self_contact: bool) -> (HandState, KeyframeStats) {
+/// `joint` moved to `angle` from rest with `settings`, with or without self-contact.
+fn posed(
+    (joint, angle): (&str, f64),
+    settings: FlexionSettings,
+    self_contact: bool,
+) -> (HandState, KeyframeStats) {
     let hand = hand();
     let mut stepper = Flexion::new(
         hand,
         "hand",
         vec![FLESH; hand.flesh.mesh.cells.len()],
         FlexionSettings {
-            max_step_deg: 1.0,
-            region: FleshRegion::Whole,
             self_contact: self_contact.then(ContactSettings::default),
-            ..Default::default()
+            ..settings
         },
         FillOrdering::NestedDissection,
     );
     let mut state = HandState::rest(hand);
-    let pose: Pose = [("middle.mcp.abd".to_string(), angle)]
-        .into_iter()
-        .collect();
+    let pose: Pose = [(joint.to_string(), angle)].into_iter().collect();
     let target = hand.skeleton.apply_pose(&state.angles, &pose).unwrap();
     let stats = stepper
         .move_to(&mut state, &target)
-        .unwrap_or_else(|e| panic!("middle MCP abduction {angle}°: {e}"));
+        .unwrap_or_else(|e| panic!("{joint} {angle}°: {e}"));
     (state, stats)
+}
+
+/// The middle MCP abducted to `angle` from rest in 1° increments, the whole hand by FEM.
+fn adducted(angle: f64, self_contact: bool) -> (HandState, KeyframeStats) {
+    let settings = FlexionSettings {
+        max_step_deg: 1.0,
+        region: FleshRegion::Whole,
+        ..Default::default()
+    };
+    posed(("middle.mcp.abd", angle), settings, self_contact)
 }
 
 /// The digit (1 thumb … 5 little, 0 palm) whose bone leads skin vertex `v`'s heaviest node.
@@ -122,6 +136,13 @@ fn the_middle_finger_presses_on_the_ring_finger_and_does_not_enter_it() {
         ring_bones.iter().map(|&b| r[b]).sum()
     };
     let free_depth = middle_inside_ring_mm(&free);
+    // (The skin's crossings beyond 3 lattice spacings, for the record.)
+    let apart = 3.0 * hand.flesh.spacing;
+    eprintln!(
+        "skin crossings: {} without, {} with self-contact",
+        skin_crossings(hand, &free.positions, apart, |_, _| true),
+        skin_crossings(hand, &held.positions, apart, |_, _| true)
+    );
     let held_depth = middle_inside_ring_mm(&held);
     let total: Vector3<f64> = held.bone_reactions(hand).iter().sum();
     eprintln!(
@@ -151,6 +172,128 @@ fn the_middle_finger_presses_on_the_ring_finger_and_does_not_enter_it() {
         stats.self_contact_force
     );
     // Action and reaction: the contact forces are internal, the bones balance.
+    assert!(
+        total.norm() < 1e-6 * stats.self_contact_force,
+        "Σ bone reactions {total}"
+    );
+}
+
+/// Whether segment `a`–`b` passes through triangle `t` (Möller–Trumbore).
+fn segment_crosses(a: &Vector3<f64>, b: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> bool {
+    let d = b - a;
+    let (e1, e2) = (t[1] - t[0], t[2] - t[0]);
+    let p = d.cross(&e2);
+    let det = e1.dot(&p);
+    if det.abs() < 1e-30 {
+        return false;
+    }
+    let s = a - t[0];
+    let u = s.dot(&p) / det;
+    let q = s.cross(&e1);
+    let v = d.dot(&q) / det;
+    let w = e2.dot(&q) / det;
+    u >= 0.0 && v >= 0.0 && u + v <= 1.0 && (0.0..=1.0).contains(&w)
+}
+
+/// Pairs of the contact skin's triangles at `positions` that pass through each other, among
+/// those sharing no vertex, farther apart at rest than `apart` (m) and that `keep` (given the
+/// two triangles' skin vertices): where the skin crosses itself (the two sides of a crease
+/// within `apart` of its fold are not counted).
+fn skin_crossings(
+    hand: &HandModel,
+    positions: &[Vector3<f64>],
+    apart: f64,
+    keep: impl Fn(&[usize; 3], &[usize; 3]) -> bool,
+) -> usize {
+    use std::collections::HashMap;
+    let skin = &hand.contact_skin;
+    let now = skin.positions(positions);
+    let rest = skin.positions(&hand.flesh.mesh.nodes);
+    let triangles: Vec<[usize; 3]> = skin
+        .triangles()
+        .into_iter()
+        .map(|t| t.map(|v| v as usize))
+        .collect();
+    let corners = |t: &[usize; 3], x: &[Vector3<f64>]| t.map(|v| x[v]);
+    let centre = |t: &[usize; 3], x: &[Vector3<f64>]| (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+    let cell = 2.0 * hand.flesh.spacing;
+    let key = |p: &Vector3<f64>| p.map(|c| (c / cell).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    for (i, t) in triangles.iter().enumerate() {
+        let c = corners(t, &now);
+        let lo = key(&c[0].inf(&c[1]).inf(&c[2]));
+        let hi = key(&c[0].sup(&c[1]).sup(&c[2]));
+        for x in lo.x..=hi.x {
+            for y in lo.y..=hi.y {
+                for z in lo.z..=hi.z {
+                    grid.entry([x, y, z]).or_default().push(i);
+                }
+            }
+        }
+    }
+    let mut crossing = std::collections::HashSet::new();
+    for members in grid.values() {
+        for (k, &i) in members.iter().enumerate() {
+            for &j in &members[k + 1..] {
+                let (ti, tj) = (&triangles[i], &triangles[j]);
+                if ti.iter().any(|v| tj.contains(v))
+                    || (centre(ti, &rest) - centre(tj, &rest)).norm() < apart
+                {
+                    continue;
+                }
+                let (a, b) = (corners(ti, &now), corners(tj, &now));
+                let crosses = (0..3).any(|e| segment_crosses(&a[e], &a[(e + 1) % 3], &b))
+                    || (0..3).any(|e| segment_crosses(&b[e], &b[(e + 1) % 3], &a));
+                if crosses && keep(ti, tj) {
+                    crossing.insert((i.min(j), i.max(j)));
+                }
+            }
+        }
+    }
+    crossing.len()
+}
+
+/// The index PIP flexed to its limit, 110°, in 10° increments (the default local region): the
+/// palmar skin of the proximal and of the middle phalanx fold onto each other. Without
+/// self-contact they pass through each other; with it they press and do not cross.
+#[test]
+fn the_folded_pip_crease_does_not_cross_itself() {
+    let hand = hand();
+    let skin = &hand.contact_skin;
+    let rest = skin.positions(&hand.flesh.mesh.nodes);
+    // Skin facing the palm at rest (outward normal within 45° of −z).
+    let palmar = |t: &[usize; 3]| {
+        let n = (rest[t[1]] - rest[t[0]]).cross(&(rest[t[2]] - rest[t[0]]));
+        n.z < -0.7 * n.norm()
+    };
+    let crease = |a: &[usize; 3], b: &[usize; 3]| palmar(a) && palmar(b);
+    let apart = 3.0 * hand.flesh.spacing;
+    let (free, free_stats) = posed(("index.pip", 110.0), FlexionSettings::default(), false);
+    let (held, stats) = posed(("index.pip", 110.0), FlexionSettings::default(), true);
+    let free_crossings = skin_crossings(hand, &free.positions, apart, crease);
+    let held_crossings = skin_crossings(hand, &held.positions, apart, crease);
+    let all_free = skin_crossings(hand, &free.positions, apart, |_, _| true);
+    let all_held = skin_crossings(hand, &held.positions, apart, |_, _| true);
+    let v0 = HandState::rest(hand).flesh_volume(hand);
+    let volume = held.flesh_volume(hand) / v0 - 1.0;
+    let total: Vector3<f64> = held.bone_reactions(hand).iter().sum();
+    eprintln!(
+        "palmar crossings {free_crossings} → {held_crossings}, all {all_free} → {all_held}; \
+         {} contacts, {:.3} N; volume {:+.3} %; Σ bones {:.2e} N; {} → {} factorizations",
+        stats.self_contacts,
+        stats.self_contact_force,
+        100.0 * volume,
+        total.norm(),
+        free_stats.factorizations,
+        stats.factorizations
+    );
+    // Without self-contact the palmar skin of the crease passes through itself.
+    assert!(free_crossings >= 10, "{free_crossings} crossings");
+    // With it, it does not; the skin crosses itself less overall.
+    assert_eq!(held_crossings, 0);
+    assert!(all_held < all_free);
+    assert!(stats.self_contacts > 0 && stats.self_contact_force > 0.1);
+    assert!(volume.abs() < 2e-3, "flesh volume {volume:+.2e}");
     assert!(
         total.norm() < 1e-6 * stats.self_contact_force,
         "Σ bone reactions {total}"

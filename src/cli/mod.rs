@@ -514,7 +514,7 @@ fn print_summary(solved: &Solved) {
             println!(
                 "  hand {name}: {} increments, {} factorizations over {} FEM cells ({} free dofs; \
                  {} cells skinned far from contact{}), {:.0} ms; flesh volume change {:+.3} %; \
-                 largest bone reaction {largest:.3} N ({bone})",
+                 largest bone reaction {largest:.3} N ({bone}){}",
                 m.increments,
                 m.factorizations,
                 m.fem_cells,
@@ -526,7 +526,15 @@ fn print_summary(solved: &Solved) {
                     format!(": {}", m.far_digits.join(", "))
                 },
                 m.total_ms,
-                h.volume_change * 100.0
+                h.volume_change * 100.0,
+                if m.self_contacts > 0 {
+                    format!(
+                        "; self-contact {} points, {:.3} N",
+                        m.self_contacts, m.self_contact_force
+                    )
+                } else {
+                    String::new()
+                }
             );
         }
         for (name, p) in &f.probes {

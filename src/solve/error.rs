@@ -38,6 +38,23 @@ pub enum SimError {
         /// Its angle at the failing increment, degrees.
         angle: f64,
     },
+    /// A flexion increment's self-contact did not settle, even after halving the step.
+    #[error(
+        "body \"{body}\": the skin's self-contact did not settle as {joint} reaches {angle:.1}°, \
+         even with the increment halved four times ({reason}); try smaller increments \
+         (solver.max_step_deg), a smaller joint angle, or solver.self_contact = false (the skin \
+         may then pass through itself)"
+    )]
+    SelfContactUnsettled {
+        /// The hand body.
+        body: String,
+        /// The joint moving most.
+        joint: String,
+        /// Its angle at the failing increment, degrees.
+        angle: f64,
+        /// The contact solver's account.
+        reason: String,
+    },
     /// A nonlinear flexion increment found no equilibrium, even at the smallest step allowed.
     #[error(
         "body \"{body}\": the nonlinear flexion found no equilibrium as {joint} reaches \

@@ -241,13 +241,24 @@ impl<'a> Flexion<'a> {
                     _ => None,
                 };
                 let own = own_skin.as_ref();
-                match self.solve_increment(sub, own, state, &mut next, rotations, &mut stats)? {
-                    None => {}
-                    Some(_) if control.halve() => {
+                match self.solve_increment(sub, own, state, &mut next, rotations, &mut stats) {
+                    Ok(None) => {}
+                    // A crushed cell, or a self-contact that did not settle: half the step.
+                    Ok(Some(_)) | Err(SimError::Contact(_)) if control.halve() => {
                         stats.halvings += 1;
                         continue;
                     }
-                    Some((cell, _)) => {
+                    Err(SimError::Contact(e)) => {
+                        let (joint, angle) = self.moving_most(&plan, &angles);
+                        return Err(SimError::SelfContactUnsettled {
+                            body: self.body.clone(),
+                            joint,
+                            angle,
+                            reason: e.to_string(),
+                        });
+                    }
+                    Err(e) => return Err(e),
+                    Ok(Some((cell, _))) => {
                         let (joint, angle) = self.nearest_moving_joint(&plan, state, &angles, cell);
                         return Err(SimError::FleshCrushed {
                             body: self.body.clone(),
@@ -495,6 +506,15 @@ impl<'a> Flexion<'a> {
                 d(a.1).total_cmp(&d(b.1))
             })
             .map(|(i, d)| (d.name.clone(), angles[i]))
+            .unwrap_or_default()
+    }
+
+    /// The joint moving most over the keyframe `plan`, and its angle in `angles`.
+    fn moving_most(&self, plan: &Plan, angles: &[f64]) -> (String, f64) {
+        let motion = |i: usize| (plan.target[i] - plan.start[i]).abs();
+        (0..plan.target.len())
+            .max_by(|&a, &b| motion(a).total_cmp(&motion(b)))
+            .map(|i| (self.hand.skeleton.dofs[i].name.clone(), angles[i]))
             .unwrap_or_default()
     }
 

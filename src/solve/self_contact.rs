@@ -17,7 +17,7 @@ use crate::contact::{
 };
 use crate::fem::assembly::Stiffness;
 use crate::fem::solve::PartitionedSolver;
-use crate::hand::HandModel;
+use crate::hand::{HandModel, BASE_SPACING};
 use nalgebra::Vector3;
 use std::sync::Arc;
 
@@ -33,9 +33,17 @@ pub(super) struct OwnSkin {
     settings: ContactSettings,
 }
 
-/// The neighbourhood radius of the self-contact in lattice spacings: skin points nearer than
-/// this along the skin at rest are kept apart by the flesh between them, not by contact.
-const NEIGHBOURHOOD_SPACINGS: f64 = 2.0;
+/// The neighbourhood radius of the self-contact, m: skin points nearer than this along the skin
+/// at rest are kept apart by the flesh between them, not by contact. A length of the hand, not
+/// of its mesh (two base lattice spacings, 6.4 mm), so that refining the mesh refines the same
+/// contact problem: at two spacings of a resolution-1.5 lattice (4.3 mm) the dorsal skin over
+/// the PIP's knuckle met itself at 30° of flexion and crushed a cell.
+const NEIGHBOURHOOD: f64 = 2.0 * BASE_SPACING;
+
+/// Skin lying behind a facet at rest by more than this is the same flesh seen from behind, m
+/// (one base lattice spacing): skin about in the facet's plane (the other side of a crease,
+/// along the finger) may meet it.
+const BEHIND: f64 = BASE_SPACING;
 
 impl OwnSkin {
     /// The skin of `sub`'s region of `hand`, or `None` when it has no facet.
@@ -67,13 +75,10 @@ impl OwnSkin {
             return None;
         }
         let rest = embedded.extend(&sub.mesh.nodes);
-        let radius = NEIGHBOURHOOD_SPACINGS * hand.flesh.spacing;
-        // The same flesh seen from behind: deeper than a lattice spacing behind a facet (skin
-        // about in its plane at rest, the other side of a crease, may meet it), within twice the
-        // depth the contact searches.
-        let behind = (hand.flesh.spacing, 2.0 * settings.search_depth);
+        // The same flesh seen from behind: within twice the depth the contact searches.
+        let behind = (BEHIND, 2.0 * settings.search_depth);
         let triangles = ContactSurface::from_quads(0, &quads, &rest).triangles;
-        let own = OwnNeighbourhood::new(rest, &triangles, radius, behind);
+        let own = OwnNeighbourhood::new(rest, &triangles, NEIGHBOURHOOD, behind);
         Some(OwnSkin {
             embedded,
             quads,
