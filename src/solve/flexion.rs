@@ -68,6 +68,10 @@ impl Plan {
     }
 }
 
+/// How near its own skin (m) a skin point must come over a keyframe, predicted by skinning,
+/// for the local region to grow around it when self-contact is on.
+const BEHIND_MARGIN: f64 = 0.003;
+
 /// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
 pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 
@@ -399,7 +403,23 @@ impl<'a> Flexion<'a> {
                         })
                         .collect()
                 };
-                let active = region(&seams_with(&self.far));
+                let mut active = region(&seams_with(&self.far));
+                // Self-contact: the region grows around where the skin will meet itself.
+                if let Some(contact) = &self.settings.self_contact {
+                    let meeting = super::self_contact::near_itself(
+                        hand,
+                        self.settings.blend,
+                        &skeleton.transforms(target),
+                        &state.positions,
+                        contact.search_depth.min(BEHIND_MARGIN),
+                    );
+                    for (c, a) in active.iter_mut().enumerate() {
+                        if !*a && self.cell_method(c) == FleshMethod::Fem && !self.far[part(c)] {
+                            let mid = centre(c);
+                            *a = meeting.iter().any(|p| (mid - p).norm() < radius);
+                        }
+                    }
+                }
                 if self.far.iter().any(|&f| f) {
                     let all = region(&seams_with(&[false; 6]));
                     stats.far_cells = all.iter().zip(&active).filter(|(a, b)| **a && !**b).count();

@@ -17,8 +17,8 @@ use crate::contact::{
 };
 use crate::fem::assembly::Stiffness;
 use crate::fem::solve::PartitionedSolver;
-use crate::hand::{HandModel, BASE_SPACING};
-use nalgebra::Vector3;
+use crate::hand::{Blend, HandModel, BASE_SPACING};
+use nalgebra::{Isometry3, Vector3};
 use std::sync::Arc;
 
 /// The skin of a keyframe's FEM region as a contact surface on the region's own nodes.
@@ -131,6 +131,56 @@ impl OwnSkin {
         };
         solve_lagrange(solver, &problem, &self.settings)
     }
+}
+
+/// Where `hand`'s skin will meet itself over a keyframe: the positions in `now` (the flesh where
+/// the keyframe starts) of the skin points, and of the corners of the facets they face, that
+/// come within `margin` of their own skin when the flesh follows the bones to `transforms`
+/// (rest → the keyframe's end) by skinning from rest. The flexion's local region grows around
+/// them: the press of skin on skin must fall on flesh the increments solve, not on the region's
+/// prescribed edge, where nothing can give.
+pub(super) fn near_itself(
+    hand: &HandModel,
+    blend: Blend,
+    transforms: &[Isometry3<f64>],
+    now: &[Vector3<f64>],
+    margin: f64,
+) -> Vec<Vector3<f64>> {
+    let skin = &hand.contact_skin;
+    let rest = &hand.flesh.mesh.nodes;
+    let mut predicted = rest.clone();
+    hand.weights
+        .apply(blend, transforms, rest, 0..rest.len(), &mut predicted);
+    let end = skin.positions(&predicted);
+    let now = skin.positions(now);
+    let quads: Vec<[usize; 4]> = skin.quads.iter().map(|q| q.map(|v| v as usize)).collect();
+    let surface = ContactSurface::from_quads(0, &quads, &end);
+    let behind = (BEHIND, 2.0 * margin.max(NEIGHBOURHOOD));
+    let own = OwnNeighbourhood::new(
+        skin.positions(rest),
+        &surface.triangles,
+        NEIGHBOURHOOD,
+        behind,
+    );
+    let normals = surface.reference_normals();
+    let bvh = surface.hierarchy(&end, margin);
+    let mut out = Vec::new();
+    for v in 0..skin.vertex_count() {
+        let Some(normal) = normals.get(&v) else {
+            continue;
+        };
+        let skip = |t: &[usize; 3]| {
+            let corners = t.map(|c| end[c]);
+            own.excludes(v, t) || !own.meets((&end[v], normal), &corners, &corners)
+        };
+        if let Some(p) = bvh.project(&end[v], &end, Some(normal), skip) {
+            if p.gap < margin {
+                out.push(now[v]);
+                out.extend(p.nodes.map(|c| now[c]));
+            }
+        }
+    }
+    out
 }
 
 /// One increment's linear problem on the region's local dofs.
