@@ -8,5 +8,6 @@ pub mod grasp;
 pub mod hand;
 pub mod region;
 pub mod render;
+pub mod self_contact;
 pub mod solver;
 pub mod viewer;

@@ -153,6 +153,14 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "corotational")]
         tiers: Vec<String>,
     },
+    /// The skin kept out of itself (self-contact) against the skin passing through itself: the
+    /// index PIP to 110°, the middle finger adducted onto the ring finger, a full fist, per hand
+    /// resolution — time, increments, factorizations, the points held and their force.
+    SelfContact {
+        /// Hand mesh resolutions, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1,1.5")]
+        resolutions: Vec<f64>,
+    },
     /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
     /// moving joints and near the contact only) and with everything everywhere; time saved and
     /// the difference in the result.
@@ -348,6 +356,14 @@ fn run() -> Result<()> {
                 let rows =
                     crate::bench::grasp::grasp_rows(&presets, &scenes, &resolutions, &tiers)?;
                 print!("{}", crate::bench::grasp::grasp_table(&rows));
+            }
+            BenchCommand::SelfContact { resolutions } => {
+                println!(
+                    "self-contact benchmark: {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = crate::bench::self_contact::self_contact_rows(&resolutions)?;
+                print!("{}", crate::bench::self_contact::self_contact_table(&rows));
             }
             BenchCommand::Region { scenes } => {
                 println!("region benchmark: {} threads", rayon::current_num_threads());

@@ -137,7 +137,8 @@ impl OwnNeighbourhood {
 }
 
 /// For every point of the surface `triangles` at `positions`, the points within `radius` of it
-/// along the surface's edges (Dijkstra), sorted; empty for a point off the surface.
+/// along the surface's edges (Dijkstra; points that coincide joined), sorted; empty for a point
+/// off the surface.
 fn geodesic_neighbourhoods(
     positions: &[Vector3<f64>],
     triangles: &[[usize; 3]],
@@ -153,6 +154,24 @@ fn geodesic_neighbourhoods(
             if !edges[a].iter().any(|e| e.0 == b) {
                 edges[a].push((b, length));
                 edges[b].push((a, length));
+            }
+        }
+    }
+    // Vertices that coincide at rest are one point of the skin (where the lattice splits a node
+    // between two digits, the skin's vertices are split too): joined at no length.
+    const SAME: f64 = 1e-6;
+    let mut on: Vec<usize> = (0..positions.len())
+        .filter(|&n| !edges[n].is_empty())
+        .collect();
+    on.sort_by(|&a, &b| positions[a].x.total_cmp(&positions[b].x));
+    for (i, &a) in on.iter().enumerate() {
+        for &b in &on[i + 1..] {
+            if positions[b].x - positions[a].x > SAME {
+                break;
+            }
+            if (positions[a] - positions[b]).norm() < SAME {
+                edges[a].push((b, 0.0));
+                edges[b].push((a, 0.0));
             }
         }
     }
@@ -243,6 +262,29 @@ mod tests {
         let lenient = OwnNeighbourhood::new(sunk, &triangles, 0.0025, (0.001, 0.04));
         assert!(!lenient.excludes(point, &top[16]));
         assert_eq!(n.radius(), 0.0025);
+    }
+
+    /// A skin split along a seam (its vertices duplicated, as where the lattice splits a node
+    /// between two digits) is one skin: the facet across the seam is the point's neighbourhood.
+    #[test]
+    fn a_seam_of_coincident_vertices_joins_the_neighbourhood() {
+        let mut rest = Vec::new();
+        let left = strip(&mut rest, 0.0, true);
+        let mut right = strip(&mut rest, 0.0, true);
+        // Move the second strip to continue the first along x: its first column on the first
+        // strip's last one, the vertices coinciding but not shared.
+        let shift = Vector3::new(10e-3, 0.0, 0.0);
+        for p in rest.iter_mut().skip(22) {
+            *p += shift;
+        }
+        right.retain(|t| t.iter().all(|&v| v >= 22));
+        let triangles: Vec<[usize; 3]> = [&left[..], &right[..]].concat();
+        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.01));
+        // Vertex 20 is (10, 0, 0) on the first strip; the second strip's first facets touch it.
+        assert!(n.excludes(20, &right[0]));
+        assert!(n.excludes(18, &right[0]));
+        // Farther than 2.5 mm along the joined skin: not excluded.
+        assert!(!n.excludes(14, &right[4]));
     }
 
     /// Whether a point meets a facet: facing it (normals more than 105° apart) and over it.
