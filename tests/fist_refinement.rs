@@ -14,7 +14,7 @@
 use nalgebra::Vector3;
 use prehensile::fem::solve::FillOrdering;
 use prehensile::fem::Material;
-use prehensile::hand::{HandModel, Pose, Side};
+use prehensile::hand::{full_fist, HandModel, Side};
 use prehensile::model::FlexionSettings;
 use prehensile::solve::Flexion;
 use prehensile::state::HandState;
@@ -24,24 +24,6 @@ const FLESH: Material = Material {
     poisson: 0.45,
     density: 1050.0,
 };
-
-fn fist() -> Pose {
-    let mut pose = Pose::new();
-    for f in ["index", "middle", "ring", "little"] {
-        pose.insert(format!("{f}.mcp.flex"), 88.0);
-        pose.insert(format!("{f}.pip"), 105.0);
-        pose.insert(format!("{f}.dip"), 70.0);
-    }
-    for (joint, angle) in [
-        ("thumb.cmc.flex", 25.0),
-        ("thumb.cmc.abd", 40.0),
-        ("thumb.mcp", 30.0),
-        ("thumb.ip", 30.0),
-    ] {
-        pose.insert(joint.to_string(), angle);
-    }
-    pose
-}
 
 #[test]
 fn the_full_fist_closes_at_resolutions_1_to_2() {
@@ -57,7 +39,10 @@ fn the_full_fist_closes_at_resolutions_1_to_2() {
         );
         let mut state = HandState::rest(&hand);
         let v0 = state.flesh_volume(&hand);
-        let target = hand.skeleton.apply_pose(&state.angles, &fist()).unwrap();
+        let target = hand
+            .skeleton
+            .apply_pose(&state.angles, &full_fist())
+            .unwrap();
         let stats = stepper
             .move_to(&mut state, &target)
             .unwrap_or_else(|e| panic!("resolution {resolution}: {e}"));

@@ -6,7 +6,7 @@
 use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
-use crate::hand::{HandModel, Pose, Side};
+use crate::hand::{full_fist, HandModel, Pose, Side};
 use crate::model::FlexionSettings;
 use crate::solve::Flexion;
 use crate::state::HandState;
@@ -32,20 +32,6 @@ fn motions() -> Vec<(&'static str, Pose, f64)> {
     let pose = |pairs: &[(&str, f64)]| -> Pose {
         pairs.iter().map(|(j, a)| (j.to_string(), *a)).collect()
     };
-    let mut fist = Pose::new();
-    for f in ["index", "middle", "ring", "little"] {
-        fist.insert(format!("{f}.mcp.flex"), 88.0);
-        fist.insert(format!("{f}.pip"), 105.0);
-        fist.insert(format!("{f}.dip"), 70.0);
-    }
-    for (j, a) in [
-        ("thumb.cmc.flex", 25.0),
-        ("thumb.cmc.abd", 40.0),
-        ("thumb.mcp", 30.0),
-        ("thumb.ip", 30.0),
-    ] {
-        fist.insert(j.to_string(), a);
-    }
     vec![
         ("index PIP 110°", pose(&[("index.pip", 110.0)]), 10.0),
         (
@@ -53,7 +39,7 @@ fn motions() -> Vec<(&'static str, Pose, f64)> {
             pose(&[("middle.mcp.abd", -8.0)]),
             1.0,
         ),
-        ("full fist", fist, 10.0),
+        ("full fist", full_fist(), 10.0),
     ]
 }
 

@@ -9,6 +9,7 @@ mod bone_mesh;
 mod lattice;
 mod model;
 mod posed;
+mod poses;
 mod shape;
 mod skeleton;
 mod skin;
@@ -17,6 +18,7 @@ mod skinning;
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
+pub use poses::full_fist;
 pub use shape::SkinShape;
 pub use skeleton::{
     cup_radius, long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton,

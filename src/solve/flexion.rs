@@ -68,10 +68,6 @@ impl Plan {
     }
 }
 
-/// How near its own skin (m) a skin point must come over a keyframe, predicted by skinning,
-/// for the local region to grow around it when self-contact is on.
-const BEHIND_MARGIN: f64 = 0.003;
-
 /// Asked once per increment; `true` stops [`Flexion::move_to`] with [`SimError::Cancelled`].
 pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 
@@ -411,7 +407,7 @@ impl<'a> Flexion<'a> {
                         self.settings.blend,
                         &skeleton.transforms(target),
                         &state.positions,
-                        contact.search_depth.min(BEHIND_MARGIN),
+                        contact,
                     );
                     for (c, a) in active.iter_mut().enumerate() {
                         if !*a && self.cell_method(c) == FleshMethod::Fem && !self.far[part(c)] {

@@ -75,7 +75,8 @@ impl OwnSkin {
             return None;
         }
         let rest = embedded.extend(&sub.mesh.nodes);
-        // The same flesh seen from behind: within twice the depth the contact searches.
+        // The same flesh seen from behind: within twice the depth the contact searches (as in
+        // `near_itself`).
         let behind = (BEHIND, 2.0 * settings.search_depth);
         let triangles = ContactSurface::from_quads(0, &quads, &rest).triangles;
         let own = OwnNeighbourhood::new(rest, &triangles, NEIGHBOURHOOD, behind);
@@ -133,10 +134,15 @@ impl OwnSkin {
     }
 }
 
+/// How near its own skin (m) a skin point must come at a keyframe's end, predicted by
+/// skinning, for the local flexion region to grow around it.
+const MEETING: f64 = 0.003;
+
 /// Where `hand`'s skin will meet itself over a keyframe: the positions in `now` (the flesh where
 /// the keyframe starts) of the skin points, and of the corners of the facets they face, that
-/// come within `margin` of their own skin when the flesh follows the bones to `transforms`
-/// (rest → the keyframe's end) by skinning from rest. The flexion's local region grows around
+/// come within [`MEETING`] of their own skin (the pairs the increments' self-contact, solved
+/// with `settings`, would consider) when the flesh follows the bones to `transforms` (rest →
+/// the keyframe's end) by skinning from rest. The flexion's local region grows around
 /// them: the press of skin on skin must fall on flesh the increments solve, not on the region's
 /// prescribed edge, where nothing can give.
 pub(super) fn near_itself(
@@ -144,8 +150,9 @@ pub(super) fn near_itself(
     blend: Blend,
     transforms: &[Isometry3<f64>],
     now: &[Vector3<f64>],
-    margin: f64,
+    settings: &ContactSettings,
 ) -> Vec<Vector3<f64>> {
+    let margin = MEETING.min(settings.search_depth);
     let skin = &hand.contact_skin;
     let rest = &hand.flesh.mesh.nodes;
     let mut predicted = rest.clone();
@@ -155,7 +162,7 @@ pub(super) fn near_itself(
     let now = skin.positions(now);
     let quads: Vec<[usize; 4]> = skin.quads.iter().map(|q| q.map(|v| v as usize)).collect();
     let surface = ContactSurface::from_quads(0, &quads, &end);
-    let behind = (BEHIND, 2.0 * margin.max(NEIGHBOURHOOD));
+    let behind = (BEHIND, 2.0 * settings.search_depth);
     let own = OwnNeighbourhood::new(
         skin.positions(rest),
         &surface.triangles,
