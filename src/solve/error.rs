@@ -41,9 +41,8 @@ pub enum SimError {
     /// A flexion increment's self-contact did not settle, even after halving the step.
     #[error(
         "body \"{body}\": the skin's self-contact did not settle as {joint} reaches {angle:.1}°, \
-         even with the increment halved four times ({reason}); try smaller increments \
-         (solver.max_step_deg), a smaller joint angle, or solver.self_contact = false (the skin \
-         may then pass through itself)"
+         even with the increment halved four times ({reason}); stop the joint short of that \
+         angle, or set solver.self_contact = false (the skin may then pass through itself)"
     )]
     SelfContactUnsettled {
         /// The hand body.
