@@ -397,3 +397,43 @@ fn the_local_region_grows_around_the_skin_meeting_itself() {
     // Pressed further, harder.
     assert!(deep_stats.self_contact_force > 2.0 * l);
 }
+
+/// The user's path when self-contact cannot settle: a scene asking for it on the full fist
+/// stops with an error that says where (the joint and its angle) and what to do; doing what it
+/// says — `self_contact = false` — solves the scene.
+#[test]
+fn an_unsettled_self_contact_says_where_and_its_advice_works() {
+    let pose: Vec<String> = prehensile::hand::full_fist()
+        .iter()
+        .map(|(joint, angle)| format!("\"{joint}\" = {angle}"))
+        .collect();
+    let scene = |self_contact: bool| {
+        format!(
+            "[solver]\nself_contact = {self_contact}\n\n[[material]]\nname = \"flesh\"\n\
+             young = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n[[body]]\nname = \"hand\"\n\
+             material = \"flesh\"\nshape = {{ hand = {{ side = \"right\" }} }}\n\n\
+             [[keyframe]]\ntime = 1.0\npose = {{ {} }}\n",
+            pose.join(", ")
+        )
+    };
+    let solve = |text: &str| {
+        let scene = prehensile::scene::Scene::parse(text, "fist.toml").unwrap();
+        prehensile::headless::solve_scene(&scene, "fist.toml")
+    };
+    let error = match solve(&scene(true)) {
+        Ok(_) => panic!("the full fist with self-contact was expected to stop"),
+        Err(e) => e.to_string(),
+    };
+    eprintln!("{error}");
+    assert!(
+        error.contains("fist.toml") && error.contains("body \"hand\""),
+        "{error}"
+    );
+    assert!(error.contains("self-contact did not settle as little.pip reaches"));
+    assert!(error.contains("self_contact = false"));
+    // (Not the advice for contact between bodies, which does not help here.)
+    assert!(!error.contains("contact_max_iterations"), "{error}");
+    let solved = solve(&scene(false)).unwrap_or_else(|e| panic!("{e}"));
+    let hand = &solved.report.frames.last().unwrap().hands["hand"];
+    assert!(hand.volume_change.abs() < 0.015);
+}

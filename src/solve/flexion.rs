@@ -250,11 +250,28 @@ impl<'a> Flexion<'a> {
                     }
                     Err(SimError::Contact(e)) => {
                         let (joint, angle) = self.moving_most(&plan, &angles);
+                        // The contact solver's account without its own advice (which is for
+                        // contact between bodies).
+                        let reason = match e {
+                            crate::contact::ContactError::NotConverged {
+                                iterations,
+                                active,
+                                penetration,
+                                tolerance,
+                                ..
+                            } => format!(
+                                "{active} skin points held, {:.2} mm of skin still through skin (limit \
+                                 {:.2} mm) after {iterations} iterations",
+                                penetration * 1e3,
+                                tolerance * 1e3
+                            ),
+                            other => other.to_string(),
+                        };
                         return Err(SimError::SelfContactUnsettled {
                             body: self.body.clone(),
                             joint,
                             angle,
-                            reason: e.to_string(),
+                            reason,
                         });
                     }
                     Err(e) => return Err(e),
