@@ -35,7 +35,7 @@ fn the_full_fist_closes_at_resolutions_1_to_2() {
             "hand",
             vec![FLESH; hand.flesh.mesh.cells.len()],
             FlexionSettings::default(),
-            FillOrdering::NestedDissection,
+            FillOrdering::Auto,
         );
         let mut state = HandState::rest(&hand);
         let v0 = state.flesh_volume(&hand);

@@ -30,13 +30,7 @@ fn pose(entries: &[(&str, f64)]) -> Pose {
 fn flex(entries: &[(&str, f64)], settings: FlexionSettings) -> HandState {
     let hand = hand();
     let materials = vec![FLESH; hand.flesh.mesh.cells.len()];
-    let mut stepper = Flexion::new(
-        hand,
-        "hand",
-        materials,
-        settings,
-        FillOrdering::NestedDissection,
-    );
+    let mut stepper = Flexion::new(hand, "hand", materials, settings, FillOrdering::Auto);
     let mut state = HandState::rest(hand);
     let target = hand
         .skeleton

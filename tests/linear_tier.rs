@@ -35,7 +35,7 @@ fn stepper(scheme: FlexionScheme) -> Flexion<'static> {
             scheme,
             ..Default::default()
         },
-        FillOrdering::NestedDissection,
+        FillOrdering::Auto,
     )
 }
 

@@ -114,6 +114,69 @@ fn nested_dissection_fills_less_than_minimum_degree_and_gives_the_same_answer() 
     assert!(nd.stats.relative_residual < 1e-12 && amd.stats.relative_residual < 1e-12);
 }
 
+/// A slender bar, one end clamped, the other pulled along its axis: thin as a finger.
+fn bar(cells: usize) -> (Mesh, DofPartition, Vec<f64>) {
+    let length = 0.01 * cells as f64;
+    let mesh = box_mesh(
+        Vector3::zeros(),
+        Vector3::new(length, 0.02, 0.02),
+        [cells, 2, 2],
+    );
+    let mut mask = vec![false; 3 * mesh.node_count()];
+    let mut values = vec![0.0; 3 * mesh.node_count()];
+    for (k, p) in mesh.nodes.iter().enumerate() {
+        if p.x == 0.0 {
+            mask[3 * k..3 * k + 3].fill(true);
+        } else if (p.x - length).abs() < 1e-12 {
+            mask[3 * k] = true;
+            values[3 * k] = 1e-3;
+        }
+    }
+    (mesh, DofPartition::new(mask), values)
+}
+
+#[test]
+fn the_default_ordering_keeps_the_lesser_fill_of_dissection_and_minimum_degree() {
+    // Dissection wins on the compact cube, minimum degree on the slender bar (the hand's
+    // fingers: 7.6 M entries against 12.8 M at resolution 1); the default keeps whichever the
+    // symbolic analysis counts fewer entries for, and solves alike.
+    for (name, (mesh, partition, values)) in [("cube", cube(10)), ("bar", bar(300))] {
+        let pattern = Arc::new(StiffnessPattern::new(&mesh));
+        let k = assemble(&pattern, &mesh, &vec![RUBBER; mesh.cell_count()]).unwrap();
+        let loads = vec![0.0; 3 * mesh.node_count()];
+        let solve = |ordering| {
+            PartitionedSolver::new(ordering)
+                .solve(&k, &partition, &values, &loads, &mesh.nodes)
+                .unwrap()
+        };
+        let (nd, amd, auto) = (
+            solve(FillOrdering::NestedDissection),
+            solve(FillOrdering::Amd),
+            solve(FillOrdering::default()),
+        );
+        let (nd_nnz, amd_nnz) = (nd.stats.factor_nnz, amd.stats.factor_nnz);
+        println!(
+            "{name}: nnz(L) nested dissection {nd_nnz}, AMD {amd_nnz}, default {}",
+            auto.stats.factor_nnz
+        );
+        assert_eq!(auto.stats.factor_nnz, nd_nnz.min(amd_nnz), "{name}");
+        let scale = auto
+            .displacement
+            .iter()
+            .map(|u| u.abs())
+            .fold(0.0, f64::max);
+        let apart = (0..values.len())
+            .map(|d| (auto.displacement[d] - nd.displacement[d]).abs())
+            .fold(0.0, f64::max);
+        assert!(apart < 1e-8 * scale, "{name}: {apart:e} of {scale:e}");
+        assert!(auto.stats.relative_residual < 1e-10, "{name}");
+        match name {
+            "cube" => assert!(nd_nnz < amd_nnz),
+            _ => assert!(amd_nnz < nd_nnz),
+        }
+    }
+}
+
 #[test]
 fn an_unheld_mechanism_fails_with_a_diagnosis_not_a_nan() {
     // Two cubes side by side that share no node: the second is held by nothing.

@@ -77,7 +77,7 @@ impl Cantilever {
     pub fn solve_linear(&self, kind: ElementKind) -> Vec<f64> {
         let pattern = Arc::new(StiffnessPattern::new(&self.mesh));
         let k = assemble_kind(&pattern, &self.mesh, &self.materials, kind).expect("assembly");
-        PartitionedSolver::new(FillOrdering::NestedDissection)
+        PartitionedSolver::new(FillOrdering::Auto)
             .solve(
                 &k,
                 &self.partition,

@@ -64,7 +64,7 @@ pub fn self_contact_rows(resolutions: &[f64]) -> anyhow::Result<Vec<SelfContactR
                         self_contact: self_contact.then(ContactSettings::default),
                         ..Default::default()
                     },
-                    FillOrdering::NestedDissection,
+                    FillOrdering::Auto,
                 );
                 let mut state = HandState::rest(&hand);
                 let target = hand.skeleton.apply_pose(&state.angles, &pose)?;

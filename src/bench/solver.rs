@@ -70,6 +70,7 @@ displacement = {{ z = -0.01 }}
 /// Runs the solver benchmark for each size.
 pub fn solver_rows(sizes: &[usize], ordering: FillOrdering, repeats: usize) -> Vec<SolverRow> {
     let name = match ordering {
+        FillOrdering::Auto => "auto",
         FillOrdering::NestedDissection => "nested_dissection",
         FillOrdering::Amd => "amd",
     };

@@ -94,7 +94,7 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "10,20,30,40")]
         sizes: Vec<usize>,
         /// Fill-reducing ordering.
-        #[arg(long, default_value = "nested-dissection", value_parser = ordering_parser())]
+        #[arg(long, default_value = "auto", value_parser = ordering_parser())]
         ordering: FillOrdering,
         /// Assembly repetitions (the best time is kept).
         #[arg(long, default_value_t = 3)]
@@ -227,11 +227,12 @@ enum PresetArg {
 /// `--ordering`: parsed straight into the solver's ordering.
 fn ordering_parser() -> impl clap::builder::TypedValueParser<Value = FillOrdering> {
     use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(["nested-dissection", "amd"]).map(|s| {
-        match s.as_str() {
-            "amd" => FillOrdering::Amd,
-            _ => FillOrdering::NestedDissection,
-        }
+    clap::builder::PossibleValuesParser::new(["auto", "nested-dissection", "amd"]).map(|s| match s
+        .as_str()
+    {
+        "amd" => FillOrdering::Amd,
+        "nested-dissection" => FillOrdering::NestedDissection,
+        _ => FillOrdering::Auto,
     })
 }
 

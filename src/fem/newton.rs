@@ -78,7 +78,7 @@ impl Default for NewtonSettings {
             max_iterations: 25,
             tolerance: 1e-10,
             line_search_halvings: 10,
-            ordering: FillOrdering::NestedDissection,
+            ordering: FillOrdering::Auto,
             relative_to_peak: false,
             regularise: false,
             energy_descent: false,

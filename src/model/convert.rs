@@ -88,6 +88,7 @@ impl From<ElementName> for ElementKind {
 impl From<OrderingName> for FillOrdering {
     fn from(o: OrderingName) -> FillOrdering {
         match o {
+            OrderingName::Auto => FillOrdering::Auto,
             OrderingName::NestedDissection => FillOrdering::NestedDissection,
             OrderingName::Amd => FillOrdering::Amd,
         }

@@ -6,9 +6,7 @@ use super::tier;
 use super::{BodyModel, FrictionTable};
 use crate::contact::{ContactSettings, Relaxation};
 use crate::fem::solve::FillOrdering;
-use crate::scene::{
-    FarFromContact, FleshRegionName, OrderingName, RelaxationDef, Scene, SolverSettings,
-};
+use crate::scene::{FarFromContact, FleshRegionName, RelaxationDef, Scene, SolverSettings};
 
 /// The contact settings of `[solver]`.
 pub fn contact_settings(
@@ -173,10 +171,7 @@ pub fn warnings(nonlinear: bool, flexion: &FlexionSettings, bodies: &[BodyModel]
     warnings
 }
 
-/// The fill-reducing ordering of `[solver]` (nested dissection unless `ordering = "amd"`).
+/// The fill-reducing ordering of `[solver]` (the lesser fill of the two unless one is named).
 pub fn ordering(s: &SolverSettings) -> FillOrdering {
-    match s.ordering {
-        Some(OrderingName::Amd) => FillOrdering::Amd,
-        _ => FillOrdering::NestedDissection,
-    }
+    s.ordering.map_or(FillOrdering::Auto, FillOrdering::from)
 }

@@ -272,6 +272,8 @@ pub enum FleshRegionName {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum OrderingName {
+    /// Whichever of the two below leaves less fill in the factor (the default).
+    Auto,
     /// Geometric nested dissection.
     NestedDissection,
     /// Approximate minimum degree.

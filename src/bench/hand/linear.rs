@@ -59,7 +59,7 @@ fn keyframes(
             scheme,
             ..Default::default()
         },
-        FillOrdering::NestedDissection,
+        FillOrdering::Auto,
     );
     let mut state = HandState::rest(hand);
     let mut out = Vec::new();

@@ -74,7 +74,7 @@ pub(crate) fn run(
         "hand",
         vec![FLESH; hand.flesh.mesh.cells.len()],
         settings,
-        FillOrdering::NestedDissection,
+        FillOrdering::Auto,
     );
     let mut state = HandState::rest(hand);
     let pose: Pose = [("index.pip".to_string(), 90.0)].into_iter().collect();
