@@ -9,10 +9,13 @@ use std::mem::MaybeUninit;
 /// Grows `buffer` to at least `len` elements, advising huge pages on the new memory.
 pub fn grow<T>(buffer: &mut Vec<T>, len: usize, fill: impl FnMut() -> T) {
     if buffer.capacity() < len {
-        *buffer = Vec::with_capacity(len);
+        // A quarter more than asked: a factor that grows by a few columns from one solve to
+        // the next (a contact region along a motion) keeps its memory, and its huge pages.
+        let capacity = len.saturating_add(len / 4);
+        *buffer = Vec::with_capacity(capacity);
         advise_huge_pages(
             buffer.as_mut_ptr() as *mut u8,
-            len * std::mem::size_of::<T>(),
+            capacity * std::mem::size_of::<T>(),
         );
     }
     buffer.clear();

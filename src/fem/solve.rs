@@ -129,6 +129,12 @@ struct Analysis {
     gather: Vec<usize>,
     k11: SymbolicSparseColMat<usize>,
     cholesky: SymbolicCholesky<usize>,
+    /// The numeric factorization's work per free dof of the last analysis that ordered afresh
+    /// (this one, or the one whose order this carries over).
+    work_per_dof: f64,
+    /// The free dofs in elimination order, each as 3 × its node's identity + its axis (see
+    /// [`PartitionedSolver::set_node_ids`]).
+    order_keys: Vec<usize>,
 }
 
 /// Solves equations (7) and (8), keeping the symbolic analysis between calls.
@@ -142,6 +148,8 @@ pub struct PartitionedSolver {
     /// loads) reuses the factor instead of refactorizing.
     factored: Vec<f64>,
     scratch: Vec<MaybeUninit<u64>>,
+    /// The identity of each node of the next patterns (empty: its index).
+    node_ids: Vec<usize>,
 }
 
 impl PartitionedSolver {
@@ -153,7 +161,17 @@ impl PartitionedSolver {
             factor: Vec::new(),
             factored: Vec::new(),
             scratch: Vec::new(),
+            node_ids: Vec::new(),
         }
+    }
+
+    /// Names the nodes of the patterns solved next by their identity in a larger mesh (a
+    /// flexion region's nodes by their hand node): where a later pattern numbers the same
+    /// nodes otherwise (the region grew or shrank by a few cells), the elimination order is
+    /// carried over through these identities instead of ordered afresh. Without it a node's
+    /// identity is its index.
+    pub fn set_node_ids(&mut self, ids: Vec<usize>) {
+        self.node_ids = ids;
     }
 
     /// The fill-reducing ordering it uses.
@@ -201,7 +219,18 @@ impl PartitionedSolver {
         });
         if !reuse {
             let t = Instant::now();
-            self.analysis = Some(analyse(&k.pattern, partition, positions, self.ordering)?);
+            // A prescribed set a little changed on the same pattern (a flexion increment's
+            // region losing a few nodes to a bone, a contact region grown by a few cells):
+            // the last elimination order carried over, unless that fills more.
+            let keys = dof_keys(&self.node_ids, k.pattern.dofs);
+            let carried = self
+                .analysis
+                .as_ref()
+                .and_then(|a| carried_analysis(a, &k.pattern, partition, &keys));
+            self.analysis = Some(match carried {
+                Some(a) => a,
+                None => analyse(&k.pattern, partition, positions, self.ordering, &keys)?,
+            });
             stats.symbolic_ms = ms(t);
         }
         stats.symbolic_reused = reuse;
@@ -347,12 +376,115 @@ impl PartitionedSolver {
 }
 
 /// Extracts the pattern of K11 from the full upper pattern, orders it and analyses it.
-fn analyse(
+/// Free dofs new to a prescribed set, as a share of its free dofs, up to which the last
+/// elimination order is carried over (they are eliminated last).
+const CARRIED_NEW: f64 = 0.01;
+
+/// The numeric factorization's work per free dof, relative to that of the last order made
+/// afresh, up to which a carried-over order is kept.
+const CARRIED_FILL: f64 = 1.05;
+
+/// Floating-point multiply-adds of the numeric factorization the symbolic analysis `cholesky`
+/// plans: Σ c_j² over the factor's columns (c_j its entries below the diagonal); for a
+/// supernode of w columns and r rows below them, w³/3 + r·w² + r²·w (its diagonal block, the
+/// panel below it, and its update of the rest).
+pub(crate) fn factor_work(cholesky: &SymbolicCholesky<usize>) -> f64 {
+    use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+    match cholesky.raw() {
+        SymbolicCholeskyRaw::Simplicial(s) => s
+            .col_ptr()
+            .windows(2)
+            .map(|w| {
+                let c = w[1].saturating_sub(w[0]).saturating_sub(1) as f64;
+                c * c
+            })
+            .sum(),
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let rows = s.col_ptr_for_row_idx();
+            (0..s.n_supernodes())
+                .map(|k| {
+                    let w = (s.supernode_end()[k] - s.supernode_begin()[k]) as f64;
+                    let r = (rows[k + 1] - rows[k]) as f64;
+                    w * w * w / 3.0 + r * w * w + r * r * w
+                })
+                .sum()
+        }
+    }
+}
+
+/// Each dof's key: 3 × its node's identity (`ids`, or its index where empty) + its axis.
+fn dof_keys(ids: &[usize], dofs: usize) -> Vec<usize> {
+    (0..dofs)
+        .map(|d| 3 * ids.get(d / 3).copied().unwrap_or(d / 3) + d % 3)
+        .collect()
+}
+
+/// The analysis of `partition` on `pattern` (its dofs' `keys`) with the elimination order of
+/// `last` (an analysis of the same nodes, maybe numbered otherwise, with other dofs free): the
+/// free dofs in their last order, the new ones after them. `None` where too many are new, the
+/// symbolic analysis fails, or the factorization would cost more than [`CARRIED_FILL`] times
+/// the order made afresh (per free dof).
+fn carried_analysis(
+    last: &Analysis,
     pattern: &Arc<StiffnessPattern>,
     partition: &DofPartition,
-    positions: &[Vector3<f64>],
-    ordering: FillOrdering,
-) -> Result<Analysis, SolveError> {
+    keys: &[usize],
+) -> Option<Analysis> {
+    let neq = partition.free_count();
+    if neq == 0 {
+        return None;
+    }
+    let mut rank = std::collections::HashMap::with_capacity(last.order_keys.len());
+    for (i, &key) in last.order_keys.iter().enumerate() {
+        rank.insert(key, i);
+    }
+    let (mut kept, mut new): (Vec<(usize, usize)>, Vec<usize>) = (Vec::new(), Vec::new());
+    for (eq, &d) in partition.free.iter().enumerate() {
+        match rank.get(&keys[d]) {
+            Some(&r) => kept.push((r, eq)),
+            None => new.push(eq),
+        }
+    }
+    if new.len() as f64 > CARRIED_NEW * neq as f64 {
+        return None;
+    }
+    kept.sort_unstable();
+    let forward: Vec<usize> = kept.into_iter().map(|(_, eq)| eq).chain(new).collect();
+    let (col_ptr, row_idx, gather) = k11_structure(pattern, partition);
+    let k11 = SymbolicSparseColMat::new_checked(neq, neq, col_ptr, None, row_idx);
+    let order_keys = forward.iter().map(|&eq| keys[partition.free[eq]]).collect();
+    let mut inverse = vec![0usize; neq];
+    for (i, &eq) in forward.iter().enumerate() {
+        inverse[eq] = i;
+    }
+    let perm = Perm::new_checked(forward.into_boxed_slice(), inverse.into_boxed_slice(), neq);
+    let cholesky = factorize_symbolic_cholesky(
+        k11.as_ref(),
+        Side::Upper,
+        SymmetricOrdering::Custom(perm.as_ref()),
+        Default::default(),
+    )
+    .ok()?;
+    if factor_work(&cholesky) > CARRIED_FILL * last.work_per_dof * neq as f64 {
+        return None;
+    }
+    Some(Analysis {
+        pattern: pattern.clone(),
+        partition: partition.clone(),
+        gather,
+        k11,
+        cholesky,
+        work_per_dof: last.work_per_dof,
+        order_keys,
+    })
+}
+
+/// The upper triangle of K11 (the free rows and columns of `pattern`): column pointers, row
+/// indices, and where each entry's value is in the pattern's.
+fn k11_structure(
+    pattern: &StiffnessPattern,
+    partition: &DofPartition,
+) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
     let neq = partition.free_count();
     let mut col_ptr = Vec::with_capacity(neq + 1);
     let mut row_idx = Vec::new();
@@ -368,6 +500,18 @@ fn analyse(
         }
         col_ptr.push(row_idx.len());
     }
+    (col_ptr, row_idx, gather)
+}
+
+fn analyse(
+    pattern: &Arc<StiffnessPattern>,
+    partition: &DofPartition,
+    positions: &[Vector3<f64>],
+    ordering: FillOrdering,
+    keys: &[usize],
+) -> Result<Analysis, SolveError> {
+    let neq = partition.free_count();
+    let (col_ptr, row_idx, gather) = k11_structure(pattern, partition);
     let k11 = SymbolicSparseColMat::new_checked(neq, neq, col_ptr, None, row_idx);
     let amd = || {
         factorize_symbolic_cholesky(
@@ -405,16 +549,25 @@ fn analyse(
     let cholesky = match ordering {
         FillOrdering::Amd => amd()?,
         FillOrdering::NestedDissection => dissection()?,
-        // The symbolic analysis counts the factor's entries before any is computed: the
-        // numeric factorization's work and memory grow with them.
+        // The symbolic analysis tells the numeric factorization's work before any is done.
         FillOrdering::Auto => {
             let (a, d) = (amd()?, dissection()?);
-            if a.len_val() < d.len_val() {
+            if factor_work(&a) < factor_work(&d) {
                 a
             } else {
                 d
             }
         }
+    };
+    let work_per_dof = factor_work(&cholesky) / neq.max(1) as f64;
+    let order_keys = match cholesky.perm() {
+        Some(p) => p
+            .arrays()
+            .0
+            .iter()
+            .map(|&eq| keys[partition.free[eq]])
+            .collect(),
+        None => partition.free.iter().map(|&d| keys[d]).collect(),
     };
     Ok(Analysis {
         pattern: pattern.clone(),
@@ -422,6 +575,8 @@ fn analyse(
         gather,
         k11,
         cholesky,
+        work_per_dof,
+        order_keys,
     })
 }
 

@@ -6,6 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::frame_with_hands;
+use super::path::FlexionPath;
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
@@ -26,6 +27,8 @@ pub struct Workspace {
     still: Option<Frame>,
     /// The flexion caches by hand body.
     caches: Vec<(usize, FlexionCaches)>,
+    /// The contact steps' solver (its symbolic analysis carried from step to step).
+    contact: PartitionedSolver,
 }
 
 /// A hand body where the driver left it: its state, and its part of the last frame.
@@ -49,6 +52,17 @@ pub struct Posed {
     /// The displacements the last contact step left, over every dof: the other bodies' from
     /// rest, the flesh's over its flexed pose. `None` when nothing touched.
     pub contact: Option<Vec<f64>>,
+}
+
+impl PosedHand {
+    /// Hand `body` of `model` in `state`, its frame as flexed.
+    fn of_state(model: &Model, body: usize, state: HandState) -> PosedHand {
+        PosedHand {
+            body,
+            frame: hand_frame(model, body, &state, KeyframeStats::default()),
+            state,
+        }
+    }
 }
 
 impl Posed {
@@ -90,8 +104,8 @@ fn carried_by(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
 }
 
 /// A keyframe's motion: each moving hand (index into `Posed::hands`, angles from, angles to),
-/// and the parts of each that skinning would crush over the keyframe.
-type Motion<'a> = (&'a [(usize, Vec<f64>, Vec<f64>)], &'a [[bool; PARTS]]);
+/// and their flexion along it.
+type Motion<'a, 'p> = (&'a [(usize, Vec<f64>, Vec<f64>)], &'p mut FlexionPath);
 
 /// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
 /// degrees: the skin of a fingertip 8 cm from the joint moves ≈ 7 mm, within what one contact
@@ -139,6 +153,7 @@ impl Workspace {
         Ok(Workspace {
             still,
             caches: Vec::new(),
+            contact: PartitionedSolver::new(model.ordering),
         })
     }
 
@@ -220,18 +235,34 @@ impl Workspace {
                     model.contact.search_depth,
                 )
             });
+        // The hands' flexion over the keyframe, shared by both ways of solving its contact. A
+        // part that skinning would crush over the whole keyframe is solved in each of its
+        // increments, although no increment alone would crush it.
+        let mut path = FlexionPath::new(
+            model,
+            moving.iter().map(|(h, _, to)| {
+                let hand = &posed.hands[*h];
+                let mut far = far_parts_of(model, hand.body, &hand.state, to);
+                let crushed = crushed_parts_of(model, hand.body, &hand.state, to);
+                for (f, c) in far.iter_mut().zip(crushed) {
+                    *f &= !c;
+                }
+                (hand.body, hand.state.clone(), to.clone(), far)
+            }),
+        );
+        let path = &mut path;
         if too_deep {
             let carried = posed.contact.clone();
-            return self.move_in_steps(model, posed, &moving, along, carried, cancel);
+            return self.move_in_steps(model, posed, (&moving, path), along, carried, cancel);
         }
         // Going on from a frame in contact, from the state it carries (the same formulation
         // as its own steps: the pose again gives the frame again).
         let carried = posed.contact.clone();
-        match self.move_in_steps(model, posed, &moving, 1, carried, cancel) {
+        match self.move_in_steps(model, posed, (&moving, path), 1, carried, cancel) {
             Err(SimError::Contact(first)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
-                self.move_in_steps(model, posed, &moving, along, carried, cancel)
+                self.move_in_steps(model, posed, (&moving, path), along, carried, cancel)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
                         for h in &moving {
@@ -260,39 +291,21 @@ impl Workspace {
         &mut self,
         model: &Model,
         posed: &mut Posed,
-        moving: &[(usize, Vec<f64>, Vec<f64>)],
+        (moving, path): Motion<'_, '_>,
         steps: usize,
         carried: Option<Vec<f64>>,
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
         posed.contact = carried;
-        // A part that skinning would crush over the whole keyframe is solved in each of its
-        // steps, although no step alone would crush it (the steps' crushes add up).
-        let crushed: Vec<[bool; PARTS]> = moving
-            .iter()
-            .map(|(h, _, to)| {
-                let hand = &posed.hands[*h];
-                crushed_parts_of(model, hand.body, &hand.state, to)
-            })
-            .collect();
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
-        let mut stats: Vec<Option<KeyframeStats>> = vec![None; moving.len()];
         let (mut kept, mut retries) = (0, 0);
         // The frame of the last step kept, when it was in contact, and the fraction it reached:
         // where the keyframe ends if the contact cannot follow the motion further.
         let mut last: Option<(Frame, f64)> = None;
         loop {
             let f = control.target();
-            let before = (steps > 1).then(|| (posed.clone(), stats.clone()));
-            match self.contact_step(
-                model,
-                posed,
-                (moving, &crushed),
-                f,
-                steps > 1,
-                cancel,
-                &mut stats,
-            ) {
+            let before = (steps > 1).then(|| posed.clone());
+            match self.contact_step(model, posed, (moving, path), f, steps > 1, cancel) {
                 // A step after which a bone's reaction overruns its muscle threshold is halved
                 // while it may, so that the motion stops close to where the threshold is
                 // crossed (a stiff object's reaction grows fast within a step).
@@ -303,7 +316,7 @@ impl Workspace {
                         && control.halve() =>
                 {
                     retries += 1;
-                    (*posed, stats) = before.expect("kept above");
+                    *posed = before.expect("kept above");
                 }
                 // A step after which a bone's reaction overruns its muscle threshold ends the
                 // keyframe there (the paper: the grasp is not realisable beyond it): the frame
@@ -324,21 +337,16 @@ impl Workspace {
                     let mut corrections = 0;
                     let mut unsettled = None;
                     if short.is_none() {
-                        (frame, corrections, unsettled) = self.correct(
-                            model,
-                            posed,
-                            (moving, &crushed),
-                            frame,
-                            cancel,
-                            &mut stats,
-                        )?;
+                        (frame, corrections, unsettled) =
+                            self.correct(model, posed, (moving, path), frame, cancel)?;
                     }
-                    for s in stats.iter_mut().flatten() {
-                        s.pose_corrections = corrections;
-                        s.unsettled_at_pose = unsettled;
-                    }
-                    let counts = (kept + touched + corrections, retries);
-                    finish(model, posed, moving, &stats, &mut frame, counts, short);
+                    let counts = Counts {
+                        steps: kept + touched + corrections,
+                        retries,
+                        corrections,
+                        unsettled,
+                    };
+                    finish(model, posed, (moving, path), &mut frame, counts, short);
                     return Ok(frame);
                 }
                 Ok(frame) => {
@@ -349,7 +357,7 @@ impl Workspace {
                 }
                 Err(SimError::Contact(_)) if before.is_some() && control.halve() => {
                     retries += 1;
-                    (*posed, stats) = before.expect("kept above");
+                    *posed = before.expect("kept above");
                 }
                 // The paper's iteration failing is a failure of the method: the exact method
                 // may follow the motion, so it is an error (the command exits non-zero), not
@@ -367,18 +375,22 @@ impl Workspace {
                 // realisable further with these bodies (a ball squeezed beyond what its tier
                 // represents, skin folded onto itself), and the frame says how far it went.
                 Err(SimError::Contact(e)) if before.is_some() && last.is_some() => {
-                    (*posed, stats) = before.expect("kept above");
+                    *posed = before.expect("kept above");
                     let (mut frame, reached) = last.take().expect("kept above");
                     let short = StoppedShort {
                         reached,
                         reason: format!("the contact could not follow the motion further ({e})"),
                     };
-                    let counts = (kept, retries + 1);
+                    let counts = Counts {
+                        steps: kept,
+                        retries: retries + 1,
+                        corrections: 0,
+                        unsettled: None,
+                    };
                     finish(
                         model,
                         posed,
-                        moving,
-                        &stats,
+                        (moving, path),
                         &mut frame,
                         counts,
                         Some(short),
@@ -405,10 +417,9 @@ impl Workspace {
         &mut self,
         model: &Model,
         posed: &mut Posed,
-        (moving, crushed): Motion<'_>,
+        (moving, path): Motion<'_, '_>,
         mut frame: Frame,
         cancel: Option<&CancelCheck>,
-        stats: &mut [Option<KeyframeStats>],
     ) -> Result<(Frame, usize, Option<f64>), SimError> {
         let mut kept = 0;
         let mut unsettled = None;
@@ -417,10 +428,9 @@ impl Workspace {
             if force <= 0.0 {
                 break;
             }
-            let before = (posed.clone(), stats.to_vec());
+            let before = posed.clone();
             posed.contact = carried_by(model, &frame);
-            let step =
-                self.contact_step(model, posed, (moving, crushed), 1.0, false, cancel, stats);
+            let step = self.contact_step(model, posed, (moving, path), 1.0, false, cancel);
             match step.map(|next| (hand_contact_force(model, &next), next)) {
                 Ok((now, next)) if now > 0.0 => {
                     let change = (now - force).abs() / force;
@@ -435,8 +445,7 @@ impl Workspace {
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
                 // Out of contact or not settled: the last frame stands.
                 _ => {
-                    *posed = before.0;
-                    stats.clone_from_slice(&before.1);
+                    *posed = before;
                     break;
                 }
             }
@@ -452,42 +461,36 @@ impl Workspace {
         &mut self,
         model: &Model,
         posed: &mut Posed,
-        (moving, crushed): Motion<'_>,
+        (moving, path): Motion<'_, '_>,
         f: f64,
         along: bool,
         cancel: Option<&CancelCheck>,
-        stats: &mut [Option<KeyframeStats>],
     ) -> Result<Frame, SimError> {
         let previous: Vec<Vec<Vector3<f64>>> = posed
             .hands
             .iter()
             .map(|h| h.frame.positions.clone())
             .collect();
-        for (k, (h, from, to)) in moving.iter().enumerate() {
-            // The last step reaches the target exactly (the fractions add up to 1 only to round-off).
-            let angles: Vec<f64> = if f >= 1.0 - 1e-12 {
-                to.clone()
-            } else {
-                from.iter().zip(to).map(|(a, b)| a + (b - a) * f).collect()
+        for (k, (h, _, _)) in moving.iter().enumerate() {
+            let mut flex = |body: usize, start: HandState, angles: &[f64], far| {
+                let mut hand = PosedHand::of_state(model, body, start);
+                self.move_hand(model, &mut hand, angles, far, cancel)?;
+                Ok((hand.state, hand.frame.stats))
             };
-            let hand = &posed.hands[*h];
-            let mut far = far_parts_of(model, hand.body, &hand.state, &angles);
-            for (f, c) in far.iter_mut().zip(crushed[k]) {
-                *f &= !c;
-            }
-            self.move_hand(model, &mut posed.hands[*h], &angles, far, cancel)?;
-            let step = &posed.hands[*h].frame.stats;
-            match &mut stats[k] {
-                Some(total) => total.absorb(step),
-                None => stats[k] = Some(step.clone()),
-            }
+            let state = path.state_at(model, k, f, &mut flex)?;
+            let hand = &mut posed.hands[*h];
+            hand.frame = hand_frame(model, hand.body, &state, path.stats(k));
+            hand.state = state;
         }
         frame_with_hands(
             model,
             self.still.as_ref(),
             posed.hands.iter().map(|h| h.frame.clone()).collect(),
-            posed.contact.as_deref(),
-            along.then_some(previous.as_slice()),
+            (
+                posed.contact.as_deref(),
+                along.then_some(previous.as_slice()),
+            ),
+            &mut self.contact,
         )
     }
 
@@ -528,23 +531,34 @@ impl Workspace {
     }
 }
 
-/// Ends a keyframe at `frame`: each moving hand's cost (every contact step's flexion and contact
-/// solve, `counts` = contact steps kept and redone) and where its motion stopped short, in the
-/// frame and in `posed`, which carries the frame's contact on.
+/// What a keyframe's contact steps came to: the contact steps kept (along the motion and at
+/// the pose), those redone, the corrections at the pose and, when they did not settle, the
+/// last one's relative change of force.
+struct Counts {
+    steps: usize,
+    retries: usize,
+    corrections: usize,
+    unsettled: Option<f64>,
+}
+
+/// Ends a keyframe at `frame`: each moving hand's cost (its flexion along `path`, the contact
+/// steps `counts`) and where its motion stopped short, in the frame and in `posed`, which
+/// carries the frame's contact on.
 fn finish(
     model: &Model,
     posed: &mut Posed,
-    moving: &[(usize, Vec<f64>, Vec<f64>)],
-    stats: &[Option<KeyframeStats>],
+    (moving, path): Motion<'_, '_>,
     frame: &mut Frame,
-    (steps, retries): (usize, usize),
+    counts: Counts,
     short: Option<StoppedShort>,
 ) {
     for (k, (h, _, _)) in moving.iter().enumerate() {
         let body = posed.hands[*h].body;
-        let mut total = stats[k].clone().unwrap_or_default();
-        total.contact_steps = steps;
-        total.contact_retries = retries;
+        let mut total = path.stats(k);
+        total.contact_steps = counts.steps;
+        total.contact_retries = counts.retries;
+        total.pose_corrections = counts.corrections;
+        total.unsettled_at_pose = counts.unsettled;
         total.stopped_short = short.clone();
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
             fh.stats = total.clone();

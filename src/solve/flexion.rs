@@ -601,6 +601,8 @@ impl Flexion<'_> {
                 .map_err(|e| inverted(sub.cells[e.cell], e.inverted.relative_det))?,
         };
         stats.assembly_ms += ms(t);
+        // Regions of successive increments number the hand's nodes each their own way.
+        self.caches.solver.set_node_ids(sub.nodes.clone());
         let mut prescribed = vec![0.0; dofs];
         for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {

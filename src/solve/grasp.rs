@@ -39,6 +39,10 @@ use crate::util::timing::ms;
 use nalgebra::Vector3;
 use std::time::Instant;
 
+/// Where a contact step goes on from: the displacements the last step left over every dof, and
+/// each hand's flexed skin before this step's flexion (see [`solve_grasp`]).
+pub type StepStart<'a> = (Option<&'a [f64]>, Option<&'a [Vec<Vector3<f64>>]>);
+
 /// Skin closer than this to an object (m) seeds the flesh region solved with the contact.
 const SEED_GAP: f64 = 0.002;
 
@@ -49,10 +53,10 @@ pub fn frame_with_hands(
     model: &Model,
     still: Option<&Frame>,
     hands: Vec<HandFrame>,
-    carried: Option<&[f64]>,
-    previous: Option<&[Vec<Vector3<f64>>]>,
+    (carried, previous): StepStart<'_>,
+    solver: &mut PartitionedSolver,
 ) -> Result<Frame, SimError> {
-    if let Some(frame) = solve_grasp(model, &hands, carried, previous)? {
+    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), solver)? {
         return Ok(frame);
     }
     match still {
@@ -76,11 +80,14 @@ pub fn frame_with_hands(
 /// `previous`: each hand's flexed skin before this step's flexion (in the order of `hands`):
 /// a skin node whose path from there went into a body is held against the facet it crossed
 /// (src/solve/crossing.rs).
+///
+/// `solver`: kept from step to step, so that a region solved again (a correction at the pose)
+/// or a little changed reuses or carries over its symbolic analysis.
 pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
-    carried: Option<&[f64]>,
-    previous: Option<&[Vec<Vector3<f64>>]>,
+    (carried, previous): StepStart<'_>,
+    solver: &mut PartitionedSolver,
 ) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
     let margin = settings.search_depth;
@@ -387,15 +394,14 @@ pub fn solve_grasp(
         stop: Some(&stop),
         crossings: &crossed,
     };
-    let mut solver = PartitionedSolver::new(model.ordering);
     let skin: Vec<std::ops::Range<usize>> = hands
         .iter()
         .map(|h| model.bodies[h.body].nodes.clone())
         .collect();
     let mut contact_solve = |problem: &ContactProblem| {
         match settings.method {
-            ContactMethod::Lagrange => solve_lagrange(&mut solver, problem, settings),
-            ContactMethod::Paper => solve_paper(&mut solver, problem, settings, &skin),
+            ContactMethod::Lagrange => solve_lagrange(solver, problem, settings),
+            ContactMethod::Paper => solve_paper(solver, problem, settings, &skin),
         }
         .map_err(|e| {
             let e = contact_error(model, e);

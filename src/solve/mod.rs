@@ -12,6 +12,7 @@ mod gas;
 mod grasp;
 mod hyperelastic_objects;
 mod linear_factor;
+mod path;
 pub mod proximity;
 mod region;
 mod self_contact;
