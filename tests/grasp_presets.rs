@@ -82,6 +82,23 @@ fn check_converged_grasp(preset: Preset) {
         stats.contact_steps,
         stats.contact_retries
     );
+    // The flexion is solved at its own increments (max_step_deg of the largest joint motion),
+    // not once per contact step: the steps between its knots take the flesh carried by the
+    // bones (src/solve/path.rs).
+    let largest = frame.hands[0]
+        .angles
+        .iter()
+        .zip(&solved.frames[0].hands[0].angles)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let knots = (largest / model.flexion.max_step_deg - 1e-9).ceil() as usize;
+    assert_eq!(
+        stats.increments_taken,
+        knots + stats.halvings,
+        "{preset:?}: {largest}° in {} increments",
+        stats.increments_taken
+    );
+    assert!(stats.increments_taken < stats.contact_steps, "{preset:?}");
     println!(
         "{preset:?}: grip {grip:.3} N, {} contacts, {:.2e} m left, {} contact steps ({} redone)",
         contact.contacts.len(),

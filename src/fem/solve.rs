@@ -29,9 +29,10 @@ use thiserror::Error;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FillOrdering {
-    /// Both below analysed, the one whose factor has fewer entries kept (the default): nested
-    /// dissection wins on compact 3D meshes (a cube: half AMD's fill), AMD on thin and branched
-    /// ones (the hand's flesh: 7.6 M entries against 12.8 M; a slab of one cell's section).
+    /// Both below analysed, the one whose numeric factorization is less work kept (the
+    /// default): nested dissection wins on compact 3D meshes (a 30³ cube: 0.61× AMD's fill),
+    /// AMD on thin and branched ones (the hand's flesh at resolution 1: 7.6 M entries against
+    /// 12.8 M; a slab of one cell's section).
     #[default]
     Auto,
     /// Geometric nested dissection on node coordinates.
@@ -71,6 +72,9 @@ pub struct SolveStats {
     pub symbolic_ms: f64,
     /// Whether the symbolic analysis of an earlier solve was reused.
     pub symbolic_reused: bool,
+    /// Whether, not reused, it was made with the elimination order of the earlier one carried
+    /// over (a prescribed set changed by a few dofs) instead of ordered afresh.
+    pub order_carried: bool,
     /// Whether the numeric factor of the last solve was reused (the same K11 again).
     pub factor_reused: bool,
     /// Numeric Cholesky factorization time.
@@ -85,6 +89,8 @@ pub struct SolveStats {
     pub matrix_nnz: usize,
     /// Entries of the Cholesky factor L.
     pub factor_nnz: usize,
+    /// Multiply-adds of its numeric factorization, as the symbolic analysis plans it.
+    pub factor_work: f64,
     /// ‖K11·Uu − (Rk − K12·Uk)‖ / ‖Rk − K12·Uk‖.
     pub relative_residual: f64,
 }
@@ -227,6 +233,7 @@ impl PartitionedSolver {
                 .analysis
                 .as_ref()
                 .and_then(|a| carried_analysis(a, &k.pattern, partition, &keys));
+            stats.order_carried = carried.is_some();
             self.analysis = Some(match carried {
                 Some(a) => a,
                 None => analyse(&k.pattern, partition, positions, self.ordering, &keys)?,
@@ -255,6 +262,7 @@ impl PartitionedSolver {
         let par = faer::get_global_parallelism();
         let len = analysis.cholesky.len_val();
         stats.factor_nnz = len;
+        stats.factor_work = factor_work(&analysis.cholesky);
         stats.matrix_nnz = k11_values.len();
         let factored = reuse && self.factored == k11_values;
         stats.factor_reused = factored;
