@@ -41,6 +41,15 @@ fn material(young: f64) -> Material {
 /// 1, E_b) fixed at its base; unit cross-section, ν = 0. Returns (result, A's top reaction,
 /// B's base reaction, exact force).
 fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, f64) {
+    blocks_from(method, pairs, &[])
+}
+
+/// [`blocks`], the exact method started from the contact nodes `held_before`.
+fn blocks_from(
+    method: ContactMethod,
+    pairs: PairSides,
+    held_before: &[usize],
+) -> (ContactResult, f64, f64, f64) {
     let (ea, eb, delta) = (4.0e6, 1.0e6, 1.0e-3);
     let b = box_mesh(Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0), [2, 2, 2]);
     let a = box_mesh(
@@ -116,6 +125,7 @@ fn blocks(method: ContactMethod, pairs: PairSides) -> (ContactResult, f64, f64, 
         friction: &|_, _| 0.0,
         stop: None,
         crossings: &[],
+        held_before,
     };
     let mut s = settings(pairs, method);
     if method == ContactMethod::Paper {
@@ -163,6 +173,48 @@ fn two_blocks_in_series_carry_the_exact_force_and_action_equals_reaction() {
         assert!((base - exact).abs() < 1e-9 * exact);
         assert!(r.max_penetration <= 1e-12, "{}", r.max_penetration);
         assert_eq!(r.factorizations, 1);
+    }
+}
+
+#[test]
+fn a_warm_start_reaches_the_contact_of_a_cold_start() {
+    // Started from the nodes a cold start held, and from every node of both blocks (most of
+    // them nowhere near the contact, some penetrating but to be released): the same contact.
+    for pairs in [PairSides::ObjectNodes, PairSides::Both] {
+        let (cold, _, _, exact) = blocks(ContactMethod::Lagrange, pairs);
+        let mut held: Vec<usize> = cold.contacts.iter().map(|c| c.node).collect();
+        held.sort_unstable();
+        held.dedup();
+        let all: Vec<usize> = (0..cold.solution.displacement.len() / 3).collect();
+        for (held, warm_start) in [(held.as_slice(), "held"), (all.as_slice(), "all")] {
+            let (warm, top, base, _) = blocks_from(ContactMethod::Lagrange, pairs, held);
+            let force = |r: &ContactResult| r.contacts.iter().map(|c| c.force).sum::<f64>();
+            let du = cold
+                .solution
+                .displacement
+                .iter()
+                .zip(&warm.solution.displacement)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "{pairs:?}, from {warm_start}: cold {} iterations, {} substitutions; warm {} \
+             iterations, {} substitutions; forces {:.9} / {:.9} N, displacements apart \
+             {du:.1e} m",
+                cold.iterations,
+                cold.substitutions,
+                warm.iterations,
+                warm.substitutions,
+                force(&cold),
+                force(&warm)
+            );
+            assert!((force(&warm) - exact).abs() < 1e-9 * exact);
+            assert!((top + base).abs() < 1e-9 * exact);
+            assert!(du < 1e-12, "{du}");
+            assert!(warm.max_penetration <= 1e-12);
+            if warm_start == "held" {
+                assert!(warm.substitutions <= cold.substitutions);
+            }
+        }
     }
 }
 
@@ -274,6 +326,7 @@ fn slope_solve(
         friction: &|_, _| mu,
         stop: None,
         crossings: &[],
+        held_before: &[],
     };
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let s = settings(PairSides::SkinNodes, ContactMethod::Lagrange);

@@ -99,11 +99,21 @@ pub fn solve_lagrange(
         let gaps: Vec<f64> = pool.iter().map(|r| r.apply(0, &u) - r.bound).collect();
         let deepest = gaps.iter().copied().fold(0.0, f64::min);
         let cut = (JOIN_SHARE * deepest).min(-settings.tolerance);
+        // Warm start: in the first iteration only the nodes held before join, wherever they
+        // penetrate (held, they lift most of the others out).
+        let warm = iterations == 1 && !problem.held_before.is_empty();
+        let joins = |r: &Row, gap: f64| {
+            if warm {
+                gap < -settings.tolerance && problem.held_before.binary_search(&r.node).is_ok()
+            } else {
+                gap < cut
+            }
+        };
         let mut fresh: Vec<Row> = Vec::new();
         let mut i = 0;
         let mut gaps = gaps;
         while i < pool.len() {
-            if gaps[i] < cut {
+            if joins(&pool[i], gaps[i]) {
                 gaps.swap_remove(i);
                 let mut row = pool.swap_remove(i);
                 row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
@@ -602,6 +612,7 @@ pub fn solve_with_obstacles(
         friction: &|_, _| 0.0,
         stop: None,
         crossings: &[],
+        held_before: &[],
     };
     solve_lagrange(solver, &problem, &settings)
 }

@@ -81,6 +81,11 @@ pub struct ContactProblem<'a> {
     pub stop: Option<StopCheck<'a>>,
     /// Nodes held against the facet their motion crossed (empty: each node meets its nearest).
     pub crossings: &'a [Crossing],
+    /// The contact nodes (sorted) that the last solve of a sequence held — a contact step
+    /// along a motion, a correction at the pose: the exact method's first iteration takes
+    /// every candidate of theirs that penetrates, instead of the deepest first (empty: a cold
+    /// start). The solution is that of a cold start; it is reached in fewer iterations.
+    pub held_before: &'a [usize],
 }
 
 /// A penetration found at the current displacements.

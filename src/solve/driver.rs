@@ -5,7 +5,7 @@
 
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
-use super::grasp::frame_with_hands;
+use super::grasp::{frame_with_hands, ContactCache};
 use super::path::FlexionPath;
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
@@ -27,8 +27,8 @@ pub struct Workspace {
     still: Option<Frame>,
     /// The flexion caches by hand body.
     caches: Vec<(usize, FlexionCaches)>,
-    /// The contact steps' solver (its symbolic analysis carried from step to step).
-    contact: PartitionedSolver,
+    /// What the contact steps keep from one to the next (their solver, the nodes held).
+    contact: ContactCache,
 }
 
 /// A hand body where the driver left it: its state, and its part of the last frame.
@@ -153,7 +153,7 @@ impl Workspace {
         Ok(Workspace {
             still,
             caches: Vec::new(),
-            contact: PartitionedSolver::new(model.ordering),
+            contact: ContactCache::new(model.ordering),
         })
     }
 

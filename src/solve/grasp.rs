@@ -27,7 +27,7 @@ use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
     ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
-use crate::fem::solve::PartitionedSolver;
+use crate::fem::solve::{FillOrdering, PartitionedSolver};
 use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
 use crate::mesh::Mesh;
@@ -38,6 +38,24 @@ use crate::state::{Frame, HandFrame};
 use crate::util::timing::ms;
 use nalgebra::Vector3;
 use std::time::Instant;
+
+/// What the contact steps of a model keep from one to the next: the partitioned solver (its
+/// symbolic analysis, carried over while the region changes by a few dofs), and the contact
+/// nodes the last step held (the next one's warm start).
+pub struct ContactCache {
+    solver: PartitionedSolver,
+    held: Vec<usize>,
+}
+
+impl ContactCache {
+    /// Nothing kept yet; factorizations ordered by `ordering`.
+    pub fn new(ordering: FillOrdering) -> ContactCache {
+        ContactCache {
+            solver: PartitionedSolver::new(ordering),
+            held: Vec::new(),
+        }
+    }
+}
 
 /// Where a contact step goes on from: the displacements the last step left over every dof, and
 /// each hand's flexed skin before this step's flexion (see [`solve_grasp`]).
@@ -54,9 +72,9 @@ pub fn frame_with_hands(
     still: Option<&Frame>,
     hands: Vec<HandFrame>,
     (carried, previous): StepStart<'_>,
-    solver: &mut PartitionedSolver,
+    cache: &mut ContactCache,
 ) -> Result<Frame, SimError> {
-    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), solver)? {
+    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), cache)? {
         return Ok(frame);
     }
     match still {
@@ -81,13 +99,14 @@ pub fn frame_with_hands(
 /// a skin node whose path from there went into a body is held against the facet it crossed
 /// (src/solve/crossing.rs).
 ///
-/// `solver`: kept from step to step, so that a region solved again (a correction at the pose)
-/// or a little changed reuses or carries over its symbolic analysis.
+/// `cache`: kept from step to step, so that a region solved again (a correction at the pose)
+/// or a little changed reuses or carries over its symbolic analysis, and the contact nodes the
+/// last step held start this one's active set (a step with nothing carried starts cold).
 pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
     (carried, previous): StepStart<'_>,
-    solver: &mut PartitionedSolver,
+    cache: &mut ContactCache,
 ) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
     let margin = settings.search_depth;
@@ -393,7 +412,13 @@ pub fn solve_grasp(
         friction: &friction,
         stop: Some(&stop),
         crossings: &crossed,
+        held_before: if carried_given.is_some() {
+            &cache.held
+        } else {
+            &[]
+        },
     };
+    let solver = &mut cache.solver;
     let skin: Vec<std::ops::Range<usize>> = hands
         .iter()
         .map(|h| model.bodies[h.body].nodes.clone())
@@ -446,6 +471,11 @@ pub fn solve_grasp(
     for (u, c) in result.solution.displacement.iter_mut().zip(carried) {
         *u += c;
     }
+    // The nodes held: the next step's warm start (also a step that fails from here on: it is
+    // redone from the same state, where the same nodes will be held).
+    cache.held = result.summary.contacts.iter().map(|c| c.node).collect();
+    cache.held.sort_unstable();
+    cache.held.dedup();
     check_held(model, &springs, &result).map_err(SimError::Contact)?;
     too_deep(
         model,

@@ -129,6 +129,7 @@ impl OwnSkin {
             friction: &|_, _| 0.0,
             stop: None,
             crossings: &[],
+            held_before: &[],
         };
         solve_lagrange(solver, &problem, &self.settings)
     }
