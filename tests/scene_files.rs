@@ -81,8 +81,21 @@ fn the_documented_block_press_scene_solves_and_writes_report_and_vtu() {
     }
     assert!(!vtu.to_lowercase().contains("nan") && !vtu.contains("inf"));
     assert!(out.join("frames.pvd").exists());
-    // No staging folder is left behind.
-    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 3);
+    // No staging folder is left behind: the three files and the manifest of what was written.
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            ".prehensile-output",
+            "frame_0000.vtu",
+            "frames.pvd",
+            "report.json"
+        ]
+    );
 }
 
 #[test]

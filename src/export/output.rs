@@ -1,7 +1,35 @@
 //! Writing an output folder so that nothing is half-written: every file goes first into a
-//! staging folder beside it, and is renamed into place only when all files are complete.
+//! staging folder beside it, and is renamed into place only when all files are complete. The
+//! new set replaces the previous one as a whole: files of an earlier write into the folder
+//! (listed in its manifest, [`MANIFEST`], or named as this program names its outputs) that the
+//! new set does not have are removed, so no frame of an older run is left beside the new ones.
+//! Other files in the folder are left alone.
 
 use std::path::{Path, PathBuf};
+
+/// The file listing what the last write into a folder put there.
+pub const MANIFEST: &str = ".prehensile-output";
+
+/// Whether `name` is one this program gives its outputs: `report.json`, `frames.pvd`, and
+/// `frame_`, `hand_`, `bones_`, `skin_` followed by a four-digit (or longer) frame number and
+/// `.vtu`, `.obj` or `.png`.
+pub fn is_output_name(name: &str) -> bool {
+    if name == "report.json" || name == "frames.pvd" {
+        return true;
+    }
+    let Some((stem, ext)) = name.rsplit_once('.') else {
+        return false;
+    };
+    if !matches!(ext, "vtu" | "obj" | "png") {
+        return false;
+    }
+    let Some((kind, number)) = stem.split_once('_') else {
+        return false;
+    };
+    matches!(kind, "frame" | "hand" | "bones" | "skin")
+        && number.len() >= 4
+        && number.bytes().all(|b| b.is_ascii_digit())
+}
 
 /// Files to be written together into one folder.
 pub struct OutputSet {
@@ -33,16 +61,53 @@ impl OutputSet {
         Ok(())
     }
 
-    /// Moves every staged file into place (each rename is atomic) and removes the staging folder.
+    /// Moves every staged file into place (each rename is atomic), removes the files of an
+    /// earlier write that the new set lacks, records the new set in [`MANIFEST`] and removes
+    /// the staging folder.
     pub fn commit(self) -> std::io::Result<Vec<PathBuf>> {
+        let stale = self.stale()?;
         let mut written = Vec::new();
         for name in &self.names {
             let target = self.dir.join(name);
             std::fs::rename(self.staging.join(name), &target)?;
             written.push(target);
         }
+        for name in stale {
+            match std::fs::remove_file(self.dir.join(&name)) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
+        let manifest: String = self.names.iter().map(|n| format!("{n}\n")).collect();
+        std::fs::write(self.staging.join(MANIFEST), manifest)?;
+        std::fs::rename(self.staging.join(MANIFEST), self.dir.join(MANIFEST))?;
         std::fs::remove_dir_all(&self.staging)?;
         Ok(written)
+    }
+
+    /// The files of the folder an earlier write left that the new set does not replace.
+    fn stale(&self) -> std::io::Result<Vec<String>> {
+        let listed = std::fs::read_to_string(self.dir.join(MANIFEST)).unwrap_or_default();
+        let mut stale: Vec<String> = listed
+            .lines()
+            .filter(|n| !n.is_empty() && !n.contains(['/', '\\']) && *n != "." && *n != "..")
+            .map(str::to_string)
+            .collect();
+        for entry in std::fs::read_dir(&self.dir)? {
+            let entry = entry?;
+            if !entry.file_type()?.is_file() {
+                continue;
+            }
+            if let Some(name) = entry.file_name().to_str() {
+                if is_output_name(name) {
+                    stale.push(name.to_string());
+                }
+            }
+        }
+        stale.retain(|n| !self.names.contains(n));
+        stale.sort();
+        stale.dedup();
+        Ok(stale)
     }
 }
 

@@ -33,6 +33,16 @@ pub struct StiffnessPattern {
 }
 
 impl StiffnessPattern {
+    /// About how many bytes the pattern of `nodes` nodes of a hexahedral mesh and the matrices
+    /// built on it take (its row indices, K's values, K11's gathered indices and values): up to
+    /// 27 neighbours a node, 3 × 3 entries each, half of them stored.
+    pub fn bytes_for(nodes: usize) -> u64 {
+        const ENTRIES_PER_NODE: u64 = (27 * 9 + 3) / 2;
+        (nodes as u64)
+            .saturating_mul(ENTRIES_PER_NODE)
+            .saturating_mul(32)
+    }
+
     /// Builds the pattern of `mesh`.
     pub fn new(mesh: &Mesh) -> Self {
         let n = mesh.node_count();

@@ -50,3 +50,118 @@ fn advise_huge_pages(ptr: *mut u8, bytes: usize) {
 
 #[cfg(not(target_os = "linux"))]
 fn advise_huge_pages(_ptr: *mut u8, _bytes: usize) {}
+
+/// The memory a solve may still take, bytes, as asked (`[solver] max_memory`) — a budget of the
+/// whole process, set once by whoever runs a model ([`set_budget`]).
+static BUDGET: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(u64::MAX);
+
+/// Sets the memory a solve may take (`None`: what the machine has free).
+pub fn set_budget(bytes: Option<u64>) {
+    BUDGET.store(
+        bytes.unwrap_or(u64::MAX),
+        std::sync::atomic::Ordering::Relaxed,
+    );
+}
+
+/// Where the memory a solve may take comes from, for an error that says so.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BudgetSource {
+    /// `[solver] max_memory`.
+    Asked,
+    /// The machine's available memory (`MemAvailable`).
+    Machine,
+    /// The process's address-space limit (`ulimit -v`) less what it already maps.
+    AddressSpace,
+}
+
+impl std::fmt::Display for BudgetSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BudgetSource::Asked => "[solver] max_memory",
+            BudgetSource::Machine => "the machine's available memory",
+            BudgetSource::AddressSpace => "the process's address-space limit less what it maps",
+        })
+    }
+}
+
+/// How much more memory a solve may take now, bytes, and what sets it: the least of
+/// `[solver] max_memory`, the machine's available memory and the address space left under the
+/// process's limit; `None` where none of them is known.
+pub fn budget() -> Option<(u64, BudgetSource)> {
+    let asked = BUDGET.load(std::sync::atomic::Ordering::Relaxed);
+    budget_with((asked != u64::MAX).then_some(asked))
+}
+
+/// [`budget`] with `asked` in place of the budget set.
+pub fn budget_with(asked: Option<u64>) -> Option<(u64, BudgetSource)> {
+    let asked = asked.unwrap_or(u64::MAX);
+    let mut best: Option<(u64, BudgetSource)> =
+        (asked != u64::MAX).then_some((asked, BudgetSource::Asked));
+    let mut consider = |bytes: Option<u64>, source| {
+        if let Some(b) = bytes {
+            if best.is_none_or(|(least, _)| b < least) {
+                best = Some((b, source));
+            }
+        }
+    };
+    consider(machine_available(), BudgetSource::Machine);
+    consider(address_space_left(), BudgetSource::AddressSpace);
+    best
+}
+
+/// `MemAvailable` of /proc/meminfo, bytes.
+#[cfg(target_os = "linux")]
+fn machine_available() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn machine_available() -> Option<u64> {
+    None
+}
+
+/// The address space left under the process's `RLIMIT_AS` (its `VmSize` taken off), bytes;
+/// `None` without a limit.
+#[cfg(target_os = "linux")]
+fn address_space_left() -> Option<u64> {
+    let mut limit = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit writes the struct it is given.
+    if unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } != 0
+        || limit.rlim_cur == libc::RLIM_INFINITY
+    {
+        return None;
+    }
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmSize:"))?;
+    let used: u64 = line
+        .split_whitespace()
+        .nth(1)?
+        .parse::<u64>()
+        .ok()?
+        .checked_mul(1024)?;
+    #[allow(clippy::unnecessary_cast)] // rlim_t is u32 on some targets
+    Some((limit.rlim_cur as u64).saturating_sub(used))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn address_space_left() -> Option<u64> {
+    None
+}
+
+/// `bytes` for people: "3.2 GB", "640 MB".
+pub fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.0} MB", b / 1e6)
+    } else {
+        format!("{:.0} kB", b / 1e3)
+    }
+}

@@ -63,6 +63,27 @@ pub enum SolveError {
     /// The factorization ran out of memory.
     #[error("sparse Cholesky failed: {0}")]
     Faer(String),
+    /// The factor would not fit in the memory the solve may take: refused before allocating.
+    #[error(
+        "the sparse Cholesky factor of {equations} equations needs about {} ({entries} \
+         entries), but {} is free ({limit}): use fewer elements (a coarser mesh, fewer \
+         `cells`, a lower hand `resolution`), or, where the machine has the memory, raise \
+         `[solver] max_memory`",
+        super::memory::human(*needed),
+        super::memory::human(*available)
+    )]
+    TooBig {
+        /// Bytes the factorization would take.
+        needed: u64,
+        /// Bytes the solve may take.
+        available: u64,
+        /// What limits it.
+        limit: super::memory::BudgetSource,
+        /// NBEQ.
+        equations: usize,
+        /// Entries of the factor.
+        entries: usize,
+    },
 }
 
 /// What a solve cost and how well it did.
@@ -255,6 +276,32 @@ impl PartitionedSolver {
                 }
             })
             .collect();
+
+        // What the factorization will take, known from the analysis before anything is
+        // allocated: the factor (beyond the buffer already held), its scratch and K11's values.
+        let entries = analysis.cholesky.len_val();
+        let scratch_bytes = analysis
+            .cholesky
+            .factorize_numeric_llt_scratch::<f64>(
+                faer::get_global_parallelism(),
+                Default::default(),
+            )
+            .unaligned_bytes_required() as u64;
+        let needed = (entries.saturating_sub(self.factor.capacity()) as u64)
+            .saturating_add(analysis.gather.len() as u64)
+            .saturating_mul(8)
+            .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64));
+        if let Some((available, limit)) = super::memory::budget() {
+            if needed > available {
+                return Err(SolveError::TooBig {
+                    needed,
+                    available,
+                    limit,
+                    equations: neq,
+                    entries,
+                });
+            }
+        }
 
         let t = Instant::now();
         let k11_values: Vec<f64> = analysis.gather.iter().map(|&i| k.values[i]).collect();

@@ -4,16 +4,18 @@
 use super::bodies::{bodies, node_cells, set_masses, Bodies};
 use super::cameras::cameras;
 use super::constraints::{constraints, hold_hands, Prescribed};
+use super::input_warnings::input_warnings;
 use super::keyframes::keyframes;
 use super::loads::{gravity, loads};
 use super::materials::materials;
 use super::obstacles::{contact_candidates, obstacles};
 use super::probes::probes;
 use super::regions::apply_regions;
-use super::settings::{contact_settings, flexion_settings, friction_table, ordering};
+use super::settings::{contact_settings, flexion_settings, friction_table, max_memory, ordering};
 use super::supports::floating_bodies;
 use super::Model;
 use crate::fem::assembly::StiffnessPattern;
+use crate::fem::ElementKind;
 use crate::fem::{DofPartition, Material};
 use crate::scene::{Scene, SceneError};
 use std::sync::Arc;
@@ -63,10 +65,28 @@ impl Model {
             _ => None,
         };
         let contact_region = scene.solver.contact_region.unwrap_or(0.008);
+        if !(contact_region.is_finite() && contact_region > 0.0) {
+            return Err(err((
+                "solver.contact_region".into(),
+                format!("must be a length > 0 m, got {contact_region}"),
+            )));
+        }
         let friction = friction_table(scene).map_err(err)?;
         let node_cell = node_cells(&mesh);
         let ordering = ordering(&scene.solver);
         set_masses(&mut bodies, &mesh, &cell_materials);
+        let max_memory = max_memory(&scene.solver).map_err(err)?;
+        fits_in_memory(&mesh, &bodies, max_memory).map_err(err)?;
+        let element: ElementKind = scene.solver.element.unwrap_or_default().into();
+        let nonlinear_statics = scene.solver.tier == Some(crate::scene::TierName::Nonlinear);
+        let input_warnings = input_warnings(
+            scene,
+            &bodies,
+            &mesh,
+            &cell_materials,
+            element,
+            nonlinear_statics,
+        );
         let pattern = Arc::new(StiffnessPattern::new(&mesh));
         Ok(Model {
             mesh,
@@ -94,8 +114,45 @@ impl Model {
             contact_region,
             friction,
             node_cell,
-            element: scene.solver.element.unwrap_or_default().into(),
-            nonlinear_statics: scene.solver.tier == Some(crate::scene::TierName::Nonlinear),
+            element,
+            nonlinear_statics,
+            max_memory,
+            input_warnings,
         })
     }
+}
+
+/// Refuses a model whose stiffness matrix alone would not fit in the memory a solve may take
+/// (`max_memory`, or what the machine has free), before it is built: named after its largest
+/// body. (The factor, larger still, is checked once its analysis tells its size.)
+fn fits_in_memory(
+    mesh: &crate::mesh::Mesh,
+    bodies: &[super::BodyModel],
+    max_memory: Option<u64>,
+) -> Result<(), (String, String)> {
+    let Some((available, limit)) = crate::fem::memory::budget_with(max_memory) else {
+        return Ok(());
+    };
+    let needed = StiffnessPattern::bytes_for(mesh.node_count());
+    if needed <= available {
+        return Ok(());
+    }
+    let (i, body) = bodies
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, b)| b.cells.len())
+        .expect("a model has a body");
+    Err((
+        format!("body \"{}\" (body[{i}])", body.name),
+        format!(
+            "the model's {} nodes ({} elements, {} of them this body's) need about {} for the \
+             stiffness matrix alone, but {} is free ({limit}): use fewer cells, or, where the \
+             machine has the memory, raise [solver] max_memory",
+            mesh.node_count(),
+            mesh.cell_count(),
+            body.cells.len(),
+            crate::fem::memory::human(needed),
+            crate::fem::memory::human(available)
+        ),
+    ))
 }

@@ -9,6 +9,7 @@ mod constraints;
 mod convert;
 mod flexion_settings;
 mod gas;
+mod input_warnings;
 mod keyframes;
 mod loads;
 mod materials;
@@ -180,6 +181,12 @@ pub struct Model {
     /// The bodies other than hands are solved at large strain by Newton (`[solver] tier =
     /// "nonlinear"`), not by one linear solve.
     pub nonlinear_statics: bool,
+    /// The memory a solve may take, bytes (`[solver] max_memory`; `None`: what the machine has
+    /// free).
+    pub max_memory: Option<u64>,
+    /// Warnings about the input found while building: a nearly incompressible material on an
+    /// element that locks, a point far from its body.
+    pub input_warnings: Vec<String>,
 }
 
 impl Model {
@@ -192,7 +199,13 @@ impl Model {
     /// Warnings about the settings (the model is usable; `report.json` lists them), derived from
     /// the model.
     pub fn warnings(&self) -> Vec<String> {
-        settings::warnings(self.nonlinear_statics, &self.flexion, &self.bodies)
+        let mut out = self.input_warnings.clone();
+        out.extend(settings::warnings(
+            self.nonlinear_statics,
+            &self.flexion,
+            &self.bodies,
+        ));
+        out
     }
 
     /// A cell that contains node `n`.

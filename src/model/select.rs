@@ -116,6 +116,9 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
             }
         }
         Selection::Point(p) => {
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(format!("point = {p:?} is not a finite point"));
+            }
             let p = Vector3::from(*p);
             let nearest = body
                 .nodes

@@ -6,7 +6,9 @@ use super::tier;
 use super::{BodyModel, FrictionTable};
 use crate::contact::{ContactSettings, Relaxation};
 use crate::fem::solve::FillOrdering;
-use crate::scene::{FarFromContact, FleshRegionName, RelaxationDef, Scene, SolverSettings};
+use crate::scene::{
+    FarFromContact, FleshRegionName, MemorySize, RelaxationDef, Scene, SolverSettings,
+};
 
 /// The contact settings of `[solver]`.
 pub fn contact_settings(
@@ -174,4 +176,56 @@ pub fn warnings(nonlinear: bool, flexion: &FlexionSettings, bodies: &[BodyModel]
 /// The fill-reducing ordering of `[solver]` (the lesser fill of the two unless one is named).
 pub fn ordering(s: &SolverSettings) -> FillOrdering {
     s.ordering.map_or(FillOrdering::Auto, FillOrdering::from)
+}
+
+/// `[solver] max_memory` in bytes; the error is (field, message).
+pub fn max_memory(s: &SolverSettings) -> Result<Option<u64>, (String, String)> {
+    let field = || "solver.max_memory".to_string();
+    let bytes = match &s.max_memory {
+        None => return Ok(None),
+        Some(MemorySize::Bytes(b)) => *b,
+        Some(MemorySize::Text(text)) => {
+            let t = text.trim();
+            let split = t
+                .find(|c: char| {
+                    !(c.is_ascii_digit() || c == '.' || c == 'e' || c == 'E' || c == '+')
+                })
+                .unwrap_or(t.len());
+            let (number, unit) = t.split_at(split);
+            let scale = match unit.trim() {
+                "" | "B" => 1.0,
+                "kB" | "KB" => 1e3,
+                "MB" => 1e6,
+                "GB" => 1e9,
+                "TB" => 1e12,
+                "KiB" => 1024.0,
+                "MiB" => 1024.0 * 1024.0,
+                "GiB" => 1024.0 * 1024.0 * 1024.0,
+                "TiB" => 1024.0 * 1024.0 * 1024.0 * 1024.0,
+                other => {
+                    return Err((
+                        field(),
+                        format!(
+                            "max_memory = \"{text}\": unknown unit \"{other}\" (use B, kB, \
+                             MB, GB, TB, KiB, MiB, GiB or TiB)"
+                        ),
+                    ))
+                }
+            };
+            let value: f64 = number.trim().parse().map_err(|_| {
+                (
+                    field(),
+                    format!("max_memory = \"{text}\" is not a number with a unit, e.g. \"8 GB\""),
+                )
+            })?;
+            value * scale
+        }
+    };
+    if !(1e6..1.8e19).contains(&bytes) {
+        return Err((
+            field(),
+            format!("max_memory = {bytes} bytes must be a finite size from 1 MB up"),
+        ));
+    }
+    Ok(Some(bytes as u64))
 }

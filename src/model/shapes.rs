@@ -45,10 +45,12 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
             if cells.contains(&0) {
                 return Err(whole(format!("box cells {cells:?} must all be at least 1")));
             }
-            if cells.iter().product::<usize>() > MAX_CELLS {
-                return Err(whole(format!(
-                    "box cells {cells:?} make more than {MAX_CELLS} elements"
-                )));
+            let count = cells.iter().try_fold(1usize, |n, &c| n.checked_mul(c));
+            if count.is_none_or(|n| n > MAX_CELLS) {
+                return Err((
+                    ".box.cells".into(),
+                    format!("box cells {cells:?} make more than {MAX_CELLS} elements"),
+                ));
             }
             Ok(box_mesh(Vector3::from(*min), Vector3::from(*max), *cells))
         }
@@ -63,10 +65,11 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                     "sphere needs a finite center and a radius > 0 (radius = {radius})"
                 )));
             }
-            if *cells == 0 || cells.pow(3) > MAX_CELLS {
-                return Err(whole(format!(
-                    "sphere cells = {cells} must be at least 1 and at most 170"
-                )));
+            if *cells == 0 || cells.checked_pow(3).is_none_or(|n| n > MAX_CELLS) {
+                return Err((
+                    ".sphere.cells".into(),
+                    format!("sphere cells = {cells} must be at least 1 and at most 170"),
+                ));
             }
             match refine {
                 None => Ok(sphere_mesh(Vector3::from(*center), *radius, *cells)),
@@ -100,11 +103,18 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                     "shell outer_radius = {outer_radius} must exceed inner_radius = {inner_radius}"
                 )));
             }
-            if *cells == 0 || *layers == 0 || 6 * cells * cells * layers > MAX_CELLS {
-                return Err(whole(format!(
-                    "shell cells = {cells} and layers = {layers} must be at least 1 (and make at \
-                     most {MAX_CELLS} elements)"
-                )));
+            let count = cells
+                .checked_mul(*cells)
+                .and_then(|n| n.checked_mul(*layers))
+                .and_then(|n| n.checked_mul(6));
+            if *cells == 0 || *layers == 0 || count.is_none_or(|n| n > MAX_CELLS) {
+                return Err((
+                    ".shell.cells".into(),
+                    format!(
+                        "shell cells = {cells} and layers = {layers} must be at least 1 (and make \
+                         at most {MAX_CELLS} elements)"
+                    ),
+                ));
             }
             let center = Vector3::from(*center);
             match refine {

@@ -14,7 +14,7 @@ pub enum SceneError {
         reason: std::io::Error,
     },
     /// Malformed TOML or a field of the wrong type or name.
-    #[error("{file}:{line}:{column}: {message}")]
+    #[error("{file}:{line}:{column}: {field}{message}\n{line:>6} | {source_line}")]
     Syntax {
         /// The file.
         file: String,
@@ -22,8 +22,13 @@ pub enum SceneError {
         line: usize,
         /// 1-based column.
         column: usize,
+        /// The field's path followed by ": " (e.g. `body[0].pose.index.pip: `), or empty where
+        /// the file could not be parsed at all.
+        field: String,
         /// What is wrong.
         message: String,
+        /// The text of the line at fault, so a duplicate key or a stray character is seen.
+        source_line: String,
     },
     /// A well-formed file whose content is not admissible.
     #[error("{file}: {field}: {message}")]
@@ -38,22 +43,37 @@ pub enum SceneError {
 }
 
 impl SceneError {
-    /// From a TOML deserialisation error, with its position turned into line and column.
-    pub fn syntax(file: &str, text: &str, e: &toml::de::Error) -> Self {
+    /// From a TOML deserialisation error, with its position turned into line and column;
+    /// `field` is the path of the field at fault where it is known (empty otherwise).
+    pub fn syntax(file: &str, text: &str, field: &str, e: &toml::de::Error) -> Self {
         let (line, column) = match e.span() {
             Some(span) => {
-                let before = &text[..span.start.min(text.len())];
+                let before = text.get(..span.start).unwrap_or(text);
                 let line = before.matches('\n').count() + 1;
                 let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
                 (line, column)
             }
             None => (1, 1),
         };
+        let source_line: String = text
+            .lines()
+            .nth(line - 1)
+            .unwrap_or("")
+            .trim_end()
+            .chars()
+            .take(160)
+            .collect();
         SceneError::Syntax {
             file: file.to_string(),
             line,
             column,
+            field: if field.is_empty() {
+                String::new()
+            } else {
+                format!("{field}: ")
+            },
             message: e.message().trim().to_string(),
+            source_line,
         }
     }
 

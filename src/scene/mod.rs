@@ -34,6 +34,12 @@ impl Scene {
 
     /// Parses scene text; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
-        toml::from_str::<Scene>(text).map_err(|e| SceneError::syntax(file, text, &e))
+        let deserializer =
+            toml::Deserializer::parse(text).map_err(|e| SceneError::syntax(file, text, "", &e))?;
+        serde_path_to_error::deserialize::<_, Scene>(deserializer).map_err(|e| {
+            let field = e.path().to_string();
+            let field = if field == "." { String::new() } else { field };
+            SceneError::syntax(file, text, &field, e.inner())
+        })
     }
 }

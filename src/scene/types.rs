@@ -229,6 +229,21 @@ pub struct SolverSettings {
     /// Element of the linear static solve: `"hex8"` (default) or `"incompatible_modes"`.
     #[serde(default)]
     pub element: Option<ElementName>,
+    /// The memory a solve may take: bytes, or a string with a unit (`"8 GB"`, `"512 MiB"`);
+    /// default: what the machine has free. A job that would need more is refused before it
+    /// allocates.
+    #[serde(default)]
+    pub max_memory: Option<MemorySize>,
+}
+
+/// `[solver] max_memory`: a number of bytes, or a string with a unit.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum MemorySize {
+    /// Bytes.
+    Bytes(f64),
+    /// A number and a unit: B, kB, MB, GB, TB (powers of 1000) or KiB, MiB, GiB, TiB.
+    Text(String),
 }
 
 /// `[solver] tier`: how the hands' flesh is solved, fastest first.

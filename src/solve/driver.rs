@@ -129,6 +129,7 @@ impl Workspace {
     /// is free, or a floating body can only be held by a hand (then the frames are solved with
     /// the hands' contact, [`frame_with_hands`]).
     pub fn new(model: &Model) -> Result<Workspace, SimError> {
+        crate::fem::memory::set_budget(model.max_memory);
         let has_hands = model.bodies.iter().any(|b| b.hand.is_some());
         let floating = model.bodies.iter().any(|b| b.floating);
         let still = if model.partition.free_count() == 0 {
@@ -150,6 +151,7 @@ impl Workspace {
                 Err(e) => return Err(e),
             }
         };
+        let still = still.map(|f| SimError::finite(model, f)).transpose()?;
         Ok(Workspace {
             still,
             caches: Vec::new(),
@@ -184,6 +186,7 @@ impl Workspace {
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
         self.move_hands_as_asked(model, posed, targets, cancel)
+            .and_then(|frame| SimError::finite(model, frame))
             .map_err(|e| self.beyond_small_strain(model, e))
     }
 

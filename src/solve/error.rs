@@ -163,6 +163,44 @@ pub enum SimError {
         /// The error the keyframe met.
         cause: Box<SimError>,
     },
+    /// A solved value overflowed: nothing is written or shown.
+    #[error(
+        "body \"{}\": the {} at {} is {} — the scene's magnitudes overflow double precision, \
+         so nothing was written. {advice}",
+        .value.body, .value.quantity, .value.at, .value.value
+    )]
+    NonFinite {
+        /// The value, its quantity and where.
+        value: Box<crate::state::NonFinite>,
+        /// The scene's extreme magnitudes, the likely cause, and what to do.
+        advice: String,
+    },
+    /// The stiffness lost positive definiteness to rounding on a body so slender, and so
+    /// finely cut along its length, that its bending stiffness is below double precision.
+    #[error(
+        "body \"{body}\": the factorization of its stiffness met a pivot that is not positive \
+         (pivot {pivot} of {equations}, node {node}), yet the constraints hold it (no rigid \
+         motion is left): the body is {slenderness:.0} times longer than it is thick and cut into about {cells:.0} \
+         cells along its length, so its bending stiffness is below the rounding error of its \
+         stretching stiffness (their ratio falls as (slenderness × cells along)², here \
+         {:.1e}, and double precision holds to about 1e16). Make (length / thickness) × (cells \
+         along the length) at most 1e8: a thicker or shorter body, or fewer cells along it",
+        (slenderness * cells).powi(2)
+    )]
+    TooSlender {
+        /// The body.
+        body: String,
+        /// Its longest over its shortest extent.
+        slenderness: f64,
+        /// About how many cells it has along its longest extent.
+        cells: f64,
+        /// Elimination step that failed.
+        pivot: usize,
+        /// Equations in all.
+        equations: usize,
+        /// A node (of the model) whose dof sits at that pivot.
+        node: usize,
+    },
     /// The linear solve failed.
     #[error("body \"{body}\": {source}")]
     Solve {
@@ -171,6 +209,45 @@ pub enum SimError {
         /// Why.
         source: SolveError,
     },
+}
+
+/// (Longest / shortest extent) × (cells along the longest) above which a pivot lost is told as
+/// the body's slenderness: 1e16, double precision, is this squared (a body at 1e3 × 1e5 solves;
+/// 1e4 × 1e5 loses a pivot).
+const SLENDER: f64 = 1e8;
+
+/// A body's longest over its shortest bounding-box extent, and about how many cells it has along
+/// the longest (that extent over the cells' mean extent along it).
+fn slenderness(model: &Model, body: &crate::model::BodyModel) -> (f64, f64) {
+    let nodes = &model.mesh.nodes[body.nodes.clone()];
+    let Some(first) = nodes.first() else {
+        return (1.0, 1.0);
+    };
+    let (lo, hi) = nodes
+        .iter()
+        .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let extent = hi - lo;
+    let axis = extent.imax();
+    let (longest, shortest) = (extent.max(), extent.min());
+    if shortest.is_nan() || shortest <= 0.0 || body.cells.is_empty() {
+        return (1.0, 1.0);
+    }
+    let along: f64 = body
+        .cells
+        .clone()
+        .map(|c| {
+            let x = model.mesh.cell_coords(c).map(|p| p[axis]);
+            let (a, b) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+            b - a
+        })
+        .sum::<f64>()
+        / body.cells.len() as f64;
+    let cells = if along > 0.0 { longest / along } else { 1.0 };
+    (longest / shortest, cells)
 }
 
 /// A factor with three significant digits (12.3, 1.23, 5565).
@@ -187,6 +264,54 @@ fn element_note(element: &Option<usize>) -> String {
 }
 
 impl SimError {
+    /// `frame` unless one of its values is not finite: then the error naming it, with the
+    /// scene's largest load and softest material as the likely cause.
+    pub(crate) fn finite(
+        model: &Model,
+        frame: crate::state::Frame,
+    ) -> Result<crate::state::Frame, SimError> {
+        let Some(value) = crate::state::first_non_finite(model, &frame) else {
+            return Ok(frame);
+        };
+        let mut advice = Vec::new();
+        if let Some(load) = model
+            .loads
+            .iter()
+            .max_by(|a, b| a.total.amax().total_cmp(&b.total.amax()))
+        {
+            let t = load.total;
+            advice.push(format!(
+                "its largest load is \"{}\", [{:.3e}, {:.3e}, {:.3e}] N in all",
+                load.name, t.x, t.y, t.z
+            ));
+        }
+        if let Some((i, m)) = model
+            .cell_materials
+            .iter()
+            .zip(&model.cell_material)
+            .min_by(|a, b| a.0.young.total_cmp(&b.0.young))
+            .map(|(m, &i)| (i, m))
+        {
+            advice.push(format!(
+                "its softest material is \"{}\", E = {:.3e} Pa",
+                model.material_names.get(i).map_or("?", String::as_str),
+                m.young
+            ));
+        }
+        let advice = format!(
+            "Check the units (N, Pa, m, kg/m³) and bring the loads and moduli to physical values{}",
+            if advice.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", advice.join("; "))
+            }
+        );
+        Err(SimError::NonFinite {
+            value: Box::new(value),
+            advice,
+        })
+    }
+
     /// Cell `cell` of the model (numbered in the whole mesh) is inverted or flat.
     pub(crate) fn inverted(model: &Model, cell: usize, relative_det: f64) -> SimError {
         let b = model.cell_body[cell];
@@ -201,8 +326,24 @@ impl SimError {
     /// after every body when no node is to blame.
     pub(crate) fn solve(model: &Model, source: SolveError) -> SimError {
         let body = match &source {
-            SolveError::NotPositiveDefinite { node, .. } => {
-                model.bodies[model.body_of_node(*node)].name.clone()
+            &SolveError::NotPositiveDefinite {
+                node,
+                pivot,
+                equations,
+            } => {
+                let b = &model.bodies[model.body_of_node(node)];
+                let (slenderness, cells) = slenderness(model, b);
+                if slenderness * cells > SLENDER {
+                    return SimError::TooSlender {
+                        body: b.name.clone(),
+                        slenderness,
+                        cells,
+                        pivot,
+                        equations,
+                        node: node - b.nodes.start,
+                    };
+                }
+                b.name.clone()
             }
             _ => model
                 .bodies

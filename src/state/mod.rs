@@ -2,6 +2,7 @@
 //! May import model, the kernels and util.
 
 mod cavity;
+mod finite;
 mod frame;
 mod hand;
 pub mod outcome;
@@ -9,6 +10,7 @@ mod tactile;
 mod validity;
 
 pub use cavity::{cavity_state, CavityState};
+pub use finite::{first_non_finite, NonFinite};
 pub use frame::{Frame, HandFrame};
 pub use hand::{HandState, KeyframeStats, StoppedShort};
 pub use tactile::{contact_pressure, contact_skin_pressure, skin_pressure};

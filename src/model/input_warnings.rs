@@ -1,0 +1,145 @@
+//! Warnings about what the scene asks that is admissible but likely not meant: a material so
+//! nearly incompressible that the chosen element locks, and a point (probe, load, constraint)
+//! so far from its body that the node it snaps to is not where the user pointed.
+
+use super::BodyModel;
+use crate::fem::{ElementKind, Material};
+use crate::mesh::Mesh;
+use crate::scene::{Scene, Selection};
+use nalgebra::Vector3;
+
+/// Poisson's ratio above which the fully integrated hex8 locks visibly (its volumetric
+/// stiffness grows as 1/(1 − 2ν): 50× the shear stiffness at ν = 0.49).
+pub const LOCKING_POISSON: f64 = 0.49;
+
+/// The warnings of a built model's input.
+pub fn input_warnings(
+    scene: &Scene,
+    bodies: &[BodyModel],
+    mesh: &Mesh,
+    cell_materials: &[Material],
+    element: ElementKind,
+    nonlinear: bool,
+) -> Vec<String> {
+    let mut out = locking_warnings(scene, bodies, cell_materials, element, nonlinear);
+    out.extend(far_point_warnings(scene, bodies, mesh));
+    out
+}
+
+/// A body (not a hand: its flesh is the hand model's own) whose cells have ν above
+/// [`LOCKING_POISSON`] on the fully integrated hex8.
+fn locking_warnings(
+    scene: &Scene,
+    bodies: &[BodyModel],
+    cell_materials: &[Material],
+    element: ElementKind,
+    nonlinear: bool,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for body in bodies.iter().filter(|b| b.hand.is_none()) {
+        let Some(nu) = cell_materials[body.cells.clone()]
+            .iter()
+            .map(|m| m.poisson)
+            .max_by(f64::total_cmp)
+        else {
+            continue;
+        };
+        if nu <= LOCKING_POISSON {
+            continue;
+        }
+        let ratio = 1.0 / (1.0 - 2.0 * nu).max(f64::MIN_POSITIVE);
+        let names: Vec<&str> = scene
+            .material
+            .iter()
+            .filter(|m| m.poisson > LOCKING_POISSON)
+            .map(|m| m.name.as_str())
+            .collect();
+        let cure = if nonlinear {
+            "the nonlinear tier has no locking-free element yet: use the linear tier with \
+             [solver] element = \"incompatible_modes\" where strains are small, or ν ≤ 0.49"
+        } else if element == ElementKind::Hex8 {
+            "set [solver] element = \"incompatible_modes\", which does not lock"
+        } else {
+            continue;
+        };
+        out.push(format!(
+            "body \"{}\": ν = {nu} (material {}) is nearly incompressible: the fully integrated \
+             hex8 locks, its volumetric stiffness {ratio:.3e}× the shear stiffness, and the body \
+             comes out far too stiff; {cure}",
+            body.name,
+            names
+                .iter()
+                .map(|n| format!("\"{n}\""))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    out
+}
+
+/// The points of probes, loads and constraints farther from their body's nearest node than the
+/// size of that node's cells.
+fn far_point_warnings(scene: &Scene, bodies: &[BodyModel], mesh: &Mesh) -> Vec<String> {
+    let mut points: Vec<(String, &str, [f64; 3])> = Vec::new();
+    for (i, p) in scene.probe.iter().enumerate() {
+        let field = format!("probe \"{}\" (probe[{i}]).point", p.name);
+        points.push((field, &p.body, p.point));
+    }
+    for (i, l) in scene.load.iter().enumerate() {
+        if let Selection::Point(p) = l.selection {
+            let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
+            points.push((format!("load \"{name}\" (load[{i}]).where"), &l.body, p));
+        }
+    }
+    for (i, c) in scene.constraint.iter().enumerate() {
+        if let Selection::Point(p) = c.selection {
+            let field = format!("constraint \"{}\" (constraint[{i}]).where", c.name);
+            points.push((field, &c.body, p));
+        }
+    }
+    let mut out = Vec::new();
+    for (field, body_name, p) in points {
+        let Some(body) = bodies.iter().find(|b| b.name == body_name) else {
+            continue;
+        };
+        let p = Vector3::from(p);
+        let Some((node, distance)) = body
+            .nodes
+            .clone()
+            .map(|n| (n, (mesh.nodes[n] - p).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            continue;
+        };
+        let cell = cell_size_at(mesh, body, node);
+        if distance > cell {
+            let q = mesh.nodes[node];
+            out.push(format!(
+                "{field}: the point is {distance:.4e} m from body \"{}\", farther than the \
+                 size of its cells there ({cell:.3e} m): it acts at the nearest node, {node} at \
+                 [{:.4}, {:.4}, {:.4}] m",
+                body.name, q.x, q.y, q.z
+            ));
+        }
+    }
+    out
+}
+
+/// The longest edge (bounding-box diagonal) of the body's cells that hold `node`; the body's
+/// size where none does.
+fn cell_size_at(mesh: &Mesh, body: &BodyModel, node: usize) -> f64 {
+    body.cells
+        .clone()
+        .filter(|&c| mesh.cells[c].contains(&node))
+        .map(|c| {
+            let coords = mesh.cell_coords(c);
+            let (mut lo, mut hi) = (coords[0], coords[0]);
+            for x in &coords {
+                lo = lo.inf(x);
+                hi = hi.sup(x);
+            }
+            (hi - lo).norm()
+        })
+        .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
+        .unwrap_or(body.size)
+}

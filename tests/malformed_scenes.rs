@@ -1,0 +1,248 @@
+//! Malformed scene files are refused with an error naming the file and the field or element at
+//! fault (issue 19, "Hardening").
+//!
+//! Every `tests/malformed/*.toml` is solved by the real command line, `prehensile solve FILE
+//! --out DIR`, in a child process with a time limit and (on Linux) a 4 GiB address-space limit,
+//! so that a scene which would overflow a size check and allocate without bound fails here
+//! instead of taking the machine down. Each file starts with one or more `# expect: TEXT` lines;
+//! the run must exit with a non-zero code (not a signal, not a panic, not the time limit), its
+//! stderr must hold the file's name and every expected text, and nothing may be written to
+//! `--out`. All the cases that fail are reported together.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Longest a case may run before it is killed.
+const TIME_LIMIT: Duration = Duration::from_secs(20);
+
+/// Address space allowed to a case (Linux only).
+#[cfg(target_os = "linux")]
+const ADDRESS_SPACE_LIMIT: u64 = 4 << 30;
+
+/// The corpus, sorted by name.
+fn corpus() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed");
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|entry| entry.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The texts of the `# expect:` lines.
+fn expectations(text: &str) -> Vec<String> {
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("# expect:"))
+        .map(|e| e.trim().to_string())
+        .filter(|e| !e.is_empty())
+        .collect()
+}
+
+/// How a run ended.
+enum Ending {
+    /// Exited by itself.
+    Exited(ExitStatus),
+    /// Killed at the time limit.
+    TimedOut,
+}
+
+/// Runs `prehensile solve scene --out out`, stderr into `stderr_file`.
+fn solve(scene: &Path, out: &Path, stderr_file: &Path) -> std::io::Result<(Ending, Duration)> {
+    let stderr = fs::File::create(stderr_file)?;
+    let mut command = Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    command
+        .arg("solve")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .env("RUST_BACKTRACE", "0")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::from(stderr));
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: between fork and exec the closure only calls setrlimit, which is
+        // async-signal-safe, and allocates nothing.
+        unsafe {
+            command.pre_exec(|| {
+                let limit = libc::rlimit {
+                    rlim_cur: ADDRESS_SPACE_LIMIT as libc::rlim_t,
+                    rlim_max: ADDRESS_SPACE_LIMIT as libc::rlim_t,
+                };
+                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+    }
+    let start = Instant::now();
+    let mut child = command.spawn()?;
+    loop {
+        if let Some(status) = child.try_wait()? {
+            return Ok((Ending::Exited(status), start.elapsed()));
+        }
+        if start.elapsed() > TIME_LIMIT {
+            child.kill()?;
+            child.wait()?;
+            return Ok((Ending::TimedOut, start.elapsed()));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Every file and folder under `dir` (none when it does not exist).
+fn written(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = fs::read_dir(&d) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            out.push(
+                path.strip_prefix(dir)
+                    .unwrap_or(&path)
+                    .display()
+                    .to_string(),
+            );
+            if path.is_dir() {
+                stack.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The first lines of `text`, at most `chars` characters.
+fn trimmed(text: &str, chars: usize) -> String {
+    let text = text.trim();
+    match text.char_indices().nth(chars) {
+        Some((i, _)) => format!("{} […]", &text[..i]),
+        None => text.to_string(),
+    }
+}
+
+/// Checks one case; the problems found (empty when it passes).
+fn check(scene: &Path, work: &Path) -> Vec<String> {
+    let name = scene.file_name().unwrap().to_string_lossy().to_string();
+    let text = match fs::read_to_string(scene) {
+        Ok(t) => t,
+        Err(e) => return vec![format!("cannot read the case: {e}")],
+    };
+    let expected = expectations(&text);
+    let mut problems = Vec::new();
+    if expected.is_empty() {
+        problems.push("has no `# expect:` line".to_string());
+    }
+    let case_dir = work.join(name.trim_end_matches(".toml"));
+    let _ = fs::remove_dir_all(&case_dir);
+    fs::create_dir_all(&case_dir).expect("case folder");
+    let out = case_dir.join("out");
+    let stderr_file = case_dir.join("stderr.txt");
+    let (ending, elapsed) = match solve(scene, &out, &stderr_file) {
+        Ok(r) => r,
+        Err(e) => return vec![format!("cannot run prehensile: {e}")],
+    };
+    let stderr = String::from_utf8_lossy(&fs::read(&stderr_file).unwrap_or_default()).to_string();
+    let status = match &ending {
+        Ending::TimedOut => format!("killed after {:.1} s (time limit)", elapsed.as_secs_f64()),
+        Ending::Exited(s) => match (s.code(), signal(s)) {
+            (Some(c), _) => format!("exit code {c}"),
+            (None, Some(sig)) => format!("killed by signal {sig}"),
+            (None, None) => format!("{s}"),
+        },
+    };
+    match &ending {
+        Ending::TimedOut => {
+            problems.push(format!("did not finish within {} s", TIME_LIMIT.as_secs()))
+        }
+        Ending::Exited(s) => match s.code() {
+            Some(0) => problems.push("was accepted (exit code 0)".to_string()),
+            Some(_) => {}
+            None => problems.push(format!("did not exit by itself ({status})")),
+        },
+    }
+    if stderr.contains("panicked at") {
+        problems.push("panicked".to_string());
+    }
+    if !stderr.contains(&name) {
+        problems.push(format!("stderr does not name the file {name:?}"));
+    }
+    for e in &expected {
+        if !stderr.contains(e.as_str()) {
+            problems.push(format!("stderr lacks {e:?}"));
+        }
+    }
+    let files = written(&out);
+    if !files.is_empty() {
+        problems.push(format!("wrote into --out: {}", files.join(", ")));
+    }
+    if !problems.is_empty() {
+        problems.push(format!("{status}; stderr: {}", trimmed(&stderr, 600)));
+    }
+    problems
+}
+
+#[cfg(unix)]
+fn signal(s: &ExitStatus) -> Option<i32> {
+    use std::os::unix::process::ExitStatusExt;
+    s.signal()
+}
+
+#[cfg(not(unix))]
+fn signal(_: &ExitStatus) -> Option<i32> {
+    None
+}
+
+#[test]
+fn malformed_scenes_are_refused_naming_file_and_field() {
+    let files = corpus();
+    assert!(
+        files.len() >= 60,
+        "tests/malformed holds {} scenes, expected at least 60",
+        files.len()
+    );
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("malformed_scenes");
+    let _ = fs::remove_dir_all(&work);
+    fs::create_dir_all(&work).expect("work folder");
+
+    let next = AtomicUsize::new(0);
+    let failures: Mutex<Vec<(String, Vec<String>)>> = Mutex::new(Vec::new());
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get().min(4));
+    std::thread::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(scene) = files.get(i) else { break };
+                let problems = check(scene, &work);
+                if !problems.is_empty() {
+                    let name = scene.file_name().unwrap().to_string_lossy().to_string();
+                    failures.lock().unwrap().push((name, problems));
+                }
+            });
+        }
+    });
+
+    let mut failures = failures.into_inner().unwrap();
+    failures.sort();
+    let report: String = failures
+        .iter()
+        .map(|(name, problems)| format!("\n- {name}\n    {}", problems.join("\n    ")))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} malformed scenes were not refused as expected:{report}",
+        failures.len(),
+        files.len()
+    );
+}
