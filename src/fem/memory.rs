@@ -84,6 +84,19 @@ impl std::fmt::Display for BudgetSource {
     }
 }
 
+impl BudgetSource {
+    /// What raises this limit, to follow "use fewer elements, or …".
+    pub fn remedy(&self) -> &'static str {
+        match self {
+            BudgetSource::Asked => "raise `[solver] max_memory` where the machine has the memory",
+            BudgetSource::Machine => {
+                "free memory on this machine (close other programs) or run on a larger one"
+            }
+            BudgetSource::AddressSpace => "raise the process's address-space limit (`ulimit -v`)",
+        }
+    }
+}
+
 /// How much more memory a solve may take now, bytes, and what sets it: the least of
 /// `[solver] max_memory`, the machine's available memory and the address space left under the
 /// process's limit; `None` where none of them is known.

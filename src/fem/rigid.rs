@@ -1,7 +1,7 @@
 //! Detection of rigid-body motions left free by the prescribed displacements.
 //!
 //! A piece of a body is held when the prescribed dofs, seen as linear functionals on the six
-//! rigid motions (three translations, three rotations about the centroid), have rank six.
+//! rigid motions (three translations, three rotations), have rank six.
 
 use nalgebra::{Matrix6, SymmetricEigen, Vector3, Vector6};
 
@@ -12,8 +12,22 @@ pub fn free_rigid_motions(
     positions: &[Vector3<f64>],
     prescribed: impl Fn(usize) -> bool,
 ) -> Vec<String> {
-    let centroid = nodes.iter().map(|&n| positions[n]).sum::<Vector3<f64>>() / nodes.len() as f64;
-    let size = nodes
+    // Rotations about the centroid of the held nodes, lengths in units of their spread: the
+    // rank does not depend on the reference point or the unit, and so a clamped end of a body
+    // 1e5 times longer than it is wide stays well conditioned (about the body's centroid, its
+    // rotations would fall below the tolerance).
+    let held: Vec<usize> = nodes
+        .iter()
+        .copied()
+        .filter(|&n| (0..3).any(|i| prescribed(3 * n + i)))
+        .collect();
+    let reference = if held.is_empty() { nodes } else { &held[..] };
+    let centroid = reference
+        .iter()
+        .map(|&n| positions[n])
+        .sum::<Vector3<f64>>()
+        / reference.len() as f64;
+    let size = reference
         .iter()
         .map(|&n| (positions[n] - centroid).norm())
         .fold(0.0, f64::max)

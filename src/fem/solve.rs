@@ -67,10 +67,10 @@ pub enum SolveError {
     #[error(
         "the sparse Cholesky factor of {equations} equations needs about {} ({entries} \
          entries), but {} is free ({limit}): use fewer elements (a coarser mesh, fewer \
-         `cells`, a lower hand `resolution`), or, where the machine has the memory, raise \
-         `[solver] max_memory`",
+         `cells`, a lower hand `resolution`), or {}",
         super::memory::human(*needed),
-        super::memory::human(*available)
+        super::memory::human(*available),
+        .limit.remedy()
     )]
     TooBig {
         /// Bytes the factorization would take.

@@ -4,6 +4,7 @@
 
 use super::check::list;
 use super::materials::find_material;
+use super::memory_estimate::fits_in_memory;
 use super::shapes::build_shape;
 use super::BodyModel;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
@@ -34,6 +35,7 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
     let mut bodies: Vec<BodyModel> = Vec::new();
     let mut cell_material = Vec::new();
     let mut cell_body = Vec::new();
+    let max_memory = super::settings::max_memory(&scene.solver)?;
     for (i, b) in scene.body.iter().enumerate() {
         let field = format!("body \"{}\" (body[{i}])", b.name);
         if bodies.iter().any(|o| o.name == b.name) {
@@ -69,6 +71,13 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
             Some(h) => h.flesh.mesh.clone(),
             None => build_shape(&b.shape).map_err(|(sub, m)| (format!("{field}.shape{sub}"), m))?,
         };
+        fits_in_memory(
+            mesh.node_count().saturating_add(body_mesh.node_count()),
+            mesh.cell_count().saturating_add(body_mesh.cell_count()),
+            body_mesh.cell_count(),
+            max_memory,
+            &field,
+        )?;
         for (c, _) in body_mesh.cells.iter().enumerate() {
             let rel = relative_min_jacobian(&body_mesh.cell_coords(c));
             if rel.is_nan() || rel <= 1e-12 {

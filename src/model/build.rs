@@ -76,7 +76,6 @@ impl Model {
         let ordering = ordering(&scene.solver);
         set_masses(&mut bodies, &mesh, &cell_materials);
         let max_memory = max_memory(&scene.solver).map_err(err)?;
-        fits_in_memory(&mesh, &bodies, max_memory).map_err(err)?;
         let element: ElementKind = scene.solver.element.unwrap_or_default().into();
         let nonlinear_statics = scene.solver.tier == Some(crate::scene::TierName::Nonlinear);
         let input_warnings = input_warnings(
@@ -120,39 +119,4 @@ impl Model {
             input_warnings,
         })
     }
-}
-
-/// Refuses a model whose stiffness matrix alone would not fit in the memory a solve may take
-/// (`max_memory`, or what the machine has free), before it is built: named after its largest
-/// body. (The factor, larger still, is checked once its analysis tells its size.)
-fn fits_in_memory(
-    mesh: &crate::mesh::Mesh,
-    bodies: &[super::BodyModel],
-    max_memory: Option<u64>,
-) -> Result<(), (String, String)> {
-    let Some((available, limit)) = crate::fem::memory::budget_with(max_memory) else {
-        return Ok(());
-    };
-    let needed = StiffnessPattern::bytes_for(mesh.node_count());
-    if needed <= available {
-        return Ok(());
-    }
-    let (i, body) = bodies
-        .iter()
-        .enumerate()
-        .max_by_key(|(_, b)| b.cells.len())
-        .expect("a model has a body");
-    Err((
-        format!("body \"{}\" (body[{i}])", body.name),
-        format!(
-            "the model's {} nodes ({} elements, {} of them this body's) need about {} for the \
-             stiffness matrix alone, but {} is free ({limit}): use fewer cells, or, where the \
-             machine has the memory, raise [solver] max_memory",
-            mesh.node_count(),
-            mesh.cell_count(),
-            body.cells.len(),
-            crate::fem::memory::human(needed),
-            crate::fem::memory::human(available)
-        ),
-    ))
 }

@@ -4,6 +4,13 @@ use super::check::list;
 use crate::fem::Material;
 use crate::scene::Scene;
 
+/// Young's moduli a scene may give, Pa: beyond them a value is a mistake of units (and its
+/// displacements overflow).
+const YOUNG_RANGE: (f64, f64) = (1e-3, 1e13);
+
+/// The densest a scene's material may be, kg/m³.
+const MAX_DENSITY: f64 = 1e5;
+
 /// The materials in the scene's order, each checked admissible and named once.
 pub fn materials(scene: &Scene) -> Result<Vec<Material>, (String, String)> {
     let mut materials = Vec::new();
@@ -17,7 +24,27 @@ pub fn materials(scene: &Scene) -> Result<Vec<Material>, (String, String)> {
             poisson: m.poisson,
             density: m.density,
         };
-        mat.check().map_err(|msg| (field, msg))?;
+        mat.check().map_err(|msg| (field.clone(), msg))?;
+        if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&mat.young) {
+            return Err((
+                format!("{field}.young"),
+                format!(
+                    "young = {:e} Pa lies outside the moduli of real materials, {:e} to {:e} Pa \
+                     (the softest gels ~10 Pa, diamond 1.2e12 Pa): check the units (Pa)",
+                    mat.young, YOUNG_RANGE.0, YOUNG_RANGE.1
+                ),
+            ));
+        }
+        if mat.density > MAX_DENSITY {
+            return Err((
+                format!("{field}.density"),
+                format!(
+                    "density = {:e} kg/m³ exceeds that of any material ({MAX_DENSITY:e} kg/m³; \
+                     osmium 22 590): check the units (kg/m³)",
+                    mat.density
+                ),
+            ));
+        }
         materials.push(mat);
     }
     Ok(materials)

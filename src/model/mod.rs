@@ -13,6 +13,7 @@ mod input_warnings;
 mod keyframes;
 mod loads;
 mod materials;
+mod memory_estimate;
 mod obstacles;
 mod probes;
 mod refinement;

@@ -1,0 +1,568 @@
+//! Hardening (issue 19): values that overflow, folders of older runs, jobs too big for the
+//! memory, slabs and slender bodies, and the warnings a surprising input deserves. Each case is
+//! run as a user runs it, `prehensile solve FILE --out DIR`, or through the library where the
+//! number asserted is internal (the factor's size).
+
+mod common;
+
+use common::solve_cli;
+use nalgebra::Vector3;
+use prehensile::fem::assembly::{assemble, StiffnessPattern};
+use prehensile::fem::solve::FillOrdering;
+use prehensile::fem::{DofPartition, Material, PartitionedSolver};
+use prehensile::headless::solve_scene;
+use prehensile::mesh::box_mesh;
+use prehensile::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+use std::sync::Arc;
+
+/// A bar `[0, length] × [0, thickness]²` of `cells` cells along x, clamped at x = 0, with the
+/// given material, `[solver]` lines and further tables.
+fn bar(
+    length: f64,
+    thickness: f64,
+    cells: [usize; 3],
+    young: f64,
+    poisson: f64,
+    solver: &str,
+    rest: &str,
+) -> String {
+    format!(
+        r#"
+[solver]
+{solver}
+
+[[material]]
+name = "rubber"
+young = {young:e}
+poisson = {poisson}
+density = 1100.0
+
+[[body]]
+name = "bar"
+material = "rubber"
+shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [{length:?}, {thickness:?}, {thickness:?}], cells = {cells:?} }} }}
+
+[[constraint]]
+name = "root"
+body = "bar"
+where = {{ face = "x-" }}
+displacement = [0.0, 0.0, 0.0]
+{rest}
+"#
+    )
+}
+
+/// A folder of its own for `name` under the target's temporary folder, empty.
+fn fresh(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("hardening")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes `text` as `dir/scene.toml` and solves it into `dir/out`.
+fn solve_text(dir: &Path, text: &str) -> (Output, String, PathBuf) {
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let output = solve_cli(&scene, &out);
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    (output, stderr, out)
+}
+
+/// The names in `dir`, sorted (none when it does not exist).
+fn names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// A cantilever tip load, `force` N on the free end's face.
+fn tip_load(force: [f64; 3]) -> String {
+    format!(
+        "[[load]]\nname = \"tip\"\nbody = \"bar\"\nwhere = {{ face = \"x+\" }}\nforce = [{:e}, {:e}, {:e}]\n",
+        force[0], force[1], force[2]
+    )
+}
+
+#[test]
+fn a_value_that_overflows_stops_the_solve_naming_it_and_nothing_is_written() {
+    // A load of 1e160 N: the displacements of 1e154 m overflow in the stresses (squares).
+    let dir = fresh("overflow_load");
+    let text = bar(
+        1.0,
+        0.1,
+        [10, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([1e160, 0.0, 0.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("scene.toml"), "{stderr}");
+    assert!(stderr.contains("body \"bar\""), "{stderr}");
+    assert!(
+        stderr.contains("stress at element") || stderr.contains("at node"),
+        "names the quantity and where: {stderr}"
+    );
+    assert!(
+        stderr.contains("is inf") || stderr.contains("is NaN"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("\"tip\", [1.000e160"),
+        "names the load: {stderr}"
+    );
+    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
+    // Nothing non-finite on the screen either.
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        !stdout.contains("inf") && !stdout.contains("NaN"),
+        "{stdout}"
+    );
+
+    // A modulus of 1e-300 Pa is a mistake of units: refused, naming the field.
+    let dir = fresh("overflow_modulus");
+    let text = bar(
+        1.0,
+        0.1,
+        [10, 1, 1],
+        1e-300,
+        0.3,
+        "",
+        &tip_load([0.0, 0.0, -10.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("material \"rubber\" (material[0]).young"),
+        "names the field: {stderr}"
+    );
+    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
+
+    // A load the moduli allow but the displacements cannot hold: 1e200 N on a gel of 1e-3 Pa.
+    let dir = fresh("overflow_soft");
+    let text = bar(
+        1.0,
+        0.1,
+        [10, 1, 1],
+        1e-3,
+        0.3,
+        "",
+        &tip_load([0.0, 0.0, -1e300]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("E = 1.000e-3 Pa"),
+        "names the material: {stderr}"
+    );
+    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
+
+    // Following the advice (physical values) solves, every number finite.
+    let dir = fresh("overflow_mended");
+    let text = bar(
+        1.0,
+        0.1,
+        [10, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([1.0, 0.0, 0.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let vtu = std::fs::read_to_string(out.join("frame_0000.vtu")).unwrap();
+    assert!(!vtu.contains("inf") && !vtu.to_lowercase().contains("nan"));
+}
+
+#[test]
+fn a_solve_replaces_the_results_of_an_older_run_as_a_whole() {
+    let dir = fresh("replace");
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    // An older run of ten frames with hands, an older manifest, and the user's own note.
+    for name in [
+        "frame_0009.vtu",
+        "hand_0003.obj",
+        "bones_0003.vtu",
+        "skin_0003.vtu",
+        "frame_0000.vtu",
+    ] {
+        std::fs::write(out.join(name), "old").unwrap();
+    }
+    std::fs::write(out.join("extra-of-an-older-version.dat"), "old").unwrap();
+    std::fs::write(
+        out.join(".prehensile-output"),
+        "extra-of-an-older-version.dat\nframe_0009.vtu\n../escape.txt\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("escape.txt"), "outside the folder").unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+
+    let text = bar(
+        1.0,
+        0.1,
+        [4, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([0.0, 0.0, -1.0]),
+    );
+    let (output, stderr, _) = solve_text(&dir, &text);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert_eq!(
+        names(&out),
+        [
+            ".prehensile-output",
+            "frame_0000.vtu",
+            "frames.pvd",
+            "notes.txt",
+            "report.json"
+        ]
+    );
+    assert_ne!(
+        std::fs::read_to_string(out.join("frame_0000.vtu")).unwrap(),
+        "old"
+    );
+    assert!(
+        dir.join("escape.txt").exists(),
+        "a manifest cannot reach outside"
+    );
+    let manifest = std::fs::read_to_string(out.join(".prehensile-output")).unwrap();
+    let mut listed: Vec<&str> = manifest.lines().collect();
+    listed.sort();
+    assert_eq!(listed, ["frame_0000.vtu", "frames.pvd", "report.json"]);
+
+    // A failing solve into the same folder loses nothing of the last good one.
+    let before: Vec<(String, Vec<u8>)> = names(&out)
+        .into_iter()
+        .map(|n| (n.clone(), std::fs::read(out.join(&n)).unwrap()))
+        .collect();
+    let text = bar(
+        1.0,
+        0.1,
+        [4, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([1e160, 0.0, 0.0]),
+    );
+    let (output, stderr, _) = solve_text(&dir, &text);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let after: Vec<(String, Vec<u8>)> = names(&out)
+        .into_iter()
+        .map(|n| (n.clone(), std::fs::read(out.join(&n)).unwrap()))
+        .collect();
+    assert_eq!(before, after);
+}
+
+/// Solves `dir/scene.toml` (written from `text`) into `dir/out` and returns the exit code,
+/// stderr and the run's own peak resident memory in bytes (from `wait4`).
+#[cfg(target_os = "linux")]
+#[allow(clippy::zombie_processes)] // waited for by wait4, which std does not see
+fn solve_measured(dir: &Path, text: &str) -> (Option<i32>, String, u64) {
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let err_file = dir.join("stderr.txt");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .arg("solve")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::fs::File::create(&err_file).unwrap())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: wait4 writes into the status and usage it is given; the child is ours and not
+    // waited for elsewhere.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as libc::pid_t);
+    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+    let stderr = std::fs::read_to_string(&err_file).unwrap();
+    (code, stderr, usage.ru_maxrss as u64 * 1024)
+}
+
+#[test]
+fn a_job_above_max_memory_is_refused_before_it_allocates() {
+    // 30³ cells: 29 791 nodes, a stiffness pattern of ~120 MB; refused at the model's build.
+    let dir = fresh("max_memory_pattern");
+    let text = bar(
+        1.0,
+        1.0,
+        [30, 30, 30],
+        1e6,
+        0.3,
+        "max_memory = \"100 MB\"",
+        &tip_load([0.0, 0.0, -1.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("body \"bar\" (body[0])"), "{stderr}");
+    assert!(stderr.contains("stiffness matrix"), "{stderr}");
+    assert!(stderr.contains("max_memory"), "{stderr}");
+    assert!(names(&out).is_empty());
+    // Refused before allocating: the run never held the matrix it would have needed (the
+    // message's own estimate, ~120 MB).
+    #[cfg(target_os = "linux")]
+    {
+        let dir = fresh("max_memory_measured");
+        let (code, stderr, peak) = solve_measured(&dir, &text);
+        println!("peak resident memory of the refused run: {} MB", peak >> 20);
+        assert_eq!(code, Some(1), "{stderr}");
+        assert!(peak < 60_000_000, "peak {peak} B");
+    }
+
+    // 22³ cells: the pattern fits 100 MB, the factor (planned by the symbolic analysis) not.
+    let dir = fresh("max_memory_factor");
+    let text = bar(
+        1.0,
+        1.0,
+        [22, 22, 22],
+        1e6,
+        0.3,
+        "max_memory = \"100 MB\"",
+        &tip_load([0.0, 0.0, -1.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("factor"), "{stderr}");
+    assert!(stderr.contains("max_memory"), "{stderr}");
+    assert!(names(&out).is_empty());
+
+    // The advice: the same job with the memory it needs.
+    let dir = fresh("max_memory_raised");
+    let text = bar(
+        1.0,
+        1.0,
+        [22, 22, 22],
+        1e6,
+        0.3,
+        "max_memory = \"2 GB\"",
+        &tip_load([0.0, 0.0, -1.0]),
+    );
+    let (output, stderr, _) = solve_text(&dir, &text);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
+/// The issue's case: 170³ cells, under the element cap, run with an address space of 4 GiB:
+/// refused by the estimate, not aborted by the allocator.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_job_too_big_for_the_address_space_is_refused_not_aborted() {
+    use std::os::unix::process::CommandExt;
+    let dir = fresh("address_space");
+    let text = bar(
+        1.0,
+        1.0,
+        [170, 170, 170],
+        1e6,
+        0.3,
+        "",
+        &tip_load([0.0, 0.0, -1.0]),
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    command
+        .arg("solve")
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out"));
+    // SAFETY: only setrlimit between fork and exec.
+    unsafe {
+        command.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: 4 << 30,
+                rlim_max: 4 << 30,
+            };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let output = command.output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("address-space"), "{stderr}");
+    assert!(names(&dir.join("out")).is_empty());
+}
+
+#[test]
+fn the_ordering_of_a_slab_fills_no_more_than_twice_minimum_degree() {
+    // The issue's slab: geometric bisection alone put 202 M entries in L.
+    let mesh = box_mesh(
+        Vector3::zeros(),
+        Vector3::new(100.0, 0.01, 0.01),
+        [10_000, 1, 1],
+    );
+    let mut mask = vec![false; 3 * mesh.node_count()];
+    let mut values = vec![0.0; 3 * mesh.node_count()];
+    for (k, p) in mesh.nodes.iter().enumerate() {
+        if p.x == 0.0 {
+            mask[3 * k..3 * k + 3].fill(true);
+        } else if p.x == 100.0 {
+            mask[3 * k] = true;
+            values[3 * k] = 1e-3;
+        }
+    }
+    let partition = DofPartition::new(mask);
+    let pattern = Arc::new(StiffnessPattern::new(&mesh));
+    let rubber = Material {
+        young: 1e6,
+        poisson: 0.3,
+        density: 1100.0,
+    };
+    let k = assemble(&pattern, &mesh, &vec![rubber; mesh.cell_count()]).unwrap();
+    let loads = vec![0.0; 3 * mesh.node_count()];
+    let solve = |ordering| {
+        PartitionedSolver::new(ordering)
+            .solve(&k, &partition, &values, &loads, &mesh.nodes)
+            .unwrap()
+    };
+    let (auto, amd) = (solve(FillOrdering::default()), solve(FillOrdering::Amd));
+    println!(
+        "slab: nnz(L) default {} vs AMD {}",
+        auto.stats.factor_nnz, amd.stats.factor_nnz
+    );
+    assert!(auto.stats.factor_nnz <= 2 * amd.stats.factor_nnz);
+    // A bar pulled by 1 mm over 100 m: uniform strain 1e-5, the end's force E·A·ε.
+    let force: f64 = (0..mesh.node_count())
+        .filter(|&n| mesh.nodes[n].x == 100.0)
+        .map(|n| auto.reaction[3 * n])
+        .sum();
+    let expected = 1e6 * 1e-4 * 1e-5;
+    assert!(
+        (force - expected).abs() < 0.02 * expected,
+        "{force} vs {expected}"
+    );
+}
+
+#[test]
+fn a_body_too_slender_for_double_precision_is_told_so_and_the_advice_works() {
+    // 200 m long, 1 mm thick, 20 000 cells along: slenderness × cells = 4e9.
+    let dir = fresh("slender");
+    let text = bar(
+        200.0,
+        0.001,
+        [20_000, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([1.0, 0.0, 0.0]),
+    );
+    let (output, stderr, out) = solve_text(&dir, &text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("200000 times longer than it is thick"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("free to move rigidly"), "{stderr}");
+    assert!(names(&out).is_empty());
+    // The advice: (length / thickness) × (cells along) at most 1e8 — 10 cm thick: 4e7.
+    let dir = fresh("slender_mended");
+    let text = bar(
+        200.0,
+        0.1,
+        [20_000, 1, 1],
+        1e6,
+        0.3,
+        "",
+        &tip_load([1.0, 0.0, 0.0]),
+    );
+    let (output, stderr, _) = solve_text(&dir, &text);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
+/// The warnings of `text`'s solve, and the probe `tip`'s displacement.
+fn warnings_and_tip(text: &str) -> (Vec<String>, Vector3<f64>) {
+    let scene = Scene::parse(text, "scene.toml").unwrap();
+    let solved = solve_scene(&scene, "scene.toml").unwrap();
+    let frame = &solved.report.frames[0];
+    let json = serde_json::to_value(frame).unwrap();
+    let d = &json["probes"]["tip"]["displacement"];
+    let tip = Vector3::new(
+        d[0].as_f64().unwrap(),
+        d[1].as_f64().unwrap(),
+        d[2].as_f64().unwrap(),
+    );
+    (solved.report.warnings, tip)
+}
+
+#[test]
+fn a_nearly_incompressible_material_on_a_locking_element_is_warned_of() {
+    let probe = "[[probe]]\nname = \"tip\"\nbody = \"bar\"\npoint = [1.0, 0.1, 0.1]\n";
+    let rest = format!("{}{probe}", tip_load([0.0, 0.0, -1.0]));
+    let (locked, locked_tip) = warnings_and_tip(&bar(1.0, 0.1, [10, 2, 2], 1e6, 0.4999, "", &rest));
+    println!("{locked:#?}");
+    assert!(
+        locked
+            .iter()
+            .any(|w| w.contains("body \"bar\"") && w.contains("element = \"incompatible_modes\"")),
+        "{locked:?}"
+    );
+    // The advice: the element with incompatible modes, which bends as beam theory says.
+    let (free, free_tip) = warnings_and_tip(&bar(
+        1.0,
+        0.1,
+        [10, 2, 2],
+        1e6,
+        0.4999,
+        "element = \"incompatible_modes\"",
+        &rest,
+    ));
+    assert!(
+        free.iter().all(|w| !w.contains("incompressible")),
+        "{free:?}"
+    );
+    // Euler–Bernoulli: δ = F L³ / (3 E I), I = t⁴/12.
+    let beam = 1.0 / (3.0 * 1e6 * 1e-4 / 12.0);
+    println!(
+        "tip deflection: hex8 {:.4e} m, incompatible modes {:.4e} m, beam {beam:.4e} m",
+        -locked_tip.z, -free_tip.z
+    );
+    assert!((-free_tip.z - beam).abs() < 0.3 * beam);
+    assert!(-free_tip.z > 5.0 * -locked_tip.z);
+    assert!(-locked_tip.z < 0.2 * beam, "hex8 locks");
+    // A compressible material has no such warning.
+    let (plain, _) = warnings_and_tip(&bar(1.0, 0.1, [10, 2, 2], 1e6, 0.3, "", &rest));
+    assert!(
+        plain.iter().all(|w| !w.contains("incompressible")),
+        "{plain:?}"
+    );
+}
+
+#[test]
+fn a_point_far_from_its_body_is_warned_of() {
+    let far = "[[load]]\nname = \"far\"\nbody = \"bar\"\nwhere = { point = [1e9, 0.0, 0.0] }\n\
+               force = [0.0, 0.0, -1.0]\n\
+               [[probe]]\nname = \"tip\"\nbody = \"bar\"\npoint = [1.0, 0.1, 0.1]\n\
+               [[probe]]\nname = \"lost\"\nbody = \"bar\"\npoint = [0.5, 3.0, 0.0]\n";
+    let (warnings, _) = warnings_and_tip(&bar(1.0, 0.1, [10, 1, 1], 1e6, 0.3, "", far));
+    println!("{warnings:#?}");
+    let about = |field: &str| warnings.iter().filter(|w| w.starts_with(field)).count();
+    assert_eq!(about("load \"far\" (load[0]).where"), 1, "{warnings:?}");
+    assert_eq!(about("probe \"lost\" (probe[1]).point"), 1, "{warnings:?}");
+    assert_eq!(about("probe \"tip\""), 0, "a point on a node: {warnings:?}");
+}
