@@ -566,3 +566,46 @@ fn a_point_far_from_its_body_is_warned_of() {
     assert_eq!(about("probe \"lost\" (probe[1]).point"), 1, "{warnings:?}");
     assert_eq!(about("probe \"tip\""), 0, "a point on a node: {warnings:?}");
 }
+
+#[test]
+fn a_motion_the_contact_cannot_follow_exits_non_zero_and_its_advice_works() {
+    // The finger press without its table, flexed to 40°, with the contact iteration capped at
+    // two: the contact cannot follow the motion, and the frames written stop short.
+    let asset = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
+    )
+    .unwrap();
+    let table = "[[obstacle]]\nname = \"table\"\n\
+                 shape = { plane = { point = [0.0, 0.0, -0.105], normal = [0.0, 0.0, 1.0] } }\n";
+    assert!(asset.contains(table) && asset.contains("pose = { \"index.mcp.flex\" = 21.5 }"));
+    let deep = asset.replace(table, "").replace(
+        "pose = { \"index.mcp.flex\" = 21.5 }",
+        "pose = { \"index.mcp.flex\" = 40.0 }",
+    );
+    let capped = deep.replace(
+        "contact = \"lagrange\"",
+        "contact = \"lagrange\"\ncontact_max_iterations = 2",
+    );
+    assert_ne!(capped, deep);
+    let dir = fresh("cannot_follow");
+    let (output, stderr, out) = solve_text(&dir, &capped);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("stopped at"), "{stderr}");
+    assert!(stderr.contains("contact_max_iterations"), "{stderr}");
+    assert!(names(&out).contains(&"report.json".to_string()));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let last = report["frames"].as_array().unwrap().last().unwrap().clone();
+    let stop = &last["hands"]["hand"]["motion"]["stopped_short"];
+    assert_eq!(
+        stop["solver_limit"],
+        serde_json::Value::Bool(true),
+        "{last}"
+    );
+    // The advice (raise solver.contact_max_iterations: here, back to its default) reaches the
+    // pose.
+    let dir = fresh("cannot_follow_mended");
+    let (output, stderr, _) = solve_text(&dir, &deep);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}

@@ -14,12 +14,12 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum FileError {
     /// Reading or writing failed.
-    #[error("{path}: {source}")]
+    #[error("{path}: {reason}")]
     Io {
         /// The file or folder.
         path: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (kept out of the error chain so that it is said once).
+        reason: std::io::Error,
     },
     /// The scene could not be written as TOML.
     #[error("the scene cannot be written as TOML: {0}")]
@@ -39,9 +39,9 @@ pub enum FileError {
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> FileError + '_ {
-    move |source| FileError::Io {
+    move |reason| FileError::Io {
         path: path.display().to_string(),
-        source,
+        reason,
     }
 }
 

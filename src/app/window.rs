@@ -30,12 +30,12 @@ pub enum ViewerError {
     #[error("{0}")]
     Scene(String),
     /// The screenshot could not be written.
-    #[error("screenshot {path}: {source}")]
+    #[error("screenshot {path}: {reason}")]
     Screenshot {
         /// The file.
         path: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (kept out of the error chain so that it is said once).
+        reason: std::io::Error,
     },
 }
 
@@ -87,7 +87,7 @@ impl ViewerApp {
                 *self.result.lock().unwrap_or_else(|e| e.into_inner()) =
                     Some(ViewerError::Screenshot {
                         path: path.display().to_string(),
-                        source,
+                        reason: source,
                     });
             }
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);

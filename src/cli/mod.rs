@@ -284,14 +284,17 @@ fn run() -> Result<()> {
         )?,
         Some(Command::Solve { scene, out }) => {
             let solved = solve_scene_file(&scene)?;
-            let written = write_solved(&solved, &out)
-                .with_context(|| format!("writing {}", out.display()))?;
+            let written = write_solved(&solved, &out)?;
             print_summary(&solved);
             for w in &solved.report.warnings {
                 eprintln!("warning: {w}");
             }
             for path in written {
                 println!("wrote {}", path.display());
+            }
+            if let Some(message) = stopped_by_the_solver(&solved) {
+                eprintln!("error: {message}");
+                std::process::exit(2);
             }
         }
         Some(Command::Render(args)) => render::run(args)?,
@@ -485,6 +488,38 @@ fn view(scene: Option<PathBuf>, options: ViewOptions) -> Result<()> {
         }
         Err(e) => Err(e.into()),
     }
+}
+
+/// The keyframes the contact solve could not follow to their pose (not those a bone's
+/// threshold ended: a result), told as the error the command exits with (code 2: the frames are
+/// written, up to where the motion stopped).
+fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
+    let stops: Vec<String> = solved
+        .frames
+        .iter()
+        .enumerate()
+        .flat_map(|(i, f)| {
+            f.hands.iter().filter_map(move |h| {
+                let s = h.stats.stopped_short.as_ref().filter(|s| s.solver_limit)?;
+                Some(format!(
+                    "frame {i} (t = {} s): hand \"{}\" stopped at {:.0} % of its keyframe's \
+                     motion: {}",
+                    solved.report.frames[i].time,
+                    solved.model.bodies[h.body].name,
+                    s.reached * 100.0,
+                    s.reason
+                ))
+            })
+        })
+        .collect();
+    (!stops.is_empty()).then(|| {
+        format!(
+            "{}: the scene was not solved to its poses. {}. The frames written hold the motion \
+             up to where it stopped, and a keyframe at the pose reached solves",
+            solved.report.scene,
+            stops.join("; ")
+        )
+    })
 }
 
 fn print_summary(solved: &Solved) {

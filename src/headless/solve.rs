@@ -27,12 +27,12 @@ pub enum PipelineError {
         error: SimError,
     },
     /// Output could not be written.
-    #[error("{dir}: cannot write the output: {source}")]
+    #[error("{dir}: cannot write the output: {reason}")]
     Output {
         /// The output folder.
         dir: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (kept out of the error chain so that it is said once).
+        reason: std::io::Error,
     },
 }
 
@@ -87,9 +87,9 @@ pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
 /// also `hand_NNNN.obj`: skin and bones, `bones_NNNN.vtu`, and `skin_NNNN.vtu`: the contact
 /// skin with the tactile map), all or nothing.
 pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
-    let io = |source| PipelineError::Output {
+    let io = |reason| PipelineError::Output {
         dir: dir.display().to_string(),
-        source,
+        reason,
     };
     let mut out = OutputSet::new(dir).map_err(io)?;
     let json = serde_json::to_string_pretty(&solved.report).expect("report serialises");

@@ -61,7 +61,7 @@ pub struct FrictionDef {
 
 /// `contact_relaxation`: `"aitken"` or a fixed factor in (0, 1].
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(untagged)]
+#[serde(untagged, expecting = "expected \"aitken\" or a factor in (0, 1]")]
 pub enum RelaxationDef {
     /// A fixed factor ω.
     Factor(f64),
@@ -238,7 +238,10 @@ pub struct SolverSettings {
 
 /// `[solver] max_memory`: a number of bytes, or a string with a unit.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a number of bytes or a size with its unit, e.g. \"8 GB\" or \"512 MiB\""
+)]
 pub enum MemorySize {
     /// Bytes.
     Bytes(f64),
@@ -443,7 +446,10 @@ pub struct RegionDef {
 
 /// A prescribed displacement: all three components, or some of them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected [ux, uy, uz] in metres, or some components, e.g. { z = -0.001 }"
+)]
 pub enum DisplacementDef {
     /// `[ux, uy, uz]`
     All([f64; 3]),

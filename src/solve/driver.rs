@@ -334,6 +334,7 @@ impl Workspace {
                         short = Some(StoppedShort {
                             reached: f,
                             reason: "a bone's reaction overran its muscle threshold".into(),
+                            solver_limit: false,
                         });
                     }
                     let touched = usize::from(frame.contact.is_some());
@@ -383,6 +384,7 @@ impl Workspace {
                     let short = StoppedShort {
                         reached,
                         reason: format!("the contact could not follow the motion further ({e})"),
+                        solver_limit: true,
                     };
                     let counts = Counts {
                         steps: kept,

@@ -135,6 +135,10 @@ pub struct StoppedShort {
     pub reached: f64,
     /// Why the motion could not go on.
     pub reason: String,
+    /// The contact solve could not follow the motion further: a limit of the solver, not of
+    /// the grasp (the command exits non-zero). False where a bone's reaction overran its muscle
+    /// threshold: the paper's limit of a realisable grasp, a result.
+    pub solver_limit: bool,
 }
 
 impl KeyframeStats {
