@@ -609,3 +609,68 @@ fn a_motion_the_contact_cannot_follow_exits_non_zero_and_its_advice_works() {
     let (output, stderr, _) = solve_text(&dir, &deep);
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
+
+#[test]
+fn a_block_on_a_slope_runs_away_and_the_advice_to_support_it_works() {
+    // A block on a 20° slope (the gravity tilted), held by nothing but the frictionless plane.
+    let scene = |mu: f64, constraint: &str| {
+        format!(
+            r#"
+[world]
+gravity = [3.355, 0.0, -9.218]
+
+[solver]
+friction = {mu:?}
+
+[[material]]
+name = "rubber"
+young = 1.0e6
+poisson = 0.3
+density = 1100.0
+
+[[body]]
+name = "block"
+material = "rubber"
+shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [0.1, 0.1, 0.1], cells = [4, 4, 4] }} }}
+
+[[obstacle]]
+name = "table"
+shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
+{constraint}
+"#
+        )
+    };
+    let dir = fresh("slope");
+    let (output, stderr, out) = solve_text(&dir, &scene(0.0, ""));
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("give it supports"), "{stderr}");
+    assert!(!stderr.contains("more friction,"), "{stderr}");
+    assert!(names(&out).is_empty());
+    // The advice: a support, its base held where it is: it carries the block's weight.
+    let support = "[[constraint]]\nname = \"pin\"\nbody = \"block\"\n\
+                   where = { face = \"z-\" }\ndisplacement = [0.0, 0.0, 0.0]\n";
+    let dir = fresh("slope_supported");
+    let (output, stderr, out) = solve_text(&dir, &scene(0.5, support));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let weight = 1100.0 * 1e-3;
+    let pin = &report["frames"][0]["constraints"]["pin"]["reaction"];
+    let pin = [0, 2].map(|a| pin[a].as_f64().unwrap());
+    println!(
+        "support {pin:?} N, weight × g {:?} N",
+        [weight * 3.355, -weight * 9.218]
+    );
+    assert!((pin[0] + weight * 3.355).abs() < 1e-6, "{pin:?}");
+    assert!((pin[1] - weight * 9.218).abs() < 1e-6, "{pin:?}");
+    // The friction asked for against the obstacle is said to be unused.
+    let warnings = report["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().any(|w| w
+            .as_str()
+            .unwrap()
+            .starts_with("solver.friction: friction against")),
+        "{warnings:?}"
+    );
+}

@@ -204,7 +204,9 @@ pub(super) fn settle_coulomb(
             active: rows.len(),
             penetration: w.iter().fold(0.0_f64, |m, v| m.max(-v)),
             tolerance: 0.0,
-            change: norm(&f),
+            change: Some(norm(&f)),
+            advice: "the semi-smooth Newton iteration of the friction did not converge (its \
+                     steps are not limited by solver.contact_max_iterations)",
         });
     }
     // The state of every contact. One without force stays in the set (it may carry force

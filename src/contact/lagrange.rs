@@ -296,7 +296,14 @@ pub fn solve_lagrange(
             active: rows.len(),
             penetration: max_penetration,
             tolerance: settings.penetration_limit(),
-            change: 0.0,
+            change: None,
+            advice: if at_iteration_cap {
+                "the active set was still changing at the cap: raise \
+                 solver.contact_max_iterations"
+            } else {
+                "the facets under the contact turned further than the linearised contact step \
+                 follows (the iteration cap was not reached, so raising it does not help)"
+            },
         });
     }
     Ok(ContactResult {

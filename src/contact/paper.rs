@@ -212,7 +212,9 @@ pub fn solve_paper(
             active: active.len(),
             penetration: problem.max_penetration(&u, settings),
             tolerance: settings.tolerance,
-            change,
+            change: Some(change),
+            advice: "raise solver.contact_max_iterations, or solve with [solver] contact = \
+                     \"lagrange\", which resolves the contact exactly",
         });
     }
     let contacts: Vec<ContactPoint> = active

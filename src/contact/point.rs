@@ -280,9 +280,8 @@ pub enum ContactError {
     /// The active set did not settle.
     #[error(
         "contact did not converge in {iterations} iterations ({method}): {active} nodes active, \
-         largest penetration {penetration:.3e} m (tolerance {tolerance:.1e} m), last change \
-         {change:.3e} m; raise solver.contact_max_iterations or refine the mesh where the bodies \
-         touch"
+         largest penetration {penetration:.3e} m (tolerance {tolerance:.1e} m){}; {advice}",
+        .change.map_or(String::new(), |c| format!(", last change {c:.3e} m"))
     )]
     NotConverged {
         /// Method.
@@ -295,8 +294,10 @@ pub enum ContactError {
         penetration: f64,
         /// Tolerance, m.
         tolerance: f64,
-        /// Largest displacement change of the last iteration, m.
-        change: f64,
+        /// Largest displacement change of the last iteration, m (where the method measures it).
+        change: Option<f64>,
+        /// The cause as the method knows it, and what to do where something is known to help.
+        advice: &'static str,
     },
     /// The paper's iteration was stopped by a bone's threshold while its displacements were
     /// still changing: its forces are those of an unconverged iterate, not of a grasp.
@@ -328,7 +329,9 @@ pub enum ContactError {
     /// A body is held by nothing: after contact it still moves rigidly.
     #[error(
         "body \"{body}\" is not held: {held:.1} % of the forces on it are carried by nothing \
-         (it {motion}); give it supports, or close the grasp so that contact and friction hold it"
+         (it {motion}); give it supports (a [[constraint]]), or close the grasp so that contact \
+         holds it (in a scene without hands, contact with obstacles is frictionless: they \
+         hold a body only along their normals)"
     )]
     NotHeld {
         /// The body.
@@ -342,8 +345,9 @@ pub enum ContactError {
     /// the weak ground springs of a floating body stop it.
     #[error(
         "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts} \
-         contacts, {slipping} slipping); the body slides or falls — give it supports, more \
-         friction, or a closed grasp"
+         contacts, {slipping} slipping); the body slides or falls — give it supports (a \
+         [[constraint]]) or a closed grasp (in a scene without hands, contact with obstacles is \
+         frictionless: more friction does not hold it)"
     )]
     Runaway {
         /// The node moving most.

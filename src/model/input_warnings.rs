@@ -23,7 +23,33 @@ pub fn input_warnings(
 ) -> Vec<String> {
     let mut out = locking_warnings(scene, bodies, cell_materials, element, nonlinear);
     out.extend(far_point_warnings(scene, bodies, mesh));
+    out.extend(obstacle_friction_warning(scene, bodies));
     out
+}
+
+/// Friction asked for against obstacles in a scene without hands, whose static frame solves
+/// contact with obstacles frictionless.
+fn obstacle_friction_warning(scene: &Scene, bodies: &[BodyModel]) -> Option<String> {
+    if scene.obstacle.is_empty() || bodies.iter().any(|b| b.hand.is_some()) {
+        return None;
+    }
+    let default = scene.solver.friction.unwrap_or(0.0);
+    let pair = scene.friction.iter().position(|f| {
+        f.mu > 0.0
+            && f.between
+                .iter()
+                .any(|n| scene.obstacle.iter().any(|o| &o.name == n))
+    });
+    let field = match (pair, default > 0.0) {
+        (Some(i), _) => format!("friction[{i}]"),
+        (None, true) => "solver.friction".to_string(),
+        (None, false) => return None,
+    };
+    Some(format!(
+        "{field}: friction against the obstacles is not used in a scene without hands (its \
+         static frame solves their contact frictionless): a body on an obstacle is held along \
+         the obstacle's normal only; give it a [[constraint]] where it must not slide"
+    ))
 }
 
 /// A body (not a hand: its flesh is the hand model's own) whose cells have ν above

@@ -368,7 +368,8 @@ fn what_failed(cause: &ContactError) -> String {
             ..
         } => format!(
             "it did not converge in {iterations} iterations: the displacements still changed by \
-             {change:.3e} m, largest penetration {penetration:.3e} m"
+             {:.3e} m, largest penetration {penetration:.3e} m",
+            change.unwrap_or(0.0)
         ),
         ContactError::StoppedBeforeConvergence {
             iterations, change, ..
