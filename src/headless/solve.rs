@@ -24,7 +24,7 @@ pub enum PipelineError {
         /// The scene file.
         file: String,
         /// Why.
-        error: SimError,
+        error: Box<SimError>,
     },
     /// Output could not be written.
     #[error("{dir}: cannot write the output: {reason}")]
@@ -52,7 +52,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
     let model = Model::build(scene, file)?;
     let (times, frames) = solve_frames(&model).map_err(|source| PipelineError::Sim {
         file: file.to_string(),
-        error: source,
+        error: Box::new(source),
     })?;
     let report = Report {
         scene: file.to_string(),

@@ -50,7 +50,7 @@ pub fn run_scene(scene: &Scene, name: &str) -> Result<Solved, RunError> {
         other => RunError::Failed(
             PipelineError::Sim {
                 file: name.to_string(),
-                error: other,
+                error: Box::new(other),
             }
             .to_string(),
         ),
