@@ -333,8 +333,11 @@ impl PartitionedSolver {
                 )
                 .map_err(|e| match e {
                     LltError::NonPositivePivot { index } => {
+                        // faer counts the pivot from 1 in its simplicial factorization (and
+                        // may from 0 in its supernodal one): the step, within 0..neq.
+                        let step = index.saturating_sub(1).min(neq.saturating_sub(1));
                         let perm = analysis.cholesky.perm();
-                        let eq = perm.map_or(index, |p| p.arrays().0[index]);
+                        let eq = perm.map_or(step, |p| p.arrays().0[step]);
                         SolveError::NotPositiveDefinite {
                             pivot: index,
                             equations: neq,
