@@ -674,3 +674,30 @@ shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
         "{warnings:?}"
     );
 }
+
+#[test]
+fn a_graded_balls_size_is_known_before_it_is_meshed() {
+    use prehensile::mesh::{
+        graded_shell_cells, graded_shell_mesh, graded_sphere_cells, graded_sphere_mesh, Refinement,
+    };
+    // The count the element cap is checked on, before meshing, is the mesh's.
+    for (cells, size) in [(4, 0.01), (8, 0.002), (12, 0.0005)] {
+        let refine = Refinement {
+            direction: Vector3::new(0.3, -0.2, 1.0).normalize(),
+            size,
+        };
+        let sphere = graded_sphere_mesh(Vector3::zeros(), 0.05, cells, &refine);
+        assert_eq!(
+            graded_sphere_cells(0.05, cells, &refine),
+            Some(sphere.cell_count())
+        );
+        for outer in [true, false] {
+            let shell = graded_shell_mesh(Vector3::zeros(), 0.04, 0.05, (cells, 2), &refine, outer);
+            assert_eq!(
+                graded_shell_cells(0.04, 0.05, (cells, 2), &refine, outer),
+                Some(shell.cell_count()),
+                "cells {cells}, size {size}, outer {outer}"
+            );
+        }
+    }
+}

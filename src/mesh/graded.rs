@@ -58,6 +58,43 @@ pub fn graded_sphere_mesh(
     ball
 }
 
+/// About how many cells [`graded_sphere_mesh`] makes (from its coordinate lines, without
+/// meshing: the core lattice and the wall's layers of the cube's surface quads); `None` beyond
+/// `usize`.
+pub fn graded_sphere_cells(radius: f64, cells: usize, refine: &Refinement) -> Option<usize> {
+    let largest = FRAC_PI_2 * radius / cells as f64;
+    let a = polar_face_coordinates(radius, refine.size, largest).len() - 1;
+    let b = side_face_coordinates(radius, refine.size, largest).len() - 1;
+    let wall = (1.0 - CORE) * radius;
+    let layers = graded_positions(0.0, wall, refine.size, 2.0 * radius / cells as f64).len() - 1;
+    let core = a.checked_mul(a)?.checked_mul(b)?;
+    core.checked_add(surface_quads(a, b)?.checked_mul(layers)?)
+}
+
+/// About how many cells [`graded_shell_mesh`] makes; `None` beyond `usize`.
+pub fn graded_shell_cells(
+    inner_radius: f64,
+    outer_radius: f64,
+    (cells, layers): (usize, usize),
+    refine: &Refinement,
+    outer: bool,
+) -> Option<usize> {
+    let touched = if outer { outer_radius } else { inner_radius };
+    let largest = FRAC_PI_2 * touched / cells as f64;
+    let a = polar_face_coordinates(touched, refine.size, largest).len() - 1;
+    let b = side_face_coordinates(touched, refine.size, largest).len() - 1;
+    let wall = outer_radius - inner_radius;
+    let depth = graded_positions(0.0, wall, refine.size, wall / layers as f64).len() - 1;
+    surface_quads(a, b)?.checked_mul(depth)
+}
+
+/// Quads on the surface of a lattice box of a × a × b segments.
+fn surface_quads(a: usize, b: usize) -> Option<usize> {
+    a.checked_mul(a)?
+        .checked_add(a.checked_mul(b)?.checked_mul(2)?)?
+        .checked_mul(2)
+}
+
 /// A hollow ball (the cubed sphere of `shell_mesh`) with the base sizes of `cells` quads per cube
 /// face and `layers` cells through the wall, refined toward `refine.direction` on the outer
 /// surface (`outer`) or on the inner one: arcs of `refine.size` at the touched point of that

@@ -12,7 +12,7 @@ mod quality;
 mod surface;
 
 pub use generate::{box_mesh, shell_mesh, sphere_mesh};
-pub use graded::{graded_shell_mesh, graded_sphere_mesh};
+pub use graded::{graded_shell_cells, graded_shell_mesh, graded_sphere_cells, graded_sphere_mesh};
 pub use grading::{Refinement, GROWTH};
 pub use quality::{aspect_ratio, mesh_quality, scaled_jacobian};
 pub use surface::{boundary_facets, Facet, HEX_FACES};

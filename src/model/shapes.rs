@@ -2,7 +2,10 @@
 
 use super::check::finite;
 use super::refinement::refinement;
-use crate::mesh::{box_mesh, graded_shell_mesh, graded_sphere_mesh, shell_mesh, sphere_mesh, Mesh};
+use crate::mesh::{
+    box_mesh, graded_shell_cells, graded_shell_mesh, graded_sphere_cells, graded_sphere_mesh,
+    shell_mesh, sphere_mesh, Mesh,
+};
 use crate::scene::Shape;
 use nalgebra::Vector3;
 
@@ -76,6 +79,18 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                 Some(refine) => {
                     let (refine, _) = refinement(refine, center, (0.0, *radius))
                         .map_err(|(f, m)| (format!(".sphere.refine.{f}"), m))?;
+                    let count = graded_sphere_cells(*radius, *cells, &refine);
+                    if count.is_none_or(|n| n > MAX_CELLS) {
+                        return Err((
+                            ".sphere.refine.size".into(),
+                            format!(
+                                "cells = {cells} refined to size = {} m make more than \
+                                 {MAX_CELLS} elements (about {}): a larger size or fewer cells",
+                                refine.size,
+                                count.map_or("more than 2^64".into(), |n| n.to_string())
+                            ),
+                        ));
+                    }
                     Ok(graded_sphere_mesh(
                         Vector3::from(*center),
                         *radius,
@@ -129,6 +144,25 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                     let (refine, outer) =
                         refinement(refine, &center.into(), (*inner_radius, *outer_radius))
                             .map_err(|(f, m)| (format!(".shell.refine.{f}"), m))?;
+                    let count = graded_shell_cells(
+                        *inner_radius,
+                        *outer_radius,
+                        (*cells, *layers),
+                        &refine,
+                        outer,
+                    );
+                    if count.is_none_or(|n| n > MAX_CELLS) {
+                        return Err((
+                            ".shell.refine.size".into(),
+                            format!(
+                                "cells = {cells} and layers = {layers} refined to size = {} m \
+                                 make more than {MAX_CELLS} elements (about {}): a larger size \
+                                 or fewer cells",
+                                refine.size,
+                                count.map_or("more than 2^64".into(), |n| n.to_string())
+                            ),
+                        ));
+                    }
                     Ok(graded_shell_mesh(
                         center,
                         *inner_radius,
