@@ -63,6 +63,14 @@ pub fn set_budget(bytes: Option<u64>) {
     );
 }
 
+static RESERVE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Sets the memory the solve will still allocate after its factorization (the nonlinear tier's
+/// element states): [`budget`] leaves it out of what a factor may take.
+pub fn set_reserve(bytes: u64) {
+    RESERVE.store(bytes, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// Where the memory a solve may take comes from, for an error that says so.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BudgetSource {
@@ -102,7 +110,9 @@ impl BudgetSource {
 /// process's limit; `None` where none of them is known.
 pub fn budget() -> Option<(u64, BudgetSource)> {
     let asked = BUDGET.load(std::sync::atomic::Ordering::Relaxed);
+    let reserve = RESERVE.load(std::sync::atomic::Ordering::Relaxed);
     budget_with((asked != u64::MAX).then_some(asked))
+        .map(|(bytes, source)| (bytes.saturating_sub(reserve), source))
 }
 
 /// [`budget`] with `asked` in place of the budget set.

@@ -75,7 +75,10 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
             mesh.node_count().saturating_add(body_mesh.node_count()),
             mesh.cell_count().saturating_add(body_mesh.cell_count()),
             body_mesh.cell_count(),
-            max_memory,
+            (
+                max_memory,
+                scene.solver.tier == Some(crate::scene::TierName::Nonlinear),
+            ),
             &field,
         )?;
         for (c, _) in body_mesh.cells.iter().enumerate() {

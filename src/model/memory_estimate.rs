@@ -4,6 +4,7 @@
 //! of the allocator.
 
 use crate::fem::assembly::StiffnessPattern;
+use crate::fem::hex8_hyperelastic::ElementState;
 use crate::fem::memory::{budget_with, human};
 
 /// Bytes a cell takes while the model is built, beyond the stiffness pattern: its nodes and
@@ -12,19 +13,27 @@ use crate::fem::memory::{budget_with, human};
 const BUILD_BYTES_PER_CELL: u64 = 2000;
 
 /// Refuses a model of `nodes` nodes and `cells` cells (all bodies so far, the last of which is
-/// named by `field`, with `body_cells` cells) whose stiffness pattern and build would not fit.
+/// named by `field`, with `body_cells` cells) whose stiffness pattern and build would not fit;
+/// `nonlinear`: the nonlinear tier, which keeps every element's state (forces and tangent) at
+/// once (collected in parallel into a vector that may double while it grows: twice its size).
 pub fn fits_in_memory(
     nodes: usize,
     cells: usize,
     body_cells: usize,
-    max_memory: Option<u64>,
+    (max_memory, nonlinear): (Option<u64>, bool),
     field: &str,
 ) -> Result<(), (String, String)> {
     let Some((available, limit)) = budget_with(max_memory) else {
         return Ok(());
     };
     let pattern = StiffnessPattern::bytes_for(nodes);
-    let needed = pattern.saturating_add((cells as u64).saturating_mul(BUILD_BYTES_PER_CELL));
+    let per_cell = BUILD_BYTES_PER_CELL
+        + if nonlinear {
+            2 * std::mem::size_of::<ElementState>() as u64
+        } else {
+            0
+        };
+    let needed = pattern.saturating_add((cells as u64).saturating_mul(per_cell));
     if needed <= available {
         return Ok(());
     }

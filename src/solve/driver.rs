@@ -130,6 +130,15 @@ impl Workspace {
     /// the hands' contact, [`frame_with_hands`]).
     pub fn new(model: &Model) -> Result<Workspace, SimError> {
         crate::fem::memory::set_budget(model.max_memory);
+        // The nonlinear tier keeps every element's state (forces, tangent) while it assembles,
+        // after its factor is planned: left out of what the factor may take.
+        crate::fem::memory::set_reserve(if model.nonlinear_statics {
+            (model.mesh.cell_count() as u64).saturating_mul(std::mem::size_of::<
+                crate::fem::hex8_hyperelastic::ElementState,
+            >() as u64)
+        } else {
+            0
+        });
         let has_hands = model.bodies.iter().any(|b| b.hand.is_some());
         let floating = model.bodies.iter().any(|b| b.floating);
         let still = if model.partition.free_count() == 0 {
