@@ -49,6 +49,9 @@
 //!   nonlinear statics of a refined hollow ball of 130 cells — fixed in 1f1ed8c (refused by the
 //!   memory estimate, exit 1).
 
+mod common;
+
+use common::limited::{signal, solve_limited, Ending};
 use prehensile::model::Model;
 use prehensile::scene::{Scene, Shape};
 use proptest::prelude::*;
@@ -59,7 +62,6 @@ use std::collections::BTreeSet;
 use std::fs;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -88,7 +90,6 @@ const PROGRAM_MAX_CELLS: usize = 5_000_000;
 const TIME_LIMIT: Duration = Duration::from_secs(10);
 
 /// Address space allowed to a subprocess case (Linux only).
-#[cfg(target_os = "linux")]
 const ADDRESS_SPACE_LIMIT: u64 = 4 << 30;
 
 /// Subprocess cases run at once.
@@ -1315,72 +1316,6 @@ fn mutated_scenes_parse_and_build_without_panic() {
 // ---------------------------------------------------------------------------------------------
 // In a child process: the command line's solve.
 
-/// How a run ended.
-enum Ending {
-    /// Exited by itself.
-    Exited(ExitStatus),
-    /// Killed at the time limit.
-    TimedOut,
-}
-
-/// Runs `prehensile solve scene --out out`, stderr into `stderr_file`.
-fn solve(scene: &Path, out: &Path, stderr_file: &Path) -> std::io::Result<(Ending, Duration)> {
-    let stderr = fs::File::create(stderr_file)?;
-    let mut command = Command::new(env!("CARGO_BIN_EXE_prehensile"));
-    command
-        .arg("solve")
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .env("RUST_BACKTRACE", "0")
-        .env("NODEVICE_SELECT", "1")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::from(stderr));
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::process::CommandExt;
-        // SAFETY: between fork and exec the closure only calls setrlimit, which is
-        // async-signal-safe, and allocates nothing.
-        unsafe {
-            command.pre_exec(|| {
-                let limit = libc::rlimit {
-                    rlim_cur: ADDRESS_SPACE_LIMIT as libc::rlim_t,
-                    rlim_max: ADDRESS_SPACE_LIMIT as libc::rlim_t,
-                };
-                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-    }
-    let start = Instant::now();
-    let mut child = command.spawn()?;
-    loop {
-        if let Some(status) = child.try_wait()? {
-            return Ok((Ending::Exited(status), start.elapsed()));
-        }
-        if start.elapsed() > TIME_LIMIT {
-            child.kill()?;
-            child.wait()?;
-            return Ok((Ending::TimedOut, start.elapsed()));
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
-#[cfg(unix)]
-fn signal(s: &ExitStatus) -> Option<i32> {
-    use std::os::unix::process::ExitStatusExt;
-    s.signal()
-}
-
-#[cfg(not(unix))]
-fn signal(_: &ExitStatus) -> Option<i32> {
-    None
-}
-
 /// Every file (not folder) under `dir`, recursively (none when it does not exist).
 fn files_under(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
@@ -1613,10 +1548,11 @@ fn check_solve(text: &str, dir: &Path) -> SolveOutcome {
     let out = dir.join("out");
     let stderr_file = dir.join("stderr.txt");
     let mut problems = Vec::new();
-    let (ending, elapsed) = match solve(&scene, &out, &stderr_file) {
-        Ok(r) => r,
-        Err(e) => panic!("cannot run prehensile: {e}"),
-    };
+    let (ending, elapsed) =
+        match solve_limited(&scene, &out, &stderr_file, TIME_LIMIT, ADDRESS_SPACE_LIMIT) {
+            Ok(r) => r,
+            Err(e) => panic!("cannot run prehensile: {e}"),
+        };
     let stderr = String::from_utf8_lossy(&fs::read(&stderr_file).unwrap_or_default()).to_string();
     let solved = match &ending {
         Ending::TimedOut => Verdict::TimedOut,

@@ -9,18 +9,19 @@
 //! stderr must hold the file's name and every expected text, and nothing may be written to
 //! `--out`. All the cases that fail are reported together.
 
+mod common;
+
+use common::limited::{signal, solve_limited, Ending};
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Longest a case may run before it is killed.
 const TIME_LIMIT: Duration = Duration::from_secs(20);
 
 /// Address space allowed to a case (Linux only).
-#[cfg(target_os = "linux")]
 const ADDRESS_SPACE_LIMIT: u64 = 4 << 30;
 
 /// The corpus, sorted by name.
@@ -42,60 +43,6 @@ fn expectations(text: &str) -> Vec<String> {
         .map(|e| e.trim().to_string())
         .filter(|e| !e.is_empty())
         .collect()
-}
-
-/// How a run ended.
-enum Ending {
-    /// Exited by itself.
-    Exited(ExitStatus),
-    /// Killed at the time limit.
-    TimedOut,
-}
-
-/// Runs `prehensile solve scene --out out`, stderr into `stderr_file`.
-fn solve(scene: &Path, out: &Path, stderr_file: &Path) -> std::io::Result<(Ending, Duration)> {
-    let stderr = fs::File::create(stderr_file)?;
-    let mut command = Command::new(env!("CARGO_BIN_EXE_prehensile"));
-    command
-        .arg("solve")
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .env("RUST_BACKTRACE", "0")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::from(stderr));
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::process::CommandExt;
-        // SAFETY: between fork and exec the closure only calls setrlimit, which is
-        // async-signal-safe, and allocates nothing.
-        unsafe {
-            command.pre_exec(|| {
-                let limit = libc::rlimit {
-                    rlim_cur: ADDRESS_SPACE_LIMIT as libc::rlim_t,
-                    rlim_max: ADDRESS_SPACE_LIMIT as libc::rlim_t,
-                };
-                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-    }
-    let start = Instant::now();
-    let mut child = command.spawn()?;
-    loop {
-        if let Some(status) = child.try_wait()? {
-            return Ok((Ending::Exited(status), start.elapsed()));
-        }
-        if start.elapsed() > TIME_LIMIT {
-            child.kill()?;
-            child.wait()?;
-            return Ok((Ending::TimedOut, start.elapsed()));
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
 }
 
 /// Every file and folder under `dir` (none when it does not exist).
@@ -149,10 +96,11 @@ fn check(scene: &Path, work: &Path) -> Vec<String> {
     fs::create_dir_all(&case_dir).expect("case folder");
     let out = case_dir.join("out");
     let stderr_file = case_dir.join("stderr.txt");
-    let (ending, elapsed) = match solve(scene, &out, &stderr_file) {
-        Ok(r) => r,
-        Err(e) => return vec![format!("cannot run prehensile: {e}")],
-    };
+    let (ending, elapsed) =
+        match solve_limited(scene, &out, &stderr_file, TIME_LIMIT, ADDRESS_SPACE_LIMIT) {
+            Ok(r) => r,
+            Err(e) => return vec![format!("cannot run prehensile: {e}")],
+        };
     let stderr = String::from_utf8_lossy(&fs::read(&stderr_file).unwrap_or_default()).to_string();
     let status = match &ending {
         Ending::TimedOut => format!("killed after {:.1} s (time limit)", elapsed.as_secs_f64()),
@@ -191,17 +139,6 @@ fn check(scene: &Path, work: &Path) -> Vec<String> {
         problems.push(format!("{status}; stderr: {}", trimmed(&stderr, 600)));
     }
     problems
-}
-
-#[cfg(unix)]
-fn signal(s: &ExitStatus) -> Option<i32> {
-    use std::os::unix::process::ExitStatusExt;
-    s.signal()
-}
-
-#[cfg(not(unix))]
-fn signal(_: &ExitStatus) -> Option<i32> {
-    None
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod limited;
+
 use nalgebra::Vector3;
 use prehensile::fem::assembly::{assemble, StiffnessPattern};
 use prehensile::fem::solve::{FillOrdering, PartitionedSolver, Solution};

@@ -1,0 +1,85 @@
+//! The command line run as a user runs it, in a child process with a time limit and (on Linux)
+//! an address-space limit, so that a scene that would allocate without bound fails in the child
+//! instead of taking the machine down.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+/// How a run ended.
+pub enum Ending {
+    /// Exited by itself.
+    Exited(ExitStatus),
+    /// Killed at the time limit.
+    TimedOut,
+}
+
+/// Runs `prehensile solve scene --out out`, stderr into `stderr_file`, killed after
+/// `time_limit`, with at most `address_space` bytes of address space (Linux).
+pub fn solve_limited(
+    scene: &Path,
+    out: &Path,
+    stderr_file: &Path,
+    time_limit: Duration,
+    address_space: u64,
+) -> std::io::Result<(Ending, Duration)> {
+    let stderr = fs::File::create(stderr_file)?;
+    let mut command = Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    command
+        .arg("solve")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .env("RUST_BACKTRACE", "0")
+        .env("NODEVICE_SELECT", "1")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::from(stderr));
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: between fork and exec the closure only calls setrlimit, which is
+        // async-signal-safe, and allocates nothing.
+        unsafe {
+            command.pre_exec(move || {
+                let limit = libc::rlimit {
+                    rlim_cur: address_space as libc::rlim_t,
+                    rlim_max: address_space as libc::rlim_t,
+                };
+                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = address_space;
+    let start = Instant::now();
+    let mut child = command.spawn()?;
+    loop {
+        if let Some(status) = child.try_wait()? {
+            return Ok((Ending::Exited(status), start.elapsed()));
+        }
+        if start.elapsed() > time_limit {
+            child.kill()?;
+            child.wait()?;
+            return Ok((Ending::TimedOut, start.elapsed()));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The signal that ended a run, if one did.
+#[cfg(unix)]
+pub fn signal(s: &ExitStatus) -> Option<i32> {
+    use std::os::unix::process::ExitStatusExt;
+    s.signal()
+}
+
+/// The signal that ended a run, if one did.
+#[cfg(not(unix))]
+pub fn signal(_: &ExitStatus) -> Option<i32> {
+    None
+}
