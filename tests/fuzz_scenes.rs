@@ -51,7 +51,7 @@
 
 mod common;
 
-use common::limited::{signal, solve_limited, Ending};
+use common::limited::{signal, solve_limited, trimmed, written, Ending};
 use prehensile::model::Model;
 use prehensile::scene::{Scene, Shape};
 use proptest::prelude::*;
@@ -1335,40 +1335,6 @@ fn files_under(dir: &Path) -> Vec<PathBuf> {
     }
     out.sort();
     out
-}
-
-/// Every file and folder under `dir` (none when it does not exist).
-fn written(dir: &Path) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        let Ok(entries) = fs::read_dir(&d) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            out.push(
-                path.strip_prefix(dir)
-                    .unwrap_or(&path)
-                    .display()
-                    .to_string(),
-            );
-            if path.is_dir() {
-                stack.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
-/// The first `chars` characters of `text`.
-fn trimmed(text: &str, chars: usize) -> String {
-    let text = text.trim();
-    match text.char_indices().nth(chars) {
-        Some((i, _)) => format!("{} […]", &text[..i]),
-        None => text.to_string(),
-    }
 }
 
 /// A word that is a non-finite number as Rust, C or JSON-ish writers spell it.

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::limited::{signal, solve_limited, Ending};
+use common::limited::{signal, solve_limited, trimmed, written, Ending};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -43,40 +43,6 @@ fn expectations(text: &str) -> Vec<String> {
         .map(|e| e.trim().to_string())
         .filter(|e| !e.is_empty())
         .collect()
-}
-
-/// Every file and folder under `dir` (none when it does not exist).
-fn written(dir: &Path) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        let Ok(entries) = fs::read_dir(&d) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            out.push(
-                path.strip_prefix(dir)
-                    .unwrap_or(&path)
-                    .display()
-                    .to_string(),
-            );
-            if path.is_dir() {
-                stack.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
-/// The first lines of `text`, at most `chars` characters.
-fn trimmed(text: &str, chars: usize) -> String {
-    let text = text.trim();
-    match text.char_indices().nth(chars) {
-        Some((i, _)) => format!("{} […]", &text[..i]),
-        None => text.to_string(),
-    }
 }
 
 /// Checks one case; the problems found (empty when it passes).

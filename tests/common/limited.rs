@@ -83,3 +83,37 @@ pub fn signal(s: &ExitStatus) -> Option<i32> {
 pub fn signal(_: &ExitStatus) -> Option<i32> {
     None
 }
+
+/// Every file and folder under `dir`, relative to it and sorted (none when it does not exist).
+pub fn written(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = fs::read_dir(&d) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            out.push(
+                path.strip_prefix(dir)
+                    .unwrap_or(&path)
+                    .display()
+                    .to_string(),
+            );
+            if path.is_dir() {
+                stack.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// `text` trimmed, at most its first `chars` characters.
+pub fn trimmed(text: &str, chars: usize) -> String {
+    let text = text.trim();
+    match text.char_indices().nth(chars) {
+        Some((i, _)) => format!("{} […]", &text[..i]),
+        None => text.to_string(),
+    }
+}
