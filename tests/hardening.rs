@@ -102,6 +102,16 @@ fn solve_text(dir: &Path, text: &str) -> (Output, String, PathBuf) {
     (output, stderr, out)
 }
 
+/// Solves `text` in a fresh folder `name`, which must fail with exit code 1 and write nothing;
+/// its stderr.
+fn refused(name: &str, text: &str) -> String {
+    let (output, stderr, out) = solve_text(&fresh(name), text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
+    stderr
+}
+
 /// The names in `dir`, sorted (none when it does not exist).
 fn names(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -158,38 +168,30 @@ fn a_value_that_overflows_stops_the_solve_naming_it_and_nothing_is_written() {
     );
 
     // A modulus of 1e-300 Pa is a mistake of units: refused, naming the field.
-    let dir = fresh("overflow_modulus");
     let text = Bar {
         young: 1e-300,
         rest: &tip_load([0.0, 0.0, -10.0]),
         ..Bar::default()
     }
     .scene();
-    let (output, stderr, out) = solve_text(&dir, &text);
-    println!("{stderr}");
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let stderr = refused("overflow_modulus", &text);
     assert!(
         stderr.contains("material \"rubber\" (material[0]).young"),
         "names the field: {stderr}"
     );
-    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
 
     // A load the moduli allow but the displacements cannot hold: 1e300 N on a gel of 1e-3 Pa.
-    let dir = fresh("overflow_soft");
     let text = Bar {
         young: 1e-3,
         rest: &tip_load([0.0, 0.0, -1e300]),
         ..Bar::default()
     }
     .scene();
-    let (output, stderr, out) = solve_text(&dir, &text);
-    println!("{stderr}");
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    let stderr = refused("overflow_soft", &text);
     assert!(
         stderr.contains("E = 1.000e-3 Pa"),
         "names the material: {stderr}"
     );
-    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
 
     // Following the advice (physical values) solves, every number finite.
     let dir = fresh("overflow_mended");
