@@ -26,8 +26,9 @@ pub struct Bodies {
     pub cell_body: Vec<usize>,
 }
 
-/// Builds the bodies of the scene, in its order.
-pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
+/// Builds the bodies of the scene, in its order, each checked to fit in the memory
+/// (`max_memory`, and whether the nonlinear tier keeps its element states) before it is processed.
+pub fn bodies(scene: &Scene, memory: (Option<u64>, bool)) -> Result<Bodies, (String, String)> {
     if scene.body.is_empty() {
         return Err(("body".into(), "the scene defines no [[body]]".into()));
     }
@@ -35,7 +36,6 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
     let mut bodies: Vec<BodyModel> = Vec::new();
     let mut cell_material = Vec::new();
     let mut cell_body = Vec::new();
-    let max_memory = super::settings::max_memory(&scene.solver)?;
     for (i, b) in scene.body.iter().enumerate() {
         let field = format!("body \"{}\" (body[{i}])", b.name);
         if bodies.iter().any(|o| o.name == b.name) {
@@ -75,10 +75,7 @@ pub fn bodies(scene: &Scene) -> Result<Bodies, (String, String)> {
             mesh.node_count().saturating_add(body_mesh.node_count()),
             mesh.cell_count().saturating_add(body_mesh.cell_count()),
             body_mesh.cell_count(),
-            (
-                max_memory,
-                scene.solver.tier == Some(crate::scene::TierName::Nonlinear),
-            ),
+            memory,
             &field,
         )?;
         for (c, _) in body_mesh.cells.iter().enumerate() {

@@ -26,12 +26,14 @@ impl Model {
         let err = |(field, message): (String, String)| SceneError::invalid(file, field, message);
 
         let materials = materials(scene).map_err(err)?;
+        let max_memory = max_memory(&scene.solver).map_err(err)?;
+        let nonlinear_statics = scene.solver.tier == Some(crate::scene::TierName::Nonlinear);
         let Bodies {
             mesh,
             mut bodies,
             mut cell_material,
             cell_body,
-        } = bodies(scene).map_err(err)?;
+        } = bodies(scene, (max_memory, nonlinear_statics)).map_err(err)?;
         apply_regions(scene, &bodies, &mesh, &mut cell_material).map_err(err)?;
         let cell_materials: Vec<Material> = cell_material.iter().map(|&m| materials[m]).collect();
 
@@ -75,9 +77,7 @@ impl Model {
         let node_cell = node_cells(&mesh);
         let ordering = ordering(&scene.solver);
         set_masses(&mut bodies, &mesh, &cell_materials);
-        let max_memory = max_memory(&scene.solver).map_err(err)?;
         let element: ElementKind = scene.solver.element.unwrap_or_default().into();
-        let nonlinear_statics = scene.solver.tier == Some(crate::scene::TierName::Nonlinear);
         let input_warnings = input_warnings(
             scene,
             &bodies,
