@@ -1318,23 +1318,11 @@ fn mutated_scenes_parse_and_build_without_panic() {
 
 /// Every file (not folder) under `dir`, recursively (none when it does not exist).
 fn files_under(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        let Ok(entries) = fs::read_dir(&d) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                out.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
+    written(dir)
+        .into_iter()
+        .map(|relative| dir.join(relative))
+        .filter(|path| path.is_file())
+        .collect()
 }
 
 /// A word that is a non-finite number as Rust, C or JSON-ish writers spell it.
