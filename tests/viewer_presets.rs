@@ -2,7 +2,7 @@
 //! the real solver thread (the physics the window runs), driven through the real buttons
 //! (egui_kittest). Power grasp and Pinch put the skin far into the ball; each is solved (contact
 //! along the motion), shown, with no error, nothing left inside the ball beyond the contact's
-//! limit; Fist closes on the ball (or stops short, shown where it stopped and said so);
+//! limit; the full Fist closes on the ball and reaches its pose;
 //! Rest releases the ball, which returns exactly to its static frame.
 
 mod common;
@@ -10,6 +10,7 @@ mod common;
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use prehensile::app::physics::Physics;
+use prehensile::app::pose::Preset;
 use prehensile::app::worker::ThreadSolver;
 use prehensile::app::ViewerState;
 use prehensile::scene::{Scene, DEFAULT_SCENE};
@@ -140,10 +141,9 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
         off <= 1e-6 * scale,
         "the released ball is {off} m off its static frame"
     );
-    // Fist, from the open hand: the fingers close over the ball and push it about its support.
-    // Either the fist reaches its pose or the contact cannot follow further and the frame
-    // shown is where the motion stopped, said in the status panel; either way the contact is
-    // converged there (no error, nothing inside the ball beyond the limit, the smooth skin
+    // Fist, from the open hand: the fingers close over the ball and push it about its support,
+    // to the full fist (before 2026-11-26 the preset was held back to MCP 75°, PIP 90°, DIP 50°
+    // and stopped at 77 % of its motion); the contact is converged there (no error, nothing inside the ball beyond the limit, the smooth skin
     // drawn within twice the limit of the ball's surface).
     h.get_by_label("Fist").click();
     wait_for_pose(&mut h);
@@ -165,17 +165,17 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
     );
     let grip: f64 = contact.contacts.iter().map(|c| c.force).sum();
     assert!(grip > 1.0, "Fist: {grip} N");
-    let reached = match &hand.stats.stopped_short {
-        Some(short) => {
-            assert!(short.reached > 0.5 && short.reached < 1.0, "{short:?}");
-            h.get_by_label(&format!(
-                "not realisable: the hand stopped at {:.0} % of the motion",
-                short.reached * 100.0
-            ));
-            short.reached
-        }
-        None => 1.0,
-    };
+    // The full fist (MCP 88°, PIP 105°, DIP 70°) reaches its pose around the ball.
+    assert!(
+        hand.stats.stopped_short.is_none(),
+        "Fist: {:?}",
+        hand.stats.stopped_short
+    );
+    assert_eq!(
+        hand.angles,
+        Preset::Fist.angles(&model.bodies[hand_body].hand.as_ref().unwrap().skeleton)
+    );
+    let reached = 1.0;
     println!(
         "Fist: reached {:.0} % of its motion, {grip:.2} N, display skin {:.3} mm inside the \
          ball (lattice nodes {:.3} mm)",

@@ -254,8 +254,8 @@ fn presets_and_reset_move_the_sliders_and_request_frames() {
     h.get_by_label("Fist").click();
     h.step();
     let job = pose_jobs(&port).last().unwrap().clone();
-    assert_eq!(pose_angle(&job, pip), 90.0);
-    assert_eq!(h.state().pose[0].1[pip], 90.0);
+    assert_eq!(pose_angle(&job, pip), 105.0);
+    assert_eq!(h.state().pose[0].1[pip], 105.0);
     h.get_by_label("Reset").click();
     h.step();
     let job = pose_jobs(&port).last().unwrap().clone();

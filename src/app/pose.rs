@@ -46,7 +46,8 @@ pub fn digit_of(joint: &str) -> &str {
 pub enum Preset {
     /// Every joint at zero.
     Rest,
-    /// A closed fist (as far as the flesh of the palm crease allows without self-contact).
+    /// A closed fist: every finger at MCP 88°, PIP 105°, DIP 70°, the thumb across
+    /// ([`crate::hand::full_fist`]).
     Fist,
     /// Thumb and index tips brought together.
     Pinch,
@@ -75,7 +76,7 @@ impl Preset {
 
     /// The angle of `joint` (degrees) in this preset, before clamping to its limits. Each preset
     /// is reached from rest in 10° increments without a crushed cell at resolution 1 (checked
-    /// with `prehensile solve`: flesh volume change −0.47 % fist, +0.08 % pinch, −0.06 % power
+    /// with `prehensile solve`: flesh volume change −0.89 % the full fist on the default scene's ball, +0.08 % pinch, −0.06 % power
     /// grasp).
     fn angle(self, joint: &str) -> f64 {
         let finger = |mcp: f64, pip: f64, dip: f64| match joint.rsplit('.').next() {
@@ -94,8 +95,7 @@ impl Preset {
         let is_thumb = digit_of(joint) == "thumb";
         match self {
             Preset::Rest => 0.0,
-            Preset::Fist if is_thumb => thumb(25.0, 40.0, 30.0, 30.0),
-            Preset::Fist => finger(75.0, 90.0, 50.0),
+            Preset::Fist => crate::hand::full_fist().get(joint).copied().unwrap_or(0.0),
             Preset::Pinch if is_thumb => thumb(20.0, 40.0, 15.0, 20.0),
             Preset::Pinch if digit_of(joint) == "index" => finger(40.0, 45.0, 20.0),
             Preset::Pinch => finger(10.0, 15.0, 5.0),
@@ -142,6 +142,6 @@ mod tests {
         }
         let fist = Preset::Fist.angles(&s);
         let pip = s.dofs.iter().position(|d| d.name == "index.pip").unwrap();
-        assert_eq!(fist[pip], 90.0);
+        assert_eq!(fist[pip], 105.0);
     }
 }
