@@ -725,3 +725,35 @@ fn a_graded_balls_size_is_known_before_it_is_meshed() {
         }
     }
 }
+
+#[test]
+fn skin_through_a_soft_shells_wall_is_told_so_and_both_remedies_work() {
+    // The finger press on a ball of softer rubber (E = 1.12 MPa instead of 2 MPa): the pad's
+    // skin goes through the 4 mm wall as it gives way, within the contact's search depth.
+    let asset = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
+    )
+    .unwrap();
+    let young = "young = 2.0e6";
+    let wall = "inner_radius = 0.031, outer_radius = 0.035, cells = 12, layers = 2";
+    assert!(asset.contains(young) && asset.contains(wall));
+    let soft = asset.replace(young, "young = 1.12e6");
+    let stderr = refused("through_the_wall", &soft);
+    assert!(
+        stderr.contains("inside body \"ball\"")
+            && stderr.contains("through the 4.0 mm wall of \"ball\"")
+            && stderr.contains("material \"rubber\": Young's modulus ≥ 2.240e6 Pa (now 1.120e6)")
+            && stderr.contains("inner_radius = 0.0270 m"),
+        "{stderr}"
+    );
+    // Either remedy reaches the pose: the modulus advised, or the wall twice as thick.
+    let stiffer = soft.replace("young = 1.12e6", "young = 2.24e6");
+    let (output, stderr, _) = solve_text(&fresh("through_the_wall_stiffer"), &stiffer);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let thicker = soft.replace(
+        wall,
+        "inner_radius = 0.027, outer_radius = 0.035, cells = 12, layers = 3",
+    );
+    let (output, stderr, _) = solve_text(&fresh("through_the_wall_thicker"), &thicker);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}

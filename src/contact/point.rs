@@ -379,10 +379,8 @@ pub enum ContactError {
     /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
     /// the inner wall and looks outside).
     #[error(
-        "{place} lies {depth_mm:.1} mm inside body \"{other}\" and the \
-         contact does not hold it (it went deeper than the search depth, {search_mm:.1} mm, or \
-         through a thin wall): move the bodies apart, pose the motion in smaller keyframes, or \
-         raise solver.contact_search"
+        "{place} lies {depth_mm:.1} mm inside body \"{other}\" and the contact does not hold \
+         it: {advice}"
     )]
     TooDeep {
         /// Where: the penetrating body, its node or skin point (with the bone under it) and
@@ -394,5 +392,8 @@ pub enum ContactError {
         depth_mm: f64,
         /// The search depth, mm.
         search_mm: f64,
+        /// Why, and what to change: deeper than the search depth, raise it; through a shell's
+        /// wall that gave way under the press, a stiffer material (`solve::grasp::too_deep`).
+        advice: String,
     },
 }
