@@ -757,3 +757,44 @@ fn skin_through_a_soft_shells_wall_is_told_so_and_both_remedies_work() {
     let (output, stderr, _) = solve_text(&fresh("through_the_wall_thicker"), &thicker);
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
+
+#[test]
+fn a_correction_at_the_pose_that_fails_is_reported_with_its_cause() {
+    // The finger press to MCP 21° on the softened ball: the motion's contact steps settle,
+    // then a correction at the pose finds the pad's skin through the wall. The frame is the
+    // last settled correction, and the report and the warnings say so (before, the failure
+    // was dropped without a word).
+    let asset = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
+    )
+    .unwrap();
+    let second = "[[keyframe]]\ntime = 2.0\npose = { \"index.mcp.flex\" = 21.5 }\n";
+    assert!(asset.contains(second) && asset.contains("young = 2.0e6"));
+    let soft = asset
+        .replace(second, "")
+        .replace("young = 2.0e6", "young = 1.12e6");
+    let dir = fresh("correction_failed");
+    let (output, stderr, out) = solve_text(&dir, &soft);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("frame 1: a correction at the pose of hand \"hand\" failed")
+            && stderr.contains("through the 4.0 mm wall"),
+        "{stderr}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let motion = &report["frames"][1]["hands"]["hand"]["motion"];
+    let failed = motion["correction_failed"].as_str().unwrap_or_default();
+    assert!(failed.contains("inside body \"ball\""), "{motion}");
+    // The modulus its cause advises: every correction settles.
+    let stiffer = soft.replace("young = 1.12e6", "young = 2.24e6");
+    let (output, stderr, out) = solve_text(&fresh("correction_failed_mended"), &stiffer);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("failed"), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert!(report["frames"][1]["hands"]["hand"]["motion"]
+        .get("correction_failed")
+        .is_none());
+}

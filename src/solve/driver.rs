@@ -348,7 +348,7 @@ impl Workspace {
                     }
                     let touched = usize::from(frame.contact.is_some());
                     let mut corrections = 0;
-                    let mut unsettled = None;
+                    let mut unsettled = Unsettled::default();
                     if short.is_none() {
                         (frame, corrections, unsettled) =
                             self.correct(model, posed, (moving, path), frame, cancel)?;
@@ -399,7 +399,7 @@ impl Workspace {
                         steps: kept,
                         retries: retries + 1,
                         corrections: 0,
-                        unsettled: None,
+                        unsettled: Unsettled::default(),
                     };
                     finish(
                         model,
@@ -426,7 +426,7 @@ impl Workspace {
     /// obstacles' contact is solved with the bodies at rest. A correction that does not settle
     /// leaves the last frame; cancelling stops it. Returns the frame, the corrections kept and,
     /// when the last one still changed the force by more than [`CONTACT_CORRECTION`], that
-    /// relative change.
+    /// relative change; when a correction failed, its error.
     fn correct(
         &mut self,
         model: &Model,
@@ -434,9 +434,9 @@ impl Workspace {
         (moving, path): Motion<'_, '_>,
         mut frame: Frame,
         cancel: Option<&CancelCheck>,
-    ) -> Result<(Frame, usize, Option<f64>), SimError> {
+    ) -> Result<(Frame, usize, Unsettled), SimError> {
         let mut kept = 0;
-        let mut unsettled = None;
+        let mut unsettled = Unsettled::default();
         for _ in 0..CONTACT_CORRECTIONS {
             let force = hand_contact_force(model, &frame);
             if force <= 0.0 {
@@ -451,15 +451,21 @@ impl Workspace {
                     frame = next;
                     kept += 1;
                     if change <= CONTACT_CORRECTION {
-                        unsettled = None;
+                        unsettled.change = None;
                         break;
                     }
-                    unsettled = Some(change);
+                    unsettled.change = Some(change);
                 }
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
-                // Out of contact or not settled: the last frame stands.
-                _ => {
+                // Out of contact: the last frame stands.
+                Ok(_) => {
                     *posed = before;
+                    break;
+                }
+                // Not settled: the last frame stands, and the report says why.
+                Err(e) => {
+                    *posed = before;
+                    unsettled.failed = Some(e.to_string());
                     break;
                 }
             }
@@ -552,7 +558,16 @@ struct Counts {
     steps: usize,
     retries: usize,
     corrections: usize,
-    unsettled: Option<f64>,
+    unsettled: Unsettled,
+}
+
+/// How the corrections at the pose ended, when not settled: the last kept one's relative
+/// change of the hands' contact force, and the error of a correction that failed (the frame
+/// is then the last one kept).
+#[derive(Default)]
+struct Unsettled {
+    change: Option<f64>,
+    failed: Option<String>,
 }
 
 /// Ends a keyframe at `frame`: each moving hand's cost (its flexion along `path`, the contact
@@ -572,7 +587,8 @@ fn finish(
         total.contact_steps = counts.steps;
         total.contact_retries = counts.retries;
         total.pose_corrections = counts.corrections;
-        total.unsettled_at_pose = counts.unsettled;
+        total.unsettled_at_pose = counts.unsettled.change;
+        total.correction_failed = counts.unsettled.failed.clone();
         total.stopped_short = short.clone();
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
             fh.stats = total.clone();

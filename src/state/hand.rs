@@ -113,6 +113,11 @@ pub struct KeyframeStats {
     /// that uncertain); not written when they settled.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unsettled_at_pose: Option<f64>,
+    /// A correction at the pose whose contact solve failed, and why: the frame is the last
+    /// correction kept (or the motion's last step), its forces uncertain by
+    /// `unsettled_at_pose` where a correction was kept; not written when none failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub correction_failed: Option<String>,
     /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
@@ -174,6 +179,9 @@ impl KeyframeStats {
         self.relative_residual = self.relative_residual.max(step.relative_residual);
         self.contact_steps += step.contact_steps;
         self.pose_corrections += step.pose_corrections;
+        if step.correction_failed.is_some() {
+            self.correction_failed = step.correction_failed.clone();
+        }
         if step.unsettled_at_pose.is_some() {
             self.unsettled_at_pose = step.unsettled_at_pose;
         }

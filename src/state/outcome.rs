@@ -153,6 +153,21 @@ pub fn keyframe_warnings(model: &crate::model::Model, frames: &[super::Frame]) -
                     h.stats.pose_corrections
                 ));
             }
+            if let Some(reason) = &h.stats.correction_failed {
+                out.push(format!(
+                    "frame {i}: a correction at the pose of hand \"{}\" failed ({reason}); the \
+                     frame is the last settled one ({} correction(s) kept){}",
+                    model.bodies[h.body].name,
+                    h.stats.pose_corrections,
+                    match h.stats.unsettled_at_pose {
+                        Some(c) => format!(
+                            ": its contact and bone forces are uncertain by about {:.2} %",
+                            c * 100.0
+                        ),
+                        None => String::new(),
+                    }
+                ));
+            }
             if let Some(s) = &h.stats.stopped_short {
                 out.push(format!(
                     "frame {i}: hand \"{}\" stopped at {:.0} % of its keyframe's motion (the \

@@ -60,6 +60,13 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
                 "the corrections at the pose ended while the hand's contact force still changed",
             );
         }
+        if let Some(reason) = &h.stats.correction_failed {
+            ui.label(
+                RichText::new("a correction at the pose failed: the last settled frame is shown")
+                    .color(Color32::YELLOW),
+            )
+            .on_hover_text(reason);
+        }
     }
     Grid::new("status grid").num_columns(2).show(ui, |ui| {
         ui.label("DOFs");
