@@ -359,18 +359,23 @@ impl SimError {
 /// What a contact step of the paper's iteration met, without the advice its own message gives
 /// (raise the iterations, move the bodies apart): for the paper's iteration the advice that
 /// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
-fn what_failed(cause: &ContactError) -> String {
+pub(crate) fn what_failed(cause: &ContactError) -> String {
     match cause {
         ContactError::NotConverged {
             iterations,
             penetration,
             change,
             ..
-        } => format!(
-            "it did not converge in {iterations} iterations: the displacements still changed by \
-             {:.3e} m, largest penetration {penetration:.3e} m",
-            change.unwrap_or(0.0)
-        ),
+        } => match change {
+            Some(change) => format!(
+                "it did not converge in {iterations} iterations: the displacements still \
+                 changed by {change:.3e} m, largest penetration {penetration:.3e} m"
+            ),
+            None => format!(
+                "it did not converge in {iterations} iterations: largest penetration \
+                 {penetration:.3e} m"
+            ),
+        },
         ContactError::StoppedBeforeConvergence {
             iterations, change, ..
         } => format!(

@@ -767,15 +767,20 @@ fn posed_too_deep(
     (embedded, skin): (&EmbeddedPoints, &[std::ops::Range<usize>]),
     error: SimError,
 ) -> SimError {
-    if !matches!(error, SimError::Contact(ContactError::NotConverged { .. })) {
+    let SimError::Contact(cause @ ContactError::NotConverged { .. }) = &error else {
         return error;
-    }
+    };
     let skin_nodes: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
     // Deeper than a quarter of the search depth: well past what one contact step moves.
     let beyond = 0.25 * model.contact.search_depth;
     match deepest_inside(&surfaces[hands..], &skin_nodes, x, beyond) {
         Some((n, body, depth)) => SimError::Contact(ContactError::PoseTooDeep {
-            reason: error.to_string(),
+            // What failed without the contact's own advice (raise the iterations, …): the
+            // depth the pose asks for is the cause, and the advice is this error's.
+            reason: format!(
+                "the contact of the posed grasp did not settle: {}",
+                super::error::what_failed(cause)
+            ),
             place: place_of(model, (embedded, skin), n, &x[n]),
             other: model.bodies[body].name.clone(),
             depth_mm: depth * 1e3,
