@@ -52,9 +52,33 @@ pub fn largest_strains(model: &Model, frame: &Frame) -> Vec<Option<f64>> {
         .collect()
 }
 
+/// Whether a hand's skin touches body `b` in `frame` (a contact with a node of each).
+fn pressed_by_a_hand(model: &Model, frame: &Frame, b: usize) -> bool {
+    let Some(contact) = frame.contact.as_ref() else {
+        return false;
+    };
+    let body_of = |n: usize| model.body_of_node(n);
+    contact.contacts.iter().any(|c| {
+        c.terms.iter().any(|&(n, _)| body_of(n) == b)
+            && c.terms
+                .iter()
+                .any(|&(n, _)| model.bodies[body_of(n)].hand.is_some())
+    })
+}
+
 /// One warning per body, for the frame where its strain is largest, when that strain exceeds
-/// [`STRAIN_WARNING`].
+/// [`STRAIN_WARNING`] — with the cause: the hands pressing it there beyond what its static
+/// frame strains it (the grasp: its advice is the nonlinear tier, whose Neo-Hookean bodies
+/// hold at finite strain), or its loads and material. None in the nonlinear tier: its bodies
+/// are Neo-Hookean, valid at finite strain.
 pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
+    if model.nonlinear_statics {
+        return Vec::new();
+    }
+    let still: Vec<Option<f64>> = frames
+        .first()
+        .map(|f| largest_strains(model, f))
+        .unwrap_or_default();
     let mut worst: Vec<Option<(usize, f64)>> = vec![None; model.bodies.len()];
     for (i, frame) in frames.iter().enumerate() {
         for (b, s) in largest_strains(model, frame).into_iter().enumerate() {
@@ -71,11 +95,23 @@ pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
         .filter_map(|(b, w)| {
             let (i, s) = (*w)?;
             (s > STRAIN_WARNING || s.is_nan()).then(|| {
+                let unloaded = still
+                    .get(b)
+                    .copied()
+                    .flatten()
+                    .is_some_and(|s0| s0 <= STRAIN_WARNING);
+                let cause = if unloaded && pressed_by_a_hand(model, &frames[i], b) {
+                    "the hands press it that far (its loads alone strain it less): solve the \
+                     scene with [solver] tier = \"nonlinear\", whose bodies are Neo-Hookean, \
+                     valid at finite strain, or pose the grasp less deep"
+                } else {
+                    "too soft a material or too large a load"
+                };
                 format!(
                     "body \"{}\": principal strain up to {s:.3e} (frame {i}), above \
                      {STRAIN_WARNING}: outside small-strain linear elasticity, whose \
-                     displacements grow as 1/E without bound; the result is not physical (too \
-                     soft a material or too large a load)",
+                     displacements grow as 1/E without bound; the result is not physical \
+                     ({cause})",
                     model.bodies[b].name
                 )
             })
