@@ -70,6 +70,20 @@ pub struct BodyModel {
     pub floating: bool,
 }
 
+impl BodyModel {
+    /// The inner and outer radii of a hollow ball (`shell`), m; `None` for any other shape.
+    pub fn shell_radii(&self) -> Option<(f64, f64)> {
+        match self.shape {
+            Shape::Shell {
+                inner_radius,
+                outer_radius,
+                ..
+            } => Some((inner_radius, outer_radius)),
+            _ => None,
+        }
+    }
+}
+
 /// A keyframe: the full joint angles of one hand at a time.
 #[derive(Clone, Debug)]
 pub struct KeyframeModel {

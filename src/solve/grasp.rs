@@ -642,12 +642,7 @@ fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
         );
     }
     let b = &model.bodies[body];
-    if let crate::scene::Shape::Shell {
-        inner_radius,
-        outer_radius,
-        ..
-    } = b.shape
-    {
+    if let Some((inner_radius, outer_radius)) = b.shell_radii() {
         let mut materials: Vec<(usize, f64)> = b
             .cells
             .clone()
