@@ -125,6 +125,14 @@ fn names(dir: &Path) -> Vec<String> {
     names
 }
 
+/// The shipped finger press (assets/scenes/finger-press-ball.toml), as text.
+fn finger_press() -> String {
+    std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
+    )
+    .unwrap()
+}
+
 /// A cantilever tip load, `force` N on the free end's face.
 fn tip_load(force: [f64; 3]) -> String {
     format!(
@@ -595,10 +603,7 @@ fn a_point_far_from_its_body_is_warned_of() {
 fn a_motion_the_contact_cannot_follow_exits_non_zero_and_its_advice_works() {
     // The finger press without its table, flexed to 40°, with the contact iteration capped at
     // two: the contact cannot follow the motion, and the frames written stop short.
-    let asset = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
-    )
-    .unwrap();
+    let asset = finger_press();
     let table = "[[obstacle]]\nname = \"table\"\n\
                  shape = { plane = { point = [0.0, 0.0, -0.105], normal = [0.0, 0.0, 1.0] } }\n";
     assert!(asset.contains(table) && asset.contains("pose = { \"index.mcp.flex\" = 21.5 }"));
@@ -730,10 +735,7 @@ fn a_graded_balls_size_is_known_before_it_is_meshed() {
 fn skin_through_a_soft_shells_wall_is_told_so_and_both_remedies_work() {
     // The finger press on a ball of softer rubber (E = 1.12 MPa instead of 2 MPa): the pad's
     // skin goes through the 4 mm wall as it gives way, within the contact's search depth.
-    let asset = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
-    )
-    .unwrap();
+    let asset = finger_press();
     let young = "young = 2.0e6";
     let wall = "inner_radius = 0.031, outer_radius = 0.035, cells = 12, layers = 2";
     assert!(asset.contains(young) && asset.contains(wall));
@@ -764,10 +766,7 @@ fn a_correction_at_the_pose_that_fails_is_reported_with_its_cause() {
     // then a correction at the pose finds the pad's skin through the wall. The frame is the
     // last settled correction, and the report and the warnings say so (before, the failure
     // was dropped without a word).
-    let asset = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/finger-press-ball.toml"),
-    )
-    .unwrap();
+    let asset = finger_press();
     let second = "[[keyframe]]\ntime = 2.0\npose = { \"index.mcp.flex\" = 21.5 }\n";
     assert!(asset.contains(second) && asset.contains("young = 2.0e6"));
     let soft = asset

@@ -745,26 +745,7 @@ fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimErro
     // Linear elasticity scales exactly: E × factor brings the loads' strain to half the
     // warning, a margin for what contact with the obstacles adds (the table under a ball).
     let factor = strain / (0.5 * STRAIN_WARNING);
-    // Each material of the body once, with its Young's modulus (regions may give a cell
-    // another material).
-    let mut materials: Vec<(usize, f64)> = model.bodies[b]
-        .cells
-        .clone()
-        .map(|c| (model.cell_material[c], model.cell_materials[c].young))
-        .collect();
-    materials.sort_by_key(|m| m.0);
-    materials.dedup_by_key(|m| m.0);
-    let advice = materials
-        .iter()
-        .map(|&(m, young)| {
-            format!(
-                "material \"{}\": Young's modulus ≥ {:.3e} Pa (now {young:.3e})",
-                model.material_name(m),
-                young * factor
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ");
+    let advice = super::error::stiffer_materials(model, b, factor);
     SimError::BeyondSmallStrain {
         body: model.bodies[b].name.clone(),
         strain,

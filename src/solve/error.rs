@@ -356,6 +356,30 @@ impl SimError {
     }
 }
 
+/// Each material of body `b` once (regions may give a cell another material), with the Young's
+/// modulus `factor` times its own: "material \"rubber\": Young's modulus ≥ 2.240e6 Pa (now
+/// 1.120e6)", joined by commas.
+pub(crate) fn stiffer_materials(model: &Model, b: usize, factor: f64) -> String {
+    let mut materials: Vec<(usize, f64)> = model.bodies[b]
+        .cells
+        .clone()
+        .map(|c| (model.cell_material[c], model.cell_materials[c].young))
+        .collect();
+    materials.sort_by_key(|m| m.0);
+    materials.dedup_by_key(|m| m.0);
+    materials
+        .iter()
+        .map(|&(m, young)| {
+            format!(
+                "material \"{}\": Young's modulus ≥ {:.3e} Pa (now {young:.3e})",
+                model.material_name(m),
+                young * factor
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// What a contact step of the paper's iteration met, without the advice its own message gives
 /// (raise the iterations, move the bodies apart): for the paper's iteration the advice that
 /// works is the exact method, which [`SimError::PaperCannotFollow`] gives.

@@ -643,24 +643,7 @@ fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
     }
     let b = &model.bodies[body];
     if let Some((inner_radius, outer_radius)) = b.shell_radii() {
-        let mut materials: Vec<(usize, f64)> = b
-            .cells
-            .clone()
-            .map(|c| (model.cell_material[c], model.cell_materials[c].young))
-            .collect();
-        materials.sort_by_key(|m| m.0);
-        materials.dedup_by_key(|m| m.0);
-        let stiffer = materials
-            .iter()
-            .map(|&(m, young)| {
-                format!(
-                    "material \"{}\": Young's modulus ≥ {:.3e} Pa (now {young:.3e})",
-                    model.material_name(m),
-                    2.0 * young
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", ");
+        let stiffer = super::error::stiffer_materials(model, body, 2.0);
         return format!(
             "it went through the {:.1} mm wall of \"{}\", which gave way under the press \
              (within the contact's search depth, {:.1} mm): make the body stiffer — {stiffer} \
