@@ -564,6 +564,39 @@ fn a_nearly_incompressible_material_on_a_locking_element_is_warned_of() {
     assert!((-free_tip.z - beam).abs() < 0.3 * beam);
     assert!(-free_tip.z > 5.0 * -locked_tip.z);
     assert!(-locked_tip.z < 0.2 * beam, "hex8 locks");
+    // On the nonlinear tier the Neo-Hookean bar with the fully integrated hex8 locks too, and
+    // is warned of; the advice, mean dilatation (the tier's default), bends it as the
+    // incompatible modes do, without a warning (before 2026-11-26 the default was warned of
+    // as locking and sent to the linear tier).
+    let nonlinear = |volumetric: &str| {
+        warnings_and_tip(
+            &Bar {
+                cells: [10, 2, 2],
+                poisson: 0.4999,
+                solver: &format!("tier = \"nonlinear\"\n{volumetric}"),
+                rest: &rest,
+                ..Bar::default()
+            }
+            .scene(),
+        )
+    };
+    let (full, full_tip) = nonlinear("volumetric = \"full\"");
+    assert!(
+        full.iter()
+            .any(|w| w.contains("body \"bar\"") && w.contains("volumetric = \"mean_dilatation\"")),
+        "{full:?}"
+    );
+    assert!(-full_tip.z < 0.2 * beam, "full integration locks");
+    let (mean, mean_tip) = nonlinear("");
+    println!(
+        "nonlinear tier: full integration {:.4e} m, mean dilatation {:.4e} m",
+        -full_tip.z, -mean_tip.z
+    );
+    assert!(
+        mean.iter().all(|w| !w.contains("incompressible")),
+        "{mean:?}"
+    );
+    assert!((-mean_tip.z - beam).abs() < 0.3 * beam);
     // A compressible material has no such warning.
     let (plain, _) = warnings_and_tip(
         &Bar {

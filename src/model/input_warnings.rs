@@ -80,9 +80,13 @@ fn locking_warnings(
             .filter(|m| m.poisson > LOCKING_POISSON)
             .map(|m| m.name.as_str())
             .collect();
-        let cure = if nonlinear {
-            "the nonlinear tier has no locking-free element yet: use the linear tier with \
-             [solver] element = \"incompatible_modes\" where strains are small, or ν ≤ 0.49"
+        // The nonlinear tier's Neo-Hookean bodies take the volumetric integration of
+        // `[solver] volumetric`: mean dilatation (the default) does not lock.
+        let full = scene.solver.volumetric == Some(crate::scene::VolumetricName::Full);
+        let cure = if nonlinear && full {
+            "set [solver] volumetric = \"mean_dilatation\" (the default), which does not lock"
+        } else if nonlinear {
+            continue;
         } else if element == ElementKind::Hex8 {
             "set [solver] element = \"incompatible_modes\", which does not lock"
         } else {
