@@ -51,7 +51,7 @@
 
 mod common;
 
-use common::limited::{signal, solve_limited, trimmed, written, Ending};
+use common::limited::{signal, solve_limited, toml_files, trimmed, written, Ending};
 use prehensile::model::Model;
 use prehensile::scene::{Scene, Shape};
 use proptest::prelude::*;
@@ -120,17 +120,10 @@ struct Base {
 
 /// `assets/scenes/*.toml`, sorted by name.
 fn shipped_scenes() -> Vec<Base> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| entry.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
+    let files = toml_files("assets/scenes");
     assert!(
         files.len() >= 5,
-        "{} holds {} scenes",
-        dir.display(),
+        "assets/scenes holds {} scenes",
         files.len()
     );
     files

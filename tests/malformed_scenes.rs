@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::limited::{signal, solve_limited, trimmed, written, Ending};
+use common::limited::{signal, solve_limited, toml_files, trimmed, written, Ending};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -26,14 +26,7 @@ const ADDRESS_SPACE_LIMIT: u64 = 4 << 30;
 
 /// The corpus, sorted by name.
 fn corpus() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed");
-    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| entry.expect("directory entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    files
+    toml_files("tests/malformed")
 }
 
 /// The texts of the `# expect:` lines.

@@ -3,7 +3,7 @@
 //! instead of taking the machine down.
 
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
@@ -116,4 +116,16 @@ pub fn trimmed(text: &str, chars: usize) -> String {
         Some((i, _)) => format!("{} […]", &text[..i]),
         None => text.to_string(),
     }
+}
+
+/// The `.toml` files in `relative` (a folder of the crate), sorted by name.
+pub fn toml_files(relative: &str) -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(relative);
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|entry| entry.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
 }
