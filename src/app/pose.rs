@@ -76,8 +76,8 @@ impl Preset {
 
     /// The angle of `joint` (degrees) in this preset, before clamping to its limits. Each preset
     /// is reached from rest in 10° increments without a crushed cell at resolution 1 (checked
-    /// with `prehensile solve`: flesh volume change −0.89 % the full fist on the default scene's ball, +0.08 % pinch, −0.06 % power
-    /// grasp).
+    /// with `prehensile solve`: flesh volume change −0.89 % the full fist on the default
+    /// scene's ball, +0.08 % pinch, −0.06 % power grasp).
     fn angle(self, joint: &str) -> f64 {
         let finger = |mcp: f64, pip: f64, dip: f64| match joint.rsplit('.').next() {
             Some("flex") => mcp,

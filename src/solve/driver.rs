@@ -427,9 +427,10 @@ impl Workspace {
     /// [`CONTACT_CORRECTIONS`]; where successive changes shrink steadily, one sign, ratio ρ
     /// in 0.3–0.95, the carried state is extended by ρ/(1 − ρ) times the last correction's
     /// change — Aitken's Δ² on the fixed-point iteration — and up to
-    /// [`CONTACT_CORRECTIONS_EXTRAPOLATED`] are made). A step linearises the contact (gaps, normals) about where the
-    /// last one started; at the pose it converges to the frame whose contact is in equilibrium on
-    /// its own geometry, so that the pose solved again from the frame gives the frame again. A
+    /// [`CONTACT_CORRECTIONS_EXTRAPOLATED`] are made). A step linearises the contact (gaps,
+    /// normals) about where the last one started; at the pose it converges to the frame whose
+    /// contact is in equilibrium on its own geometry, so that the pose solved again from the
+    /// frame gives the frame again. A
     /// frame whose hands touch nothing (an object only on its table) needs no correction: the
     /// obstacles' contact is solved with the bodies at rest. A correction that does not settle
     /// leaves the last frame; cancelling stops it. Returns the frame, the corrections kept and,

@@ -75,13 +75,12 @@ pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
     if model.nonlinear_statics {
         return Vec::new();
     }
-    let still: Vec<Option<f64>> = frames
-        .first()
-        .map(|f| largest_strains(model, f))
-        .unwrap_or_default();
+    let strains: Vec<Vec<Option<f64>>> = frames.iter().map(|f| largest_strains(model, f)).collect();
+    // The static frame's: what the loads alone do.
+    let still = strains.first().cloned().unwrap_or_default();
     let mut worst: Vec<Option<(usize, f64)>> = vec![None; model.bodies.len()];
-    for (i, frame) in frames.iter().enumerate() {
-        for (b, s) in largest_strains(model, frame).into_iter().enumerate() {
+    for (i, frame) in strains.into_iter().enumerate() {
+        for (b, s) in frame.into_iter().enumerate() {
             if let Some(s) = s {
                 if worst[b].is_none_or(|(_, w)| s > w || s.is_nan()) {
                     worst[b] = Some((i, s));
