@@ -398,31 +398,76 @@ fn the_local_region_grows_around_the_skin_meeting_itself() {
     assert!(deep_stats.self_contact_force > 2.0 * l);
 }
 
-/// The user's path when self-contact cannot settle: a scene asking for it on the full fist
-/// stops with an error that says where (the joint and its angle) and what to do; doing what it
-/// says — `self_contact = false` — solves the scene.
-#[test]
-fn an_unsettled_self_contact_says_where_and_its_advice_works() {
+/// The full fist's joints, each scaled by `scale` (and `little.pip` set to `little_pip` if
+/// given), as the TOML of a pose.
+fn fist_pose(scale: f64, little_pip: Option<f64>) -> String {
     let pose: Vec<String> = prehensile::hand::full_fist()
         .iter()
-        .map(|(joint, angle)| format!("\"{joint}\" = {angle}"))
+        .map(|(joint, angle)| {
+            let angle = match little_pip {
+                Some(a) if *joint == "little.pip" => a,
+                _ => *angle,
+            };
+            format!("\"{joint}\" = {}", angle * scale)
+        })
         .collect();
-    let scene = |self_contact: bool| {
-        format!(
-            "[solver]\nself_contact = {self_contact}\n\n[[material]]\nname = \"flesh\"\n\
-             young = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n[[body]]\nname = \"hand\"\n\
-             material = \"flesh\"\nshape = {{ hand = {{ side = \"right\" }} }}\n\n\
-             [[keyframe]]\ntime = 1.0\npose = {{ {} }}\n",
-            pose.join(", ")
-        )
-    };
-    let solve = |text: &str| {
-        let scene = prehensile::scene::Scene::parse(text, "fist.toml").unwrap();
-        prehensile::headless::solve_scene(&scene, "fist.toml")
-    };
-    let error = match solve(&scene(true)) {
+    pose.join(", ")
+}
+
+/// A hand-only scene with `pose` as its one keyframe.
+fn fist_scene(self_contact: bool, pose: &str) -> String {
+    format!(
+        "[solver]\nself_contact = {self_contact}\n\n[[material]]\nname = \"flesh\"\n\
+         young = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n[[body]]\nname = \"hand\"\n\
+         material = \"flesh\"\nshape = {{ hand = {{ side = \"right\" }} }}\n\n\
+         [[keyframe]]\ntime = 1.0\npose = {{ {pose} }}\n"
+    )
+}
+
+fn solve_fist(text: &str) -> Result<prehensile::headless::Solved, String> {
+    let scene = prehensile::scene::Scene::parse(text, "fist.toml").unwrap();
+    prehensile::headless::solve_scene(&scene, "fist.toml").map_err(|e| e.to_string())
+}
+
+/// The share of the keyframe's motion where the error says it failed ("failed at 48.3 % of its
+/// way"), as a fraction.
+fn failed_share(error: &str) -> f64 {
+    let tail = error
+        .split("the motion failed at ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no share in: {error}"));
+    let pct: f64 = tail.split(" %").next().unwrap().parse().unwrap();
+    pct / 100.0
+}
+
+/// Follows the advice "pose the keyframe short of that": the fist with every joint's motion
+/// scaled to 95 % of the share the error names, with self-contact on, is reached; its little
+/// finger's PIP is the scaled angle.
+fn short_of_the_share_is_reached(error: &str, little_pip: Option<f64>) {
+    let scale = 0.95 * failed_share(error);
+    assert!(scale > 0.1 && scale < 0.95, "{error}");
+    let solved = solve_fist(&fist_scene(true, &fist_pose(scale, little_pip)))
+        .unwrap_or_else(|e| panic!("the advised keyframe ({scale:.3} of the fist) failed: {e}"));
+    let frame = solved.report.frames.last().unwrap();
+    let hand = &frame.hands["hand"];
+    assert!(hand.volume_change.abs() < 0.015);
+    let pip = hand.pose["little.pip"];
+    let asked = little_pip.unwrap_or(105.0) * scale;
+    assert!(
+        (pip - asked).abs() < 1e-6,
+        "little.pip {pip} against {asked}"
+    );
+}
+
+/// The user's path when self-contact cannot settle: a scene asking for it on the full fist
+/// stops with an error that says where (the joint and its angle, the share of the motion) and
+/// what to do; doing either thing it says solves the scene: the keyframe short of that share,
+/// or `self_contact = false`.
+#[test]
+fn an_unsettled_self_contact_says_where_and_its_advice_works() {
+    let error = match solve_fist(&fist_scene(true, &fist_pose(1.0, None))) {
         Ok(_) => panic!("the full fist with self-contact was expected to stop"),
-        Err(e) => e.to_string(),
+        Err(e) => e,
     };
     eprintln!("{error}");
     assert!(
@@ -433,7 +478,39 @@ fn an_unsettled_self_contact_says_where_and_its_advice_works() {
     assert!(error.contains("self_contact = false"));
     // (Not the advice for contact between bodies, which does not help here.)
     assert!(!error.contains("contact_max_iterations"), "{error}");
-    let solved = solve(&scene(false)).unwrap_or_else(|e| panic!("{e}"));
+    // The share is the failing joint's angle along its motion (0 → 105°).
+    let reached: f64 = error
+        .split("little.pip reaches ")
+        .nth(1)
+        .and_then(|t| t.split('°').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    assert!(
+        (failed_share(&error) - reached / 105.0).abs() < 1e-3,
+        "{error}"
+    );
+    short_of_the_share_is_reached(&error, None);
+    let solved =
+        solve_fist(&fist_scene(false, &fist_pose(1.0, None))).unwrap_or_else(|e| panic!("{e}"));
     let hand = &solved.report.frames.last().unwrap().hands["hand"];
     assert!(hand.volume_change.abs() < 0.015);
+}
+
+/// Flesh crushed in a crease with the self-contact on (the fist with the little finger's PIP
+/// stopped at 45°, short of where the self-contact stopped above: the ring finger's DIP crease
+/// fails instead): the error names the element and the joint, and the advice to stop the
+/// keyframe short of the share where it failed works.
+#[test]
+fn flesh_crushed_says_where_and_stopping_short_works() {
+    let error = match solve_fist(&fist_scene(true, &fist_pose(1.0, Some(45.0)))) {
+        Ok(_) => panic!("this fist with self-contact was expected to stop"),
+        Err(e) => e,
+    };
+    eprintln!("{error}");
+    assert!(
+        error.contains("flesh element") && error.contains("crushed"),
+        "{error}"
+    );
+    assert!(error.contains("self_contact = false"), "{error}");
+    short_of_the_share_is_reached(&error, Some(45.0));
 }

@@ -359,22 +359,6 @@ pub enum ContactError {
         /// Of which slipping.
         slipping: usize,
     },
-    /// The contact of a posed grasp did not settle, and the pose put skin deep into a body.
-    #[error(
-        "{reason}. The pose drives the skin of {place} {depth_mm:.1} mm into \"{other}\": \
-         pose a grasp with the skin just reaching the object, as the paper does \
-         (a few millimetres in at most) — open the joints towards it or move it"
-    )]
-    PoseTooDeep {
-        /// Why the contact stopped.
-        reason: String,
-        /// Where: the hand, its deepest skin point, the bone under it and its position.
-        place: String,
-        /// The body entered.
-        other: String,
-        /// How deep, mm.
-        depth_mm: f64,
-    },
     /// A node of one body is inside another and the contact does not hold it: beyond what
     /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
     /// the inner wall and looks outside).

@@ -199,8 +199,15 @@ impl Workspace {
         targets: &[(usize, Vec<f64>)],
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
+        // Where each moving hand starts the keyframe from, for a flexion error's share.
+        let from: Vec<(usize, Vec<f64>)> = targets
+            .iter()
+            .filter_map(|(b, _)| posed.hands.iter().find(|h| h.body == *b))
+            .map(|h| (h.body, h.state.angles.clone()))
+            .collect();
         self.move_hands_as_asked(model, posed, targets, cancel)
             .and_then(|frame| SimError::finite(model, frame))
+            .map_err(|e| keyframe_share(model, e, &from, targets))
             .map_err(|e| self.beyond_small_strain(model, e))
     }
 
@@ -276,7 +283,11 @@ impl Workspace {
         // as its own steps: the pose again gives the frame again).
         let carried = posed.contact.clone();
         match self.move_in_steps(model, posed, (&moving, path), 1, carried, cancel) {
-            Err(SimError::Contact(first)) if start.is_some() => {
+            // The one-step attempt did not settle: the keyframe in steps along the motion. If
+            // that fails too, its error is the one returned (it failed at its first contact, in
+            // its smallest step: the cause); the one-step error only says that the whole motion
+            // was too large a step.
+            Err(SimError::Contact(_)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
                 self.move_in_steps(model, posed, (&moving, path), along, carried, cancel)
@@ -290,11 +301,6 @@ impl Workspace {
                             }
                         }
                         frame
-                    })
-                    .map_err(|e| match e {
-                        // Neither way settled: the one-step error says how deep the pose is.
-                        SimError::Contact(_) => SimError::Contact(first),
-                        other => other,
                     })
             }
             other => other,
@@ -715,6 +721,25 @@ fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
             }
         })
         .collect()
+}
+
+/// A flexion `error` of a keyframe whose hands (body, angles) moved from `from` towards
+/// `targets`, told with the share of the keyframe's motion where it failed.
+fn keyframe_share(
+    model: &Model,
+    error: SimError,
+    from: &[(usize, Vec<f64>)],
+    targets: &[(usize, Vec<f64>)],
+) -> SimError {
+    super::error::with_keyframe_share(error, |body, joint, angle| {
+        let b = model.bodies.iter().position(|x| x.name == body)?;
+        let hand = model.bodies[b].hand.as_ref()?;
+        let i = hand.skeleton.dofs.iter().position(|d| d.name == joint)?;
+        let start = from.iter().find(|(x, _)| *x == b)?.1.get(i)?;
+        let end = targets.iter().find(|(x, _)| *x == b)?.1.get(i)?;
+        let span = end - start;
+        (span.abs() > 1e-9).then(|| ((angle - start) / span).clamp(0.0, 1.0))
+    })
 }
 
 /// `error` told as the strain of `still`, the static frame, where it strains a body beyond

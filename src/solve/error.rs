@@ -22,9 +22,9 @@ pub enum SimError {
     #[error(
         "body \"{body}\": flesh element {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) would turn \
          inside out as {joint} reaches {angle:.1}°, even with the increment halved four times: \
-         the flesh is crushed in a crease of the joint; use a coarser mesh resolution or a \
-         smaller joint angle",
-        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2]
+         the flesh is crushed in a crease of the joint; {}",
+        rest_position_mm[0], rest_position_mm[1], rest_position_mm[2],
+        stop_short_advice(*self_contact, *share)
     )]
     FleshCrushed {
         /// The hand body.
@@ -37,12 +37,17 @@ pub enum SimError {
         joint: String,
         /// Its angle at the failing increment, degrees.
         angle: f64,
+        /// Whether the skin's self-contact was on.
+        self_contact: bool,
+        /// The share of the keyframe's motion (from the pose before it) at which the failing
+        /// increment ended, once the driver knows the keyframe.
+        share: Option<f64>,
     },
     /// A flexion increment's self-contact did not settle, even after halving the step.
     #[error(
         "body \"{body}\": the skin's self-contact did not settle as {joint} reaches {angle:.1}°, \
-         even with the increment halved four times ({reason}); stop the joint short of that \
-         angle, or set solver.self_contact = false (the skin may then pass through itself)"
+         even with the increment halved four times ({reason}); {}",
+        stop_short_advice(true, *share)
     )]
     SelfContactUnsettled {
         /// The hand body.
@@ -53,6 +58,8 @@ pub enum SimError {
         angle: f64,
         /// The contact solver's account.
         reason: String,
+        /// As [`SimError::FleshCrushed::share`].
+        share: Option<f64>,
     },
     /// A nonlinear flexion increment found no equilibrium, even at the smallest step allowed.
     #[error(
@@ -413,5 +420,70 @@ pub(crate) fn what_failed(cause: &ContactError) -> String {
             ..
         } => format!("it left {place} {depth_mm:.1} mm inside body \"{other}\""),
         other => other.to_string(),
+    }
+}
+
+/// The advice of a flexion that failed within a keyframe: stop the motion short of where it
+/// failed (every increment before it was solved, so a keyframe ending there is reached), and,
+/// with the self-contact on, turn it off (the flexion without it passes; the skin may then
+/// pass through itself). `share`: where the motion failed, as a share of the keyframe's.
+fn stop_short_advice(self_contact: bool, share: Option<f64>) -> String {
+    let short = match share {
+        Some(share) => format!(
+            "pose the keyframe short of that: the motion failed at {:.1} % of its way from the \
+             pose before it (a keyframe with every joint's motion scaled to less than that is \
+             reached)",
+            100.0 * share
+        ),
+        None => "stop the joints short of those angles".into(),
+    };
+    if self_contact {
+        format!(
+            "{short}, or set solver.self_contact = false (the skin may then pass through itself)"
+        )
+    } else {
+        short
+    }
+}
+
+/// `error` from the flexion of a keyframe, given the share of the keyframe's motion where it
+/// failed: `share_of(body, joint, angle)` measures the failing joint's angle along its own
+/// motion in the keyframe (every joint of a hand moves in proportion).
+pub(crate) fn with_keyframe_share(
+    error: SimError,
+    share_of: impl Fn(&str, &str, f64) -> Option<f64>,
+) -> SimError {
+    match error {
+        SimError::FleshCrushed {
+            body,
+            element,
+            rest_position_mm,
+            joint,
+            angle,
+            self_contact,
+            share: None,
+        } => SimError::FleshCrushed {
+            share: share_of(&body, &joint, angle),
+            body,
+            element,
+            rest_position_mm,
+            joint,
+            angle,
+            self_contact,
+        },
+        SimError::SelfContactUnsettled {
+            body,
+            joint,
+            angle,
+            reason,
+            share: None,
+        } => SimError::SelfContactUnsettled {
+            share: share_of(&body, &joint, angle),
+            body,
+            joint,
+            angle,
+            reason,
+        },
+        other => other,
     }
 }

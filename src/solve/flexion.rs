@@ -272,6 +272,7 @@ impl<'a> Flexion<'a> {
                             joint,
                             angle,
                             reason,
+                            share: None,
                         });
                     }
                     Err(e) => return Err(e),
@@ -283,6 +284,8 @@ impl<'a> Flexion<'a> {
                             rest_position_mm: self.rest_centre_mm(cell),
                             joint,
                             angle,
+                            self_contact: own.is_some(),
+                            share: None,
                         });
                     }
                 }

@@ -428,18 +428,7 @@ pub fn solve_grasp(
             ContactMethod::Lagrange => solve_lagrange(solver, problem, settings),
             ContactMethod::Paper => solve_paper(solver, problem, settings, &skin),
         }
-        .map_err(|e| {
-            let e = contact_error(model, e);
-            // A step along the motion only resolves its own motion: how deep the pose is
-            // concerns a keyframe solved in one step.
-            match carried_given {
-                None => {
-                    let skin = (&embedded, skin_points.as_slice());
-                    posed_too_deep(model, &surfaces, hands.len(), &x_now, skin, e)
-                }
-                Some(_) => e,
-            }
-        })
+        .map_err(|e| contact_error(model, e))
     };
     let result = match &model.gas {
         None => contact_solve(&problem)?,
@@ -733,36 +722,4 @@ pub(super) fn deepest_inside(
         }
     }
     deepest
-}
-
-/// When the contact of a posed grasp does not settle, whether the pose put skin deep into an
-/// object: the error then says so (a grasp is posed with the skin just reaching the object).
-fn posed_too_deep(
-    model: &Model,
-    surfaces: &[ContactSurface],
-    hands: usize,
-    x: &[Vector3<f64>],
-    (embedded, skin): (&EmbeddedPoints, &[std::ops::Range<usize>]),
-    error: SimError,
-) -> SimError {
-    let SimError::Contact(cause @ ContactError::NotConverged { .. }) = &error else {
-        return error;
-    };
-    let skin_nodes: Vec<usize> = surfaces[..hands].iter().flat_map(|s| s.nodes()).collect();
-    // Deeper than a quarter of the search depth: well past what one contact step moves.
-    let beyond = 0.25 * model.contact.search_depth;
-    match deepest_inside(&surfaces[hands..], &skin_nodes, x, beyond) {
-        Some((n, body, depth)) => SimError::Contact(ContactError::PoseTooDeep {
-            // What failed without the contact's own advice (raise the iterations, …): the
-            // depth the pose asks for is the cause, and the advice is this error's.
-            reason: format!(
-                "the contact of the posed grasp did not settle: {}",
-                super::error::what_failed(cause)
-            ),
-            place: place_of(model, (embedded, skin), n, &x[n]),
-            other: model.bodies[body].name.clone(),
-            depth_mm: depth * 1e3,
-        }),
-        None => error,
-    }
 }
