@@ -13,6 +13,12 @@ use crate::model::GasCavity;
 /// Relative tolerance on the gas law: |p_abs·V / (P0·V0) − 1| below it.
 pub const GAS_TOLERANCE: f64 = 1e-9;
 
+/// The advice where no pressure satisfies the gas law: the solve at the rest pressure, the first
+/// one tried, succeeded, so the load at a fixed pressure solves the frame.
+const FIXED_PRESSURE: &str = "Without the gas law the cavity keeps its rest pressure, the first \
+     one tried here, which solved: set gas = false on this load (the pressure then no longer \
+     follows the volume)";
+
 /// Solves of the cavity's pressure before giving up.
 const MAX_SOLVES: usize = 40;
 
@@ -72,8 +78,7 @@ pub fn solve_with_gas<T>(
                         "p·V/(P0·V0) − 1 jumps from {:.3e} to {:.3e} between gauge pressures \
                          {:.9e} and {:.9e} Pa: the contact changes there (a node on the edge of \
                          touching, or friction switching between stick and slip), so no \
-                         pressure satisfies the gas law to {GAS_TOLERANCE:e}; move the pose or \
-                         the obstacle slightly",
+                         pressure satisfies the gas law to {GAS_TOLERANCE:e}. {FIXED_PRESSURE}",
                         l.1, h.1, l.0, h.0
                     ),
                 ));
@@ -108,7 +113,7 @@ pub fn solve_with_gas<T>(
         format!(
             "no pressure satisfies the gas law to {GAS_TOLERANCE:e} after {MAX_SOLVES} solves \
              (p·V/(P0·V0) − 1 = {f:.3e} at gauge pressure {p:.6e} Pa): the contact's active set \
-             keeps changing with the pressure; use a smaller step towards this pose"
+             keeps changing with the pressure. {FIXED_PRESSURE}"
         ),
     ))
 }
@@ -117,5 +122,60 @@ fn gas_error(cavity: &GasCavity, reason: String) -> SimError {
     SimError::Gas {
         load: cavity.name.clone(),
         reason,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{boundary_facets, box_mesh};
+    use nalgebra::Vector3;
+
+    /// A cavity of 1 m³ (a unit cube's boundary) at gauge 0 Pa, ambient 1e5 Pa.
+    fn cube_cavity() -> GasCavity {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
+        let facets = boundary_facets(&mesh);
+        GasCavity::new("air".into(), 0, &mesh, facets, 0.0, 1e5).unwrap()
+    }
+
+    /// The message of the solve where the volume follows `volume(p)` (a stand-in for the
+    /// solve at gauge pressure p), and the pressures tried.
+    fn failure(volume: impl Fn(f64) -> f64) -> (String, Vec<f64>) {
+        let cavity = cube_cavity();
+        let mut tried = Vec::new();
+        let result = solve_with_gas(
+            &cavity,
+            |p| {
+                tried.push(p);
+                Ok(p)
+            },
+            |&p| volume(p),
+        );
+        (
+            result.expect_err("no pressure satisfies it").to_string(),
+            tried,
+        )
+    }
+
+    /// A volume that jumps across the root (a contact switching on at 5 kPa): the bracket
+    /// closes on the jump (told as a jump once it is within round-off, else after the solves
+    /// allowed, here), and the advice (the fixed rest pressure) is the first pressure tried,
+    /// which solved.
+    #[test]
+    fn a_volume_jumping_across_the_gas_law_is_told_with_advice_that_solves() {
+        let (message, tried) = failure(|p| if p < 5e3 { 0.9 } else { 0.99 });
+        assert!(message.contains("5.000000e3 Pa"), "{message}");
+        assert!(message.contains("set gas = false"), "{message}");
+        assert_eq!(tried[0], 0.0);
+    }
+
+    /// A wall that gives way so that p·V stays half the gas's (no pressure satisfies the law):
+    /// told after the solves allowed, with the same advice.
+    #[test]
+    fn a_gas_law_without_a_root_is_told_with_advice_that_solves() {
+        let (message, tried) = failure(|p| 0.5e5 / (p + 1e5));
+        assert!(message.contains("after 40 solves"), "{message}");
+        assert!(message.contains("set gas = false"), "{message}");
+        assert_eq!(tried[0], 0.0);
     }
 }
