@@ -46,4 +46,21 @@ fn a_skinned_hand_touching_the_ball_asks_for_an_fem_tier() {
     println!("{err}");
     assert!(err.contains("skinning folded flesh element"), "{err}");
     assert!(err.contains("use an FEM tier"), "{err}");
+    // The advice followed: each FEM tier it names solves the same keyframe, to its pose.
+    for (name, tier) in [
+        ("corotational", TierName::Corotational),
+        ("incremental", TierName::Incremental),
+        ("nonlinear", TierName::Nonlinear),
+    ] {
+        assert!(err.contains(&format!("\"{name}\"")), "{err}");
+        let mut fixed = scene(1);
+        fixed.solver.tier = Some(tier);
+        let solved = solve_scene(&fixed, "fem.toml").unwrap_or_else(|e| panic!("{name}: {e}"));
+        let frame = solved.frames.last().unwrap();
+        assert!(frame.hands[0].stats.stopped_short.is_none(), "{name}");
+        assert!(
+            frame.solution.displacement.iter().all(|u| u.is_finite()),
+            "{name}"
+        );
+    }
 }
