@@ -403,3 +403,69 @@ fn a_box_is_closed_and_encloses_its_volume_moved_or_sheared() {
         Err(NotClosed::Open { edges: 4 })
     );
 }
+
+/// The coarsest shell (cells = 2, one layer): its facets' centroids lie 12 % inside their
+/// nodes' sphere, yet `surface = "inner"` selects only the cavity's 24 facets and `"outer"` only
+/// the outside's 24; the gas pushes the wall out (the volume grows, so the pressure falls below
+/// its rest value), and p·V = P0·V0 holds.
+#[test]
+fn the_coarsest_shell_selects_its_own_surfaces_and_its_gas_inflates_it() {
+    let text = r#"
+[[material]]
+name = "rubber"
+young = 1.0e6
+poisson = 0.3
+density = 1100.0
+[[body]]
+name = "ball"
+material = "rubber"
+shape = { shell = { center = [0.0, 0.0, 0.0], inner_radius = 0.04, outer_radius = 0.05, cells = 2, layers = 1 } }
+[[constraint]]
+name = "base"
+body = "ball"
+where = { box = { min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, -0.03] } }
+displacement = [0.0, 0.0, 0.0]
+[[load]]
+name = "air"
+body = "ball"
+where = { surface = "inner" }
+pressure = 1000.0
+gas = true
+"#;
+    let solved = solve(text);
+    let cavity = solved.model.gas.as_ref().unwrap();
+    assert_eq!(cavity.facets.len(), 24);
+    let nodes = &solved.model.mesh.nodes;
+    for f in &cavity.facets {
+        for &n in &f.nodes {
+            assert!((nodes[n].norm() - 0.04).abs() < 1e-12);
+        }
+    }
+    let report = solved.report.frames[0].cavity.as_ref().unwrap();
+    let law = (report.gauge_pressure + AMBIENT) * report.volume
+        / ((cavity.rest_gauge + AMBIENT) * cavity.rest_volume)
+        - 1.0;
+    println!(
+        "gauge {:.2} Pa (rest 1000), volume {:.6e} (rest {:.6e}), law {law:.1e}",
+        report.gauge_pressure, report.volume, cavity.rest_volume
+    );
+    assert!(law.abs() < 1e-6, "{law}");
+    assert!(report.volume > cavity.rest_volume);
+    assert!(report.gauge_pressure < 1000.0 && report.gauge_pressure > 0.0);
+    // The outside: the other 24 facets, each node at the outer radius.
+    let outer = text.replace(
+        "surface = \"inner\" }\npressure = 1000.0\ngas = true",
+        "surface = \"outer\" }\npressure = 1000.0",
+    );
+    let outer = Model::build(&Scene::parse(&outer, "outer.toml").unwrap(), "outer.toml").unwrap();
+    let loaded: Vec<usize> = (0..outer.mesh.node_count())
+        .filter(|&n| (0..3).any(|i| outer.load_vector[3 * n + i] != 0.0))
+        .collect();
+    assert!(!loaded.is_empty());
+    for n in loaded {
+        assert!(
+            (outer.mesh.nodes[n].norm() - 0.05).abs() < 1e-12,
+            "node {n}"
+        );
+    }
+}

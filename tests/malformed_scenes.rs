@@ -8,6 +8,11 @@
 //! the run must exit with a non-zero code (not a signal, not a panic, not the time limit), its
 //! stderr must hold the file's name and every expected text, and nothing may be written to
 //! `--out`. All the cases that fail are reported together.
+//!
+//! An error that gives advice ("use …", "give …", "add …") must give advice that works: its
+//! file carries one `# fix: OLD => NEW` line per piece of advice (several edits of one fix
+//! joined by ` && `; an empty NEW deletes; OLD = `$` appends; `\n` is a newline), and each fix applied alone to the
+//! scene must make it solve (exit code 0).
 
 mod common;
 
@@ -36,6 +41,103 @@ fn expectations(text: &str) -> Vec<String> {
         .map(|e| e.trim().to_string())
         .filter(|e| !e.is_empty())
         .collect()
+}
+
+/// The fixes of the `# fix:` lines: each a list of edits (old text, new text).
+fn fixes(text: &str) -> Vec<Vec<(String, String)>> {
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("# fix:"))
+        .map(|fix| {
+            fix.split(" && ")
+                .map(|edit| {
+                    let (old, new) = edit.split_once("=>").unwrap_or((edit, ""));
+                    (
+                        old.trim().replace("\\n", "\n"),
+                        new.trim().replace("\\n", "\n"),
+                    )
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Whether an error's text gives advice (an imperative aimed at the user).
+fn gives_advice(stderr: &str) -> bool {
+    [
+        "; use ",
+        "(use ",
+        ": use ",
+        "give ",
+        "add ",
+        "remove ",
+        "prescribe more",
+        "name the one",
+        " set ",
+        "raise ",
+    ]
+    .iter()
+    .any(|a| stderr.contains(a))
+}
+
+/// `text` without its `# expect:` / `# fix:` lines, with the edits of `fix` made; an edit whose
+/// old text is not in the scene is an error.
+fn fixed(text: &str, fix: &[(String, String)]) -> Result<String, String> {
+    let mut scene: String = text
+        .lines()
+        .filter(|l| !l.trim().starts_with("# expect:") && !l.trim().starts_with("# fix:"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    for (old, new) in fix {
+        if old == "$" {
+            scene.push_str(new);
+            scene.push('\n');
+        } else if scene.contains(old.as_str()) {
+            scene = scene.replacen(old.as_str(), new, 1);
+        } else {
+            return Err(format!("the fix's text {old:?} is not in the scene"));
+        }
+    }
+    Ok(scene)
+}
+
+/// Each fix of the case made alone: the problems found (a fix that does not solve the scene).
+fn check_fixes(text: &str, stderr: &str, case_dir: &Path) -> Vec<String> {
+    let all = fixes(text);
+    let mut problems = Vec::new();
+    if all.is_empty() && gives_advice(stderr) {
+        problems.push("gives advice but has no `# fix:` line that follows it".to_string());
+    }
+    for (k, fix) in all.iter().enumerate() {
+        let scene = match fixed(text, fix) {
+            Ok(s) => s,
+            Err(e) => {
+                problems.push(format!("fix {}: {e}", k + 1));
+                continue;
+            }
+        };
+        let file = case_dir.join(format!("fixed-{}.toml", k + 1));
+        fs::write(&file, scene).expect("fixed scene");
+        let out = case_dir.join(format!("fixed-{}-out", k + 1));
+        let err_file = case_dir.join(format!("fixed-{}-stderr.txt", k + 1));
+        match solve_limited(&file, &out, &err_file, TIME_LIMIT, ADDRESS_SPACE_LIMIT) {
+            Ok((Ending::Exited(s), _)) if s.code() == Some(0) => {}
+            Ok((ending, _)) => {
+                let err =
+                    String::from_utf8_lossy(&fs::read(&err_file).unwrap_or_default()).to_string();
+                let how = match ending {
+                    Ending::TimedOut => "timed out".to_string(),
+                    Ending::Exited(s) => format!("{s}"),
+                };
+                problems.push(format!(
+                    "fix {} ({fix:?}) does not solve: {how}; {}",
+                    k + 1,
+                    trimmed(&err, 400)
+                ));
+            }
+            Err(e) => problems.push(format!("fix {}: cannot run prehensile: {e}", k + 1)),
+        }
+    }
+    problems
 }
 
 /// Checks one case; the problems found (empty when it passes).
@@ -96,8 +198,9 @@ fn check(scene: &Path, work: &Path) -> Vec<String> {
     }
     if !problems.is_empty() {
         problems.push(format!("{status}; stderr: {}", trimmed(&stderr, 600)));
+        return problems;
     }
-    problems
+    check_fixes(&text, &stderr, &case_dir)
 }
 
 #[test]

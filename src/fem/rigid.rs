@@ -6,12 +6,24 @@
 use nalgebra::{Matrix6, SymmetricEigen, Vector3, Vector6};
 
 /// Names of the rigid motions a piece can still make, empty when it is held. `nodes` are the
-/// nodes of the piece, `prescribed(dof)` tells whether a dof is prescribed.
+/// nodes of the piece, `prescribed(dof)` tells whether a dof is prescribed. A piece of one node
+/// (a node in no cell) has only the translations: a rotation about it does not move it.
 pub fn free_rigid_motions(
     nodes: &[usize],
     positions: &[Vector3<f64>],
     prescribed: impl Fn(usize) -> bool,
 ) -> Vec<String> {
+    if let [n] = nodes {
+        const AXES: [&str; 3] = [
+            "translation along x",
+            "translation along y",
+            "translation along z",
+        ];
+        return (0..3)
+            .filter(|&i| !prescribed(3 * n + i))
+            .map(|i| AXES[i].to_string())
+            .collect();
+    }
     // Rotations about the centroid of the held nodes, lengths in units of their spread: the
     // rank does not depend on the reference point or the unit, and so a clamped end of a body
     // 1e5 times longer than it is wide stays well conditioned (about the body's centroid, its
@@ -79,4 +91,20 @@ pub fn free_rigid_motions(
     }
     free.sort();
     free
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A node in no cell is held by its three translations; rotating about it moves nothing.
+    #[test]
+    fn a_lone_node_is_held_by_its_translations() {
+        let positions = [Vector3::new(5.0, 5.0, 5.0)];
+        assert!(free_rigid_motions(&[0], &positions, |_| true).is_empty());
+        assert_eq!(
+            free_rigid_motions(&[0], &positions, |d| d != 1),
+            vec!["translation along y".to_string()]
+        );
+    }
 }

@@ -116,7 +116,9 @@ fn gas_cavity(
     if !l.gas {
         return Err((
             format!("{field}.ambient"),
-            "applies to a gas cavity only: add `gas = true` (or remove `ambient`)".into(),
+            "applies to a gas cavity only: remove `ambient`, or, where the load's surface \
+             encloses a cavity (surface = \"inner\" of a shell), add `gas = true`"
+                .into(),
         ));
     }
     let Some(gauge) = l.pressure else {

@@ -77,7 +77,7 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                     let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
                     body.facets
                         .iter()
-                        .filter(|f| facet_centroid(mesh, f).metric_distance(&c) > mid)
+                        .filter(|f| facet_radius(mesh, f, &c) > mid)
                         .copied()
                         .collect()
                 }
@@ -93,7 +93,7 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                     let (c, mid) = (Vector3::from(*center), 0.5 * (inner_radius + outer_radius));
                     body.facets
                         .iter()
-                        .filter(|f| facet_centroid(mesh, f).metric_distance(&c) < mid)
+                        .filter(|f| facet_radius(mesh, f, &c) < mid)
                         .copied()
                         .collect()
                 }
@@ -173,6 +173,13 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
     Ok(selected)
 }
 
-fn facet_centroid(mesh: &Mesh, f: &Facet) -> Vector3<f64> {
-    f.nodes.iter().map(|&n| mesh.nodes[n]).sum::<Vector3<f64>>() / 4.0
+/// How far the farthest node of facet `f` lies from `c`. A shell's nodes lie on spheres: its
+/// inner facets' nodes at the inner radius, its outer facets' at the outer one (a facet's
+/// centroid lies below its nodes' sphere, by 12 % of the radius on the coarsest shell: by the
+/// centroid, its outer facets would pass for inner ones).
+fn facet_radius(mesh: &Mesh, f: &Facet, c: &Vector3<f64>) -> f64 {
+    f.nodes
+        .iter()
+        .map(|&n| mesh.nodes[n].metric_distance(c))
+        .fold(0.0, f64::max)
 }

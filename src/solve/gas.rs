@@ -87,7 +87,7 @@ pub fn solve_with_gas<T>(
         // The next pressure: the secant through the last two solves; first, the pressure the
         // gas would have if the wall stayed where it is (p_abs = P0·V0/V).
         let mut next = match previous {
-            Some((q, g)) if g != f => p - f * (p - q) / (g - f),
+            Some((q, g)) if g != f => p - f * (p - q) / (f - g),
             _ => p0v0 / v - ambient,
         };
         if let (Some(l), Some(h)) = (low, high) {
