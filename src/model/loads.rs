@@ -9,7 +9,7 @@ use super::{BodyModel, LoadModel};
 use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
 use crate::fem::Material;
 use crate::mesh::{Facet, Mesh};
-use crate::scene::{LoadDef, Scene, TierName};
+use crate::scene::{LoadDef, Scene};
 use nalgebra::Vector3;
 
 /// Adds the scene's `[[load]]`s to the load vector (a gas cavity's at its rest pressure); returns
@@ -74,15 +74,7 @@ pub fn loads(
                     ),
                 ));
             }
-            cavity = Some(gas_cavity(
-                scene,
-                l,
-                &field,
-                &name,
-                b,
-                mesh,
-                sel.facets.clone(),
-            )?);
+            cavity = Some(gas_cavity(l, &field, &name, b, mesh, sel.facets.clone())?);
         }
         let total = if let Some(p) = l.pressure {
             add_pressure(load_vector, mesh, &sel.facets, p)
@@ -105,7 +97,6 @@ pub fn loads(
 
 /// The gas cavity of a load with `gas = true` (or `ambient`), checked.
 fn gas_cavity(
-    scene: &Scene,
     l: &LoadDef,
     field: &str,
     name: &str,
@@ -143,14 +134,6 @@ fn gas_cavity(
                 "the gas's absolute pressure at rest, pressure + ambient = {gauge} + {ambient} \
                  Pa, must be > 0 (`pressure` is the gauge pressure, above ambient)"
             ),
-        ));
-    }
-    if scene.solver.tier == Some(TierName::Nonlinear) {
-        return Err((
-            format!("{field}.gas"),
-            "a gas cavity is solved with the linear statics; tier = \"nonlinear\" does not \
-             support it yet (use gas = false, a fixed pressure, or another tier)"
-                .into(),
         ));
     }
     GasCavity::new(name.to_string(), body, mesh, facets, gauge, ambient)

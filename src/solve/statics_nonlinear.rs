@@ -47,8 +47,18 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             relative_det: e.relative_det,
         }
     })?;
-    if !model.obstacles.is_empty() {
-        let (solution, contact) = with_obstacles(model, &body)?;
+    if !model.obstacles.is_empty() || model.gas.is_some() {
+        let (solution, contact) = match &model.gas {
+            None => with_obstacles(model, &body, None)?,
+            // A gas cavity: the frame solved at each pressure tried until the gas law holds
+            // (src/solve/gas.rs), the cavity's pressure on the wall where it is.
+            Some(cavity) => super::gas::solve_with_gas(
+                cavity,
+                |p| with_obstacles(model, &body, Some(p)),
+                |(solution, _)| cavity.volume(&model.mesh.nodes, &solution.displacement),
+            )?,
+        };
+        let contact = (!model.obstacles.is_empty()).then_some(contact);
         let t = Instant::now();
         let gauss = body
             .cauchy_stress(&solution.displacement)
@@ -59,7 +69,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             assembly_ms: 0.0,
             stress_ms: ms(t),
             hands: Vec::new(),
-            contact: Some(contact),
+            contact,
         });
     }
     let result = solve_body(
@@ -140,11 +150,15 @@ const OBSTACLE_LOAD_INCREMENTS: [usize; 5] = [1, 2, 4, 8, 16];
 /// measured where U puts the nodes, until ΔU vanishes. The multipliers are the whole contact
 /// forces (f(U) is in the right-hand side), and the reactions K_T·ΔU − (t·R − f(U) − S·U) − Cᵀλ
 /// at the supports are theirs at the converged U. The loads are dead (on the rest geometry),
-/// as without obstacles. Where Newton fails (no convergence, an element turned inside out) the
-/// loads and prescribed displacements are applied in increments, 2, 4 … 16.
+/// as without obstacles, except a gas cavity's pressure (`gas`: its gauge pressure, Pa), which
+/// acts on the wall where each iteration puts it (a follower load; its load stiffness is left
+/// out of the tangent, so Newton converges linearly where the pressure matters). Where Newton
+/// fails (no convergence, an element turned inside out) the loads and prescribed displacements
+/// are applied in increments, 2, 4 … 16.
 fn with_obstacles(
     model: &Model,
     body: &HyperelasticBody,
+    gas: Option<f64>,
 ) -> Result<(Solution, crate::contact::ContactSummary), SimError> {
     let t = Instant::now();
     let mut failure = None;
@@ -152,7 +166,7 @@ fn with_obstacles(
         let mut u = vec![0.0; model.load_vector.len()];
         let mut last = None;
         for i in 1..=increments {
-            match newton_at(model, body, &mut u, i as f64 / increments as f64) {
+            match newton_at(model, body, &mut u, i as f64 / increments as f64, gas) {
                 Ok(result) => last = Some(result),
                 Err(e @ (SimError::Nonlinear { .. } | SimError::InvertedElement { .. })) => {
                     failure = Some(e);
@@ -172,12 +186,14 @@ fn with_obstacles(
 }
 
 /// Newton iterations from `u` to the equilibrium under the load factor `factor` (loads and
-/// prescribed displacements scaled alike) with the obstacles' contact; `u` ends there.
+/// prescribed displacements scaled alike) with the obstacles' contact, and the gas cavity at
+/// gauge pressure `gas` on the wall where it is; `u` ends there.
 fn newton_at(
     model: &Model,
     body: &HyperelasticBody,
     u: &mut [f64],
     factor: f64,
+    gas: Option<f64>,
 ) -> Result<ContactResult, SimError> {
     let nodes = &model.mesh.nodes;
     let obstacles: Vec<Obstacle> = model.obstacles.iter().map(|o| o.1.clone()).collect();
@@ -193,16 +209,15 @@ fn newton_at(
         let without_springs = k.mul(u);
         let springs = stabilize(model, &mut k, &model.partition);
         let with_springs = k.mul(u);
+        let positions: Vec<Vector3<f64>> = (0..nodes.len())
+            .map(|n| nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
+            .collect();
+        let external = external_loads(model, &positions, gas);
         let loads: Vec<f64> = (0..u.len())
-            .map(|d| {
-                factor * model.load_vector[d] - internal[d] - (with_springs[d] - without_springs[d])
-            })
+            .map(|d| factor * external[d] - internal[d] - (with_springs[d] - without_springs[d]))
             .collect();
         let prescribed: Vec<f64> = (0..u.len())
             .map(|d| factor * model.prescribed[d] - u[d])
-            .collect();
-        let positions: Vec<Vector3<f64>> = (0..nodes.len())
-            .map(|n| nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
             .collect();
         let mut result = solve_with_obstacles(
             &mut solver,
@@ -254,6 +269,27 @@ fn newton_at(
             inverted: None,
         }),
     })
+}
+
+/// The model's loads with the nodes at `positions`: dead, except the gas cavity's pressure at
+/// gauge `gas`, which acts on the wall where it is: R − p_rest·a(X) + p·a(x).
+fn external_loads(model: &Model, positions: &[Vector3<f64>], gas: Option<f64>) -> Vec<f64> {
+    match (&model.gas, gas) {
+        (Some(cavity), Some(p)) => {
+            let now = crate::mesh::Mesh {
+                nodes: positions.to_vec(),
+                cells: model.mesh.cells.clone(),
+            };
+            let at_rest = cavity.with_gauge(&model.load_vector, 0.0);
+            let unit_now = cavity.unit_load_on(&now);
+            at_rest
+                .iter()
+                .zip(&unit_now)
+                .map(|(r, a)| r + p * a)
+                .collect()
+        }
+        _ => model.load_vector.clone(),
+    }
 }
 
 /// The names of every body, for an error that concerns them all.

@@ -121,10 +121,8 @@ pub fn doc_text(
          - `front` (●): no other run on the problem is both faster and more accurate. To choose, \
          find your error budget on the problem closest to your scene and take the fastest ● run \
          within it.\n\
-         - `n/a`: the tier does not apply to the problem, with the reason; for tiers the solver \
-         refuses (none today; `nonlinear` with a gas cavity is the one left) the reason is \
-         the solver's own message, and the bench measures them as soon as the solver takes \
-         them. `failed`: the tier applies, but the solve stopped (the solver's message).\n\n",
+         - `n/a`: the tier does not apply to the problem, with the reason; for a tier the \
+         solver refuses (none today) the reason is the solver's own message. `failed`: the tier applies, but the solve stopped (the solver's message).\n\n",
     );
     let _ = writeln!(
         s,
