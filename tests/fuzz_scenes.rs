@@ -1419,6 +1419,16 @@ fn check_output(out: &Path) -> Vec<String> {
             .display()
             .to_string();
         let text = match fs::read(&file) {
+            // A binary VTU as its ASCII equivalent (a file that does not decode is a problem).
+            Ok(bytes) if file.extension().is_some_and(|e| e == "vtu") => {
+                match common::vtu::to_ascii(&bytes) {
+                    Ok(text) => text,
+                    Err(e) => {
+                        problems.push(format!("output: {name}: not a readable VTU: {e}"));
+                        continue;
+                    }
+                }
+            }
             Ok(bytes) => String::from_utf8_lossy(&bytes).to_string(),
             Err(e) => {
                 problems.push(format!("output: {name}: cannot read: {e}"));

@@ -74,7 +74,7 @@ fn the_documented_block_press_scene_solves_and_writes_report_and_vtu() {
             "{key}"
         );
     }
-    let vtu = std::fs::read_to_string(out.join("frame_0000.vtu")).unwrap();
+    let vtu = common::vtu::text(&out.join("frame_0000.vtu"));
     assert!(vtu.contains(r#"NumberOfPoints="1331" NumberOfCells="1000""#));
     for name in ["displacement", "von_mises", "material_id"] {
         assert!(vtu.contains(&format!("Name=\"{name}\"")), "{name}");

@@ -400,7 +400,7 @@ fn e_zero_pressure_gives_exactly_zero_and_a_finite_report() {
     write_solved(&solved, &dir).unwrap();
     let text = std::fs::read_to_string(dir.join("report.json")).unwrap();
     assert_finite_json(&serde_json::from_str(&text).unwrap(), "report.json");
-    let vtu = std::fs::read_to_string(dir.join("frame_0000.vtu")).unwrap();
+    let vtu = common::vtu::text(&dir.join("frame_0000.vtu"));
     assert!(
         !vtu.contains("NaN") && !vtu.contains("inf"),
         "VTU holds a non-finite value"

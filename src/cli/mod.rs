@@ -10,8 +10,9 @@ use crate::bench::elements::{element_rows, element_table};
 use crate::bench::hand::{hand_rows, hand_tables};
 use crate::bench::render::{frame_times, render_table, update_rows};
 use crate::bench::solver::{solver_rows, solver_table};
+use crate::export::vtu_grid::VtuEncoding;
 use crate::fem::solve::FillOrdering;
-use crate::headless::{solve_scene_file, write_solved, Solved};
+use crate::headless::{solve_scene_file, write_solved_as, Solved};
 use crate::render::Renderer;
 use crate::scene::{Scene, DEFAULT_SCENE};
 use crate::util::timing::ms;
@@ -75,6 +76,10 @@ enum Command {
         /// Output folder (created if missing; files appear only when all are written).
         #[arg(long)]
         out: PathBuf,
+        /// How the VTU files hold their numbers: binary (zlib-compressed, appended; about a
+        /// fifth of the size) or ascii (text).
+        #[arg(long, value_enum, default_value = "binary")]
+        vtu: VtuArg,
     },
     /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
     /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
@@ -84,6 +89,15 @@ enum Command {
         #[command(subcommand)]
         which: BenchCommand,
     },
+}
+
+/// The `--vtu` encodings.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum VtuArg {
+    /// zlib-compressed binary blocks in the appended section.
+    Binary,
+    /// Text.
+    Ascii,
 }
 
 #[derive(Subcommand)]
@@ -282,9 +296,13 @@ fn run() -> Result<()> {
                 key,
             },
         )?,
-        Some(Command::Solve { scene, out }) => {
+        Some(Command::Solve { scene, out, vtu }) => {
             let solved = solve_scene_file(&scene)?;
-            let written = write_solved(&solved, &out)?;
+            let encoding = match vtu {
+                VtuArg::Binary => VtuEncoding::Binary,
+                VtuArg::Ascii => VtuEncoding::Ascii,
+            };
+            let written = write_solved_as(&solved, &out, encoding)?;
             print_summary(&solved);
             for w in &solved.report.warnings {
                 eprintln!("warning: {w}");

@@ -9,3 +9,4 @@ pub mod output;
 pub mod png;
 pub mod report;
 pub mod vtu;
+pub mod vtu_grid;

@@ -5,4 +5,6 @@ mod render;
 mod solve;
 
 pub use render::{camera_for, draw_lists, render_frame, scene_camera, HeadlessError};
-pub use solve::{solve_scene, solve_scene_file, write_solved, PipelineError, Solved};
+pub use solve::{
+    solve_scene, solve_scene_file, write_solved, write_solved_as, PipelineError, Solved,
+};

@@ -4,6 +4,7 @@ use crate::export::hand_geometry::{bones_vtu, frame_obj, skin_vtu};
 use crate::export::output::OutputSet;
 use crate::export::report::{frame_report, model_summary, Report};
 use crate::export::vtu::{collection_pvd, frame_vtu};
+use crate::export::vtu_grid::VtuEncoding;
 use crate::model::Model;
 use crate::scene::{Scene, SceneError};
 use crate::solve::{solve_frames, SimError};
@@ -87,6 +88,15 @@ pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
 /// also `hand_NNNN.obj`: skin and bones, `bones_NNNN.vtu`, and `skin_NNNN.vtu`: the contact
 /// skin with the tactile map), all or nothing.
 pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
+    write_solved_as(solved, dir, VtuEncoding::default())
+}
+
+/// [`write_solved`] with the VTU files' `encoding` (binary, the default, or ASCII).
+pub fn write_solved_as(
+    solved: &Solved,
+    dir: &Path,
+    encoding: VtuEncoding,
+) -> Result<Vec<PathBuf>, PipelineError> {
     let io = |reason| PipelineError::Output {
         dir: dir.display().to_string(),
         reason,
@@ -97,20 +107,18 @@ pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, Pipelin
     let mut listing = Vec::new();
     for (i, frame) in solved.frames.iter().enumerate() {
         let name = format!("frame_{i:04}.vtu");
-        out.write(&name, frame_vtu(&solved.model, frame).as_bytes())
+        out.write(&name, &frame_vtu(&solved.model, frame, encoding))
             .map_err(io)?;
         listing.push((solved.report.frames[i].time, name));
         if let Some(obj) = frame_obj(&solved.model, frame) {
             out.write(&format!("hand_{i:04}.obj"), obj.as_bytes())
                 .map_err(io)?;
         }
-        if let Some(vtu) = bones_vtu(&solved.model, frame) {
-            out.write(&format!("bones_{i:04}.vtu"), vtu.as_bytes())
-                .map_err(io)?;
+        if let Some(vtu) = bones_vtu(&solved.model, frame, encoding) {
+            out.write(&format!("bones_{i:04}.vtu"), &vtu).map_err(io)?;
         }
-        if let Some(vtu) = skin_vtu(&solved.model, frame) {
-            out.write(&format!("skin_{i:04}.vtu"), vtu.as_bytes())
-                .map_err(io)?;
+        if let Some(vtu) = skin_vtu(&solved.model, frame, encoding) {
+            out.write(&format!("skin_{i:04}.vtu"), &vtu).map_err(io)?;
         }
     }
     out.write("frames.pvd", collection_pvd(&listing).as_bytes())

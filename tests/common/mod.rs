@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod limited;
+pub mod vtu;
 
 use nalgebra::Vector3;
 use prehensile::fem::assembly::{assemble, StiffnessPattern};
