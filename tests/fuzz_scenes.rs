@@ -1358,6 +1358,30 @@ fn check_xml(text: &str, problems: &mut Vec<String>) {
     }
 }
 
+/// Every position and morph-target displacement of a glTF binary must be finite (read with the
+/// `gltf` crate); a file it cannot read is a problem.
+fn check_glb(file: &std::path::Path, problems: &mut Vec<String>) {
+    let gltf = match fs::read(file).map(|b| gltf::Gltf::from_slice(&b)) {
+        Ok(Ok(g)) => g,
+        Ok(Err(e)) => return problems.push(format!("not a readable glTF: {e}")),
+        Err(e) => return problems.push(format!("cannot read: {e}")),
+    };
+    let blob = gltf.blob.clone().unwrap_or_default();
+    for mesh in gltf.meshes() {
+        for p in mesh.primitives() {
+            let reader = p.reader(|_| Some(&blob[..]));
+            let mut all: Vec<[f32; 3]> =
+                reader.read_positions().map_or(Vec::new(), |r| r.collect());
+            for (t, _, _) in reader.read_morph_targets() {
+                all.extend(t.into_iter().flatten());
+            }
+            if all.iter().flatten().any(|x| !x.is_finite()) {
+                problems.push(format!("mesh {:?}: a non-finite position", mesh.name()));
+            }
+        }
+    }
+}
+
 /// The coordinates of an OBJ file (`v`, `vn`, `vt` lines) must be finite numbers.
 fn check_obj(text: &str, problems: &mut Vec<String>) {
     for (l, line) in text.lines().enumerate() {
@@ -1439,6 +1463,7 @@ fn check_output(out: &Path) -> Vec<String> {
         match file.extension().and_then(|e| e.to_str()) {
             Some("vtu" | "pvd") => check_xml(&text, &mut found),
             Some("obj") => check_obj(&text, &mut found),
+            Some("glb") => check_glb(&file, &mut found),
             Some("json") => check_json(&text, &mut found),
             _ => {
                 for token in

@@ -87,6 +87,7 @@ fn the_finger_flexion_scene_reports_every_keyframe_and_exports_the_hand() {
         "bones_0003.vtu",
         "frame_0003.vtu",
         "report.json",
+        "animation.glb",
     ] {
         assert!(names.iter().any(|x| x == n), "{n} missing from {names:?}");
     }

@@ -250,6 +250,7 @@ fn a_solve_replaces_the_results_of_an_older_run_as_a_whole() {
         names(&out),
         [
             ".prehensile-output",
+            "animation.glb",
             "frame_0000.vtu",
             "frames.pvd",
             "notes.txt",
@@ -264,7 +265,15 @@ fn a_solve_replaces_the_results_of_an_older_run_as_a_whole() {
     let manifest = std::fs::read_to_string(out.join(".prehensile-output")).unwrap();
     let mut listed: Vec<&str> = manifest.lines().collect();
     listed.sort();
-    assert_eq!(listed, ["frame_0000.vtu", "frames.pvd", "report.json"]);
+    assert_eq!(
+        listed,
+        [
+            "animation.glb",
+            "frame_0000.vtu",
+            "frames.pvd",
+            "report.json"
+        ]
+    );
 
     // A failing solve into the same folder loses nothing of the last good one.
     let before: Vec<(String, Vec<u8>)> = names(&out)

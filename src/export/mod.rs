@@ -4,6 +4,7 @@
 //! Output files: the JSON report, VTU meshes for ParaView, OBJ hand surfaces for Blender, PNG
 //! images, and atomic writing of an output folder.
 
+pub mod gltf_animation;
 pub mod hand_geometry;
 pub mod output;
 pub mod png;

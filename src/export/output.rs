@@ -10,11 +10,12 @@ use std::path::{Path, PathBuf};
 /// The file listing what the last write into a folder put there.
 pub const MANIFEST: &str = ".prehensile-output";
 
-/// Whether `name` is one this program gives its outputs: `report.json`, `frames.pvd`, and
+/// Whether `name` is one this program gives its outputs: `report.json`, `frames.pvd`,
+/// `animation.glb`, and
 /// `frame_`, `hand_`, `bones_`, `skin_` followed by a four-digit (or longer) frame number and
 /// `.vtu`, `.obj` or `.png`.
 pub fn is_output_name(name: &str) -> bool {
-    if name == "report.json" || name == "frames.pvd" {
+    if matches!(name, "report.json" | "frames.pvd" | "animation.glb") {
         return true;
     }
     let Some((stem, ext)) = name.rsplit_once('.') else {

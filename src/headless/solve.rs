@@ -1,5 +1,6 @@
 //! From a scene file to solved frames and written output: what `prehensile solve` does.
 
+use crate::export::gltf_animation::{animated_surfaces, animation_glb};
 use crate::export::hand_geometry::{bones_vtu, frame_obj, skin_vtu};
 use crate::export::output::OutputSet;
 use crate::export::report::{frame_report, model_summary, Report};
@@ -84,9 +85,10 @@ pub fn solve_scene_file(path: &Path) -> Result<Solved, PipelineError> {
     solve_scene(&scene, &path.display().to_string())
 }
 
-/// Writes `report.json`, one `frame_NNNN.vtu` per frame and `frames.pvd` into `dir` (with hands,
-/// also `hand_NNNN.obj`: skin and bones, `bones_NNNN.vtu`, and `skin_NNNN.vtu`: the contact
-/// skin with the tactile map), all or nothing.
+/// Writes `report.json`, one `frame_NNNN.vtu` per frame, `frames.pvd` and `animation.glb` (every
+/// frame of every surface in one animated glTF) into `dir` (with hands, also `hand_NNNN.obj`:
+/// skin and bones, `bones_NNNN.vtu`, and `skin_NNNN.vtu`: the contact skin with the tactile map),
+/// all or nothing.
 pub fn write_solved(solved: &Solved, dir: &Path) -> Result<Vec<PathBuf>, PipelineError> {
     write_solved_as(solved, dir, VtuEncoding::default())
 }
@@ -123,5 +125,10 @@ pub fn write_solved_as(
     }
     out.write("frames.pvd", collection_pvd(&listing).as_bytes())
         .map_err(io)?;
+    // Every frame in one animated glTF for Blender and other DCC tools.
+    let times: Vec<f64> = solved.report.frames.iter().map(|f| f.time).collect();
+    let glb = animation_glb(&animated_surfaces(&solved.model, &solved.frames), &times)
+        .map_err(|e| io(std::io::Error::other(format!("animation.glb: {e}"))))?;
+    out.write("animation.glb", &glb).map_err(io)?;
     out.commit().map_err(io)
 }

@@ -1,0 +1,419 @@
+//! The solved frames as one animated glTF 2.0 binary (`animation.glb`) for Blender, Maya and
+//! other DCC tools: every hand's display skin and each of its bones, and the boundary surface of
+//! every other body (the ball, the bowl), deformed, animated over the frames' times.
+//!
+//! Each surface is one mesh whose base is its first frame and whose morph targets are the other
+//! frames (each the displacement from the first); one animation drives the morph weights, frame
+//! k at its time with weight 1 on target k (LINEAR between frames: the positions interpolate
+//! linearly between solved frames). Morph targets were chosen over a node per frame: one mesh
+//! per surface, which Blender imports as an object with animated shape keys, playing smoothly
+//! between frames (a node per frame would pop from one copy to the next). The data stay in the
+//! scene's Z-up metres; the root node turns them to glTF's Y-up (−90° about x), as Blender's
+//! importer expects. The bodies other than hands carry the contact pressure as the vertex
+//! colour COLOR_0 (the largest over the frames, blue 0 → red at its peak) when they touch.
+
+use crate::model::Model;
+use crate::state::Frame;
+use gltf_json as json;
+use json::validation::Checked::Valid;
+use json::validation::USize64;
+use nalgebra::Vector3;
+use std::borrow::Cow;
+use std::collections::{BTreeMap, HashMap};
+
+/// One surface animated over the frames.
+#[derive(Clone, Debug)]
+pub struct AnimatedSurface {
+    /// The object's name.
+    pub name: String,
+    /// Triangles (vertex indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// The vertex positions of each frame, m (scene axes).
+    pub frames: Vec<Vec<Vector3<f64>>>,
+    /// A colour per vertex (RGB, 0–1), if any.
+    pub colors: Option<Vec<[f32; 3]>>,
+}
+
+/// The surfaces of the solved `frames` of `model`: each hand's display skin and bones, and each
+/// other body's boundary (its facets split into triangles).
+pub fn animated_surfaces(model: &Model, frames: &[Frame]) -> Vec<AnimatedSurface> {
+    let mut out = Vec::new();
+    let Some(first) = frames.first() else {
+        return out;
+    };
+    for h in &first.hands {
+        let body = &model.bodies[h.body];
+        let Some(hand) = body.hand.as_deref() else {
+            continue;
+        };
+        let of_hand = |f: &Frame| f.hands.iter().find(|x| x.body == h.body).cloned();
+        out.push(AnimatedSurface {
+            name: format!("{}_skin", body.name),
+            triangles: hand
+                .skin
+                .quads
+                .iter()
+                .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+                .collect(),
+            frames: frames
+                .iter()
+                .map(|f| {
+                    of_hand(f).map_or_else(
+                        || hand.skin.positions(&h.positions),
+                        |x| hand.skin.positions(&x.positions),
+                    )
+                })
+                .collect(),
+            colors: None,
+        });
+        let posed: Vec<Vec<(usize, crate::hand::TriangleSurface)>> = frames
+            .iter()
+            .map(|f| hand.posed_bones(&of_hand(f).map_or(h.angles.clone(), |x| x.angles)))
+            .collect();
+        for (k, (b, (_, triangles))) in posed[0].iter().enumerate() {
+            out.push(AnimatedSurface {
+                name: format!("{}_{}", body.name, hand.skeleton.bones[*b].name),
+                triangles: triangles.clone(),
+                frames: posed.iter().map(|p| p[k].1 .0.clone()).collect(),
+                colors: None,
+            });
+        }
+    }
+    let pressures: Vec<Option<Vec<f64>>> = frames
+        .iter()
+        .map(|f| crate::state::contact_pressure(model, f))
+        .collect();
+    for body in model.bodies.iter().filter(|b| b.hand.is_none()) {
+        // The body's boundary nodes, numbered in order of appearance.
+        let mut local: HashMap<usize, u32> = HashMap::new();
+        let mut nodes = Vec::new();
+        let mut index = |n: usize| {
+            *local.entry(n).or_insert_with(|| {
+                nodes.push(n);
+                (nodes.len() - 1) as u32
+            })
+        };
+        let triangles: Vec<[u32; 3]> = body
+            .facets
+            .iter()
+            .flat_map(|f| {
+                let q = f.nodes.map(&mut index);
+                [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+            })
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect();
+        let position = |f: &Frame, n: usize| {
+            let u = &f.solution.displacement;
+            model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
+        };
+        let peak: Vec<f64> = nodes
+            .iter()
+            .map(|&n| pressures.iter().flatten().map(|p| p[n]).fold(0.0, f64::max))
+            .collect();
+        let top = peak.iter().copied().fold(0.0, f64::max);
+        out.push(AnimatedSurface {
+            name: body.name.clone(),
+            triangles,
+            frames: frames
+                .iter()
+                .map(|f| nodes.iter().map(|&n| position(f, n)).collect())
+                .collect(),
+            colors: (top > 0.0).then(|| {
+                peak.iter()
+                    .map(|p| {
+                        let t = (p / top) as f32;
+                        [t, 0.2 * (1.0 - t), 1.0 - t]
+                    })
+                    .collect()
+            }),
+        });
+    }
+    out
+}
+
+/// The binary buffer and the JSON being built.
+struct Builder {
+    root: json::Root,
+    bin: Vec<u8>,
+}
+
+impl Builder {
+    /// A buffer view of `bytes` (padded to 4 bytes), for vertex data or indices.
+    fn view(
+        &mut self,
+        bytes: &[u8],
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        self.root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64::from(bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: None,
+            target: target.map(Valid),
+        })
+    }
+
+    /// An accessor of f32 values of `type_` (with min and max when asked).
+    fn floats(
+        &mut self,
+        values: &[f32],
+        type_: json::accessor::Type,
+        bounds: bool,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::Accessor> {
+        let width = type_.multiplicity();
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, target);
+        let (min, max) = if bounds {
+            let mut min = vec![f32::INFINITY; width];
+            let mut max = vec![f32::NEG_INFINITY; width];
+            for chunk in values.chunks(width) {
+                for i in 0..width {
+                    min[i] = min[i].min(chunk[i]);
+                    max[i] = max[i].max(chunk[i]);
+                }
+            }
+            (Some(json::Value::from(min)), Some(json::Value::from(max)))
+        } else {
+            (None, None)
+        };
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(values.len() / width),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::F32,
+            )),
+            extensions: Default::default(),
+            extras: Default::default(),
+            type_: Valid(type_),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+}
+
+/// Why the animation cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum GltfError {
+    /// A value that is not finite, or a frame count that does not match.
+    #[error("surface \"{surface}\": {reason}")]
+    Surface {
+        /// The surface.
+        surface: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file would exceed glTF's 4 GiB.
+    #[error("the animation would take {0} bytes, beyond glTF's 4 GiB limit")]
+    TooLarge(usize),
+}
+
+/// The `.glb` bytes of `surfaces` animated at `times` (s, one per frame, increasing).
+pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<u8>, GltfError> {
+    let mut b = Builder {
+        root: json::Root::default(),
+        bin: Vec::new(),
+    };
+    b.root.asset.generator = Some(format!("prehensile {}", env!("CARGO_PKG_VERSION")));
+    let targets = times.len().saturating_sub(1);
+    let mut nodes = Vec::new();
+    for s in surfaces {
+        let bad = |reason: String| GltfError::Surface {
+            surface: s.name.clone(),
+            reason,
+        };
+        if s.frames.len() != times.len() {
+            return Err(bad(format!(
+                "{} frames for {} times",
+                s.frames.len(),
+                times.len()
+            )));
+        }
+        let base = &s.frames[0];
+        if s.frames
+            .iter()
+            .flatten()
+            .any(|p| !p.iter().all(|x| x.is_finite()))
+        {
+            return Err(bad("a non-finite position".into()));
+        }
+        let flat = |p: &[Vector3<f64>]| -> Vec<f32> {
+            p.iter()
+                .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+                .collect()
+        };
+        let positions = b.floats(
+            &flat(base),
+            json::accessor::Type::Vec3,
+            true,
+            Some(json::buffer::Target::ArrayBuffer),
+        );
+        let mut attributes = BTreeMap::new();
+        attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
+        if let Some(colors) = &s.colors {
+            let c: Vec<f32> = colors.iter().flatten().copied().collect();
+            let accessor = b.floats(
+                &c,
+                json::accessor::Type::Vec3,
+                false,
+                Some(json::buffer::Target::ArrayBuffer),
+            );
+            attributes.insert(Valid(json::mesh::Semantic::Colors(0)), accessor);
+        }
+        let index_bytes: Vec<u8> = s
+            .triangles
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        let view = b.view(&index_bytes, Some(json::buffer::Target::ElementArrayBuffer));
+        let indices = b.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(3 * s.triangles.len()),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::U32,
+            )),
+            extensions: Default::default(),
+            extras: Default::default(),
+            type_: Valid(json::accessor::Type::Scalar),
+            min: None,
+            max: None,
+            name: None,
+            normalized: false,
+            sparse: None,
+        });
+        let morphs: Vec<json::mesh::MorphTarget> = s.frames[1..]
+            .iter()
+            .map(|frame| {
+                let delta: Vec<f32> = frame
+                    .iter()
+                    .zip(base)
+                    .flat_map(|(p, q)| {
+                        let d = p - q;
+                        [d.x as f32, d.y as f32, d.z as f32]
+                    })
+                    .collect();
+                json::mesh::MorphTarget {
+                    positions: Some(b.floats(
+                        &delta,
+                        json::accessor::Type::Vec3,
+                        true,
+                        Some(json::buffer::Target::ArrayBuffer),
+                    )),
+                    normals: None,
+                    tangents: None,
+                }
+            })
+            .collect();
+        let mesh = b.root.push(json::Mesh {
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: Some(s.name.clone()),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                extensions: Default::default(),
+                extras: Default::default(),
+                indices: Some(indices),
+                material: None,
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: (!morphs.is_empty()).then_some(morphs),
+            }],
+            weights: (targets > 0).then(|| vec![0.0; targets]),
+        });
+        nodes.push(b.root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(s.name.clone()),
+            ..Default::default()
+        }));
+    }
+    if targets > 0 && !nodes.is_empty() {
+        // Frame k (k ≥ 1) at its time: weight 1 on target k; frame 0: all zero.
+        let input: Vec<f32> = times.iter().map(|&t| t as f32).collect();
+        let input = b.floats(&input, json::accessor::Type::Scalar, true, None);
+        let mut weights = vec![0.0f32; times.len() * targets];
+        for k in 1..times.len() {
+            weights[k * targets + (k - 1)] = 1.0;
+        }
+        let output = b.floats(&weights, json::accessor::Type::Scalar, false, None);
+        let sampler = json::animation::Sampler {
+            extensions: Default::default(),
+            extras: Default::default(),
+            input,
+            interpolation: Valid(json::animation::Interpolation::Linear),
+            output,
+        };
+        let channels = nodes
+            .iter()
+            .map(|&node| json::animation::Channel {
+                sampler: json::Index::new(0),
+                target: json::animation::Target {
+                    extensions: Default::default(),
+                    extras: Default::default(),
+                    node,
+                    path: Valid(json::animation::Property::MorphTargetWeights),
+                },
+                extensions: Default::default(),
+                extras: Default::default(),
+            })
+            .collect();
+        b.root.push(json::Animation {
+            extensions: Default::default(),
+            extras: Default::default(),
+            channels,
+            name: Some("grasp".into()),
+            samplers: vec![sampler],
+        });
+    }
+    // Z-up scene axes to glTF's Y-up: −90° about x.
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let root_node = b.root.push(json::Node {
+        children: Some(nodes),
+        name: Some("prehensile (Z-up)".into()),
+        rotation: Some(json::scene::UnitQuaternion([-h, 0.0, 0.0, h])),
+        ..Default::default()
+    });
+    let scene = b.root.push(json::Scene {
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        nodes: vec![root_node],
+    });
+    b.root.scene = Some(scene);
+    b.root.push(json::Buffer {
+        byte_length: USize64::from(b.bin.len()),
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        uri: None,
+    });
+    let text = json::serialize::to_string(&b.root).expect("the glTF JSON serialises");
+    let mut json_bytes = text.into_bytes();
+    while json_bytes.len() % 4 != 0 {
+        json_bytes.push(b' ');
+    }
+    let length = 12 + 8 + json_bytes.len() + 8 + b.bin.len();
+    let length32 = u32::try_from(length).map_err(|_| GltfError::TooLarge(length))?;
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            length: length32,
+        },
+        json: Cow::Owned(json_bytes),
+        bin: Some(Cow::Owned(b.bin)),
+    };
+    glb.to_vec().map_err(|_| GltfError::TooLarge(length))
+}
