@@ -297,3 +297,72 @@ fn the_far_fingers_checkbox_writes_the_scene_key() {
     let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
     assert_eq!(model.flexion.near_contact, None);
 }
+
+/// The File panel's glTF button writes the solved timeline frames as one animated
+/// `animation.glb`: one mesh per surface, a morph target per later frame, the keys' times.
+#[test]
+fn the_gltf_button_exports_the_solved_timeline() {
+    let port = FakePort::new();
+    let state = ViewerState::new(scene(), "default", Box::new(port.clone())).unwrap();
+    let mut h = harness(state);
+    port.answer_frame(1, 0.0, None);
+    h.step();
+    // Before any timeline frame: told so, nothing written.
+    let dir = std::env::temp_dir().join(format!("prehensile-gltf-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    h.state_mut().export_dir = dir.display().to_string();
+    h.state_mut()
+        .timeline
+        .frames
+        .iter_mut()
+        .for_each(|f| *f = None);
+    h.get_by_label("glTF").click_accesskit();
+    h.step();
+    let message = h.state().status.message.clone().unwrap_or_default();
+    assert!(
+        message.starts_with("no glTF"),
+        "{message:?} {:?}",
+        h.state().status.error
+    );
+    assert!(!dir.join("animation.glb").exists());
+    // The timeline solved (three keys): written.
+    let job = port.jobs().last().unwrap().clone();
+    for i in 0..3 {
+        port.answer_frame(job.version, 10.0 + i as f32, Some(i));
+    }
+    h.step();
+    h.get_by_label("glTF").click_accesskit();
+    h.step();
+    let message = h.state().status.message.clone().unwrap_or_default();
+    assert!(
+        message.starts_with("wrote") && message.ends_with("animation.glb"),
+        "{message}"
+    );
+    let gltf = gltf::Gltf::from_slice(&std::fs::read(dir.join("animation.glb")).unwrap()).unwrap();
+    let blob = gltf.blob.clone().unwrap();
+    let mesh = gltf.meshes().next().unwrap();
+    assert_eq!(mesh.name(), Some("b"));
+    let primitive = mesh.primitives().next().unwrap();
+    let reader = primitive.reader(|_| Some(&blob[..]));
+    assert_eq!(reader.read_morph_targets().count(), 2);
+    let times: Vec<f32> = gltf
+        .animations()
+        .next()
+        .unwrap()
+        .channels()
+        .next()
+        .unwrap()
+        .reader(|_| Some(&blob[..]))
+        .read_inputs()
+        .unwrap()
+        .collect();
+    let keys: Vec<f32> = h
+        .state()
+        .timeline
+        .keys
+        .iter()
+        .map(|k| k.time as f32)
+        .collect();
+    assert_eq!(times, keys);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,8 +1,9 @@
 //! The File panel's actions: save and load the scene (with its keyframes) as TOML, written
 //! atomically; export the shown frame as PNG, and the solved timeline frames as a PNG sequence
-//! and as OBJ files (skin and bones).
+//! and as OBJ files (skin and bones) or one animated glTF (`animation.glb`).
 
 use super::state::ViewerState;
+use crate::export::gltf_animation::{animated_surfaces, animation_glb};
 use crate::export::hand_geometry::frame_obj;
 use crate::export::output::OutputSet;
 use crate::export::png::{png_bytes, write_png_atomic};
@@ -128,4 +129,38 @@ pub fn export_obj(state: &ViewerState) -> Result<Vec<PathBuf>, FileError> {
         ));
     }
     out.commit().map_err(io(&dir))
+}
+
+/// Writes the solved timeline frames (those of the current scene, at their keys' times) as one
+/// animated glTF, `dir/animation.glb`, atomically.
+pub fn export_gltf(state: &ViewerState) -> Result<PathBuf, FileError> {
+    let solved: Vec<(f64, &super::jobs::Solution)> = state
+        .timeline
+        .keys
+        .iter()
+        .zip(&state.timeline.frames)
+        .filter_map(|(k, f)| f.as_ref().map(|f| (k.time, f)))
+        .collect();
+    let Some((_, first)) = solved.first() else {
+        return Err(FileError::Nothing("no solved timeline frame to export"));
+    };
+    let model = &first.model;
+    // Frames of the same mesh only (a frame left from before an edit of the scene is not).
+    let same = |m: &crate::model::Model| {
+        m.mesh.node_count() == model.mesh.node_count()
+            && m.mesh.cell_count() == model.mesh.cell_count()
+            && m.bodies.len() == model.bodies.len()
+    };
+    let (times, frames): (Vec<f64>, Vec<crate::state::Frame>) = solved
+        .iter()
+        .filter(|(_, f)| same(&f.model))
+        .map(|(t, f)| (*t, (*f.frame).clone()))
+        .unzip();
+    let dir = PathBuf::from(&state.export_dir);
+    let bytes = animation_glb(&animated_surfaces(model, &frames), &times)
+        .map_err(|e| FileError::Timeline(e.to_string()))?;
+    let path = dir.join("animation.glb");
+    std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+    write_atomic(&path, &bytes)?;
+    Ok(path)
 }

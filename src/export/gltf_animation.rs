@@ -146,7 +146,7 @@ impl Builder {
     ) -> json::Index<json::buffer::View> {
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         self.root.push(json::buffer::View {
@@ -401,7 +401,7 @@ pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<
     });
     let text = json::serialize::to_string(&b.root).expect("the glTF JSON serialises");
     let mut json_bytes = text.into_bytes();
-    while json_bytes.len() % 4 != 0 {
+    while !json_bytes.len().is_multiple_of(4) {
         json_bytes.push(b' ');
     }
     let length = 12 + 8 + json_bytes.len() + 8 + b.bin.len();

@@ -1,6 +1,8 @@
-//! File: save and load the scene with its keyframes; export PNG, PNG sequence, OBJ.
+//! File: save and load the scene with its keyframes; export PNG, PNG sequence, OBJ, glTF.
 
-use super::super::files::{export_obj, export_png, export_png_sequence, load_scene, save_scene};
+use super::super::files::{
+    export_gltf, export_obj, export_png, export_png_sequence, load_scene, save_scene,
+};
 use super::super::state::ViewerState;
 
 const EXPORT_SIZE: (u32, u32) = (1280, 720);
@@ -48,6 +50,16 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             state.status.message = Some(match export_obj(state) {
                 Ok(p) => format!("wrote {} OBJ files", p.len()),
                 Err(e) => format!("no OBJ: {e}"),
+            });
+        }
+        if ui
+            .button("glTF")
+            .on_hover_text("every solved timeline frame as one animated animation.glb (Blender)")
+            .clicked()
+        {
+            state.status.message = Some(match export_gltf(state) {
+                Ok(p) => format!("wrote {}", p.display()),
+                Err(e) => format!("no glTF: {e}"),
             });
         }
     });

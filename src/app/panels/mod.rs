@@ -52,7 +52,7 @@ impl ViewerState {
                         .default_open(true)
                         .show(ui, |ui| status::ui(self, ui));
                     CollapsingHeader::new("File")
-                        .default_open(false)
+                        .default_open(true)
                         .show(ui, |ui| file::ui(self, ui));
                 });
             });
