@@ -485,6 +485,29 @@ fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
     assert_eq!(worst.bone, "ring.distal");
     assert!(worst.excess > 0.0 && worst.reaction > worst.threshold);
     assert!(worst.advice.contains("ring."), "{}", worst.advice);
+    // The advice followed: each joint it names moved 2° the way it says ("decrease J" / "increase
+    // J") in the last keyframe; the grasp is then realisable, and the ring finger still touches.
+    let mut scene =
+        prehensile::scene::Scene::load(std::path::Path::new("assets/scenes/bowl-grasp.toml"))
+            .unwrap();
+    let pose = &mut scene.keyframe.last_mut().unwrap().pose;
+    for o in &h_bowl.overloads {
+        let step = if o.advice.starts_with("decrease ") {
+            -2.0
+        } else {
+            assert!(o.advice.starts_with("increase "), "{}", o.advice);
+            2.0
+        };
+        let angle = pose
+            .get_mut(&o.joint)
+            .expect("the advice names a posed joint");
+        *angle += step;
+        println!("followed: {} {} → {:.1}°", o.joint, step, angle);
+    }
+    let eased = prehensile::headless::solve_scene(&scene, "bowl-eased.toml").unwrap();
+    let h = &eased.report.frames.last().unwrap().hands["hand"];
+    assert!(h.realisable, "{:?}", h.overloads);
+    assert!(h.contact.contains_key("ring"));
 }
 
 #[test]

@@ -607,6 +607,16 @@ fn print_summary(solved: &Solved) {
                 }
             );
         }
+        // A grasp its muscles cannot hold (the paper: not realisable), with what to do.
+        for (name, h) in f.hands.iter().filter(|(_, h)| !h.realisable) {
+            for o in &h.overloads {
+                println!(
+                    "  hand {name}: not realisable: {} pushed with {:.3} N, above its threshold \
+                     {:.3} N; {}",
+                    o.bone, o.reaction, o.threshold, o.advice
+                );
+            }
+        }
         for (name, p) in &f.probes {
             println!(
                 "  probe {name}: displacement [{:.4e}, {:.4e}, {:.4e}] m",

@@ -430,9 +430,9 @@ pub(crate) fn what_failed(cause: &ContactError) -> String {
 fn stop_short_advice(self_contact: bool, share: Option<f64>) -> String {
     let short = match share {
         Some(share) => format!(
-            "pose the keyframe short of that: the motion failed at {:.1} % of its way from the \
-             pose before it (a keyframe with every joint's motion scaled to less than that is \
-             reached)",
+            "pose the frame short of that (its keyframe; for the first frame, the body's \
+             `pose`): the motion failed at {:.1} % of its way from the pose before it (a pose \
+             with every joint's motion scaled to less than that is reached)",
             100.0 * share
         ),
         None => "stop the joints short of those angles".into(),
