@@ -657,6 +657,64 @@ fn a_motion_the_contact_cannot_follow_exits_non_zero_and_its_advice_works() {
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
 
+/// A block 1 cm above its table under gravity falls onto it: the error says how far it moves
+/// before contact holds it (the gap) and that it starts that far away, and both pieces of its
+/// advice work — placed on the table, it solves; given a support, it solves.
+#[test]
+fn a_block_above_its_table_is_told_it_starts_apart_and_both_fixes_work() {
+    let scene = |bottom: f64, constraint: &str| {
+        format!(
+            r#"
+[world]
+gravity = [0.0, 0.0, -9.81]
+
+[[material]]
+name = "rubber"
+young = 1.0e6
+poisson = 0.3
+density = 1100.0
+
+[[body]]
+name = "block"
+material = "rubber"
+shape = {{ box = {{ min = [0.0, 0.0, {bottom:?}], max = [0.1, 0.1, {top:?}], cells = [4, 4, 4] }} }}
+
+[[obstacle]]
+name = "table"
+shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
+{constraint}
+"#,
+            top = bottom + 0.1
+        )
+    };
+    let dir = fresh("above_table");
+    let (output, stderr, out) = solve_text(&dir, &scene(0.01, ""));
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("starts that far from what holds it"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("slides"), "{stderr}");
+    // How far: the 1 cm gap (and the block's small sag under its weight).
+    let moved: f64 = stderr
+        .split("(it moves ")
+        .nth(1)
+        .and_then(|t| t.split(" m").next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    assert!((moved - 0.01).abs() < 0.0005, "{moved}");
+    assert!(names(&out).is_empty());
+    // "place it on what holds it": on the table, its weight on the table.
+    let (output, stderr, _) = solve_text(&fresh("on_table"), &scene(0.0, ""));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    // "give it supports".
+    let support = "[[constraint]]\nname = \"pin\"\nbody = \"block\"\n\
+                   where = { face = \"z-\" }\ndisplacement = [0.0, 0.0, 0.0]\n";
+    let (output, stderr, _) = solve_text(&fresh("above_supported"), &scene(0.01, support));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
 #[test]
 fn a_block_on_a_slope_runs_away_and_the_advice_to_support_it_works() {
     // A block on a 20° slope (the gravity tilted), held by nothing but the frictionless plane.

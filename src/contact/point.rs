@@ -329,9 +329,8 @@ pub enum ContactError {
     /// A body is held by nothing: after contact it still moves rigidly.
     #[error(
         "body \"{body}\" is not held: {held:.1} % of the forces on it are carried by nothing \
-         (it {motion}); give it supports (a [[constraint]]), or close the grasp so that contact \
-         holds it (in a scene without hands, contact with obstacles is frictionless: they \
-         hold a body only along their normals)"
+         (it {motion}); {place}give it supports (a [[constraint]]) (in a scene without hands, \
+         contact with obstacles is frictionless: they hold a body only along their normals)"
     )]
     NotHeld {
         /// The body.
@@ -340,14 +339,16 @@ pub enum ContactError {
         held: f64,
         /// What it does ("falls", "slides").
         motion: String,
+        /// Advice before the supports ("place it on what holds it, or "), or nothing.
+        place: String,
     },
     /// Contact and friction cannot hold a body still: it runs away (slides or falls) until only
     /// the weak ground springs of a floating body stop it.
     #[error(
         "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts} \
          contacts, {slipping} slipping); the body slides or falls — give it supports (a \
-         [[constraint]]) or a closed grasp (in a scene without hands, contact with obstacles is \
-         frictionless: more friction does not hold it)"
+         [[constraint]]) (in a scene without hands, contact with obstacles is frictionless: more \
+         friction does not hold it)"
     )]
     Runaway {
         /// The node moving most.

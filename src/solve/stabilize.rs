@@ -51,6 +51,10 @@ pub fn check_held(
         let body = &model.bodies[b];
         let mut carried: Vector3<f64> = Vector3::zeros();
         let mut applied: Vector3<f64> = Vector3::zeros();
+        let mut moved: Vector3<f64> = Vector3::zeros();
+        // The loads' gross size: where they balance (a cavity's air), what round-off is measured
+        // against.
+        let mut gross = 0.0;
         for n in body.nodes.clone() {
             for a in 0..3 {
                 let d = 3 * n + a;
@@ -58,8 +62,11 @@ pub fn check_held(
                     carried[a] += spring * u[d];
                 }
                 applied[a] += model.load_vector[d];
+                gross += model.load_vector[d].abs();
+                moved[a] += u[d];
             }
         }
+        let moved = moved / body.nodes.len().max(1) as f64;
         let mut contact = 0.0;
         let mut touching = false;
         for c in &result.contacts {
@@ -70,15 +77,34 @@ pub fn check_held(
                 }
             }
         }
-        let scale = applied.norm().max(contact).max(f64::MIN_POSITIVE);
+        let scale = applied
+            .norm()
+            .max(contact)
+            .max(1e-9 * gross)
+            .max(f64::MIN_POSITIVE);
         if carried.norm() > HELD * scale {
+            // Touching after a rigid move of more than the contact's tolerance: it started
+            // that far from what holds it (a block above its table falls onto it).
+            let apart = moved.norm() > model.contact.penetration_limit();
             return Err(ContactError::NotHeld {
                 body: body.name.clone(),
                 held: 100.0 * carried.norm() / scale,
-                motion: if touching {
-                    "slides: friction and contact cannot balance the load".into()
+                motion: match (touching, apart) {
+                    (false, _) => "falls: nothing touches it".into(),
+                    (true, true) => format!(
+                        "moves {:.3e} m along ({:.2}, {:.2}, {:.2}) before contact holds it: it \
+                         starts that far from what holds it",
+                        moved.norm(),
+                        moved.x / moved.norm(),
+                        moved.y / moved.norm(),
+                        moved.z / moved.norm()
+                    ),
+                    (true, false) => "slides: friction and contact cannot balance the load".into(),
+                },
+                place: if touching && apart {
+                    "place it on what holds it, or ".into()
                 } else {
-                    "falls: nothing touches it".into()
+                    String::new()
                 },
             });
         }
