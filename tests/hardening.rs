@@ -657,6 +657,34 @@ fn a_motion_the_contact_cannot_follow_exits_non_zero_and_its_advice_works() {
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
 
+/// A node of a held body (the hand, the supported ball) moving more than 10 contact search
+/// depths in one contact step is not a body without supports: with `contact_search = 0.2 mm`
+/// the finger press to MCP 30° says the search is too short and to raise
+/// `solver.contact_search`; raised (to the default, 10 mm) it solves.
+#[test]
+fn a_held_body_moving_beyond_the_search_is_told_to_raise_contact_search() {
+    let scene = |search: &str| {
+        std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
+            .unwrap()
+            .replacen("[solver]\n", &format!("[solver]\n{search}"), 1)
+            .replace("resolution = 1.0", "resolution = 0.5")
+            .replace(
+                "pose = { \"index.mcp.flex\" = 21.5 }",
+                "pose = { \"index.mcp.flex\" = 30.0 }",
+            )
+    };
+    let (output, stderr, out) =
+        solve_text(&fresh("short_search"), &scene("contact_search = 0.0002\n"));
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("raise solver.contact_search"), "{stderr}");
+    assert!(!stderr.contains("give it supports"), "{stderr}");
+    assert!(names(&out).is_empty());
+    let (output, stderr, _) =
+        solve_text(&fresh("default_search"), &scene("contact_search = 0.01\n"));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
 /// A block 1 cm above its table under gravity falls onto it: the error says how far it moves
 /// before contact holds it (the gap) and that it starts that far away, and both pieces of its
 /// advice work — placed on the table, it solves; given a support, it solves.

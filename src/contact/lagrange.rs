@@ -39,8 +39,8 @@ use std::time::Instant;
 /// Share of the deepest penetration below which candidates join in one iteration.
 const JOIN_SHARE: f64 = 0.3;
 
-/// A displacement this many search depths long is a runaway (a floating body not held).
-const RUNAWAY: f64 = 10.0;
+/// A contact step whose displacements move a node more than this many search depths runs away.
+pub const RUNAWAY: f64 = 10.0;
 
 /// Solves the contact problem by the active set (see the module documentation).
 pub fn solve_lagrange(

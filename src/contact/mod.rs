@@ -19,7 +19,7 @@ mod self_contact;
 mod surface;
 
 pub use embedded::EmbeddedPoints;
-pub use lagrange::{solve_lagrange, solve_with_obstacles};
+pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;
 pub use point::{

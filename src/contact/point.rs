@@ -360,6 +360,28 @@ pub enum ContactError {
         /// Of which slipping.
         slipping: usize,
     },
+    /// A node of a body that its supports (or bones) hold moved more than the contact's reach
+    /// allows within one contact step: the contact search is too short for the motion (a
+    /// runaway of a held body is not a missing support).
+    #[error(
+        "node {node} of body \"{body}\" would move {distance:.3e} m within one contact step, \
+         more than {factor} × the contact search depth ({search:.1e} m): the search is too \
+         short for this motion — raise solver.contact_search (the default is {default:.0e} m)"
+    )]
+    BeyondSearch {
+        /// The node, numbered within its body.
+        node: usize,
+        /// Its body.
+        body: String,
+        /// How far it would move, m.
+        distance: f64,
+        /// The runaway factor.
+        factor: f64,
+        /// The contact search depth, m.
+        search: f64,
+        /// The default search depth, m.
+        default: f64,
+    },
     /// A node of one body is inside another and the contact does not hold it: beyond what
     /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
     /// the inner wall and looks outside).
