@@ -450,11 +450,6 @@ fn gas_keys_are_checked() {
             "load[0]).pressure",
             "must be > 0",
         ),
-        (
-            format!("{good}\n[solver]\ntier = \"nonlinear\"\n"),
-            "load[0]).gas",
-            "nonlinear",
-        ),
     ];
     for (text, field, words) in cases {
         let e = build_error(&text);

@@ -450,40 +450,27 @@ fn stop_short_advice(self_contact: bool, share: Option<f64>) -> String {
 /// failed: `share_of(body, joint, angle)` measures the failing joint's angle along its own
 /// motion in the keyframe (every joint of a hand moves in proportion).
 pub(crate) fn with_keyframe_share(
-    error: SimError,
+    mut error: SimError,
     share_of: impl Fn(&str, &str, f64) -> Option<f64>,
 ) -> SimError {
-    match error {
-        SimError::FleshCrushed {
-            body,
-            element,
-            rest_position_mm,
-            joint,
-            angle,
-            self_contact,
-            share: None,
-        } => SimError::FleshCrushed {
-            share: share_of(&body, &joint, angle),
-            body,
-            element,
-            rest_position_mm,
-            joint,
-            angle,
-            self_contact,
-        },
-        SimError::SelfContactUnsettled {
-            body,
-            joint,
-            angle,
-            reason,
-            share: None,
-        } => SimError::SelfContactUnsettled {
-            share: share_of(&body, &joint, angle),
-            body,
-            joint,
-            angle,
-            reason,
-        },
-        other => other,
+    if let SimError::FleshCrushed {
+        body,
+        joint,
+        angle,
+        share,
+        ..
     }
+    | SimError::SelfContactUnsettled {
+        body,
+        joint,
+        angle,
+        share,
+        ..
+    } = &mut error
+    {
+        if share.is_none() {
+            *share = share_of(body, joint, *angle);
+        }
+    }
+    error
 }
