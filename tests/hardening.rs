@@ -685,16 +685,16 @@ fn a_held_body_moving_beyond_the_search_is_told_to_raise_contact_search() {
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
 
-/// A block 1 cm above its table under gravity falls onto it: the error says how far it moves
-/// before contact holds it (the gap) and that it starts that far away, and both pieces of its
-/// advice work — placed on the table, it solves; given a support, it solves.
-#[test]
-fn a_block_above_its_table_is_told_it_starts_apart_and_both_fixes_work() {
-    let scene = |bottom: f64, constraint: &str| {
-        format!(
-            r#"
+/// A 10 cm rubber block (4³ cells) with its bottom at height `bottom` above a frictionless
+/// table at z = 0, under `gravity`, with `extra` TOML ([solver] keys go in `solver`).
+fn block_on_table(gravity: [f64; 3], solver: &str, bottom: f64, extra: &str) -> String {
+    format!(
+        r#"
 [world]
-gravity = [0.0, 0.0, -9.81]
+gravity = {gravity:?}
+
+[solver]
+{solver}
 
 [[material]]
 name = "rubber"
@@ -710,11 +710,23 @@ shape = {{ box = {{ min = [0.0, 0.0, {bottom:?}], max = [0.1, 0.1, {top:?}], cel
 [[obstacle]]
 name = "table"
 shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
-{constraint}
+{extra}
 "#,
-            top = bottom + 0.1
-        )
-    };
+        top = bottom + 0.1
+    )
+}
+
+/// A support holding the block's base where it is.
+const BLOCK_SUPPORT: &str = "[[constraint]]\nname = \"pin\"\nbody = \"block\"\n\
+                             where = { face = \"z-\" }\ndisplacement = [0.0, 0.0, 0.0]\n";
+
+/// A block 1 cm above its table under gravity falls onto it: the error says how far it moves
+/// before contact holds it (the gap) and that it starts that far away, and both pieces of its
+/// advice work — placed on the table, it solves; given a support, it solves.
+#[test]
+fn a_block_above_its_table_is_told_it_starts_apart_and_both_fixes_work() {
+    let scene =
+        |bottom: f64, constraint: &str| block_on_table([0.0, 0.0, -9.81], "", bottom, constraint);
     let dir = fresh("above_table");
     let (output, stderr, out) = solve_text(&dir, &scene(0.01, ""));
     println!("{stderr}");
@@ -737,9 +749,7 @@ shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
     let (output, stderr, _) = solve_text(&fresh("on_table"), &scene(0.0, ""));
     assert_eq!(output.status.code(), Some(0), "{stderr}");
     // "give it supports".
-    let support = "[[constraint]]\nname = \"pin\"\nbody = \"block\"\n\
-                   where = { face = \"z-\" }\ndisplacement = [0.0, 0.0, 0.0]\n";
-    let (output, stderr, _) = solve_text(&fresh("above_supported"), &scene(0.01, support));
+    let (output, stderr, _) = solve_text(&fresh("above_supported"), &scene(0.01, BLOCK_SUPPORT));
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
 
@@ -747,30 +757,11 @@ shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
 fn a_block_on_a_slope_runs_away_and_the_advice_to_support_it_works() {
     // A block on a 20° slope (the gravity tilted), held by nothing but the frictionless plane.
     let scene = |mu: f64, constraint: &str| {
-        format!(
-            r#"
-[world]
-gravity = [3.355, 0.0, -9.218]
-
-[solver]
-friction = {mu:?}
-
-[[material]]
-name = "rubber"
-young = 1.0e6
-poisson = 0.3
-density = 1100.0
-
-[[body]]
-name = "block"
-material = "rubber"
-shape = {{ box = {{ min = [0.0, 0.0, 0.0], max = [0.1, 0.1, 0.1], cells = [4, 4, 4] }} }}
-
-[[obstacle]]
-name = "table"
-shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
-{constraint}
-"#
+        block_on_table(
+            [3.355, 0.0, -9.218],
+            &format!("friction = {mu:?}"),
+            0.0,
+            constraint,
         )
     };
     let dir = fresh("slope");
@@ -781,10 +772,8 @@ shape = {{ plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }} }}
     assert!(!stderr.contains("more friction,"), "{stderr}");
     assert!(names(&out).is_empty());
     // The advice: a support, its base held where it is: it carries the block's weight.
-    let support = "[[constraint]]\nname = \"pin\"\nbody = \"block\"\n\
-                   where = { face = \"z-\" }\ndisplacement = [0.0, 0.0, 0.0]\n";
     let dir = fresh("slope_supported");
-    let (output, stderr, out) = solve_text(&dir, &scene(0.5, support));
+    let (output, stderr, out) = solve_text(&dir, &scene(0.5, BLOCK_SUPPORT));
     assert_eq!(output.status.code(), Some(0), "{stderr}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();

@@ -81,7 +81,7 @@ fn the_documented_block_press_scene_solves_and_writes_report_and_vtu() {
     }
     assert!(!vtu.to_lowercase().contains("nan") && !vtu.contains("inf"));
     assert!(out.join("frames.pvd").exists());
-    // No staging folder is left behind: the three files and the manifest of what was written.
+    // No staging folder is left behind: the four files and the manifest of what was written.
     let mut names: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
@@ -91,6 +91,7 @@ fn the_documented_block_press_scene_solves_and_writes_report_and_vtu() {
         names,
         [
             ".prehensile-output",
+            "animation.glb",
             "frame_0000.vtu",
             "frames.pvd",
             "report.json"
