@@ -151,10 +151,10 @@ pub fn export_gltf(state: &ViewerState) -> Result<PathBuf, FileError> {
             && m.mesh.cell_count() == model.mesh.cell_count()
             && m.bodies.len() == model.bodies.len()
     };
-    let (times, frames): (Vec<f64>, Vec<crate::state::Frame>) = solved
+    let (times, frames): (Vec<f64>, Vec<&crate::state::Frame>) = solved
         .iter()
         .filter(|(_, f)| same(&f.model))
-        .map(|(t, f)| (*t, (*f.frame).clone()))
+        .map(|(t, f)| (*t, &*f.frame))
         .unzip();
     let dir = PathBuf::from(&state.export_dir);
     let bytes = animation_glb(&animated_surfaces(model, &frames), &times)

@@ -36,7 +36,7 @@ pub struct AnimatedSurface {
 
 /// The surfaces of the solved `frames` of `model`: each hand's display skin and bones, and each
 /// other body's boundary (its facets split into triangles).
-pub fn animated_surfaces(model: &Model, frames: &[Frame]) -> Vec<AnimatedSurface> {
+pub fn animated_surfaces(model: &Model, frames: &[&Frame]) -> Vec<AnimatedSurface> {
     let mut out = Vec::new();
     let Some(first) = frames.first() else {
         return out;
@@ -46,7 +46,6 @@ pub fn animated_surfaces(model: &Model, frames: &[Frame]) -> Vec<AnimatedSurface
         let Some(hand) = body.hand.as_deref() else {
             continue;
         };
-        let of_hand = |f: &Frame| f.hands.iter().find(|x| x.body == h.body).cloned();
         out.push(AnimatedSurface {
             name: format!("{}_skin", body.name),
             triangles: hand
@@ -57,18 +56,13 @@ pub fn animated_surfaces(model: &Model, frames: &[Frame]) -> Vec<AnimatedSurface
                 .collect(),
             frames: frames
                 .iter()
-                .map(|f| {
-                    of_hand(f).map_or_else(
-                        || hand.skin.positions(&h.positions),
-                        |x| hand.skin.positions(&x.positions),
-                    )
-                })
+                .map(|f| hand.skin.positions(&hand_in(f, h).positions))
                 .collect(),
             colors: None,
         });
         let posed: Vec<Vec<(usize, crate::hand::TriangleSurface)>> = frames
             .iter()
-            .map(|f| hand.posed_bones(&of_hand(f).map_or(h.angles.clone(), |x| x.angles)))
+            .map(|f| hand.posed_bones(&hand_in(f, h).angles))
             .collect();
         for (k, (b, (_, triangles))) in posed[0].iter().enumerate() {
             out.push(AnimatedSurface {
@@ -129,6 +123,11 @@ pub fn animated_surfaces(model: &Model, frames: &[Frame]) -> Vec<AnimatedSurface
         });
     }
     out
+}
+
+/// The hand `h` (of the first frame) in frame `f`: `h` itself where `f` lacks it.
+fn hand_in<'a>(f: &'a Frame, h: &'a crate::state::HandFrame) -> &'a crate::state::HandFrame {
+    f.hands.iter().find(|x| x.body == h.body).unwrap_or(h)
 }
 
 /// The binary buffer and the JSON being built.

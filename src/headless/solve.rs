@@ -127,8 +127,11 @@ pub fn write_solved_as(
         .map_err(io)?;
     // Every frame in one animated glTF for Blender and other DCC tools.
     let times: Vec<f64> = solved.report.frames.iter().map(|f| f.time).collect();
-    let glb = animation_glb(&animated_surfaces(&solved.model, &solved.frames), &times)
-        .map_err(|e| io(std::io::Error::other(format!("animation.glb: {e}"))))?;
+    let glb = animation_glb(
+        &animated_surfaces(&solved.model, &solved.frames.iter().collect::<Vec<_>>()),
+        &times,
+    )
+    .map_err(|e| io(std::io::Error::other(format!("animation.glb: {e}"))))?;
     out.write("animation.glb", &glb).map_err(io)?;
     out.commit().map_err(io)
 }

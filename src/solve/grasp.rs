@@ -576,25 +576,18 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
         ContactError::Solve(source) => SimError::solve(model, source),
         // A runaway of a node whose body is held (supports, bones) is no missing support: the
         // contact's reach is too short for the motion.
-        ContactError::Runaway { node, distance, .. }
-            if model
-                .bodies
-                .iter()
-                .any(|b| b.nodes.contains(&node) && !b.floating) =>
-        {
-            let body = model
-                .bodies
-                .iter()
-                .find(|b| b.nodes.contains(&node))
-                .expect("checked above");
-            SimError::Contact(ContactError::BeyondSearch {
-                node: node - body.nodes.start,
-                body: body.name.clone(),
-                distance,
-                factor: crate::contact::RUNAWAY,
-                search: model.contact.search_depth,
-                default: crate::contact::ContactSettings::default().search_depth,
-            })
+        ContactError::Runaway { node, distance, .. } => {
+            match model.bodies.iter().find(|b| b.nodes.contains(&node)) {
+                Some(body) if !body.floating => SimError::Contact(ContactError::BeyondSearch {
+                    node: node - body.nodes.start,
+                    body: body.name.clone(),
+                    distance,
+                    factor: crate::contact::RUNAWAY,
+                    search: model.contact.search_depth,
+                    default: crate::contact::ContactSettings::default().search_depth,
+                }),
+                _ => SimError::Contact(e),
+            }
         }
         other => SimError::Contact(other),
     }
