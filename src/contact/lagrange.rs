@@ -81,7 +81,7 @@ pub fn solve_lagrange(
     let mut couplings = Couplings::new();
     let mut refreshes = 0;
     let mut at_iteration_cap = false;
-    const MAX_REFRESH: usize = 3;
+    const MAX_REFRESH: usize = 8;
     loop {
         iterations += 1;
         if iterations > settings.max_iterations {

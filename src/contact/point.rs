@@ -382,6 +382,38 @@ pub enum ContactError {
         /// The default search depth, m.
         default: f64,
     },
+    /// A Neo-Hookean body's tangent stiffness about the state a contact step starts from is
+    /// not positive definite: squeezed past a stable state (compressed until it buckles, or
+    /// its cells near inversion), no linearised step from there is unique.
+    #[error(
+        "the tangent stiffness of body \"{body}\" (Neo-Hookean) is not positive definite at its \
+         node {node} (at rest at ({:.1}, {:.1}, {:.1}) mm): the press has squeezed it past a stable state (it buckles or its cells \
+         near inversion)",
+        rest[0] * 1e3,
+        rest[1] * 1e3,
+        rest[2] * 1e3
+    )]
+    Unstable {
+        /// The body.
+        body: String,
+        /// The node at the failing pivot, numbered within its body.
+        node: usize,
+        /// Its position at rest, m.
+        rest: [f64; 3],
+    },
+    /// The step's displacements turn an element of a pressed body inside out.
+    #[error(
+        "the step turns element {element} of body \"{body}\" inside out (det J / size³ = \
+         {relative_det:.3e}): the press goes further than its mesh follows in one step"
+    )]
+    Inverts {
+        /// The body.
+        body: String,
+        /// The element, numbered within its body.
+        element: usize,
+        /// Its relative Jacobian determinant (or det F for a Neo-Hookean body).
+        relative_det: f64,
+    },
     /// A node of one body is inside another and the contact does not hold it: beyond what
     /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
     /// the inner wall and looks outside).

@@ -6,7 +6,7 @@ use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{ContactSettings, Master, PairSides};
 use super::self_contact::OwnNeighbourhood;
-use super::surface::{ContactSurface, SurfaceBvh};
+use super::surface::{ContactSurface, Projection, SurfaceBvh};
 use crate::fem::assembly::Stiffness;
 use crate::fem::DofPartition;
 use nalgebra::Vector3;
@@ -199,6 +199,65 @@ impl ContactProblem<'_> {
                 .slave_surface
                 .map(|s| self.surfaces[s].reference_normals());
             for &node in &pair.slaves {
+                let facing = |t: &[usize; 3]| -> bool {
+                    let Some(normals) = &normals else { return true };
+                    let Some(m) = normals.get(&node) else {
+                        return true;
+                    };
+                    let n = (current[t[1]] - current[t[0]]).cross(&(current[t[2]] - current[t[0]]));
+                    n.dot(m) < 0.0
+                };
+                // Inside or outside: the side of the nearest facet of all. The facet it is
+                // pushed out of: the nearest of those that face it.
+                let bvh = hierarchies[pair.surface]
+                    .as_ref()
+                    .expect("a wanted surface");
+                let own = normals.as_ref().and_then(|m| m.get(&node));
+                // Its own facets, and on its own surface its neighbourhood, are not met.
+                let apart = |t: &[usize; 3]| {
+                    t.contains(&node)
+                        || pair.own.as_ref().is_some_and(|o| {
+                            let (start, now) =
+                                (t.map(|m| self.positions[m]), t.map(|m| current[m]));
+                            o.excludes(node, t)
+                                || own.is_none_or(|m| !o.meets((&current[node], m), &start, &now))
+                        })
+                };
+                // The facet the node is pushed out of, among those `skip` leaves, if it is behind
+                // one by more than `threshold` (and less than the search depth).
+                let met = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
+                    let nearest = bvh.project(&current[node], &current, own, skip)?;
+                    // In front of the nearest facet's plane, but nearest to its edge or
+                    // corner: inside after all where the surface folds into a pit there.
+                    let nearest = if nearest.gap >= threshold {
+                        bvh.behind_feature(&current[node], &current, &nearest, skip)
+                            .filter(|behind| behind.gap < threshold)?
+                    } else {
+                        nearest
+                    };
+                    // The nearest facet, unless it does not face the node: then a facing facet
+                    // almost as near (a node on an edge or a corner of the other body, as close
+                    // to its side as to the face it presses), else nothing if the node is
+                    // outside (the far side of a thin finger, a crease), else the nearest
+                    // (inside: out the nearest way; a node past the middle of a thin wall
+                    // leaves by the far side, so keep increments shallower than half a wall).
+                    let proj = if facing(&nearest.nodes) {
+                        nearest
+                    } else {
+                        let band = nearest.distance + 0.1 * settings.search_depth;
+                        let alternative = bvh
+                            .project(&current[node], &current, own, |t| skip(t) || !facing(t))
+                            .filter(|p| p.distance <= band);
+                        match alternative {
+                            Some(p) => p,
+                            None if nearest.gap >= 0.0 => return None,
+                            None => nearest,
+                        }
+                    };
+                    let movable = free(node) || proj.nodes.iter().any(|&n| free(n));
+                    (proj.gap < threshold && proj.gap > -settings.search_depth && movable)
+                        .then_some(proj)
+                };
                 // A node that crossed this surface: against the facet it went through.
                 if let Some(c) = self
                     .crossings
@@ -227,62 +286,32 @@ impl ContactProblem<'_> {
                             anchor: Vector3::zeros(),
                         });
                     }
+                    // The facets around the one it went through: where the other body
+                    // folds there (a soft body dented into a valley across its facet), the
+                    // node held on its facet's plane can slide over the fold's edge and lie
+                    // behind the next facet, or in a pit at a corner. Where that neighbourhood
+                    // (its own facet included) says it is behind another facet, that one is
+                    // met too.
+                    let around = |t: &[usize; 3]| t.iter().any(|m| c.nodes.contains(m));
+                    let next = met(&|t: &[usize; 3]| apart(t) || !around(t))
+                        .filter(|q| !q.nodes.iter().all(|m| c.nodes.contains(m)));
+                    if let Some(q) = next {
+                        out.push(Penetration {
+                            node,
+                            master: Master::Facet {
+                                body: surface.body,
+                                nodes: q.nodes,
+                                weights: q.weights,
+                            },
+                            source: self.obstacles.len() + p,
+                            normal: q.normal,
+                            gap: q.gap,
+                            anchor: Vector3::zeros(),
+                        });
+                    }
                     continue;
                 }
-                let facing = |t: &[usize; 3]| -> bool {
-                    let Some(normals) = &normals else { return true };
-                    let Some(m) = normals.get(&node) else {
-                        return true;
-                    };
-                    let n = (current[t[1]] - current[t[0]]).cross(&(current[t[2]] - current[t[0]]));
-                    n.dot(m) < 0.0
-                };
-                // Inside or outside: the side of the nearest facet of all. The facet it is
-                // pushed out of: the nearest of those that face it.
-                let bvh = hierarchies[pair.surface]
-                    .as_ref()
-                    .expect("a wanted surface");
-                let own = normals.as_ref().and_then(|m| m.get(&node));
-                // Its own facets, and on its own surface its neighbourhood, are not met.
-                let apart = |t: &[usize; 3]| {
-                    t.contains(&node)
-                        || pair.own.as_ref().is_some_and(|o| {
-                            let (start, now) =
-                                (t.map(|m| self.positions[m]), t.map(|m| current[m]));
-                            o.excludes(node, t)
-                                || own.is_none_or(|m| !o.meets((&current[node], m), &start, &now))
-                        })
-                };
-                let Some(nearest) = bvh.project(&current[node], &current, own, apart) else {
-                    continue;
-                };
-                if nearest.gap >= threshold {
-                    continue;
-                }
-                // The nearest facet, unless it does not face the node: then a facing facet
-                // almost as near (a node on an edge or a corner of the other body, as close
-                // to its side as to the face it presses), else nothing if the node is outside
-                // (the far side of a thin finger, a crease), else the nearest (inside: out the
-                // nearest way; a node past the middle of a thin wall leaves by the far side,
-                // so keep increments shallower than half a wall).
-                let proj = if facing(&nearest.nodes) {
-                    nearest
-                } else {
-                    let band = nearest.distance + 0.1 * settings.search_depth;
-                    let alternative = bvh
-                        .project(&current[node], &current, own, |t| apart(t) || !facing(t))
-                        .filter(|p| p.distance <= band);
-                    match alternative {
-                        Some(p) => p,
-                        None if nearest.gap >= 0.0 => continue,
-                        None => nearest,
-                    }
-                };
-                if proj.gap < threshold && proj.gap > -settings.search_depth {
-                    let movable = free(node) || proj.nodes.iter().any(|&n| free(n));
-                    if !movable {
-                        continue;
-                    }
+                if let Some(proj) = met(&apart) {
                     out.push(Penetration {
                         node,
                         master: Master::Facet {

@@ -42,6 +42,19 @@ impl ContactSurface {
     /// The surface of quadrilaterals `quads` (outward, repeated nodes allowed): each quad split
     /// along its shorter diagonal at `positions`.
     pub fn from_quads(body: usize, quads: &[[usize; 4]], positions: &[Vector3<f64>]) -> Self {
+        Self::from_quads_split_at(body, quads, positions, positions)
+    }
+
+    /// [`Self::from_quads`] with each quad split along its shorter diagonal at `split` (the
+    /// rest geometry, so that a quad folded by the motion keeps its diagonal from step to step:
+    /// a point held on one of its triangles is not left behind the other diagonal's), the
+    /// surface at `positions`.
+    pub fn from_quads_split_at(
+        body: usize,
+        quads: &[[usize; 4]],
+        split: &[Vector3<f64>],
+        positions: &[Vector3<f64>],
+    ) -> Self {
         let mut triangles = Vec::with_capacity(2 * quads.len());
         for q in quads {
             let mut distinct: Vec<usize> = Vec::with_capacity(4);
@@ -53,8 +66,8 @@ impl ContactSurface {
             match distinct.len() {
                 3 => triangles.push([distinct[0], distinct[1], distinct[2]]),
                 4 => {
-                    let d02 = (positions[q[2]] - positions[q[0]]).norm();
-                    let d13 = (positions[q[3]] - positions[q[1]]).norm();
+                    let d02 = (split[q[2]] - split[q[0]]).norm();
+                    let d13 = (split[q[3]] - split[q[1]]).norm();
                     if d02 <= d13 {
                         triangles.push([q[0], q[1], q[2]]);
                         triangles.push([q[0], q[2], q[3]]);
@@ -184,6 +197,63 @@ impl SurfaceBvh<'_> {
             }
         }
         best
+    }
+}
+
+impl SurfaceBvh<'_> {
+    /// Whether `x`, whose nearest facet is `nearest` with its closest point on an edge or a
+    /// corner (where the facet's own side can be wrong: a point in a pit of a dented surface
+    /// is beyond every facet around the pit's bottom, yet in front of the nearest one's
+    /// plane), lies inside by the angle-weighted pseudonormal of that edge or corner
+    /// (Bærentzen and Aanæs 2005): then the facet around it the point is deepest behind, with
+    /// its own signed gap from the shared closest point.
+    pub fn behind_feature(
+        &self,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        nearest: &Projection,
+        skip: impl Fn(&[usize; 3]) -> bool,
+    ) -> Option<Projection> {
+        // Interior closest point: the facet's own side is right.
+        if nearest.weights.iter().all(|&w| w > 1e-9) {
+            return None;
+        }
+        let closest: Vector3<f64> = (0..3)
+            .map(|i| positions[nearest.nodes[i]] * nearest.weights[i])
+            .sum();
+        let scale =
+            nearest.distance + (positions[nearest.nodes[1]] - positions[nearest.nodes[0]]).norm();
+        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
+        let mut pseudonormal = Vector3::zeros();
+        let mut deepest: Option<Projection> = None;
+        for leaf in self.bvh.intersect_aabb(&q) {
+            let nodes = self.surface.triangles[leaf as usize];
+            if skip(&nodes) {
+                continue;
+            }
+            let p = nodes.map(|n| positions[n]);
+            let Some(proj) = project_on_triangle(x, &p) else {
+                continue;
+            };
+            if (proj.distance - nearest.distance).abs() > 1e-9 * scale {
+                continue;
+            }
+            // The facet's angle at the shared corner (π along an edge: both sides alike).
+            let corner = proj.weights.iter().position(|&w| w > 1.0 - 1e-9);
+            let angle = corner.map_or(std::f64::consts::PI, |i| {
+                let (a, b) = (p[(i + 1) % 3] - p[i], p[(i + 2) % 3] - p[i]);
+                a.angle(&b)
+            });
+            pseudonormal += proj.normal * angle;
+            let gap = proj.normal.dot(&(x - closest));
+            if deepest.as_ref().is_none_or(|d| gap < d.gap) {
+                deepest = Some(Projection { nodes, gap, ..proj });
+            }
+        }
+        (pseudonormal.dot(&(x - closest)) < 0.0)
+            .then_some(deepest)
+            .flatten()
+            .filter(|d| d.gap < 0.0)
     }
 }
 

@@ -8,6 +8,7 @@
 
 pub mod assembly;
 pub mod cavity;
+pub mod definite;
 pub mod forward;
 pub mod hex8;
 pub mod hex8_hyperelastic;

@@ -27,7 +27,7 @@ use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
     ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
-use crate::fem::solve::{FillOrdering, PartitionedSolver};
+use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
 use crate::mesh::Mesh;
@@ -105,8 +105,29 @@ pub fn frame_with_hands(
 pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
+    start: StepStart<'_>,
+    cache: &mut ContactCache,
+) -> Result<Option<Frame>, SimError> {
+    match solve_grasp_with(model, hands, start, cache, false) {
+        // Neo-Hookean bodies squeezed where their exact tangent is indefinite (compressive
+        // stress outweighing the material's stiffness in some mode, which the contact itself
+        // restrains): the step again with each element's tangent made definite; the exact
+        // internal forces stay, so the corrections at the pose still converge to equilibrium.
+        Err(SimError::Contact(ContactError::Unstable { .. })) => {
+            solve_grasp_with(model, hands, start, cache, true)
+        }
+        other => other,
+    }
+}
+
+/// [`solve_grasp`] with the Neo-Hookean bodies' element tangents made positive definite
+/// (`definite`) or exact.
+fn solve_grasp_with(
+    model: &Model,
+    hands: &[HandFrame],
     (carried, previous): StepStart<'_>,
     cache: &mut ContactCache,
+    definite: bool,
 ) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
     let margin = settings.search_depth;
@@ -156,12 +177,18 @@ pub fn solve_grasp(
         );
     }
     let x_now = embedded.extend(&x_now_nodes);
+    // Each quad split along its diagonal at rest, the same in every step.
+    let x_rest = embedded.extend(&model.mesh.nodes);
     for (h, quads) in hands.iter().zip(&skin_quads) {
-        surfaces.push(ContactSurface::from_quads(h.body, quads, &x_now));
+        surfaces.push(ContactSurface::from_quads_split_at(
+            h.body, quads, &x_rest, &x_now,
+        ));
     }
     for &b in &objects {
         let quads: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
-        surfaces.push(ContactSurface::from_quads(b, &quads, &x_now));
+        surfaces.push(ContactSurface::from_quads_split_at(
+            b, &quads, &x_rest, &x_now,
+        ));
     }
     // Which skin nodes are near which object, and the object nodes near the skin.
     let mut pairs: Vec<SurfacePair> = Vec::new();
@@ -308,7 +335,7 @@ pub fn solve_grasp(
     // (The other bodies corotated about what the motion carries, src/solve/corotated.rs, or
     // Neo-Hookean about it, src/solve/hyperelastic_objects.rs.)
     let linearised = if neo_hookean_objects(model) {
-        linearise_neo_hookean(model, &mesh, carried_given)
+        linearise_neo_hookean(model, &mesh, carried_given, definite)
     } else {
         linearise(model, &mesh, carried_given)
     };
@@ -538,10 +565,10 @@ pub fn solve_grasp(
         &turned,
         &neo_hookean,
     )
-    .map_err(|(c, e)| SimError::inverted(model, c, e.relative_det))?;
+    .map_err(|(c, e)| inverted_by_step(model, c, e.relative_det))?;
     if neo_hookean_objects(model) {
         stress = with_neo_hookean_stress(model, stress, &frame_u)
-            .map_err(|(c, det)| SimError::inverted(model, c, det))?;
+            .map_err(|(c, det)| inverted_by_step(model, c, det))?;
     }
     let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
@@ -571,8 +598,37 @@ pub fn solve_grasp(
     }))
 }
 
+/// A cell the contact step's displacements turn inside out: an object's is this step's failure
+/// (the press went further than its mesh follows in one linearised step; a smaller step may
+/// not), told as a contact error so that the motion halves its step; the flesh's stays an
+/// inverted element.
+fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
+    let b = &model.bodies[model.cell_body[cell]];
+    if b.hand.is_some() {
+        return SimError::inverted(model, cell, relative_det);
+    }
+    SimError::Contact(ContactError::Inverts {
+        body: b.name.clone(),
+        element: cell - b.cells.start,
+        relative_det,
+    })
+}
+
 fn contact_error(model: &Model, e: ContactError) -> SimError {
     match e {
+        // A Neo-Hookean body whose tangent about the step's start is indefinite: this step's
+        // failure (a smaller one may stay on the stable side), not a support missing.
+        ContactError::Solve(SolveError::NotPositiveDefinite { node, .. })
+            if neo_hookean_objects(model)
+                && model.bodies[model.body_of_node(node)].hand.is_none() =>
+        {
+            let body = &model.bodies[model.body_of_node(node)];
+            SimError::Contact(ContactError::Unstable {
+                body: body.name.clone(),
+                node: node - body.nodes.start,
+                rest: model.mesh.nodes[node].into(),
+            })
+        }
         ContactError::Solve(source) => SimError::solve(model, source),
         // A runaway of a node whose body is held (supports, bones) is no missing support: the
         // contact's reach is too short for the motion.

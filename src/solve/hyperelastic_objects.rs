@@ -16,6 +16,7 @@
 
 use super::corotated::Linearised;
 use crate::fem::assembly::{assemble_elements, AssemblyError};
+use crate::fem::definite::absolute_eigenvalues;
 use crate::fem::hex8::{element_stiffness, mapped_points, InvertedCell};
 use crate::fem::hex8_hyperelastic::{element_state_with, gauss_cauchy_stress, Tangent};
 use crate::fem::hyperelastic::NeoHookean;
@@ -53,10 +54,13 @@ fn cell_displacements(mesh: &Mesh, c: usize, u: Option<&[f64]>) -> [Vector3<f64>
 /// bodies at rest): the other bodies' Neo-Hookean tangent and internal force at `carried`
 /// (at rest without), the hands' linear stiffness on their pose (no offset). Each element
 /// hands the assembly b_e = K_e·(X_e + U_e) − f_e, so that K·X − b = f(U_c) − K·U_c.
+/// `definite`: each Neo-Hookean element's tangent with its negative eigenvalues turned
+/// positive (`fem::definite`), for a step from a state where the exact one is indefinite.
 pub(super) fn linearise_neo_hookean(
     model: &Model,
     mesh: &Mesh,
     carried: Option<&[f64]>,
+    definite: bool,
 ) -> Result<Linearised, AssemblyError> {
     let volumetric = model.flexion.volumetric;
     let (k, b) = assemble_elements(&model.pattern, mesh, true, &|c| {
@@ -74,7 +78,13 @@ pub(super) fn linearise_neo_hookean(
         let law = NeoHookean::from_material(material);
         let state = element_state_with(&reference, &u, &law, volumetric, Tangent::Exact)
             .map_err(|e| inverted(c, e.det_f))?;
-        let ke = state.tangent.expect("asked for");
+        let exact = state.tangent.expect("asked for");
+        // The step's matrix; the offset keeps the exact internal forces either way.
+        let ke = if definite {
+            absolute_eigenvalues(&exact)
+        } else {
+            exact
+        };
         let b = std::array::from_fn(|a| {
             (0..8)
                 .map(|j| ke[a][j] * (coords[j] + u[j]))

@@ -55,6 +55,18 @@ pub fn skin_depth_inside(
     hand: usize,
     object: usize,
 ) -> (f64, f64) {
+    let (display, lattice, _) = skins_depth_inside(model, frame, hand, object);
+    (display, lattice)
+}
+
+/// [`skin_depth_inside`]'s display skin and lattice, and the contact skin's points (the skin the
+/// contact holds, at the lattice's resolution).
+pub fn skins_depth_inside(
+    model: &prehensile::model::Model,
+    frame: &prehensile::state::Frame,
+    hand: usize,
+    object: usize,
+) -> (f64, f64, f64) {
     use prehensile::contact::{
         connected_pieces, project_on_triangle, winding_number_of, ContactSurface,
     };
@@ -72,7 +84,8 @@ pub fn skin_depth_inside(
         .iter()
         .map(|f| f.nodes)
         .collect();
-    let surface = ContactSurface::from_quads(object, &quads, &deformed);
+    // Split as the solver splits them: along the diagonals at rest.
+    let surface = ContactSurface::from_quads_split_at(object, &quads, &model.mesh.nodes, &deformed);
     // The outer surface: the piece with the largest extent.
     let extent = |piece: &Vec<[usize; 3]>| {
         let xs = piece.iter().flatten().map(|&n| deformed[n].x);
@@ -100,7 +113,13 @@ pub fn skin_depth_inside(
         .map(depth)
         .fold(0.0, f64::max);
     let lattice = h.positions.iter().map(depth).fold(0.0, f64::max);
-    (skin, lattice)
+    let contact = hand_model
+        .contact_skin
+        .positions(&h.positions)
+        .iter()
+        .map(depth)
+        .fold(0.0, f64::max);
+    (skin, lattice, contact)
 }
 
 /// `prehensile solve <scene> --out <out>`, run as a user runs it.
