@@ -552,3 +552,58 @@ gas = true
         );
     }
 }
+
+/// Squeezed 24 mm from each side (the plates a third of its diameter apart): the small-strain
+/// tiers warn that the obstacles impose it (a stiffer material would strain as much, so no
+/// modulus is advised) and advise the nonlinear tier; followed, the nonlinear static frame
+/// solves it (its Neo-Hookean wall in compression has an indefinite exact tangent there: those
+/// Newton iterations take each element's tangent made definite), keeps p·V = P0·V0, the plates
+/// push equally and no node is left beyond either plate.
+#[test]
+fn a_deep_squeeze_is_told_to_the_nonlinear_tier_which_solves_it() {
+    let (gauge, squeeze) = (3.0e4, 0.024);
+    let text = plates_scene(gauge, true, squeeze);
+    let linear = solve(&text);
+    let warning = linear
+        .report
+        .warnings
+        .iter()
+        .find(|w| w.contains("principal strain"))
+        .expect("a strain warning");
+    assert!(
+        warning.contains("the obstacles \"bottom\", \"top\" (which start 24.0 mm inside it)")
+            && warning.contains("tier = \"nonlinear\"")
+            && !warning.contains("too soft"),
+        "{warning}"
+    );
+    let solved = solve(&format!("[solver]\ntier = \"nonlinear\"\n{text}"));
+    let frame = &solved.report.frames[0];
+    let cavity = frame.cavity.as_ref().expect("a cavity report");
+    let law = (cavity.gauge_pressure + AMBIENT) * cavity.volume
+        / ((gauge + AMBIENT) * cavity.rest_volume)
+        - 1.0;
+    let contact = frame.contact.as_ref().unwrap();
+    let (bottom, top) = (
+        contact.obstacles["bottom"].force[2],
+        contact.obstacles["top"].force[2],
+    );
+    let model = &solved.model;
+    let u = &solved.frames[0].solution.displacement;
+    let z = 0.035 - squeeze;
+    let beyond = (0..model.mesh.node_count())
+        .map(|n| (model.mesh.nodes[n].z + u[3 * n + 2]).abs() - z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    println!(
+        "squeezed {:.0} mm on the nonlinear tier: gauge {:.0} Pa, volume {:.4e} m³ (rest {:.4e}), \
+         law {law:.1e}, plates {bottom:.2} / {top:.2} N, {:.2e} m beyond a plate",
+        squeeze * 1e3,
+        cavity.gauge_pressure,
+        cavity.volume,
+        cavity.rest_volume,
+        beyond
+    );
+    assert!(law.abs() < 1e-6, "{law}");
+    assert!(cavity.gauge_pressure > gauge && cavity.volume < cavity.rest_volume);
+    assert!(bottom > 0.0 && rel(-top, bottom) < 1e-9, "{top} {bottom}");
+    assert!(beyond <= model.contact.penetration_limit(), "{beyond}");
+}

@@ -244,6 +244,21 @@ fn b_the_ball_displacement_scales_as_one_over_e_and_a_soft_ball_warns() {
         w.contains("body \"ball\"") && w.contains("small-strain"),
         "{w}"
     );
+    // Its loads strain it (nothing imposes the displacement): the advised modulus, followed,
+    // leaves no warning.
+    let factor: f64 = w
+        .split("a Young's modulus ")
+        .nth(1)
+        .and_then(|rest| rest.split('×').next())
+        .and_then(|f| f.parse().ok())
+        .unwrap_or_else(|| panic!("no modulus advised: {w}"));
+    let stiffer = solve_scene(&default_ball(1e2 * factor, 3e4), "stiffer.toml").unwrap();
+    assert!(
+        stiffer.report.warnings.is_empty(),
+        "E = {:.3e}: {:?}",
+        1e2 * factor,
+        stiffer.report.warnings
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

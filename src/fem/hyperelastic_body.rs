@@ -157,7 +157,23 @@ impl<'a> HyperelasticBody<'a> {
         self.tangent_of(u, Tangent::WithoutPressureHessian)
     }
 
+    /// The tangent at displacement `u` with each element's negative eigenvalues turned
+    /// positive ([`super::definite::absolute_eigenvalues`]): positive definite wherever the
+    /// supports hold the body, for a Newton-like step where the exact tangent is not.
+    pub fn tangent_definite(&self, u: &[f64]) -> Result<Stiffness, InvertedElement> {
+        self.tangent_with(u, Tangent::Exact, true)
+    }
+
     fn tangent_of(&self, u: &[f64], kind: Tangent) -> Result<Stiffness, InvertedElement> {
+        self.tangent_with(u, kind, false)
+    }
+
+    fn tangent_with(
+        &self,
+        u: &[f64],
+        kind: Tangent,
+        definite: bool,
+    ) -> Result<Stiffness, InvertedElement> {
         assemble_elements(&self.pattern, self.mesh, false, &|c| {
             element_state_with(
                 &self.reference[c],
@@ -166,7 +182,15 @@ impl<'a> HyperelasticBody<'a> {
                 self.volumetric,
                 kind,
             )
-            .map(|s| (s.tangent.expect("asked for"), None))
+            .map(|s| {
+                let ke = s.tangent.expect("asked for");
+                let ke = if definite {
+                    super::definite::absolute_eigenvalues(&ke)
+                } else {
+                    ke
+                };
+                (ke, None)
+            })
             .map_err(Self::inverted(c))
         })
         .map(|(k, _)| k)

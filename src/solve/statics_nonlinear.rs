@@ -9,7 +9,7 @@ use super::stabilize::{check_held, stabilize};
 use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
 use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::newton::{solve_body, NewtonSettings, NonlinearError, StepFailure};
-use crate::fem::solve::PartitionedSolver;
+use crate::fem::solve::{PartitionedSolver, SolveError};
 use crate::fem::solve::{Solution, SolveStats};
 use crate::fem::stress::from_gauss;
 use crate::model::Model;
@@ -200,40 +200,54 @@ fn newton_at(
     let mut solver = PartitionedSolver::new(model.ordering);
     let mut last_change = f64::INFINITY;
     for _ in 0..OBSTACLE_NEWTON_ITERATIONS {
-        let mut k = body
-            .tangent(u)
-            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
-        let (_, internal) = body
-            .internal_forces(u)
-            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
-        let without_springs = k.mul(u);
-        let springs = stabilize(model, &mut k, &model.partition);
-        let with_springs = k.mul(u);
         let positions: Vec<Vector3<f64>> = (0..nodes.len())
             .map(|n| nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
             .collect();
         let external = external_loads(model, &positions, gas);
-        let loads: Vec<f64> = (0..u.len())
-            .map(|d| factor * external[d] - internal[d] - (with_springs[d] - without_springs[d]))
-            .collect();
+        let (_, internal) = body
+            .internal_forces(u)
+            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
         let prescribed: Vec<f64> = (0..u.len())
             .map(|d| factor * model.prescribed[d] - u[d])
             .collect();
-        let mut result = solve_with_obstacles(
-            &mut solver,
-            &k,
-            &model.partition,
-            &prescribed,
-            &loads,
-            &positions,
-            &model.contact_candidates,
-            &obstacles,
-            model.contact,
-        )
-        .map_err(|e| match e {
-            ContactError::Solve(source) => SimError::solve(model, source),
-            other => SimError::Contact(other),
-        })?;
+        // The exact tangent; where it is not positive definite (a squeezed shell's wall in
+        // compression, which the obstacles restrain), each element's made definite: the
+        // residual stays exact, so the iterations still converge to the equilibrium.
+        let mut definite = false;
+        let (mut result, springs) = loop {
+            let mut k = if definite {
+                body.tangent_definite(u)
+            } else {
+                body.tangent(u)
+            }
+            .map_err(|e| SimError::inverted(model, e.cell, e.det_f))?;
+            let without_springs = k.mul(u);
+            let springs = stabilize(model, &mut k, &model.partition);
+            let with_springs = k.mul(u);
+            let loads: Vec<f64> = (0..u.len())
+                .map(|d| {
+                    factor * external[d] - internal[d] - (with_springs[d] - without_springs[d])
+                })
+                .collect();
+            match solve_with_obstacles(
+                &mut solver,
+                &k,
+                &model.partition,
+                &prescribed,
+                &loads,
+                &positions,
+                &model.contact_candidates,
+                &obstacles,
+                model.contact,
+            ) {
+                Ok(result) => break (result, springs),
+                Err(ContactError::Solve(SolveError::NotPositiveDefinite { .. })) if !definite => {
+                    definite = true;
+                }
+                Err(ContactError::Solve(source)) => return Err(SimError::solve(model, source)),
+                Err(other) => return Err(SimError::Contact(other)),
+            }
+        };
         let du = &result.solution.displacement;
         let change = du.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for (a, b) in u.iter_mut().zip(du) {

@@ -52,6 +52,67 @@ pub fn largest_strains(model: &Model, frame: &Frame) -> Vec<Option<f64>> {
         .collect()
 }
 
+/// `x` rounded up to three significant digits, printed without trailing zeros ("11200",
+/// "2.86").
+fn rounded_up(x: f64) -> String {
+    if !(x.is_finite() && x > 0.0) {
+        return format!("{x}");
+    }
+    let digits = 2 - x.log10().floor().clamp(-300.0, 300.0) as i32;
+    let scale = 10f64.powi(digits);
+    let up = (x * scale).ceil() / scale;
+    format!("{up:.*}", digits.max(0) as usize)
+}
+
+/// What imposes the deformation of body `b` in `frame`, if its obstacles or its prescribed
+/// displacements do: obstacles overlapping it at rest by, or supports moving it by, at least
+/// half its largest displacement there ("the obstacles \"top\", \"bottom\" (which start 24.0
+/// mm inside it)", "its prescribed displacements (up to 5.0 mm)").
+fn imposed_squeeze(model: &Model, frame: &Frame, b: usize) -> Option<String> {
+    let body = &model.bodies[b];
+    let u = &frame.solution.displacement;
+    let moved = body
+        .nodes
+        .clone()
+        .map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm())
+        .fold(0.0f64, f64::max);
+    let mut names = Vec::new();
+    let mut overlap = 0.0f64;
+    for (name, obstacle) in &model.obstacles {
+        let deepest = body
+            .nodes
+            .clone()
+            .map(|n| -obstacle.nearest(&model.mesh.nodes[n]).0)
+            .fold(0.0f64, f64::max);
+        if deepest >= 0.5 * moved && deepest > 0.0 {
+            names.push(format!("\"{name}\""));
+            overlap = overlap.max(deepest);
+        }
+    }
+    if !names.is_empty() {
+        let what = if names.len() == 1 {
+            "obstacle"
+        } else {
+            "obstacles"
+        };
+        return Some(format!(
+            "the {what} {} (which start {:.1} mm inside it)",
+            names.join(", "),
+            overlap * 1e3
+        ));
+    }
+    let imposed = (3 * body.nodes.start..3 * body.nodes.end)
+        .filter(|&d| model.partition.prescribed[d])
+        .map(|d| model.prescribed[d].abs())
+        .fold(0.0f64, f64::max);
+    (imposed > 0.0 && imposed >= 0.5 * moved).then(|| {
+        format!(
+            "its prescribed displacements (up to {:.1} mm)",
+            imposed * 1e3
+        )
+    })
+}
+
 /// Whether a hand's skin touches body `b` in `frame` (a contact with a node of each).
 fn pressed_by_a_hand(model: &Model, frame: &Frame, b: usize) -> bool {
     let Some(contact) = frame.contact.as_ref() else {
@@ -103,8 +164,20 @@ pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
                     "the hands press it that far (its loads alone strain it less): solve the \
                      scene with [solver] tier = \"nonlinear\", whose bodies are Neo-Hookean, \
                      valid at finite strain, or pose the grasp less deep"
+                        .to_string()
+                } else if let Some(imposed) = imposed_squeeze(model, &frames[i], b) {
+                    // A stiffer material strains as much under an imposed displacement.
+                    format!(
+                        "{imposed} squeeze it that far, whatever its stiffness: solve the \
+                         scene with [solver] tier = \"nonlinear\", whose bodies are \
+                         Neo-Hookean, valid at finite strain, or squeeze it less"
+                    )
                 } else {
-                    "too soft a material or too large a load"
+                    let factor = rounded_up(s / (0.5 * STRAIN_WARNING));
+                    format!(
+                        "too soft a material or too large a load: a Young's modulus {factor}× \
+                         higher, or loads {factor}× smaller, keep it within half the limit"
+                    )
                 };
                 format!(
                     "body \"{}\": principal strain up to {s:.3e} (frame {i}), above \
