@@ -361,6 +361,44 @@ fn a_job_above_max_memory_is_refused_before_it_allocates() {
     // The advice: the same job with the memory it needs.
     let (output, stderr, _) = solve_text(&fresh("max_memory_raised"), &cube(22, "2 GB"));
     assert_eq!(output.status.code(), Some(0), "{stderr}");
+
+    // Or the share of the elements each refusal names: the cube's cells per side scaled by its
+    // cube root. From 30³, the build's share passes the build, and the factor's refusal that
+    // follows (if any) gives its own share, which solves.
+    let share = |stderr: &str| -> f64 {
+        let pct: f64 = stderr
+            .split("at most ")
+            .nth(1)
+            .and_then(|rest| rest.split(" %").next())
+            .and_then(|p| p.parse().ok())
+            .unwrap_or_else(|| panic!("no share of the elements advised: {stderr}"));
+        pct / 100.0
+    };
+    let scaled = |n: usize, share: f64| (n as f64 * share.cbrt()).floor() as usize;
+    let from_pattern = scaled(30, share(&refused("max_memory_pattern_share", &text)));
+    let dir = fresh("max_memory_pattern_followed");
+    let (output, stderr, _) = solve_text(&dir, &cube(from_pattern, "100 MB"));
+    let n = if output.status.code() == Some(0) {
+        from_pattern
+    } else {
+        assert!(
+            stderr.contains("sparse Cholesky factor"),
+            "{from_pattern}³: {stderr}"
+        );
+        scaled(from_pattern, share(&stderr))
+    };
+    let (output, stderr, _) = solve_text(&fresh("max_memory_share_followed"), &cube(n, "100 MB"));
+    assert_eq!(output.status.code(), Some(0), "{n}³: {stderr}");
+    let from_factor = scaled(
+        22,
+        share(&refused("max_memory_factor_share", &cube(22, "100 MB"))),
+    );
+    let (output, stderr, _) = solve_text(
+        &fresh("max_memory_factor_followed"),
+        &cube(from_factor, "100 MB"),
+    );
+    println!("30³ refused → {from_pattern}³ → {n}³ solves; 22³ refused → {from_factor}³ solves");
+    assert_eq!(output.status.code(), Some(0), "{from_factor}³: {stderr}");
 }
 
 /// The case: 170³ cells, under the element cap, run with an address space of 4 GiB:

@@ -588,7 +588,7 @@ fn f_a_grasp_on_a_ball_its_air_overinflates_is_told_as_that_strain_with_advice_t
         );
         assert!(now <= prehensile::state::STRAIN_WARNING, "{now}");
         // The strain is mended; what the solve meets then (measured: at E = 1.12e6 Pa the
-        // finger's pose through the ball's thinner-stretched wall, "move the bodies apart …";
+        // finger's pose through the ball's thinner-stretched wall;
         // at 1.69e6 Pa it converges) is not blamed on it.
         if let Err(e) = solve_frames(&model) {
             assert!(!matches!(e, SimError::BeyondSmallStrain { .. }), "{e}");

@@ -228,10 +228,13 @@ impl ContactProblem<'_> {
                 let met = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
                     let nearest = bvh.project(&current[node], &current, own, skip)?;
                     // In front of the nearest facet's plane, but nearest to its edge or
-                    // corner: inside after all where the surface folds into a pit there.
-                    let nearest = if nearest.gap >= threshold {
+                    // corner: inside after all where the surface folds into a pit there. (Not
+                    // on a body's own surface: its creases are not closed pits.)
+                    let nearest = if nearest.gap >= threshold && pair.own.is_none() {
                         bvh.behind_feature(&current[node], &current, &nearest, skip)
                             .filter(|behind| behind.gap < threshold)?
+                    } else if nearest.gap >= threshold {
+                        return None;
                     } else {
                         nearest
                     };

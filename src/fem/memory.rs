@@ -71,6 +71,18 @@ pub fn set_reserve(bytes: u64) {
     RESERVE.store(bytes, std::sync::atomic::Ordering::Relaxed);
 }
 
+/// The share of a model's elements (rounded down to a percent, with a fifth to spare) whose
+/// memory fits `available` bytes where the whole needs `needed`, the memory growing as the
+/// element count to the power `growth` (1 for the stiffness pattern, 4/3 for a 3D mesh's
+/// sparse factor by nested dissection).
+pub fn fewer_share(available: u64, needed: u64, growth: f64) -> f64 {
+    if needed == 0 {
+        return 1.0;
+    }
+    let share = 0.8 * (available as f64 / needed as f64).powf(1.0 / growth);
+    (share * 100.0).floor().clamp(0.0, 100.0) / 100.0
+}
+
 /// Where the memory a solve may take comes from, for an error that says so.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BudgetSource {

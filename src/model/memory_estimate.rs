@@ -5,7 +5,7 @@
 
 use crate::fem::assembly::StiffnessPattern;
 use crate::fem::hex8_hyperelastic::ElementState;
-use crate::fem::memory::{budget_with, human};
+use crate::fem::memory::{budget_with, fewer_share, human};
 
 /// Bytes a cell takes while the model is built, beyond the stiffness pattern: its nodes and
 /// per-cell data (~200 B) and the map of its six faces that finds the boundary (~150 B a face,
@@ -42,10 +42,13 @@ pub fn fits_in_memory(
         format!(
             "the model's {nodes} nodes and {cells} elements ({body_cells} of them this body's) \
              need about {} to build ({} for the stiffness matrix alone, the factor more), but \
-             {} is free ({limit}): use fewer cells (or a lower hand resolution), or {}",
+             {} is free ({limit}): use fewer cells (or a lower hand resolution) — at most \
+             {:.0} % as many for the build; the factor, checked next, needs several times the \
+             stiffness matrix — or {}",
             human(needed),
             human(pattern),
             human(available),
+            100.0 * fewer_share(available, needed, 1.0),
             limit.remedy()
         ),
     ))

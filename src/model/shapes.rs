@@ -4,7 +4,7 @@ use super::check::finite;
 use super::refinement::refinement;
 use crate::mesh::{
     box_mesh, graded_shell_cells, graded_shell_mesh, graded_sphere_cells, graded_sphere_mesh,
-    shell_mesh, sphere_mesh, Mesh,
+    shell_mesh, sphere_mesh, Mesh, Refinement,
 };
 use crate::scene::Shape;
 use nalgebra::Vector3;
@@ -81,13 +81,18 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                         .map_err(|(f, m)| (format!(".sphere.refine.{f}"), m))?;
                     let count = graded_sphere_cells(*radius, *cells, &refine);
                     if count.is_none_or(|n| n > MAX_CELLS) {
+                        let count_at = |size: f64, cells: usize| {
+                            let refine = Refinement { size, ..refine };
+                            graded_sphere_cells(*radius, cells, &refine)
+                        };
                         return Err((
                             ".sphere.refine.size".into(),
                             format!(
                                 "cells = {cells} refined to size = {} m make more than \
-                                 {MAX_CELLS} elements (about {}): a larger size or fewer cells",
+                                 {MAX_CELLS} elements (about {}): {}",
                                 refine.size,
-                                count.map_or("more than 2^64".into(), |n| n.to_string())
+                                count.map_or("more than 2^64".into(), |n| n.to_string()),
+                                within_cap(count_at, (refine.size, *radius), *cells, MAX_CELLS)
                             ),
                         ));
                     }
@@ -152,14 +157,29 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                         outer,
                     );
                     if count.is_none_or(|n| n > MAX_CELLS) {
+                        let count_at = |size: f64, cells: usize| {
+                            let refine = Refinement { size, ..refine };
+                            graded_shell_cells(
+                                *inner_radius,
+                                *outer_radius,
+                                (cells, *layers),
+                                &refine,
+                                outer,
+                            )
+                        };
                         return Err((
                             ".shell.refine.size".into(),
                             format!(
                                 "cells = {cells} and layers = {layers} refined to size = {} m \
-                                 make more than {MAX_CELLS} elements (about {}): a larger size \
-                                 or fewer cells",
+                                 make more than {MAX_CELLS} elements (about {}): {}",
                                 refine.size,
-                                count.map_or("more than 2^64".into(), |n| n.to_string())
+                                count.map_or("more than 2^64".into(), |n| n.to_string()),
+                                within_cap(
+                                    count_at,
+                                    (refine.size, *outer_radius),
+                                    *cells,
+                                    MAX_CELLS
+                                )
                             ),
                         ));
                     }
@@ -174,5 +194,105 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                 }
             }
         }
+    }
+}
+
+/// What brings a refined ball within `cap` elements, `count_at(size, cells)` counting them: a
+/// larger `size` (the smallest that does, at most `largest`) at these `cells`, or fewer cells
+/// (the most that do) at this size — each alone, where it can. Either is a mesh at the cap, which
+/// the memory check that follows may still refuse (with its own share of the elements).
+fn within_cap(
+    count_at: impl Fn(f64, usize) -> Option<usize>,
+    (size, largest): (f64, f64),
+    cells: usize,
+    cap: usize,
+) -> String {
+    let fits = |size: f64, cells: usize| count_at(size, cells).is_some_and(|n| n <= cap);
+    let mut options = Vec::new();
+    if fits(largest, cells) {
+        // Geometric bisection: the smallest size that fits, rounded up to 3 digits.
+        let (mut lo, mut hi) = (size, largest);
+        for _ in 0..60 {
+            let mid = (lo * hi).sqrt();
+            if fits(mid, cells) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let digits = 10f64.powf(hi.log10().floor() - 2.0);
+        let rounded = (hi / digits).ceil() * digits;
+        let rounded = if fits(rounded, cells) { rounded } else { hi };
+        options.push(format!(
+            "size = {rounded:.3e} m or more (at cells = {cells})"
+        ));
+    }
+    if fits(size, 1) {
+        let (mut lo, mut hi) = (1, cells);
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if fits(size, mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        options.push(format!("cells = {lo} or fewer (at size = {size} m)"));
+    }
+    match options.len() {
+        0 => "no size or cell count brings it under the cap alone: both, or a smaller body".into(),
+        _ => format!("{} — either alone", options.join(", or ")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::build_shape;
+    use crate::mesh::{graded_sphere_cells, Refinement};
+    use crate::scene::{Refine, Shape};
+    use nalgebra::Vector3;
+
+    /// The number after `key` in `text`.
+    fn after(text: &str, key: &str) -> f64 {
+        let rest = text
+            .split(key)
+            .nth(1)
+            .unwrap_or_else(|| panic!("{key}: {text}"));
+        let number: String = rest
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | '-'))
+            .collect();
+        number.parse().unwrap_or_else(|_| panic!("{key}: {text}"))
+    }
+
+    /// A sphere refined past the element cap is told the size, and the cell count, that each
+    /// alone bring it under the cap — and no less: 3 % finer, or one cell more, is over it.
+    #[test]
+    fn a_refined_sphere_over_the_cap_is_told_what_brings_it_under() {
+        let (radius, cells, size) = (0.05, 100, 5e-6);
+        let shape = Shape::Sphere {
+            center: [0.0, 0.0, radius],
+            radius,
+            cells,
+            refine: Some(Refine {
+                toward: [0.0, 0.0, 0.0],
+                size: Some(size),
+            }),
+        };
+        let (field, message) = build_shape(&shape).expect_err("over the cap");
+        assert_eq!(field, ".sphere.refine.size");
+        let count = |size: f64, cells: usize| {
+            let refine = Refinement {
+                direction: -Vector3::z(),
+                size,
+            };
+            graded_sphere_cells(radius, cells, &refine).unwrap()
+        };
+        let cap = 5_000_000;
+        let larger = after(&message, "): size = ");
+        let fewer = after(&message, "or cells = ") as usize;
+        println!("{message}");
+        assert!(count(larger, cells) <= cap && count(0.97 * larger, cells) > cap);
+        assert!(count(size, fewer) <= cap && count(size, fewer + 1) > cap);
     }
 }

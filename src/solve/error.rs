@@ -388,7 +388,7 @@ pub(crate) fn stiffer_materials(model: &Model, b: usize, factor: f64) -> String 
 }
 
 /// What a contact step of the paper's iteration met, without the advice its own message gives
-/// (raise the iterations, move the bodies apart): for the paper's iteration the advice that
+/// (raise the iterations): for the paper's iteration the advice that
 /// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
 pub(crate) fn what_failed(cause: &ContactError) -> String {
     match cause {

@@ -690,7 +690,8 @@ fn too_deep(
 /// of rubber at E = 1.12 MPa under the finger press of finger-press-ball.toml; at the
 /// asset's 2 MPa it holds, tests/hardening.rs): a stiffer material, twice its modulus, or a
 /// wall twice as thick.
-/// Otherwise: the bodies apart.
+/// Otherwise (a solid body whose facets fold around the skin, within the search depth): the
+/// diagnosis only.
 fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
     let search = model.contact.search_depth;
     if depth >= search {
@@ -714,7 +715,12 @@ fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
             2.0 * inner_radius - outer_radius
         );
     }
-    "move the bodies apart where the motion starts".into()
+    // (No advice here: the motion stops at the last step kept, or the correction at the pose
+    // keeps the last settled frame, and those say what to do.)
+    format!(
+        "the facets of \"{}\" around it fold further than one linearised contact step follows",
+        b.name
+    )
 }
 
 /// Where contact point `n` (a mesh node, or a skin point embedded past them; `skin`: each
