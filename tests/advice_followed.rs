@@ -290,6 +290,17 @@ fn a_skin_point_deeper_than_the_search_in_a_motion_is_mended_by_the_search_advis
         "{}",
         trigger.stderr
     );
+    // Frame 0 has no keyframe: the motion and the pose to set are the body's `pose`.
+    assert!(
+        trigger
+            .stderr
+            .contains("of its motion from rest to its `pose`")
+            && trigger
+                .stderr
+                .contains("(for frame 0, the body's `pose` set to the pose reached)"),
+        "{}",
+        trigger.stderr
+    );
     let x = contact_search_advised(&trigger);
     assert!(x > 0.4, "{x} mm advised, the search is 0.4 mm already");
 

@@ -512,30 +512,52 @@ fn view(scene: Option<PathBuf>, options: ViewOptions) -> Result<()> {
 /// threshold ended: a result), told as the error the command exits with (code 2: the frames are
 /// written, up to where the motion stopped).
 fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
+    let mut at_rest = false;
     let stops: Vec<String> = solved
         .frames
         .iter()
         .enumerate()
         .flat_map(|(i, f)| {
-            f.hands.iter().filter_map(move |h| {
-                let s = h.stats.stopped_short.as_ref().filter(|s| s.solver_limit)?;
-                Some(format!(
-                    "frame {i} (t = {} s): hand \"{}\" stopped at {:.0} % of its keyframe's \
-                     motion: {}",
-                    solved.report.frames[i].time,
-                    solved.model.bodies[h.body].name,
-                    s.reached * 100.0,
-                    s.reason
-                ))
-            })
+            f.hands
+                .iter()
+                .filter_map(move |h| {
+                    let s = h.stats.stopped_short.as_ref().filter(|s| s.solver_limit)?;
+                    // Frame 0 is the motion from rest to the body's `pose`: no keyframe.
+                    let motion = if i == 0 {
+                        "motion from rest to its `pose`"
+                    } else {
+                        "keyframe's motion"
+                    };
+                    Some((
+                        i == 0,
+                        format!(
+                            "frame {i} (t = {} s): hand \"{}\" stopped at {:.0} % of its {motion}: \
+                             {}",
+                            solved.report.frames[i].time,
+                            solved.model.bodies[h.body].name,
+                            s.reached * 100.0,
+                            s.reason
+                        ),
+                    ))
+                })
+                .collect::<Vec<_>>()
+        })
+        .map(|(first, text)| {
+            at_rest |= first;
+            text
         })
         .collect();
     (!stops.is_empty()).then(|| {
         format!(
             "{}: the scene was not solved to its poses. {}. The frames written hold the motion \
-             up to where it stopped, and a keyframe at the pose reached solves",
+             up to where it stopped, and a keyframe at the pose reached solves{}",
             solved.report.scene,
-            stops.join("; ")
+            stops.join("; "),
+            if at_rest {
+                " (for frame 0, the body's `pose` set to the pose reached)"
+            } else {
+                ""
+            }
         )
     })
 }
