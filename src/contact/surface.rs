@@ -164,17 +164,8 @@ impl SurfaceBvh<'_> {
         prefer: Option<&Vector3<f64>>,
         skip: impl Fn(&[usize; 3]) -> bool,
     ) -> Option<Projection> {
-        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
         let mut best: Option<Projection> = None;
-        for leaf in self.bvh.intersect_aabb(&q) {
-            let nodes = self.surface.triangles[leaf as usize];
-            if skip(&nodes) {
-                continue;
-            }
-            let p = nodes.map(|n| positions[n]);
-            let Some(proj) = project_on_triangle(x, &p) else {
-                continue;
-            };
+        self.for_each_facet(x, positions, skip, |p, proj| {
             // Nearest first; on a tie (a node on an edge or a corner, as close to two facets),
             // the facet that faces it most.
             let better = match &best {
@@ -193,14 +184,34 @@ impl SurfaceBvh<'_> {
                 }
             };
             if better {
-                best = Some(Projection { nodes, ..proj });
+                best = Some(proj);
             }
-        }
+        });
         best
     }
-}
 
-impl SurfaceBvh<'_> {
+    /// Calls `f` with the corners and the projection of `x` of every facet whose grown box
+    /// contains `x` and that `skip` leaves.
+    fn for_each_facet(
+        &self,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        skip: impl Fn(&[usize; 3]) -> bool,
+        mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
+    ) {
+        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
+        for leaf in self.bvh.intersect_aabb(&q) {
+            let nodes = self.surface.triangles[leaf as usize];
+            if skip(&nodes) {
+                continue;
+            }
+            let p = nodes.map(|n| positions[n]);
+            if let Some(proj) = project_on_triangle(x, &p) {
+                f(&p, Projection { nodes, ..proj });
+            }
+        }
+    }
+
     /// Whether `x`, whose nearest facet is `nearest` with its closest point on an edge or a
     /// corner (where the facet's own side can be wrong: a point in a pit of a dented surface
     /// is beyond every facet around the pit's bottom, yet in front of the nearest one's
@@ -223,20 +234,11 @@ impl SurfaceBvh<'_> {
             .sum();
         let scale =
             nearest.distance + (positions[nearest.nodes[1]] - positions[nearest.nodes[0]]).norm();
-        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
         let mut pseudonormal = Vector3::zeros();
         let mut deepest: Option<Projection> = None;
-        for leaf in self.bvh.intersect_aabb(&q) {
-            let nodes = self.surface.triangles[leaf as usize];
-            if skip(&nodes) {
-                continue;
-            }
-            let p = nodes.map(|n| positions[n]);
-            let Some(proj) = project_on_triangle(x, &p) else {
-                continue;
-            };
+        self.for_each_facet(x, positions, skip, |p, proj| {
             if (proj.distance - nearest.distance).abs() > 1e-9 * scale {
-                continue;
+                return;
             }
             // The facet's angle at the shared corner (π along an edge: both sides alike).
             let corner = proj.weights.iter().position(|&w| w > 1.0 - 1e-9);
@@ -247,9 +249,9 @@ impl SurfaceBvh<'_> {
             pseudonormal += proj.normal * angle;
             let gap = proj.normal.dot(&(x - closest));
             if deepest.as_ref().is_none_or(|d| gap < d.gap) {
-                deepest = Some(Projection { nodes, gap, ..proj });
+                deepest = Some(Projection { gap, ..proj });
             }
-        }
+        });
         (pseudonormal.dot(&(x - closest)) < 0.0)
             .then_some(deepest)
             .flatten()
