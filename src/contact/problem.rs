@@ -261,6 +261,19 @@ impl ContactProblem<'_> {
                     (proj.gap < threshold && proj.gap > -settings.search_depth && movable)
                         .then_some(proj)
                 };
+                // The node met by facet `nodes` of this pair's surface at `weights`.
+                let on_facet = |nodes: [usize; 3], weights: [f64; 3], normal, gap| Penetration {
+                    node,
+                    master: Master::Facet {
+                        body: surface.body,
+                        nodes,
+                        weights,
+                    },
+                    source: self.obstacles.len() + p,
+                    normal,
+                    gap,
+                    anchor: Vector3::zeros(),
+                };
                 // A node that crossed this surface: against the facet it went through.
                 if let Some(c) = self
                     .crossings
@@ -276,18 +289,7 @@ impl ContactProblem<'_> {
                     let gap = normal.dot(&(current[node] - point));
                     let movable = free(node) || c.nodes.iter().any(|&n| free(n));
                     if gap < threshold && gap > -settings.search_depth && movable {
-                        out.push(Penetration {
-                            node,
-                            master: Master::Facet {
-                                body: surface.body,
-                                nodes: c.nodes,
-                                weights: c.weights,
-                            },
-                            source: self.obstacles.len() + p,
-                            normal,
-                            gap,
-                            anchor: Vector3::zeros(),
-                        });
+                        out.push(on_facet(c.nodes, c.weights, normal, gap));
                     }
                     // The facets around the one it went through: where the other body
                     // folds there (a soft body dented into a valley across its facet), the
@@ -299,34 +301,12 @@ impl ContactProblem<'_> {
                     let next = met(&|t: &[usize; 3]| apart(t) || !around(t))
                         .filter(|q| !q.nodes.iter().all(|m| c.nodes.contains(m)));
                     if let Some(q) = next {
-                        out.push(Penetration {
-                            node,
-                            master: Master::Facet {
-                                body: surface.body,
-                                nodes: q.nodes,
-                                weights: q.weights,
-                            },
-                            source: self.obstacles.len() + p,
-                            normal: q.normal,
-                            gap: q.gap,
-                            anchor: Vector3::zeros(),
-                        });
+                        out.push(on_facet(q.nodes, q.weights, q.normal, q.gap));
                     }
                     continue;
                 }
                 if let Some(proj) = met(&apart) {
-                    out.push(Penetration {
-                        node,
-                        master: Master::Facet {
-                            body: surface.body,
-                            nodes: proj.nodes,
-                            weights: proj.weights,
-                        },
-                        source: self.obstacles.len() + p,
-                        normal: proj.normal,
-                        gap: proj.gap,
-                        anchor: Vector3::zeros(),
-                    });
+                    out.push(on_facet(proj.nodes, proj.weights, proj.normal, proj.gap));
                 }
             }
         }
