@@ -10,6 +10,7 @@ mod lattice;
 mod model;
 mod posed;
 mod poses;
+pub mod rig_names;
 mod shape;
 mod skeleton;
 mod skin;
