@@ -63,7 +63,7 @@ pub fn bone_surface(bone: &Bone) -> TriangleSurface {
             }
             revolve(&profile, a, dir, u, v)
         }
-        BoneShape::Block { half } => {
+        BoneShape::Block { half, axes } => {
             let c = (bone.start + bone.end) / 2.0;
             let (mut pos, tri) = revolve(
                 &(0..=12)
@@ -80,7 +80,7 @@ pub fn bone_surface(bone: &Bone) -> TriangleSurface {
             for p in &mut pos {
                 // A superellipsoid-like block: push the unit sphere towards the box.
                 let q = p.map(|x| x.signum() * x.abs().powf(0.5));
-                *p = c + q.component_mul(&Vector3::from(half));
+                *p = c + axes * q.component_mul(&Vector3::from(half));
             }
             (pos, tri)
         }

@@ -7,9 +7,11 @@
 pub mod anatomy;
 mod bone_mesh;
 mod lattice;
+mod mesh_skin;
 mod model;
 mod posed;
 mod poses;
+mod rig;
 pub mod rig_names;
 mod shape;
 mod skeleton;
@@ -18,8 +20,10 @@ mod skinning;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
+pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use poses::full_fist;
+pub use rig::RigJoints;
 pub use shape::SkinShape;
 pub use skeleton::{
     cup_radius, long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton,

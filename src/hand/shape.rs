@@ -4,6 +4,7 @@
 //! with the skin) and thick on the palmar pads.
 
 use super::anatomy::{FINGERS, PALM, THUMB};
+use super::mesh_skin::MeshSkin;
 use super::skeleton::Side;
 use nalgebra::Vector3;
 
@@ -54,17 +55,57 @@ fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
     a.min(b) - h * h * k * 0.25
 }
 
-/// The skin of the rest hand.
+/// The skin of a rest hand: the built-in hand's shape, or an imported skin mesh.
 #[derive(Clone, Debug)]
-pub struct SkinShape {
-    side: Side,
-    digits: Vec<Vec<RoundCone>>,
-    thenar: (Vector3<f64>, Vector3<f64>),
+pub enum SkinShape {
+    /// The built-in hand's.
+    Builtin(BuiltinSkin),
+    /// An imported mesh's (hand frame).
+    Mesh(MeshSkin),
 }
 
 impl SkinShape {
     /// The built-in hand's skin.
     pub fn new(side: Side) -> SkinShape {
+        SkinShape::Builtin(BuiltinSkin::new(side))
+    }
+
+    /// Signed distance from `p` (rest, hand frame) to the skin, m (negative inside).
+    pub fn distance(&self, p: &Vector3<f64>) -> f64 {
+        match self {
+            SkinShape::Builtin(s) => s.distance(p),
+            SkinShape::Mesh(s) => s.distance(p),
+        }
+    }
+
+    /// The point of the skin nearest `p`.
+    pub fn project(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            SkinShape::Builtin(s) => s.project(p),
+            SkinShape::Mesh(s) => s.project(p),
+        }
+    }
+
+    /// Axis-aligned bounds of the skin, m (padded by 2 mm).
+    pub fn bounds(&self) -> (Vector3<f64>, Vector3<f64>) {
+        match self {
+            SkinShape::Builtin(s) => s.bounds(),
+            SkinShape::Mesh(s) => s.bounds(),
+        }
+    }
+}
+
+/// The built-in hand's skin.
+#[derive(Clone, Debug)]
+pub struct BuiltinSkin {
+    side: Side,
+    digits: Vec<Vec<RoundCone>>,
+    thenar: (Vector3<f64>, Vector3<f64>),
+}
+
+impl BuiltinSkin {
+    /// The built-in hand's skin.
+    pub fn new(side: Side) -> BuiltinSkin {
         let mut digits = Vec::new();
         // Thumb: from the thenar base along its three bones.
         let d = Vector3::from(THUMB.direction).normalize();
@@ -90,7 +131,7 @@ impl SkinShape {
         }
         // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal.
         let c = Vector3::from(THUMB.cmc) + d * 0.022 + Vector3::new(0.004, -0.008, -0.006);
-        SkinShape {
+        BuiltinSkin {
             side,
             digits,
             thenar: (c, Vector3::new(0.024, 0.016, 0.010)),

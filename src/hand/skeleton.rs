@@ -1,7 +1,8 @@
 //! The skeleton: rigid bones in a tree, joint angles (degrees) with anatomical limits, and forward
 //! kinematics from a pose to one rigid motion per bone (rest frame → posed frame).
 
-use super::anatomy::{limits, Limits, CARPUS, CONDYLE_RATIO, FINGERS, JOINT_GAP, THUMB};
+use super::anatomy::{limits, Limits, CONDYLE_RATIO, DIGITS, JOINT_GAP};
+use super::rig::RigJoints;
 use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
 use std::collections::BTreeMap;
 use thiserror::Error;
@@ -27,10 +28,12 @@ pub enum BoneShape {
         /// Is it a distal phalanx (tuft at the end)?
         distal: bool,
     },
-    /// The carpus: a rounded block with these half extents, m.
+    /// The carpus: a rounded block with these half extents, m, along its axes.
     Block {
         /// Half extents.
         half: [f64; 3],
+        /// Rotation of the block's axes from the hand frame's (rest).
+        axes: UnitQuaternion<f64>,
     },
 }
 
@@ -58,10 +61,11 @@ impl Bone {
     /// Signed distance from `p` (rest frame) to the bone's surface, m (negative inside).
     pub fn distance(&self, p: &Vector3<f64>) -> f64 {
         match self.shape {
-            BoneShape::Block { half } => {
+            BoneShape::Block { half, axes } => {
                 let c = (self.start + self.end) / 2.0;
                 let r = 0.004;
-                let q = (p - c).abs() - (Vector3::from(half) - Vector3::repeat(r));
+                let q = (axes.inverse_transform_vector(&(p - c))).abs()
+                    - (Vector3::from(half) - Vector3::repeat(r));
                 q.sup(&Vector3::zeros()).norm() + q.max().min(0.0) - r
             }
             BoneShape::Long { shaft, distal } => {
@@ -194,17 +198,28 @@ pub struct Skeleton {
 impl Skeleton {
     /// The built-in adult hand skeleton.
     pub fn new(side: Side) -> Skeleton {
+        Skeleton::from_joints(side, &RigJoints::builtin())
+    }
+
+    /// The skeleton of the hand whose joints are `joints` (a right hand's; a left hand is
+    /// built as the right one, then mirrored in y): 20 bones, and 20 joint angles whose axes
+    /// come from the bones' directions and the palm's dorsal normal (z): each finger flexes
+    /// about z × its bone's direction and abducts about z; the thumb's CMC abducts about the
+    /// axis normal to the thumb and to z and flexes about z's part normal to the thumb; its MCP
+    /// and IP flex about the nail normal (z turned by the pronation about the thumb) × the bone.
+    pub fn from_joints(side: Side, joints: &RigJoints) -> Skeleton {
         let mut bones: Vec<Bone> = Vec::new();
         let mut dofs = Vec::new();
         let z = Vector3::z();
-        let (c, h) = CARPUS;
+        let (c, h, axes) = joints.carpus;
+        let along = axes * Vector3::x() * h[0];
         bones.push(Bone {
             name: "carpus".into(),
             digit: None,
             parent: None,
-            start: Vector3::new(c[0] - h[0], c[1], c[2]),
-            end: Vector3::new(c[0] + h[0], c[1], c[2]),
-            shape: BoneShape::Block { half: h },
+            start: c - along,
+            end: c + along,
+            shape: BoneShape::Block { half: h, axes },
             cup: None,
         });
         let add_dof = |dofs: &mut Vec<JointDof>, name: String, bone, center, axis, limits| {
@@ -219,15 +234,15 @@ impl Skeleton {
 
         // Thumb: metacarpal (CMC: flexion across the palm, palmar abduction), proximal (MCP),
         // distal (IP).
-        let d = Vector3::from(THUMB.direction).normalize();
-        let zp = (z - d * z.dot(&d)).normalize();
-        let outward = zp.cross(&d).normalize();
-        let p = THUMB.pronation_deg.to_radians();
-        let nail = zp * p.cos() + outward * p.sin();
-        let mut start = Vector3::from(THUMB.cmc);
+        let p = joints.thumb_pronation_deg.to_radians();
+        let thumb = &joints.digits[0];
         let names = ["metacarpal", "proximal", "distal"];
         for (k, name) in names.iter().enumerate() {
-            let end = start + d * THUMB.bones[k];
+            let (start, end) = (thumb[k], thumb[k + 1]);
+            let d = (end - start).normalize();
+            let zp = (z - d * z.dot(&d)).normalize();
+            let outward = zp.cross(&d).normalize();
+            let nail = zp * p.cos() + outward * p.sin();
             let bone = bones.len();
             bones.push(Bone {
                 name: format!("thumb.{name}"),
@@ -236,7 +251,7 @@ impl Skeleton {
                 start,
                 end,
                 shape: BoneShape::Long {
-                    shaft: THUMB.shaft[k],
+                    shaft: joints.shafts[0][k],
                     distal: k == 2,
                 },
                 cup: None,
@@ -277,57 +292,53 @@ impl Skeleton {
                     limits::THUMB_IP,
                 ),
             }
-            start = end;
         }
 
         // Fingers: metacarpal fixed to the carpus, then proximal (MCP abduction + flexion),
         // middle (PIP), distal (DIP).
-        for (f, finger) in FINGERS.iter().enumerate() {
-            let digit = f + 1;
-            let base = Vector3::new(finger.base[0], finger.base[1], 0.0);
-            let mcp = Vector3::new(finger.mcp[0], finger.mcp[1], 0.0);
+        for digit in 1..5 {
+            let name = DIGITS[digit];
+            let points = &joints.digits[digit];
+            let shafts = &joints.shafts[digit];
             let metacarpal = bones.len();
             bones.push(Bone {
-                name: format!("{}.metacarpal", finger.name),
+                name: format!("{name}.metacarpal"),
                 digit: Some(digit),
                 parent: Some(0),
-                start: base,
-                end: mcp,
+                start: points[0],
+                end: points[1],
                 shape: BoneShape::Long {
-                    shaft: finger.shaft[0] * 1.05,
+                    shaft: shafts[0],
                     distal: false,
                 },
                 cup: None,
             });
-            let dir = Vector3::x();
-            let lateral = z.cross(&dir);
-            let abd_axis = if finger.name == "ring" || finger.name == "little" {
+            let abd_axis = if name == "ring" || name == "little" {
                 -z
             } else {
                 z
             };
-            let mut start = mcp;
-            for (k, name) in ["proximal", "middle", "distal"].iter().enumerate() {
-                let end = start + dir * finger.phalanges[k];
+            for (k, part) in ["proximal", "middle", "distal"].iter().enumerate() {
+                let (start, end) = (points[k + 1], points[k + 2]);
+                let lateral = z.cross(&(end - start).normalize());
                 let bone = bones.len();
                 bones.push(Bone {
-                    name: format!("{}.{name}", finger.name),
+                    name: format!("{name}.{part}"),
                     digit: Some(digit),
                     parent: Some(if k == 0 { metacarpal } else { bone - 1 }),
                     start,
                     end,
                     shape: BoneShape::Long {
-                        shaft: finger.shaft[k],
+                        shaft: shafts[k + 1],
                         distal: k == 2,
                     },
                     cup: None,
                 });
-                let prefix = finger.name;
                 match k {
                     0 => {
                         add_dof(
                             &mut dofs,
-                            format!("{prefix}.mcp.abd"),
+                            format!("{name}.mcp.abd"),
                             bone,
                             start,
                             abd_axis,
@@ -335,7 +346,7 @@ impl Skeleton {
                         );
                         add_dof(
                             &mut dofs,
-                            format!("{prefix}.mcp.flex"),
+                            format!("{name}.mcp.flex"),
                             bone,
                             start,
                             lateral,
@@ -344,7 +355,7 @@ impl Skeleton {
                     }
                     1 => add_dof(
                         &mut dofs,
-                        format!("{prefix}.pip"),
+                        format!("{name}.pip"),
                         bone,
                         start,
                         lateral,
@@ -352,14 +363,13 @@ impl Skeleton {
                     ),
                     _ => add_dof(
                         &mut dofs,
-                        format!("{prefix}.dip"),
+                        format!("{name}.dip"),
                         bone,
                         start,
                         lateral,
                         limits::DIP,
                     ),
                 }
-                start = end;
             }
         }
         // Joints turn about the centre of the proximal bone's head (its condyle), as real
