@@ -4,8 +4,9 @@
 //! The mesh is checked and mended before it is used: vertices at one position (split along UV
 //! seams by exporters) are welded, degenerate triangles dropped, the triangles proximal of the
 //! wrist cut dropped (a forearm, an arm or a whole body beyond it does not matter), the faces
-//! oriented consistently and outwards. What cannot be mended is an error that says where: an
-//! edge shared by more than two triangles, a hole other than the wrist's, the skin passing
+//! oriented consistently and outwards. Sheets that touch along edges (fingers modelled touching)
+//! are kept. What cannot be mended is an error that says where: a fin (an edge of three
+//! triangles, or of more that do not pair up), a hole other than the wrist's, the skin passing
 //! through itself. The sign of the distance comes from the angle-weighted pseudonormals of the
 //! nearest feature (Bærentzen & Aanæs 2005), so the mesh may stay open at the wrist: every point
 //! distal of the cut is nearer the skin around it than the open rim.
@@ -57,12 +58,21 @@ pub enum SkinMeshError {
         edges: usize,
         /// Its largest extent, mm.
         across_mm: f64,
+        /// The largest x of its rim (hand frame), m.
+        reach_x: f64,
     },
     /// Two triangles pass through each other.
-    #[error("the skin mesh passes through itself near {at}: two of its triangles cross there")]
+    #[error(
+        "the skin mesh passes through itself near {at}: two of its triangles cross there, \
+         {depth_mm:.2} mm deep (shallower than {tolerance_mm:.2} mm is let be)"
+    )]
     SelfIntersecting {
         /// A point on the crossing.
         at: Located,
+        /// How deep the triangles pass through each other, mm.
+        depth_mm: f64,
+        /// The depth let be, mm.
+        tolerance_mm: f64,
     },
 }
 
@@ -90,12 +100,22 @@ impl SkinMeshError {
                 at,
                 edges,
                 across_mm,
+                reach_x,
             } => SkinMeshError::Hole {
                 at: m(at),
                 edges,
                 across_mm,
+                reach_x,
             },
-            SkinMeshError::SelfIntersecting { at } => SkinMeshError::SelfIntersecting { at: m(at) },
+            SkinMeshError::SelfIntersecting {
+                at,
+                depth_mm,
+                tolerance_mm,
+            } => SkinMeshError::SelfIntersecting {
+                at: m(at),
+                depth_mm,
+                tolerance_mm,
+            },
             other => other,
         }
     }
@@ -128,11 +148,13 @@ fn na(p: Vec3) -> Vector3<f64> {
 }
 
 impl MeshSkin {
-    /// The skin of `triangles` over `vertices` (hand frame, m), cut at `x = cut_x`.
+    /// The skin of `triangles` over `vertices` (hand frame, m), cut at `x = cut_x`; triangles
+    /// crossing each other by no more than `tolerance` (m) are let be.
     pub fn new(
         vertices: &[Vector3<f64>],
         triangles: &[[u32; 3]],
         cut_x: f64,
+        tolerance: f64,
     ) -> Result<MeshSkin, SkinMeshError> {
         if let Some(v) = vertices
             .iter()
@@ -161,6 +183,10 @@ impl MeshSkin {
                     at: Located(c),
                     edges: l.len(),
                     across_mm: across * 1000.0,
+                    reach_x: l
+                        .iter()
+                        .map(|&v| points[v].x)
+                        .fold(f64::NEG_INFINITY, f64::max),
                 });
             }
         }
@@ -170,8 +196,12 @@ impl MeshSkin {
                 t.swap(1, 2);
             }
         }
-        if let Some(at) = self_crossing(&points, &tris) {
-            return Err(SkinMeshError::SelfIntersecting { at: Located(at) });
+        if let Some((at, depth)) = self_crossing(&points, &tris, tolerance) {
+            return Err(SkinMeshError::SelfIntersecting {
+                at: Located(at),
+                depth_mm: depth * 1e3,
+                tolerance_mm: tolerance * 1e3,
+            });
         }
         let mut lo = Vector3::repeat(f64::INFINITY);
         let mut hi = -lo;
@@ -238,8 +268,9 @@ impl MeshSkin {
     }
 }
 
-/// Vertices at one position merged (positions quantised to 1e-7 of the mesh's size); triangles
-/// that lose a corner or their area dropped.
+/// Vertices nearer each other than 2·10⁻⁵ of the mesh's size merged (exporters split vertices
+/// along UV seams, and subdivided skins leave touching sheets microns apart); triangles that lose
+/// a corner or their area dropped.
 fn welded(
     vertices: &[Vector3<f64>],
     triangles: &[[u32; 3]],
@@ -250,17 +281,28 @@ fn welded(
         lo = lo.inf(p);
         hi = hi.sup(p);
     }
-    let q = ((hi - lo).norm() * 1e-7).max(1e-12);
-    let mut index: HashMap<[i64; 3], usize> = HashMap::new();
-    let mut points = Vec::new();
+    let q = ((hi - lo).norm() * 2e-5).max(1e-12);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut points: Vec<Vector3<f64>> = Vec::new();
     let map: Vec<usize> = vertices
         .iter()
         .map(|p| {
-            let key = [0, 1, 2].map(|i| ((p[i] - lo[i]) / q).round() as i64);
-            *index.entry(key).or_insert_with(|| {
-                points.push(*p);
-                points.len() - 1
-            })
+            let cell = [0, 1, 2].map(|i| ((p[i] - lo[i]) / q).floor() as i64);
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = [cell[0] + dx, cell[1] + dy, cell[2] + dz];
+                        if let Some(found) = grid.get(&key) {
+                            if let Some(&i) = found.iter().find(|&&i| (points[i] - p).norm() <= q) {
+                                return i;
+                            }
+                        }
+                    }
+                }
+            }
+            points.push(*p);
+            grid.entry(cell).or_default().push(points.len() - 1);
+            points.len() - 1
         })
         .collect();
     let tris = triangles
@@ -320,7 +362,10 @@ fn orient(
 ) -> Result<Vec<[usize; 3]>, SkinMeshError> {
     let edges = edge_faces(&tris);
     for (&(a, b), faces) in &edges {
-        if faces.len() > 2 {
+        // Two sheets touching along an edge (fingers modelled touching, welded where they
+        // meet) are kept: as many faces run each way along it. Anything else is a fin.
+        let forward = faces.iter().filter(|&&t| runs(&tris[t], a, b)).count();
+        if faces.len() > 2 && (faces.len() % 2 == 1 || 2 * forward != faces.len()) {
             return Err(SkinMeshError::NonManifold {
                 at: Located((points[a] + points[b]) / 2.0),
                 faces: faces.len(),
@@ -337,7 +382,12 @@ fn orient(
         while let Some(t) = queue.pop_front() {
             for i in 0..3 {
                 let (a, b) = (tris[t][i], tris[t][(i + 1) % 3]);
-                for &u in &edges[&(a.min(b), a.max(b))] {
+                let faces = &edges[&(a.min(b), a.max(b))];
+                if faces.len() > 2 {
+                    // Touching sheets: their faces agree already (checked above).
+                    continue;
+                }
+                for &u in faces {
                     if u == t {
                         continue;
                     }
@@ -468,8 +518,24 @@ fn segment_crossing(
     (u > eps && v > eps && u + v < 1.0 - eps && w > eps && w < 1.0 - eps).then(|| a + d * w)
 }
 
-/// A point where two triangles that share no vertex pass through each other.
-fn self_crossing(points: &[Vector3<f64>], tris: &[[usize; 3]]) -> Option<Vector3<f64>> {
+/// How far triangle `x` reaches behind the plane of triangle `y` (against its normal), m.
+fn behind(points: &[Vector3<f64>], x: &[usize; 3], y: &[usize; 3]) -> f64 {
+    let n = (points[y[1]] - points[y[0]])
+        .cross(&(points[y[2]] - points[y[0]]))
+        .normalize();
+    x.iter()
+        .map(|&v| -(points[v] - points[y[0]]).dot(&n))
+        .fold(0.0, f64::max)
+}
+
+/// A point where two triangles that share no vertex pass through each other by more than
+/// `tolerance` (each reaching that far behind the other: sheets that graze each other, as
+/// fingers modelled touching do, are kept).
+fn self_crossing(
+    points: &[Vector3<f64>],
+    tris: &[[usize; 3]],
+    tolerance: f64,
+) -> Option<(Vector3<f64>, f64)> {
     let boxes: Vec<Aabb> = tris
         .iter()
         .map(|t| {
@@ -487,7 +553,10 @@ fn self_crossing(points: &[Vector3<f64>], tris: &[[usize; 3]]) -> Option<Vector3
         for j in bvh.intersect_aabb(&boxes[i]) {
             let j = j as usize;
             let u = &tris[j];
-            if j <= i || t.iter().any(|v| u.contains(v)) {
+            if j <= i
+                || t.iter().any(|v| u.contains(v))
+                || behind(points, t, u).min(behind(points, u, t)) <= tolerance
+            {
                 continue;
             }
             let corners = |x: &[usize; 3]| -> [&Vector3<f64>; 3] {
@@ -498,7 +567,7 @@ fn self_crossing(points: &[Vector3<f64>], tris: &[[usize; 3]]) -> Option<Vector3
                     if let Some(at) =
                         segment_crossing(&points[x[k]], &points[x[(k + 1) % 3]], corners(y))
                     {
-                        return Some(at);
+                        return Some((at, behind(points, t, u).min(behind(points, u, t))));
                     }
                 }
             }
@@ -546,7 +615,7 @@ mod tests {
                     tri.swap(1, 2);
                 }
             }
-            let s = MeshSkin::new(&v, &t, -1.0).unwrap();
+            let s = MeshSkin::new(&v, &t, -1.0, 1e-4).unwrap();
             assert!((s.distance(&Vector3::repeat(0.01)) + 0.01).abs() < 1e-12);
             assert!((s.distance(&Vector3::new(0.03, 0.01, 0.01)) - 0.01).abs() < 1e-12);
             // Past an edge: the distance to the edge.
@@ -555,7 +624,7 @@ mod tests {
         }
         // One face turned against the others is turned back.
         t[3].swap(1, 2);
-        let s = MeshSkin::new(&v, &t, -1.0).unwrap();
+        let s = MeshSkin::new(&v, &t, -1.0, 1e-4).unwrap();
         assert!(s.distance(&Vector3::repeat(0.01)) < 0.0);
     }
 
@@ -569,7 +638,7 @@ mod tests {
             .filter(|(i, _)| *i / 2 != 4)
             .map(|(_, t)| *t)
             .collect();
-        let s = MeshSkin::new(&v, &open, 0.005).unwrap();
+        let s = MeshSkin::new(&v, &open, 0.005, 1e-4).unwrap();
         assert!((s.distance(&Vector3::new(0.01, 0.01, 0.01)) + 0.005).abs() < 1e-12);
         assert!((s.distance(&Vector3::new(0.001, 0.01, 0.01)) - 0.004).abs() < 1e-12);
         // Without the x+ face: a hole distal of the cut.
@@ -579,7 +648,7 @@ mod tests {
             .filter(|(i, _)| *i / 2 != 5)
             .map(|(_, t)| *t)
             .collect();
-        match MeshSkin::new(&v, &holed, 0.005) {
+        match MeshSkin::new(&v, &holed, 0.005, 1e-4) {
             Err(SkinMeshError::Hole { at, edges, .. }) => {
                 assert!((at.0.x - 0.02).abs() < 1e-12, "{at}");
                 assert_eq!(edges, 4);
@@ -594,7 +663,7 @@ mod tests {
         // A fin on the edge 0–1: a third triangle on it.
         v.push(Vector3::new(0.01, -0.01, -0.01));
         t.push([0, 1, 8]);
-        let e = MeshSkin::new(&v, &t, -1.0).unwrap_err();
+        let e = MeshSkin::new(&v, &t, -1.0, 1e-4).unwrap_err();
         assert!(
             matches!(e, SkinMeshError::NonManifold { faces: 3, .. }),
             "{e}"
@@ -609,7 +678,7 @@ mod tests {
         t.extend(t2.iter().map(|x| x.map(|i| i + 8)));
         // Join them at one vertex so they are one piece.
         v[14] = v[7];
-        let e = MeshSkin::new(&v, &t, -1.0).unwrap_err();
+        let e = MeshSkin::new(&v, &t, -1.0, 1e-4).unwrap_err();
         assert!(matches!(e, SkinMeshError::SelfIntersecting { .. }), "{e}");
     }
 }

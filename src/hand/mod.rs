@@ -6,6 +6,7 @@
 
 pub mod anatomy;
 mod bone_mesh;
+mod imported;
 mod lattice;
 mod mesh_skin;
 mod model;
@@ -19,6 +20,7 @@ mod skin;
 mod skinning;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
+pub use imported::{RigError, RiggedHand};
 pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
 pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};

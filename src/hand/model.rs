@@ -36,8 +36,16 @@ pub struct HandModel {
 impl HandModel {
     /// Builds the hand of the given side at `resolution` (1 = default).
     pub fn new(side: Side, resolution: f64) -> Result<HandModel, MeshingError> {
-        let skeleton = Skeleton::new(side);
-        let shape = SkinShape::new(side);
+        HandModel::build(Skeleton::new(side), SkinShape::new(side), resolution)
+    }
+
+    /// The hand of `skeleton` inside the skin `shape` (both in the hand's frame), meshed at
+    /// `resolution`.
+    pub fn build(
+        skeleton: Skeleton,
+        shape: SkinShape,
+        resolution: f64,
+    ) -> Result<HandModel, MeshingError> {
         let flesh = mesh_flesh(&skeleton, &shape, resolution)?;
         let embedded = |levels| {
             DisplaySkin::embedded(

@@ -61,7 +61,7 @@ pub enum SkinShape {
     /// The built-in hand's.
     Builtin(BuiltinSkin),
     /// An imported mesh's (hand frame).
-    Mesh(MeshSkin),
+    Mesh(Box<MeshSkin>),
 }
 
 impl SkinShape {

@@ -1,0 +1,366 @@
+//! A hand built from an animator's rig: its skin mesh and its joints (scene frame, m).
+//!
+//! The hand's own frame is found from the rig: x along the fingers' proximal phalanges, z the
+//! dorsal normal of the plane of x and the knuckle line (index MCP to little MCP; the side decides
+//! which way is dorsal), the origin at the wrist joint. In that frame the hand is built as the
+//! built-in one is — the skin's mesh as its shape, the flesh lattice, the display and contact
+//! skins — and the whole model is then placed back where the rig is.
+//!
+//! Real rigs are imperfect, and the joints are taken as hints: a joint near the back (or the
+//! front) of a finger, or outside it, is moved to 42 % of the finger's thickness from the back
+//! along the dorsal normal (where the built-in hand's joints are); the tips are where the skin
+//! ends along the last phalanx, less the pulp beyond the bone; finger metacarpals a rig lacks
+//! start a third of the way from the wrist to the knuckle; bones are as thick as the built-in
+//! hand's in proportion to the flesh around them (`SHAFT_OF_FLESH`). A skin cut short of the
+//! wrist (a forearm stump) moves the wrist's cut and the carpus distal with it.
+
+use super::anatomy::DIGITS;
+use super::mesh_skin::{Located, MeshSkin, SkinMeshError};
+use super::model::HandModel;
+use super::rig::RigJoints;
+use super::rig_names::{joint_keys, required};
+use super::shape::SkinShape;
+use super::skeleton::{Side, Skeleton};
+use super::MeshingError;
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use std::collections::BTreeMap;
+
+/// A rig as read from a file, in the scene's frame.
+#[derive(Clone, Debug, Default)]
+pub struct RiggedHand {
+    /// Joint positions by joint key (`rig_names::joint_keys`), m.
+    pub joints: BTreeMap<String, Vector3<f64>>,
+    /// Skin mesh vertices, m.
+    pub vertices: Vec<Vector3<f64>>,
+    /// Skin mesh triangles.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Why a rig cannot be a hand.
+#[derive(Debug, thiserror::Error)]
+pub enum RigError {
+    /// Joints it must have and has not.
+    #[error("the rig has no joint for {}", .0.join(", "))]
+    MissingJoints(Vec<String>),
+    /// Joints that coincide, so no frame or bone can be made from them.
+    #[error("the rig's joints \"{0}\" and \"{1}\" are at the same place")]
+    Coincident(String, String),
+    /// Not the size of a hand.
+    #[error(
+        "the hand is {length_m:.3} m long from the wrist to the middle finger's tip joint: glTF \
+         lengths are metres (set the placement's `scale`, e.g. 0.01 for a rig in centimetres)"
+    )]
+    Size {
+        /// Its length, m.
+        length_m: f64,
+    },
+    /// The skin mesh.
+    #[error(
+        "skin mesh: {0} (scene coordinates; crossings up to 5 % of the lattice spacing are let be)"
+    )]
+    Skin(SkinMeshError),
+    /// A joint with no finger around it.
+    #[error(
+        "joint \"{key}\" at {at} is not inside the skin, nor is any of the finger along its dorsal \
+         normal: is the skin the rig's, and `side` right?"
+    )]
+    JointOutside {
+        /// The joint.
+        key: String,
+        /// Where it is (scene).
+        at: Located,
+    },
+    /// The skin ends too near the knuckles.
+    #[error(
+        "the skin mesh ends {short_mm:.1} mm short of the wrist, too near the knuckles to hold \
+         the carpal bones: export the hand with some forearm"
+    )]
+    Stump {
+        /// How far distal of the wrist joint the skin ends, mm.
+        short_mm: f64,
+    },
+    /// The lattice.
+    #[error("{0}")]
+    Meshing(#[from] MeshingError),
+}
+
+/// Shaft radius over the distance from the bone's axis to the skin at its middle, per bone of a
+/// digit (metacarpal first): the built-in hand's ratios (its bones against its skin), so that an
+/// imported hand's bones fill its fingers as the built-in hand's fill its own.
+const SHAFT_OF_FLESH: [[f64; 4]; 2] = [[0.40, 0.41, 0.39, 0.0], [0.32, 0.475, 0.453, 0.426]];
+
+/// Flesh beyond the end of the distal phalanx at the built-in hand's size, m.
+const TIP_PAD: f64 = 0.0035;
+
+/// Where a joint sits across its finger: its distance from the back over the finger's thickness.
+const JOINT_DEPTH: f64 = 0.42;
+
+/// The built-in hand's length from the wrist joint to the middle finger's MCP, m (sizes scale by
+/// an imported hand's against it).
+const WRIST_TO_MIDDLE_MCP: f64 = 0.0974;
+
+impl HandModel {
+    /// The hand of `side` whose skin and joints are `rig`, meshed at `resolution`.
+    pub fn from_rig(side: Side, rig: &RiggedHand, resolution: f64) -> Result<HandModel, RigError> {
+        let missing: Vec<String> = joint_keys()
+            .into_iter()
+            .filter(|k| required(k) && !rig.joints.contains_key(k))
+            .collect();
+        if !missing.is_empty() {
+            return Err(RigError::MissingJoints(missing));
+        }
+        let frame = hand_frame(side, &rig.joints)?;
+        let to_hand = frame.inverse();
+        let joint = |k: &str| {
+            rig.joints
+                .get(k)
+                .map(|p| to_hand * nalgebra::Point3::from(*p))
+                .map(|p| p.coords)
+        };
+        let scale = joint("middle.proximal").unwrap().norm() / WRIST_TO_MIDDLE_MCP;
+        let tip_len = (joint("middle.proximal").unwrap() - joint("middle.distal").unwrap()).norm();
+        let length = joint("middle.distal").unwrap().x + tip_len * 0.4;
+        if !(0.08..=0.4).contains(&length) {
+            return Err(RigError::Size { length_m: length });
+        }
+        let vertices: Vec<Vector3<f64>> = rig
+            .vertices
+            .iter()
+            .map(|p| (to_hand * nalgebra::Point3::from(*p)).coords)
+            .collect();
+        let to_scene = |p: Vector3<f64>| (frame * nalgebra::Point3::from(p)).coords;
+        let skin_error = |e: SkinMeshError| RigError::Skin(e.mapped(to_scene));
+        let mut cut = -0.004 * scale;
+        // Sheets that graze each other are let be: fingers modelled touching overlap a little
+        // (the built-in hand's own display skin crosses itself up to 1.5 mm deep where the ring
+        // and little fingers touch), and change which cells are flesh only in that sliver.
+        let tolerance = 0.002 * scale;
+        let skin = match MeshSkin::new(&vertices, &rig.triangles, cut, tolerance) {
+            Err(SkinMeshError::Hole { at, reach_x, .. })
+                if at.0.x < 0.3 * WRIST_TO_MIDDLE_MCP * scale =>
+            {
+                // A forearm stump ending distal of the cut: cut distal of its rim.
+                let rim = reach_x;
+                cut = rim + 0.001 * scale;
+                if cut > 0.2 * WRIST_TO_MIDDLE_MCP * scale {
+                    return Err(RigError::Stump {
+                        short_mm: rim * 1000.0,
+                    });
+                }
+                MeshSkin::new(&vertices, &rig.triangles, cut, tolerance).map_err(skin_error)?
+            }
+            other => other.map_err(skin_error)?,
+        };
+
+        // Joints in the hand frame, of a right hand (a left one mirrored in y).
+        let mirror = |p: Vector3<f64>| match side {
+            Side::Right => p,
+            Side::Left => Vector3::new(p.x, -p.y, p.z),
+        };
+        let wrist = joint("wrist").unwrap();
+        let mut digits: [Vec<Vector3<f64>>; 5] = Default::default();
+        for (d, name) in DIGITS.iter().enumerate() {
+            let parts: &[&str] = if d == 0 {
+                &["metacarpal", "proximal", "distal"]
+            } else {
+                &["metacarpal", "proximal", "middle", "distal"]
+            };
+            let mut points = Vec::new();
+            for part in parts {
+                let key = format!("{name}.{part}");
+                let p = match joint(&key) {
+                    Some(p) => p,
+                    // A finger metacarpal the rig lacks.
+                    None => wrist + (joint(&format!("{name}.proximal")).unwrap() - wrist) / 3.0,
+                };
+                // The CMC joints sit in the palm; the others are centred in their finger.
+                let p = if *part == "metacarpal" {
+                    p
+                } else {
+                    let next = points.last().copied().unwrap_or(wrist);
+                    centred(&skin, p, p - next, scale).ok_or_else(|| RigError::JointOutside {
+                        key: key.clone(),
+                        at: Located(to_scene(p)),
+                    })?
+                };
+                points.push(p);
+            }
+            let last = points[points.len() - 1];
+            let dir = match joint(&format!("{name}.tip")) {
+                Some(t) if (t - last).norm() > 1e-6 => (t - last).normalize(),
+                _ => (last - points[points.len() - 2]).normalize(),
+            };
+            let reach = skin.ray(&last, &dir, 0.1 * scale).unwrap_or(0.0);
+            points.push(last + dir * (reach - TIP_PAD * scale).max(0.3 * reach));
+            digits[d] = points;
+        }
+        let shafts = digits.clone().map(|points| {
+            (0..points.len() - 1)
+                .map(|k| {
+                    let mid = (points[k] + points[k + 1]) / 2.0;
+                    let flesh = -skin.distance(&mid);
+                    let kind = if points.len() == 4 { 0 } else { 1 };
+                    let ratio = SHAFT_OF_FLESH[kind][k.min(3)];
+                    (ratio * flesh.max(0.0)).max(0.0005 * scale)
+                })
+                .collect::<Vec<f64>>()
+        });
+        // The carpus: from the wrist (or the cut) to the finger metacarpals' bases.
+        let bases: Vec<Vector3<f64>> = (1..5).map(|d| digits[d][0]).collect();
+        let x0 = wrist.x.max(cut + 0.002 * scale);
+        let x1 = bases.iter().map(|b| b.x).fold(f64::INFINITY, f64::min) - 0.001 * scale;
+        let (y0, y1) = bases
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.y), b.max(p.y))
+            });
+        let z = bases.iter().map(|b| b.z).sum::<f64>() / 4.0 - 0.002 * scale;
+        let half = [
+            ((x1 - x0) / 2.0).max(0.004 * scale),
+            (y1 - y0) / 2.0 + 0.005 * scale,
+            0.0055 * scale,
+        ];
+        let centre = Vector3::new((x0 + x1) / 2.0, (y0 + y1) / 2.0, z);
+        let joints = RigJoints {
+            carpus: (mirror(centre), half, UnitQuaternion::identity()),
+            digits: digits.map(|points| points.into_iter().map(mirror).collect()),
+            shafts,
+            thumb_pronation_deg: RigJoints::builtin().thumb_pronation_deg,
+        };
+        let skeleton = Skeleton::from_joints(side, &joints);
+        let hand = HandModel::build(skeleton, SkinShape::Mesh(Box::new(skin)), resolution)?;
+        Ok(hand.placed(&frame))
+    }
+
+    /// The hand moved rigidly by `motion` (from its own frame to the scene's).
+    pub fn placed(mut self, motion: &Isometry3<f64>) -> HandModel {
+        let p = |v: &mut Vector3<f64>| *v = (motion * nalgebra::Point3::from(*v)).coords;
+        for bone in &mut self.skeleton.bones {
+            p(&mut bone.start);
+            p(&mut bone.end);
+            if let Some((c, _)) = &mut bone.cup {
+                p(c);
+            }
+            if let super::BoneShape::Block { axes, .. } = &mut bone.shape {
+                *axes = motion.rotation * *axes;
+            }
+        }
+        for dof in &mut self.skeleton.dofs {
+            p(&mut dof.center);
+            dof.axis = motion.rotation * dof.axis;
+        }
+        self.flesh.mesh.nodes.iter_mut().for_each(p);
+        self.flesh.display_vertices.iter_mut().for_each(p);
+        self
+    }
+}
+
+/// The hand's frame in the scene: origin at the wrist joint, x along the fingers' proximal
+/// phalanges, z dorsal.
+fn hand_frame(
+    side: Side,
+    joints: &BTreeMap<String, Vector3<f64>>,
+) -> Result<Isometry3<f64>, RigError> {
+    let j = |k: &str| joints[k];
+    let mut x = Vector3::zeros();
+    for f in &DIGITS[1..] {
+        let (a, b) = (format!("{f}.proximal"), format!("{f}.middle"));
+        if (j(&b) - j(&a)).norm() < 1e-9 {
+            return Err(RigError::Coincident(a, b));
+        }
+        x += (j(&b) - j(&a)).normalize();
+    }
+    let across = j("index.proximal") - j("little.proximal");
+    let z = match side {
+        Side::Right => x.cross(&across),
+        Side::Left => across.cross(&x),
+    };
+    if x.norm() < 1e-9 || z.norm() < 1e-12 {
+        return Err(RigError::Coincident(
+            "index.proximal".into(),
+            "little.proximal".into(),
+        ));
+    }
+    let x = x.normalize();
+    let z = z.normalize();
+    let y = z.cross(&x);
+    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+        Matrix3::from_columns(&[x, y, z]),
+    ));
+    Ok(Isometry3::from_parts(
+        Translation3::from(j("wrist")),
+        rotation,
+    ))
+}
+
+/// `p` moved along the dorsal normal of its bone (`along`: the bone's direction) to
+/// [`JOINT_DEPTH`] of the finger's thickness from its back, when it lies outside the finger or
+/// nearer its back or front than a quarter of its thickness; `None` when no finger is found
+/// within 3 cm along that normal.
+fn centred(
+    skin: &MeshSkin,
+    p: Vector3<f64>,
+    along: Vector3<f64>,
+    scale: f64,
+) -> Option<Vector3<f64>> {
+    let z = Vector3::z();
+    let d = along.try_normalize(1e-12).unwrap_or(Vector3::x());
+    let n = (z - d * z.dot(&d)).try_normalize(1e-9).unwrap_or(z);
+    let reach = 0.03 * scale;
+    // The interval [a, b] of the line p + t·n inside the skin nearest p.
+    let (a, b) = if skin.distance(&p) < 0.0 {
+        (-skin.ray(&p, &-n, reach)?, skin.ray(&p, &n, reach)?)
+    } else {
+        let mut best: Option<(f64, f64)> = None;
+        for s in [1.0, -1.0] {
+            let dir = n * s;
+            if let Some(t) = skin.ray(&p, &dir, reach) {
+                let inside = p + dir * (t + 1e-7);
+                if let Some(u) = skin.ray(&inside, &dir, reach) {
+                    let (lo, hi) = if s > 0.0 { (t, t + u) } else { (-(t + u), -t) };
+                    if best.is_none_or(|(bl, bh)| lo.abs().min(hi.abs()) < bl.abs().min(bh.abs())) {
+                        best = Some((lo, hi));
+                    }
+                }
+            }
+        }
+        best?
+    };
+    let thickness = b - a;
+    if a < -0.25 * thickness && b > 0.25 * thickness {
+        return Some(p);
+    }
+    Some(p + n * (b - JOINT_DEPTH * thickness))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hand::BoneShape;
+
+    #[test]
+    fn the_shaft_ratios_are_the_builtin_hands() {
+        let skeleton = Skeleton::new(Side::Right);
+        let skin = SkinShape::new(Side::Right);
+        for (d, name) in DIGITS.iter().enumerate() {
+            let parts: &[&str] = if d == 0 {
+                &["metacarpal", "proximal", "distal"]
+            } else {
+                &["metacarpal", "proximal", "middle", "distal"]
+            };
+            for (k, part) in parts.iter().enumerate() {
+                let bone = &skeleton.bones[skeleton.bone_index(&format!("{name}.{part}")).unwrap()];
+                let BoneShape::Long { shaft, .. } = bone.shape else {
+                    panic!()
+                };
+                let flesh = -skin.distance(&((bone.start + bone.end) / 2.0));
+                let table = SHAFT_OF_FLESH[usize::from(d > 0)][k];
+                let ratio = shaft / flesh;
+                assert!(
+                    (ratio / table - 1.0).abs() < 0.12,
+                    "{name}.{part}: {ratio:.3} against {table}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! A hand built from a rig (its skin mesh and its joints), against the built-in hand it was
+//! taken from: the built-in hand's display skin and joint points, moved anywhere in the scene,
+//! give back its skeleton, its flesh and — flexed — its bone reactions.
+
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use prehensile::fem::solve::FillOrdering;
+use prehensile::fem::Material;
+use prehensile::hand::rig_names::joint_keys;
+use prehensile::hand::{HandModel, Pose, RigError, RiggedHand, Side};
+use prehensile::model::FlexionSettings;
+use prehensile::solve::Flexion;
+use prehensile::state::HandState;
+
+const FLESH: Material = Material {
+    young: 5.0e4,
+    poisson: 0.45,
+    density: 1050.0,
+};
+
+/// Somewhere in a scene: turned 40° about (1, 2, 3) and moved.
+fn placement() -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(0.1, -0.2, 0.3),
+        UnitQuaternion::from_axis_angle(
+            &nalgebra::Unit::new_normalize(Vector3::new(1.0, 2.0, 3.0)),
+            40f64.to_radians(),
+        ),
+    )
+}
+
+/// The rig of `hand` (its display skin at rest and its joints) moved by `motion`.
+fn rig_of(hand: &HandModel, motion: &Isometry3<f64>) -> RiggedHand {
+    let at = |p: Vector3<f64>| (motion * Point3::from(p)).coords;
+    let sk = &hand.skeleton;
+    let mut rig = RiggedHand::default();
+    for key in joint_keys() {
+        let p = if key == "wrist" {
+            sk.bones[sk.bone_index("carpus").unwrap()].start
+        } else if let Some(digit) = key.strip_suffix(".tip") {
+            sk.bones[sk.bone_index(&format!("{digit}.distal")).unwrap()].end
+        } else {
+            sk.bones[sk.bone_index(&key).unwrap()].start
+        };
+        rig.joints.insert(key, at(p));
+    }
+    rig.vertices = hand
+        .skin
+        .positions(&hand.flesh.mesh.nodes)
+        .into_iter()
+        .map(at)
+        .collect();
+    rig.triangles = hand.skin.triangles();
+    rig
+}
+
+fn volume(hand: &HandModel) -> f64 {
+    (0..hand.flesh.mesh.cell_count())
+        .map(|c| prehensile::fem::hex8::cell_volume(&hand.flesh.mesh.cell_coords(c)))
+        .sum()
+}
+
+/// The reaction on each bone of `hand` flexed from rest to `pose`, N.
+fn reactions(hand: &HandModel, pose: &[(&str, f64)]) -> Vec<f64> {
+    let materials = vec![FLESH; hand.flesh.mesh.cells.len()];
+    let mut stepper = Flexion::new(
+        hand,
+        "hand",
+        materials,
+        FlexionSettings::default(),
+        FillOrdering::Auto,
+    );
+    let mut state = HandState::rest(hand);
+    let pose: Pose = pose.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    let target = hand.skeleton.apply_pose(&state.angles, &pose).unwrap();
+    stepper.move_to(&mut state, &target).unwrap();
+    state
+        .bone_reactions(hand)
+        .iter()
+        .map(|r| r.norm())
+        .collect()
+}
+
+fn compare(side: Side) {
+    let builtin = HandModel::new(side, 1.0).unwrap();
+    let motion = placement();
+    let imported = HandModel::from_rig(side, &rig_of(&builtin, &motion), 1.0).unwrap();
+    // Joints: every joint's centre of rotation where the built-in hand's is, moved.
+    let mut worst: f64 = 0.0;
+    for (a, b) in builtin.skeleton.dofs.iter().zip(&imported.skeleton.dofs) {
+        assert_eq!(a.name, b.name);
+        let moved = (motion * Point3::from(a.center)).coords;
+        worst = worst.max((moved - b.center).norm());
+        let axis = motion.rotation * a.axis.into_inner();
+        assert!(
+            axis.dot(&b.axis) > 0.99,
+            "{side:?} {}: axis {:?} against {:?}",
+            a.name,
+            b.axis,
+            axis
+        );
+    }
+    assert!(
+        worst < 1.0e-3,
+        "{side:?}: a joint centre {:.2} mm off",
+        worst * 1e3
+    );
+    // Flesh volume.
+    let (vb, vi) = (volume(&builtin), volume(&imported));
+    println!(
+        "{side:?}: joints within {:.3} mm; flesh {:.2} cm³ built-in, {:.2} cm³ imported",
+        worst * 1e3,
+        vb * 1e6,
+        vi * 1e6
+    );
+    assert!(
+        (vi / vb - 1.0).abs() < 0.03,
+        "flesh volume {vi} against {vb}"
+    );
+    // Flexed: every bone's reaction within 5 % of the built-in hand's largest, and the bones
+    // that carry the flexion (a quarter of the largest or more) within 5 % of their own.
+    let pose = [("index.pip", 90.0)];
+    let (rb, ri) = (reactions(&builtin, &pose), reactions(&imported, &pose));
+    let largest = rb.iter().copied().fold(0.0, f64::max);
+    for (b, bone) in builtin.skeleton.bones.iter().enumerate() {
+        let name = &bone.name;
+        if rb[b] > 0.01 * largest {
+            println!(
+                "{side:?} {name}: {:.4} N built-in, {:.4} N imported",
+                rb[b], ri[b]
+            );
+        }
+        assert!(
+            (ri[b] - rb[b]).abs() < 0.05 * largest,
+            "{name}: {} N against {} N",
+            ri[b],
+            rb[b]
+        );
+        if rb[b] > 0.25 * largest {
+            assert!(
+                (ri[b] / rb[b] - 1.0).abs() < 0.05,
+                "{name}: {} N against {} N",
+                ri[b],
+                rb[b]
+            );
+        }
+    }
+}
+
+#[test]
+fn the_builtin_right_hand_taken_as_a_rig_flexes_as_itself() {
+    compare(Side::Right);
+}
+
+#[test]
+fn the_builtin_left_hand_taken_as_a_rig_flexes_as_itself() {
+    compare(Side::Left);
+}
+
+#[test]
+fn a_rig_without_a_fingers_joints_or_with_a_holed_palm_is_refused_saying_so() {
+    let builtin = HandModel::new(Side::Right, 0.75).unwrap();
+    let mut rig = rig_of(&builtin, &Isometry3::identity());
+    rig.joints.remove("ring.middle");
+    rig.joints.remove("ring.distal");
+    let e = HandModel::from_rig(Side::Right, &rig, 0.75).unwrap_err();
+    assert!(matches!(e, RigError::MissingJoints(_)), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "the rig has no joint for ring.middle, ring.distal"
+    );
+    // A hole in the palm: the triangles around its centre removed.
+    let mut rig = rig_of(&builtin, &Isometry3::identity());
+    let centre = Vector3::new(0.05, 0.0, -0.0175);
+    let before = rig.triangles.len();
+    let vertices = rig.vertices.clone();
+    rig.triangles.retain(|t| {
+        t.iter()
+            .all(|&v| (vertices[v as usize] - centre).norm() > 0.004)
+    });
+    assert!(rig.triangles.len() < before, "no triangle removed");
+    let e = HandModel::from_rig(Side::Right, &rig, 0.75).unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("has a hole near"), "{text}");
+    let RigError::Skin(prehensile::hand::SkinMeshError::Hole { at, across_mm, .. }) = e else {
+        panic!("{e:?}")
+    };
+    assert!((at.0 - centre).norm() < 0.003, "{text}");
+    assert!((6.0..12.0).contains(&across_mm), "{text}");
+}
