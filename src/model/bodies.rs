@@ -3,6 +3,7 @@
 //! bone thresholds.
 
 use super::check::list;
+use super::hand_gltf::read_rigged_hand;
 use super::materials::find_material;
 use super::memory_estimate::fits_in_memory;
 use super::shapes::build_shape;
@@ -12,6 +13,7 @@ use crate::fem::Material;
 use crate::hand::HandModel;
 use crate::mesh::{boundary_facets, Facet, Mesh};
 use crate::scene::{Scene, Shape};
+use std::path::Path;
 use std::sync::Arc;
 
 /// All bodies meshed one after the other.
@@ -28,7 +30,11 @@ pub struct Bodies {
 
 /// Builds the bodies of the scene, in its order, each checked to fit in the memory
 /// (`max_memory`, and whether the nonlinear tier keeps its element states) before it is processed.
-pub fn bodies(scene: &Scene, memory: (Option<u64>, bool)) -> Result<Bodies, (String, String)> {
+pub fn bodies(
+    scene: &Scene,
+    memory: (Option<u64>, bool),
+    dir: &Path,
+) -> Result<Bodies, (String, String)> {
     if scene.body.is_empty() {
         return Err(("body".into(), "the scene defines no [[body]]".into()));
     }
@@ -43,10 +49,35 @@ pub fn bodies(scene: &Scene, memory: (Option<u64>, bool)) -> Result<Bodies, (Str
         }
         let material = find_material(scene, &b.material, format!("{field}.material"))?;
         let hand = match &b.shape {
-            Shape::Hand { side, resolution } => Some(Arc::new(
+            Shape::Hand {
+                side,
+                resolution,
+                gltf: None,
+                ..
+            } => Some(Arc::new(
                 HandModel::new((*side).into(), *resolution)
                     .map_err(|e| (format!("{field}.shape.hand"), e.to_string()))?,
             )),
+            Shape::Hand {
+                side,
+                resolution,
+                gltf: Some(file),
+                bones,
+                placement,
+            } => {
+                let field = format!("{field}.shape.hand.gltf");
+                let rig = read_rigged_hand(
+                    &dir.join(file),
+                    (*side).into(),
+                    &bones.clone().unwrap_or_default(),
+                    &placement.clone().unwrap_or_default(),
+                )
+                .map_err(|e| (field.clone(), e))?;
+                Some(Arc::new(
+                    HandModel::from_rig((*side).into(), &rig, *resolution)
+                        .map_err(|e| (field, format!("\"{file}\": {e}")))?,
+                ))
+            }
             _ => {
                 if b.pose.is_some() {
                     return Err((

@@ -33,7 +33,14 @@ impl Model {
             mut bodies,
             mut cell_material,
             cell_body,
-        } = bodies(scene, (max_memory, nonlinear_statics)).map_err(err)?;
+        } = bodies(
+            scene,
+            (max_memory, nonlinear_statics),
+            std::path::Path::new(file)
+                .parent()
+                .unwrap_or(std::path::Path::new("")),
+        )
+        .map_err(err)?;
         apply_regions(scene, &bodies, &mesh, &mut cell_material).map_err(err)?;
         let cell_materials: Vec<Material> = cell_material.iter().map(|&m| materials[m]).collect();
 

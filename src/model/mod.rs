@@ -9,6 +9,7 @@ mod constraints;
 mod convert;
 mod flexion_settings;
 mod gas;
+mod hand_gltf;
 mod input_warnings;
 mod keyframes;
 mod loads;

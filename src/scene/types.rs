@@ -385,6 +385,19 @@ pub enum Shape {
         /// Mesh resolution (0.5 … 4).
         #[serde(default = "one")]
         resolution: f64,
+        /// A rigged hand from a glTF 2.0 file (`.glb`, or `.gltf`), relative to the scene file:
+        /// its skin and its joints instead of the built-in hand's (docs/hand.md, "Your own
+        /// hand").
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        gltf: Option<String>,
+        /// The rig's node at each joint, by joint key (`wrist`, `index.proximal` for the joint
+        /// at the start of the index's proximal phalanx, …, `index.tip`), where the node names
+        /// are not in one of the conventions recognised (Mixamo, Rigify, MakeHuman, Unreal).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bones: Option<BTreeMap<String, String>>,
+        /// Where the rig goes in the scene.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        placement: Option<Placement>,
     },
     /// An explicit mesh: node coordinates and 8-node cells (VTK order; repeat nodes for prisms
     /// and tetrahedra).
@@ -394,6 +407,33 @@ pub enum Shape {
         /// Cells as 0-based node indices.
         cells: Vec<[usize; 8]>,
     },
+}
+
+/// `placement = { translation = [x, y, z], rotation = [rx, ry, rz], scale = 1 }`: an imported
+/// rig, once turned from glTF's Y-up to the scene's Z-up, is scaled, turned (Euler angles in
+/// degrees, X then Y then Z, as Blender's) and moved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// Translation, m.
+    #[serde(default)]
+    pub translation: [f64; 3],
+    /// Rotation, degrees about x, y, z.
+    #[serde(default)]
+    pub rotation: [f64; 3],
+    /// Scale (0.01 for a rig modelled in centimetres).
+    #[serde(default = "one")]
+    pub scale: f64,
+}
+
+impl Default for Placement {
+    fn default() -> Placement {
+        Placement {
+            translation: [0.0; 3],
+            rotation: [0.0; 3],
+            scale: 1.0,
+        }
+    }
 }
 
 /// `refine = { toward = [x, y, z], size = 0.001 }`: a ball's mesh graded toward the point of its
