@@ -55,9 +55,7 @@ pub enum RigError {
         length_m: f64,
     },
     /// The skin mesh.
-    #[error(
-        "skin mesh: {0} (scene coordinates; crossings up to 5 % of the lattice spacing are let be)"
-    )]
+    #[error("skin mesh: {0} (scene coordinates)")]
     Skin(SkinMeshError),
     /// A joint with no finger around it.
     #[error(
@@ -132,9 +130,11 @@ impl HandModel {
         let skin_error = |e: SkinMeshError| RigError::Skin(e.mapped(to_scene));
         let mut cut = -0.004 * scale;
         // Sheets that graze each other are let be: fingers modelled touching overlap a little
-        // (the built-in hand's own display skin crosses itself up to 1.5 mm deep where the ring
-        // and little fingers touch), and change which cells are flesh only in that sliver.
-        let tolerance = 0.002 * scale;
+        // (the built-in hand's own display skin crosses itself up to 2.4 mm deep where the ring
+        // and little fingers touch, at resolution 0.75), and change which cells are flesh only
+        // in that sliver; a finger through another or through the palm goes deeper than a
+        // quarter of a finger's thickness (4 mm at the built-in hand's size).
+        let tolerance = 0.004 * scale;
         let skin = match MeshSkin::new(&vertices, &rig.triangles, cut, tolerance) {
             Err(SkinMeshError::Hole { at, reach_x, .. })
                 if at.0.x < 0.3 * WRIST_TO_MIDDLE_MCP * scale =>
