@@ -1,8 +1,10 @@
-//! The command line: clap arguments and dispatch (view | solve | render | bench); main.rs calls it.
+//! The command line: clap arguments and dispatch (view | solve | render | export-hand | bench);
+//! main.rs calls it.
 //! May import everything.
 //!
 //! The `prehensile` command line: the interactive viewer (the default), and the headless
-//! commands: solve scenes, render them to PNG, run benchmarks.
+//! commands: solve scenes, render them to PNG, export the built-in hand as a rigged glTF, run
+//! benchmarks.
 
 use crate::app::pose::Preset;
 use crate::app::{run_viewer, ViewOptions, ViewerError};
@@ -20,7 +22,9 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
+mod export_hand;
 mod render;
+use export_hand::ExportHandArgs;
 use render::{OverlayArg, RenderArgs};
 
 #[derive(Parser)]
@@ -32,7 +36,7 @@ use render::{OverlayArg, RenderArgs};
     long_about = "Finite element simulation of a hand grasping a deformable object.\n\n\
                   Without a subcommand, opens the viewer window on the built-in default scene (a \
                   hand beside a pressurised rubber ball). Without a display, use the headless \
-                  commands: solve, render, bench."
+                  commands: solve, render, export-hand, bench."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -84,6 +88,10 @@ enum Command {
     /// Render frames of a scene to PNG without a window (software rendering works: lavapipe or
     /// llvmpipe; WGPU_BACKEND=vulkan|gl chooses the backend). Prints the adapter to stderr.
     Render(RenderArgs),
+    /// Write the built-in hand at rest as a rigged glTF 2.0 binary (.glb): its skin, a skeleton
+    /// of joint nodes named in a common rig convention, and skinning weights, as Blender imports
+    /// an armature deforming a mesh.
+    ExportHand(ExportHandArgs),
     /// Benchmarks; print a Markdown table.
     Bench {
         #[command(subcommand)]
@@ -316,6 +324,7 @@ fn run() -> Result<()> {
             }
         }
         Some(Command::Render(args)) => render::run(args)?,
+        Some(Command::ExportHand(args)) => export_hand::run(args)?,
         Some(Command::Bench { which }) => match which {
             BenchCommand::Solver {
                 sizes,

@@ -12,13 +12,12 @@
 //! importer expects. The bodies other than hands carry the contact pressure as the vertex
 //! colour COLOR_0 (the largest over the frames, blue 0 → red at its peak) when they touch.
 
+use super::glb::GlbBuilder;
 use crate::model::Model;
 use crate::state::Frame;
 use gltf_json as json;
 use json::validation::Checked::Valid;
-use json::validation::USize64;
 use nalgebra::Vector3;
-use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 /// One surface animated over the frames.
@@ -130,79 +129,6 @@ fn hand_in<'a>(f: &'a Frame, h: &'a crate::state::HandFrame) -> &'a crate::state
     f.hands.iter().find(|x| x.body == h.body).unwrap_or(h)
 }
 
-/// The binary buffer and the JSON being built.
-struct Builder {
-    root: json::Root,
-    bin: Vec<u8>,
-}
-
-impl Builder {
-    /// A buffer view of `bytes` (padded to 4 bytes), for vertex data or indices.
-    fn view(
-        &mut self,
-        bytes: &[u8],
-        target: Option<json::buffer::Target>,
-    ) -> json::Index<json::buffer::View> {
-        let offset = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        self.root.push(json::buffer::View {
-            buffer: json::Index::new(0),
-            byte_length: USize64::from(bytes.len()),
-            byte_offset: Some(USize64::from(offset)),
-            byte_stride: None,
-            extensions: Default::default(),
-            extras: Default::default(),
-            name: None,
-            target: target.map(Valid),
-        })
-    }
-
-    /// An accessor of f32 values of `type_` (with min and max when asked).
-    fn floats(
-        &mut self,
-        values: &[f32],
-        type_: json::accessor::Type,
-        bounds: bool,
-        target: Option<json::buffer::Target>,
-    ) -> json::Index<json::Accessor> {
-        let width = type_.multiplicity();
-        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        let view = self.view(&bytes, target);
-        let (min, max) = if bounds {
-            let mut min = vec![f32::INFINITY; width];
-            let mut max = vec![f32::NEG_INFINITY; width];
-            for chunk in values.chunks(width) {
-                for i in 0..width {
-                    min[i] = min[i].min(chunk[i]);
-                    max[i] = max[i].max(chunk[i]);
-                }
-            }
-            (Some(json::Value::from(min)), Some(json::Value::from(max)))
-        } else {
-            (None, None)
-        };
-        self.root.push(json::Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64::from(values.len() / width),
-            component_type: Valid(json::accessor::GenericComponentType(
-                json::accessor::ComponentType::F32,
-            )),
-            extensions: Default::default(),
-            extras: Default::default(),
-            type_: Valid(type_),
-            min,
-            max,
-            name: None,
-            normalized: false,
-            sparse: None,
-        })
-    }
-}
-
 /// Why the animation cannot be written.
 #[derive(Debug, thiserror::Error)]
 pub enum GltfError {
@@ -221,11 +147,7 @@ pub enum GltfError {
 
 /// The `.glb` bytes of `surfaces` animated at `times` (s, one per frame, increasing).
 pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<u8>, GltfError> {
-    let mut b = Builder {
-        root: json::Root::default(),
-        bin: Vec::new(),
-    };
-    b.root.asset.generator = Some(format!("prehensile {}", env!("CARGO_PKG_VERSION")));
+    let mut b = GlbBuilder::new();
     let targets = times.len().saturating_sub(1);
     let mut nodes = Vec::new();
     for s in surfaces {
@@ -271,29 +193,7 @@ pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<
             );
             attributes.insert(Valid(json::mesh::Semantic::Colors(0)), accessor);
         }
-        let index_bytes: Vec<u8> = s
-            .triangles
-            .iter()
-            .flatten()
-            .flat_map(|i| i.to_le_bytes())
-            .collect();
-        let view = b.view(&index_bytes, Some(json::buffer::Target::ElementArrayBuffer));
-        let indices = b.root.push(json::Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64::from(3 * s.triangles.len()),
-            component_type: Valid(json::accessor::GenericComponentType(
-                json::accessor::ComponentType::U32,
-            )),
-            extensions: Default::default(),
-            extras: Default::default(),
-            type_: Valid(json::accessor::Type::Scalar),
-            min: None,
-            max: None,
-            name: None,
-            normalized: false,
-            sparse: None,
-        });
+        let indices = b.triangles(&s.triangles);
         let morphs: Vec<json::mesh::MorphTarget> = s.frames[1..]
             .iter()
             .map(|frame| {
@@ -391,28 +291,5 @@ pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<
         nodes: vec![root_node],
     });
     b.root.scene = Some(scene);
-    b.root.push(json::Buffer {
-        byte_length: USize64::from(b.bin.len()),
-        extensions: Default::default(),
-        extras: Default::default(),
-        name: None,
-        uri: None,
-    });
-    let text = json::serialize::to_string(&b.root).expect("the glTF JSON serialises");
-    let mut json_bytes = text.into_bytes();
-    while !json_bytes.len().is_multiple_of(4) {
-        json_bytes.push(b' ');
-    }
-    let length = 12 + 8 + json_bytes.len() + 8 + b.bin.len();
-    let length32 = u32::try_from(length).map_err(|_| GltfError::TooLarge(length))?;
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header {
-            magic: *b"glTF",
-            version: 2,
-            length: length32,
-        },
-        json: Cow::Owned(json_bytes),
-        bin: Some(Cow::Owned(b.bin)),
-    };
-    glb.to_vec().map_err(|_| GltfError::TooLarge(length))
+    b.finish().map_err(GltfError::TooLarge)
 }
