@@ -187,3 +187,128 @@ fn a_rig_without_a_fingers_joints_or_with_a_holed_palm_is_refused_saying_so() {
     assert!((at.0 - centre).norm() < 0.003, "{text}");
     assert!((6.0..12.0).contains(&across_mm), "{text}");
 }
+
+/// A scene of one hand: `shape` (the TOML of its shape) flexed to index PIP 90°.
+fn flexed_scene(shape: &str) -> String {
+    format!(
+        "[[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n\
+         [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\nshape = {{ hand = {{ {shape} }} }}\n\n\
+         [[keyframe]]\ntime = 1.0\npose = {{ \"index.pip\" = 90.0 }}\n"
+    )
+}
+
+/// The magnitude of each bone's reaction at the last frame of `text` (a scene in `dir`), N.
+fn solved_reactions(dir: &std::path::Path, text: &str) -> Result<Vec<(String, f64)>, String> {
+    let file = dir.join("scene.toml");
+    std::fs::write(&file, text).unwrap();
+    let file = file.display().to_string();
+    let scene = prehensile::scene::Scene::parse(text, &file).map_err(|e| e.to_string())?;
+    let solved = prehensile::headless::solve_scene(&scene, &file).map_err(|e| e.to_string())?;
+    let hand = &solved.report.frames.last().unwrap().hands["hand"];
+    Ok(hand
+        .bones
+        .iter()
+        .map(|(name, bone)| (name.clone(), bone.magnitude))
+        .collect())
+}
+
+#[test]
+fn a_rigged_glb_in_each_convention_is_the_hand_of_a_scene() {
+    use prehensile::export::hand_rig::write_hand_rig;
+    use prehensile::export::rig_mesh::{RigOptions, RigSkin};
+    use prehensile::hand::rig_names::CONVENTIONS;
+    let dir = std::env::temp_dir().join(format!("prehensile-hand-import-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let builtin = HandModel::new(Side::Right, 0.75).unwrap();
+    let reference =
+        solved_reactions(&dir, &flexed_scene("side = \"right\", resolution = 0.75")).unwrap();
+    let largest = reference.iter().map(|r| r.1).fold(0.0, f64::max);
+    for (c, convention) in CONVENTIONS.into_iter().enumerate() {
+        let options = RigOptions {
+            open_wrist: c % 2 == 0,
+            skin: RigSkin::Display,
+        };
+        write_hand_rig(&dir.join("hand.glb"), &builtin, convention, &options).unwrap();
+        let shape = "gltf = \"hand.glb\", side = \"right\", resolution = 0.75, \
+                     placement = { translation = [0.2, 0.0, 0.1], rotation = [0.0, 0.0, 90.0] }";
+        let imported = solved_reactions(&dir, &flexed_scene(shape))
+            .unwrap_or_else(|e| panic!("{convention:?}: {e}"));
+        for ((name, b), (other, i)) in reference.iter().zip(&imported) {
+            assert_eq!(name, other);
+            if *b > 0.05 * largest {
+                println!("{convention:?} {name}: {b:.4} N built-in, {i:.4} N imported");
+            }
+            assert!(
+                (i - b).abs() < 0.05 * largest.max(*b),
+                "{convention:?} {name}: {i} N against {b} N"
+            );
+        }
+    }
+    // The rig of a right hand read as a left one has no left joints, and says which.
+    let e = solved_reactions(
+        &dir,
+        &flexed_scene("gltf = \"hand.glb\", side = \"left\", resolution = 0.75"),
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("has no node for the joints wrist, thumb.metacarpal")
+            && e.contains("of a left hand")
+            && e.contains("hand_r"),
+        "{e}"
+    );
+    // A `bones` table naming a node the file does not have: the nodes are listed.
+    let e = solved_reactions(
+        &dir,
+        &flexed_scene(
+            "gltf = \"hand.glb\", side = \"right\", resolution = 0.75, \
+             bones = { \"ring.middle\" = \"RingPIP\" }",
+        ),
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("names the node \"RingPIP\", which")
+            && e.contains("does not have; its nodes are:")
+            && e.contains("ring_02_r"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Rigs that went through Blender (its glTF importer and exporter; tools/blender_reexport_rig.py):
+/// its node order, its armature node, its bind matrices and, for the `.gltf`, buffers embedded
+/// as base64 data. Each flexes as the built-in hand of its side.
+#[test]
+fn rigs_exported_by_blender_flex_as_the_builtin_hand() {
+    let dir = std::env::temp_dir().join(format!("prehensile-blender-rigs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+    for (file, side) in [
+        ("blender-mixamo-right.glb", "right"),
+        ("blender-mixamo-right.gltf", "right"),
+    ] {
+        let reference = solved_reactions(
+            &dir,
+            &flexed_scene(&format!("side = \"{side}\", resolution = 1")),
+        )
+        .unwrap();
+        let largest = reference.iter().map(|r| r.1).fold(0.0, f64::max);
+        let path = fixtures.join(file).display().to_string();
+        let imported = solved_reactions(
+            &dir,
+            &flexed_scene(&format!(
+                "gltf = \"{path}\", side = \"{side}\", resolution = 1"
+            )),
+        )
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+        for ((name, b), (_, i)) in reference.iter().zip(&imported) {
+            if *b > 0.05 * largest {
+                println!("{file} {name}: {b:.4} N built-in, {i:.4} N imported");
+            }
+            assert!(
+                (i - b).abs() < 0.05 * largest.max(*b),
+                "{file} {name}: {i} N against {b} N"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
