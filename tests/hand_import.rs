@@ -312,3 +312,68 @@ fn rigs_exported_by_blender_flex_as_the_builtin_hand() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The joint centre of `dof` of `hand`, m.
+fn centre(hand: &HandModel, dof: &str) -> Vector3<f64> {
+    hand.skeleton
+        .dofs
+        .iter()
+        .find(|d| d.name == dof)
+        .unwrap()
+        .center
+}
+
+/// Real rigs are imperfect: a joint on the back of its finger, a tip node outside the skin and a
+/// forearm stump that ends distal of the wrist joint are mended; a stump ending at the knuckles is
+/// refused, saying so.
+#[test]
+fn imperfect_rigs_are_mended_or_refused_saying_what() {
+    let builtin = HandModel::new(Side::Right, 0.75).unwrap();
+    let good = rig_of(&builtin, &Isometry3::identity());
+    // The index PIP node on the back of the finger (7 mm dorsal: at its skin), the middle
+    // finger's tip node 15 mm beyond its skin.
+    let mut rig = good.clone();
+    *rig.joints.get_mut("index.middle").unwrap() += Vector3::new(0.0, 0.0, 0.007);
+    *rig.joints.get_mut("middle.tip").unwrap() += Vector3::new(0.015, 0.0, 0.0);
+    let mended = HandModel::from_rig(Side::Right, &rig, 0.75).unwrap();
+    let off = (centre(&mended, "index.pip") - centre(&builtin, "index.pip")).norm();
+    println!(
+        "index PIP on the back of the finger: centred {:.2} mm from the built-in's",
+        off * 1e3
+    );
+    assert!(off < 0.0015, "{:.2} mm", off * 1e3);
+    let tip = |h: &HandModel| {
+        let b = h.skeleton.bone_index("middle.distal").unwrap();
+        h.skeleton.bones[b].end
+    };
+    let tip_off = (tip(&mended) - tip(&builtin)).norm();
+    println!(
+        "middle tip node 15 mm outside: tip {:.2} mm from the built-in's",
+        tip_off * 1e3
+    );
+    assert!(tip_off < 0.0015, "{:.2} mm", tip_off * 1e3);
+    // A stump: the skin cut 10 mm distal of the wrist joint (x = 8 mm; the wrist joint at 0).
+    let stump = |x: f64| {
+        let mut rig = good.clone();
+        let v = rig.vertices.clone();
+        rig.triangles
+            .retain(|t| t.iter().all(|&i| v[i as usize].x > x));
+        HandModel::from_rig(Side::Right, &rig, 0.75)
+    };
+    let short = stump(0.008).unwrap();
+    let carpus = &short.skeleton.bones[0];
+    println!(
+        "stump at 8 mm: the carpus from x = {:.1} mm",
+        carpus.start.x * 1e3
+    );
+    assert!(carpus.start.x > 0.008, "{:?}", carpus.start);
+    let e = stump(0.03).unwrap_err();
+    assert!(
+        matches!(e, RigError::Stump { short_mm } if (29.0..33.0).contains(&short_mm)),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("export the hand with some forearm"),
+        "{e}"
+    );
+}

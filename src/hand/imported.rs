@@ -136,10 +136,17 @@ impl HandModel {
         // quarter of a finger's thickness (4 mm at the built-in hand's size).
         let tolerance = 0.004 * scale;
         let skin = match MeshSkin::new(&vertices, &rig.triangles, cut, tolerance) {
-            Err(SkinMeshError::Hole { at, reach_x, .. })
-                if at.0.x < 0.3 * WRIST_TO_MIDDLE_MCP * scale =>
+            Err(SkinMeshError::Hole {
+                at,
+                reach_x,
+                across_mm,
+                ..
+            }) if at.0.x < 0.6 * WRIST_TO_MIDDLE_MCP * scale
+                && across_mm > 250.0 * WRIST_TO_MIDDLE_MCP * scale =>
             {
-                // A forearm stump ending distal of the cut: cut distal of its rim.
+                // An opening across the proximal 60 % of the palm (wider than a quarter of the
+                // wrist-to-knuckle length) is the end of a forearm stump that stops distal of the
+                // cut: cut distal of its rim.
                 let rim = reach_x;
                 cut = rim + 0.001 * scale;
                 if cut > 0.2 * WRIST_TO_MIDDLE_MCP * scale {
