@@ -53,6 +53,17 @@ pub fn required(key: &str) -> bool {
         || !(key.ends_with(".tip") || (key.ends_with(".metacarpal") && key != "thumb.metacarpal"))
 }
 
+/// The thumb's bones numbered from 1 (metacarpal) to 3 (distal), as every convention numbers
+/// them.
+fn thumb_bone(part: &str) -> Option<u8> {
+    match part {
+        "metacarpal" => Some(1),
+        "proximal" => Some(2),
+        "distal" => Some(3),
+        _ => None,
+    }
+}
+
 /// The node name of joint `key` for a hand of `side` in `convention`, if that convention has
 /// such a node.
 pub fn node_name(convention: Convention, side: Side, key: &str) -> Option<String> {
@@ -87,13 +98,7 @@ pub fn node_name(convention: Convention, side: Side, key: &str) -> Option<String
             }
             let d = d?;
             if d == 0 {
-                let n = match part {
-                    "metacarpal" => 1,
-                    "proximal" => 2,
-                    "distal" => 3,
-                    _ => return None,
-                };
-                return Some(format!("DEF-thumb.0{n}.{s}"));
+                return Some(format!("DEF-thumb.0{}.{s}", thumb_bone(part)?));
             }
             let name = ["", "index", "middle", "ring", "pinky"][d];
             match part {
@@ -111,13 +116,7 @@ pub fn node_name(convention: Convention, side: Side, key: &str) -> Option<String
             }
             let d = d?;
             if d == 0 {
-                let n = match part {
-                    "metacarpal" => 1,
-                    "proximal" => 2,
-                    "distal" => 3,
-                    _ => return None,
-                };
-                return Some(format!("finger1-{n}.{s}"));
+                return Some(format!("finger1-{}.{s}", thumb_bone(part)?));
             }
             let n = match part {
                 "metacarpal" => return Some(format!("metacarpal{d}.{s}")),
