@@ -377,3 +377,51 @@ fn imperfect_rigs_are_mended_or_refused_saying_what() {
         "{e}"
     );
 }
+
+/// Hostile rig inputs: no file, not glTF, a bad placement — each a clear error naming it.
+#[test]
+fn bad_rig_files_and_placements_are_named() {
+    let dir = std::env::temp_dir().join(format!("prehensile-bad-rigs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("notes.glb"), "not a glTF at all").unwrap();
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/blender-mixamo-right.glb")
+        .display()
+        .to_string();
+    for (shape, expected) in [
+        (
+            "gltf = \"missing.glb\", side = \"right\"".to_string(),
+            "cannot read \"",
+        ),
+        (
+            "gltf = \"notes.glb\", side = \"right\"".to_string(),
+            "notes.glb\" is not a glTF 2.0 file",
+        ),
+        (
+            format!("gltf = \"{fixture}\", side = \"right\", placement = {{ scale = 0.0 }}"),
+            "`placement.scale` must be a positive number, got 0",
+        ),
+        (
+            format!("gltf = \"{fixture}\", side = \"right\", placement = {{ scale = 100.0 }}"),
+            "m long from the wrist to the middle finger's tip joint: glTF lengths are metres",
+        ),
+        (
+            format!(
+                "gltf = \"{fixture}\", side = \"right\", bones = {{ \"index.knuckle\" = \"x\" }}"
+            ),
+            "`bones` names \"index.knuckle\", which is not a joint of the hand",
+        ),
+        (
+            format!(
+                "gltf = \"{fixture}\", side = \"right\", resolution = 4, \
+                 placement = {{ scale = 2.0 }}"
+            ),
+            "the hand's lattice at this resolution would span",
+        ),
+    ] {
+        let e = solved_reactions(&dir, &flexed_scene(&shape)).unwrap_err();
+        assert!(e.contains("body \"hand\" (body[0]).shape.hand.gltf"), "{e}");
+        assert!(e.contains(expected), "{shape}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

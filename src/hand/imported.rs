@@ -77,6 +77,17 @@ pub enum RigError {
         /// How far distal of the wrist joint the skin ends, mm.
         short_mm: f64,
     },
+    /// A lattice too large for the memory.
+    #[error(
+        "the hand's lattice at this resolution would span {cells:.3e} cells; a resolution of \
+         {resolution:.2} or less fits"
+    )]
+    TooFine {
+        /// Lattice cells over the skin's bounds.
+        cells: f64,
+        /// The largest resolution that fits.
+        resolution: f64,
+    },
     /// The lattice.
     #[error("{0}")]
     Meshing(#[from] MeshingError),
@@ -86,6 +97,10 @@ pub enum RigError {
 /// digit (metacarpal first): the built-in hand's ratios (its bones against its skin), so that an
 /// imported hand's bones fill its fingers as the built-in hand's fill its own.
 const SHAFT_OF_FLESH: [[f64; 4]; 2] = [[0.40, 0.41, 0.39, 0.0], [0.32, 0.475, 0.453, 0.426]];
+
+/// The most lattice cells (inside the skin or not) an imported hand's flesh is meshed from:
+/// four times the built-in hand's box at resolution 4 (≈ 4 M).
+const MAX_LATTICE: f64 = 1.6e7;
 
 /// Flesh beyond the end of the distal phalanx at the built-in hand's size, m.
 const TIP_PAD: f64 = 0.0035;
@@ -158,6 +173,18 @@ impl HandModel {
             }
             other => other.map_err(skin_error)?,
         };
+
+        // The lattice over the skin's bounds, refused before it is allocated when it is more
+        // than four times the built-in hand's at resolution 4.
+        let (lo, hi) = skin.bounds();
+        let h = super::BASE_SPACING / resolution;
+        let lattice: f64 = (hi - lo).iter().map(|e| (e / h).ceil() + 1.0).product();
+        if lattice > MAX_LATTICE {
+            return Err(RigError::TooFine {
+                cells: lattice,
+                resolution: resolution * (MAX_LATTICE / lattice).cbrt(),
+            });
+        }
 
         // Joints in the hand frame, of a right hand (a left one mirrored in y).
         let mirror = |p: Vector3<f64>| match side {

@@ -20,6 +20,18 @@ pub fn read_rigged_hand(
     placement: &Placement,
 ) -> Result<RiggedHand, String> {
     let file = path.display();
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    if !(placement.scale.is_finite() && placement.scale > 0.0) {
+        return Err(format!(
+            "`placement.scale` must be a positive number, got {}",
+            placement.scale
+        ));
+    }
+    if !finite(&placement.translation) || !finite(&placement.rotation) {
+        return Err(
+            "`placement.translation` and `placement.rotation` must be finite numbers".into(),
+        );
+    }
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read \"{file}\": {e}"))?;
     let gltf = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| format!("\"{file}\" is not a glTF 2.0 file: {e}"))?;
