@@ -168,6 +168,17 @@ fn a_rig_without_a_fingers_joints_or_with_a_holed_palm_is_refused_saying_so() {
         e.to_string(),
         "the rig has no joint for ring.middle, ring.distal"
     );
+    // The right hand's rig declared a left hand: its palm's thickness says so.
+    let rig = rig_of(&builtin, &Isometry3::identity());
+    let e = HandModel::from_rig(Side::Left, &rig, 0.75).unwrap_err();
+    println!("{e}");
+    let RigError::Side {
+        back_mm, front_mm, ..
+    } = e
+    else {
+        panic!("{e:?}")
+    };
+    assert!(back_mm > 1.15 * front_mm, "{e}");
     // A hole in the palm: the triangles around its centre removed.
     let mut rig = rig_of(&builtin, &Isometry3::identity());
     let centre = Vector3::new(0.05, 0.0, -0.0175);

@@ -77,6 +77,20 @@ pub enum RigError {
         /// How far distal of the wrist joint the skin ends, mm.
         short_mm: f64,
     },
+    /// The palm's thickness says the rig is of the other side.
+    #[error(
+        "as a {side} hand the rig's palm would be {back_mm:.1} mm thick behind the metacarpals and \
+         {front_mm:.1} mm in front of them (a palm is thicker in front): is it a hand of the \
+         other side? Set `side` to the rig's"
+    )]
+    Side {
+        /// The side asked for.
+        side: String,
+        /// Flesh behind the metacarpals (dorsal for that side), mm.
+        back_mm: f64,
+        /// Flesh in front (palmar for that side), mm.
+        front_mm: f64,
+    },
     /// A lattice too large for the memory.
     #[error(
         "the hand's lattice at this resolution would span {cells:.3e} cells; a resolution of \
@@ -173,6 +187,23 @@ impl HandModel {
             }
             other => other.map_err(skin_error)?,
         };
+
+        // The side: the palm is thicker in front of the metacarpals than behind them (the
+        // built-in hand: 15 mm against 11 mm midway from the wrist to the knuckles); a rig of the
+        // other side has its front where this side's back is.
+        let mid = (joint("middle.proximal").unwrap() + joint("wrist").unwrap()) / 2.0;
+        if let (Some(back), Some(front)) = (
+            skin.ray(&mid, &Vector3::z(), 0.1 * scale),
+            skin.ray(&mid, &-Vector3::z(), 0.1 * scale),
+        ) {
+            if back > 1.15 * front {
+                return Err(RigError::Side {
+                    side: format!("{side:?}").to_lowercase(),
+                    back_mm: back * 1e3,
+                    front_mm: front * 1e3,
+                });
+            }
+        }
 
         // The lattice over the skin's bounds, refused before it is allocated when it is more
         // than four times the built-in hand's at resolution 4.
