@@ -18,6 +18,7 @@ use super::rig_mesh::{rig_mesh, RigMesh};
 pub use super::rig_mesh::{RigOptions, RigSkin};
 use crate::hand::rig_names::{joint_keys, node_name, Convention};
 use crate::hand::{HandModel, Skeleton};
+pub use crate::util::gltf_axes::{from_gltf_axes, to_gltf_axes};
 use gltf_json as json;
 use json::validation::Checked::Valid;
 use nalgebra::Vector3;
@@ -59,17 +60,6 @@ pub enum RigError {
         /// The cause.
         source: std::io::Error,
     },
-}
-
-/// Hand frame (Z-up) to glTF (Y-up): (x, y, z) → (x, z, −y).
-pub fn to_gltf_axes(v: &Vector3<f64>) -> Vector3<f64> {
-    Vector3::new(v.x, v.z, -v.y)
-}
-
-/// glTF (Y-up) to the hand frame (Z-up): (x, y, z) → (x, −z, y), the inverse of
-/// [`to_gltf_axes`] (Blender's importer turns glTF's axes so).
-pub fn from_gltf_axes(v: &Vector3<f64>) -> Vector3<f64> {
-    Vector3::new(v.x, -v.z, v.y)
 }
 
 /// The rest position of joint `key` in `skeleton`: `wrist` the carpus's start, `<digit>.tip` the

@@ -3,9 +3,10 @@
 //! Z-up as Blender's importer does ((x, y, z) → (x, −z, y)), then placed (scale, rotation,
 //! translation) where the scene says.
 
-use crate::hand::rig_names::{joint_keys, normalized, recognise, CONVENTIONS};
+use crate::hand::rig_names::{joint_keys, normalized, recognise, Convention, CONVENTIONS};
 use crate::hand::{RiggedHand, Side};
 use crate::scene::Placement;
+use crate::util::gltf_axes::from_gltf_axes;
 use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -70,19 +71,20 @@ pub fn read_rigged_hand(
         joint_node.insert(key.clone(), *n);
     }
     // The others by name, in the convention that recognises the most of them.
+    let recognised: Vec<(usize, Convention, String)> = names
+        .iter()
+        .filter_map(|(n, s)| recognise(s, side).map(|(c, key)| (*n, c, key)))
+        .collect();
     let best = CONVENTIONS
         .iter()
         .map(|&c| {
-            let hits: Vec<(String, usize)> = names
+            recognised
                 .iter()
-                .filter_map(|(n, s)| match recognise(s, side) {
-                    Some((conv, key)) if conv == c => Some((key, *n)),
-                    _ => None,
-                })
-                .collect();
-            hits
+                .filter(|(_, conv, _)| *conv == c)
+                .map(|(n, _, key)| (key.clone(), *n))
+                .collect::<Vec<_>>()
         })
-        .max_by_key(|h| h.len())
+        .max_by_key(|hits| hits.len())
         .unwrap_or_default();
     for (key, n) in best {
         joint_node.entry(key).or_insert(n);
@@ -298,5 +300,5 @@ fn placed(placement: &Placement) -> impl Fn(Vector3<f64>) -> Vector3<f64> {
     let rotation = Rotation3::from_euler_angles(rx, ry, rz);
     let translation = Vector3::from(placement.translation);
     let scale = placement.scale;
-    move |p: Vector3<f64>| rotation * (Vector3::new(p.x, -p.z, p.y) * scale) + translation
+    move |p: Vector3<f64>| rotation * (from_gltf_axes(&p) * scale) + translation
 }

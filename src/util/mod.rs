@@ -1,4 +1,5 @@
-//! Small helpers (timing) every folder may use.
+//! Small helpers (timing, glTF's axes) every folder may use.
 //! Imports nothing of the crate.
 
+pub mod gltf_axes;
 pub mod timing;
