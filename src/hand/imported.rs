@@ -14,7 +14,7 @@
 //! hand's in proportion to the flesh around them (`SHAFT_OF_FLESH`). A skin cut short of the
 //! wrist (a forearm stump) moves the wrist's cut and the carpus distal with it.
 
-use super::anatomy::DIGITS;
+use super::anatomy::{DIGITS, THUMB};
 use super::mesh_skin::{Located, MeshSkin, SkinMeshError};
 use super::model::HandModel;
 use super::rig::RigJoints;
@@ -56,7 +56,7 @@ pub enum RigError {
     },
     /// The skin mesh.
     #[error("skin mesh: {0} (scene coordinates)")]
-    Skin(SkinMeshError),
+    Skin(#[from] SkinMeshError),
     /// A joint with no finger around it.
     #[error(
         "joint \"{key}\" at {at} is not inside the skin, nor is any of the finger along its dorsal \
@@ -156,141 +156,40 @@ impl HandModel {
             .map(|p| (to_hand * nalgebra::Point3::from(*p)).coords)
             .collect();
         let to_scene = |p: Vector3<f64>| (frame * nalgebra::Point3::from(p)).coords;
-        let skin_error = |e: SkinMeshError| RigError::Skin(e.mapped(to_scene));
-        let mut cut = -0.004 * scale;
-        // Sheets that graze each other are let be: fingers modelled touching overlap a little
-        // (the built-in hand's own display skin crosses itself up to 2.4 mm deep where the ring
-        // and little fingers touch, at resolution 0.75), and change which cells are flesh only
-        // in that sliver; a finger through another or through the palm goes deeper than a
-        // quarter of a finger's thickness (4 mm at the built-in hand's size).
-        let tolerance = 0.004 * scale;
-        let skin = match MeshSkin::new(&vertices, &rig.triangles, cut, tolerance) {
-            Err(SkinMeshError::Hole {
-                at,
-                reach_x,
-                across_mm,
-                ..
-            }) if at.0.x < 0.6 * WRIST_TO_MIDDLE_MCP * scale
-                && across_mm > 250.0 * WRIST_TO_MIDDLE_MCP * scale =>
-            {
-                // An opening across the proximal 60 % of the palm (wider than a quarter of the
-                // wrist-to-knuckle length) is the end of a forearm stump that stops distal of the
-                // cut: cut distal of its rim.
-                let rim = reach_x;
-                cut = rim + 0.001 * scale;
-                if cut > 0.2 * WRIST_TO_MIDDLE_MCP * scale {
-                    return Err(RigError::Stump {
-                        short_mm: rim * 1000.0,
-                    });
-                }
-                MeshSkin::new(&vertices, &rig.triangles, cut, tolerance).map_err(skin_error)?
-            }
-            other => other.map_err(skin_error)?,
-        };
-
-        // The side: the palm is thicker in front of the metacarpals than behind them (the
-        // built-in hand: 15 mm against 11 mm midway from the wrist to the knuckles); a rig of the
-        // other side has its front where this side's back is.
-        let mid = (joint("middle.proximal").unwrap() + joint("wrist").unwrap()) / 2.0;
-        if let (Some(back), Some(front)) = (
-            skin.ray(&mid, &Vector3::z(), 0.1 * scale),
-            skin.ray(&mid, &-Vector3::z(), 0.1 * scale),
-        ) {
-            if back > 1.15 * front {
-                return Err(RigError::Side {
-                    side: format!("{side:?}").to_lowercase(),
-                    back_mm: back * 1e3,
-                    front_mm: front * 1e3,
-                });
-            }
-        }
-
-        // The lattice over the skin's bounds, refused before it is allocated when it is more
-        // than four times the built-in hand's at resolution 4.
-        let (lo, hi) = skin.bounds();
-        let h = super::BASE_SPACING / resolution;
-        let lattice: f64 = (hi - lo).iter().map(|e| (e / h).ceil() + 1.0).product();
-        if lattice > MAX_LATTICE {
-            return Err(RigError::TooFine {
-                cells: lattice,
-                resolution: resolution * (MAX_LATTICE / lattice).cbrt(),
-            });
-        }
+        let (skin, cut) = cut_skin(&vertices, &rig.triangles, scale)
+            .map_err(|e| e.map_skin(|err| err.mapped(to_scene)))?;
+        let wrist = joint("wrist").unwrap();
+        check_side(
+            &skin,
+            side,
+            (joint("middle.proximal").unwrap() + wrist) / 2.0,
+            scale,
+        )?;
+        check_lattice(&skin, resolution)?;
 
         // Joints in the hand frame, of a right hand (a left one mirrored in y).
         let mirror = |p: Vector3<f64>| match side {
             Side::Right => p,
             Side::Left => Vector3::new(p.x, -p.y, p.z),
         };
-        let wrist = joint("wrist").unwrap();
         let mut digits: [Vec<Vector3<f64>>; 5] = Default::default();
         for (d, name) in DIGITS.iter().enumerate() {
-            let parts: &[&str] = if d == 0 {
-                &["metacarpal", "proximal", "distal"]
-            } else {
-                &["metacarpal", "proximal", "middle", "distal"]
-            };
-            let mut points = Vec::new();
-            for part in parts {
-                let key = format!("{name}.{part}");
-                let p = match joint(&key) {
-                    Some(p) => p,
-                    // A finger metacarpal the rig lacks.
-                    None => wrist + (joint(&format!("{name}.proximal")).unwrap() - wrist) / 3.0,
-                };
-                // The CMC joints sit in the palm; the others are centred in their finger.
-                let p = if *part == "metacarpal" {
-                    p
-                } else {
-                    let next = points.last().copied().unwrap_or(wrist);
-                    centred(&skin, p, p - next, scale).ok_or_else(|| RigError::JointOutside {
-                        key: key.clone(),
-                        at: Located(to_scene(p)),
-                    })?
-                };
-                points.push(p);
-            }
-            let last = points[points.len() - 1];
-            let dir = match joint(&format!("{name}.tip")) {
-                Some(t) if (t - last).norm() > 1e-6 => (t - last).normalize(),
-                _ => (last - points[points.len() - 2]).normalize(),
-            };
-            let reach = skin.ray(&last, &dir, 0.1 * scale).unwrap_or(0.0);
-            points.push(last + dir * (reach - TIP_PAD * scale).max(0.3 * reach));
-            digits[d] = points;
+            digits[d] = digit_joints(&skin, d, name, &joint, scale).map_err(|(key, p)| {
+                RigError::JointOutside {
+                    key,
+                    at: Located(to_scene(p)),
+                }
+            })?;
         }
-        let shafts = digits.clone().map(|points| {
-            (0..points.len() - 1)
-                .map(|k| {
-                    let mid = (points[k] + points[k + 1]) / 2.0;
-                    let flesh = -skin.distance(&mid);
-                    let kind = if points.len() == 4 { 0 } else { 1 };
-                    let ratio = SHAFT_OF_FLESH[kind][k.min(3)];
-                    (ratio * flesh.max(0.0)).max(0.0005 * scale)
-                })
-                .collect::<Vec<f64>>()
-        });
-        // The carpus: from the wrist (or the cut) to the finger metacarpals' bases.
-        let bases: Vec<Vector3<f64>> = (1..5).map(|d| digits[d][0]).collect();
-        let x0 = wrist.x.max(cut + 0.002 * scale);
-        let x1 = bases.iter().map(|b| b.x).fold(f64::INFINITY, f64::min) - 0.001 * scale;
-        let (y0, y1) = bases
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-                (a.min(p.y), b.max(p.y))
-            });
-        let z = bases.iter().map(|b| b.z).sum::<f64>() / 4.0 - 0.002 * scale;
-        let half = [
-            ((x1 - x0) / 2.0).max(0.004 * scale),
-            (y1 - y0) / 2.0 + 0.005 * scale,
-            0.0055 * scale,
-        ];
-        let centre = Vector3::new((x0 + x1) / 2.0, (y0 + y1) / 2.0, z);
+        let shafts = digits
+            .clone()
+            .map(|points| shafts_of(&skin, &points, scale));
+        let (centre, half) = carpus(&digits, wrist, cut, scale);
         let joints = RigJoints {
             carpus: (mirror(centre), half, UnitQuaternion::identity()),
             digits: digits.map(|points| points.into_iter().map(mirror).collect()),
             shafts,
-            thumb_pronation_deg: RigJoints::builtin().thumb_pronation_deg,
+            thumb_pronation_deg: THUMB.pronation_deg,
         };
         let skeleton = Skeleton::from_joints(side, &joints);
         let hand = HandModel::build(skeleton, SkinShape::Mesh(Box::new(skin)), resolution)?;
@@ -318,6 +217,171 @@ impl HandModel {
         self.flesh.display_vertices.iter_mut().for_each(p);
         self
     }
+}
+
+impl RigError {
+    /// The error with its skin-mesh error mapped by `f`.
+    fn map_skin(self, f: impl FnOnce(SkinMeshError) -> SkinMeshError) -> RigError {
+        match self {
+            RigError::Skin(e) => RigError::Skin(f(e)),
+            other => other,
+        }
+    }
+}
+
+/// The skin of `triangles` over `vertices` (hand frame) cut at the wrist, 4 mm proximal of the
+/// wrist joint at the built-in hand's size, or just distal of a forearm stump's rim; and the cut's
+/// x.
+fn cut_skin(
+    vertices: &[Vector3<f64>],
+    triangles: &[[u32; 3]],
+    scale: f64,
+) -> Result<(MeshSkin, f64), RigError> {
+    let cut = -0.004 * scale;
+    // Sheets that graze each other are let be: fingers modelled touching overlap a little
+    // (the built-in hand's own display skin crosses itself up to 2.4 mm deep where the ring
+    // and little fingers touch, at resolution 0.75), and change which cells are flesh only
+    // in that sliver; a finger through another or through the palm goes deeper than a
+    // quarter of a finger's thickness (4 mm at the built-in hand's size).
+    let tolerance = 0.004 * scale;
+    match MeshSkin::new(vertices, triangles, cut, tolerance) {
+        Err(SkinMeshError::Hole {
+            at,
+            reach_x,
+            across_mm,
+            ..
+        }) if at.0.x < 0.6 * WRIST_TO_MIDDLE_MCP * scale
+            && across_mm > 250.0 * WRIST_TO_MIDDLE_MCP * scale =>
+        {
+            // An opening across the proximal 60 % of the palm (wider than a quarter of the
+            // wrist-to-knuckle length) is the end of a forearm stump that stops distal of the
+            // cut: cut distal of its rim.
+            let cut = reach_x + 0.001 * scale;
+            if cut > 0.2 * WRIST_TO_MIDDLE_MCP * scale {
+                return Err(RigError::Stump {
+                    short_mm: reach_x * 1000.0,
+                });
+            }
+            Ok((MeshSkin::new(vertices, triangles, cut, tolerance)?, cut))
+        }
+        other => Ok((other?, cut)),
+    }
+}
+
+/// The side: the palm is thicker in front of the metacarpals than behind them (the built-in
+/// hand: 15 mm against 11 mm at `mid`, midway from the wrist to the knuckles); a rig of the other
+/// side has its front where this side's back is.
+fn check_side(skin: &MeshSkin, side: Side, mid: Vector3<f64>, scale: f64) -> Result<(), RigError> {
+    if let (Some(back), Some(front)) = (
+        skin.ray(&mid, &Vector3::z(), 0.1 * scale),
+        skin.ray(&mid, &-Vector3::z(), 0.1 * scale),
+    ) {
+        if back > 1.15 * front {
+            return Err(RigError::Side {
+                side: format!("{side:?}").to_lowercase(),
+                back_mm: back * 1e3,
+                front_mm: front * 1e3,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The lattice over the skin's bounds, refused before it is allocated when it is more than four
+/// times the built-in hand's at resolution 4.
+fn check_lattice(skin: &MeshSkin, resolution: f64) -> Result<(), RigError> {
+    let (lo, hi) = skin.bounds();
+    let h = super::BASE_SPACING / resolution;
+    let lattice: f64 = (hi - lo).iter().map(|e| (e / h).ceil() + 1.0).product();
+    if lattice > MAX_LATTICE {
+        return Err(RigError::TooFine {
+            cells: lattice,
+            resolution: resolution * (MAX_LATTICE / lattice).cbrt(),
+        });
+    }
+    Ok(())
+}
+
+/// Digit `d`'s joint points (hand frame) from its carpometacarpal joint to its tip: the rig's
+/// joints (`joint`), a missing finger metacarpal a third of the way from the wrist to the
+/// knuckle, the others centred in their finger, the tip where the skin ends along the last
+/// phalanx less the pulp. A joint with no finger around it is an error: its key and where it is.
+fn digit_joints(
+    skin: &MeshSkin,
+    d: usize,
+    name: &str,
+    joint: &impl Fn(&str) -> Option<Vector3<f64>>,
+    scale: f64,
+) -> Result<Vec<Vector3<f64>>, (String, Vector3<f64>)> {
+    let wrist = joint("wrist").unwrap();
+    let parts: &[&str] = if d == 0 {
+        &["metacarpal", "proximal", "distal"]
+    } else {
+        &["metacarpal", "proximal", "middle", "distal"]
+    };
+    let mut points: Vec<Vector3<f64>> = Vec::new();
+    for part in parts {
+        let key = format!("{name}.{part}");
+        let p = match joint(&key) {
+            Some(p) => p,
+            // A finger metacarpal the rig lacks.
+            None => wrist + (joint(&format!("{name}.proximal")).unwrap() - wrist) / 3.0,
+        };
+        // The CMC joints sit in the palm; the others are centred in their finger.
+        let p = if *part == "metacarpal" {
+            p
+        } else {
+            let previous = points.last().copied().unwrap_or(wrist);
+            centred(skin, p, p - previous, scale).ok_or((key, p))?
+        };
+        points.push(p);
+    }
+    let last = points[points.len() - 1];
+    let dir = match joint(&format!("{name}.tip")) {
+        Some(t) if (t - last).norm() > 1e-6 => (t - last).normalize(),
+        _ => (last - points[points.len() - 2]).normalize(),
+    };
+    let reach = skin.ray(&last, &dir, 0.1 * scale).unwrap_or(0.0);
+    points.push(last + dir * (reach - TIP_PAD * scale).max(0.3 * reach));
+    Ok(points)
+}
+
+/// The shaft radius of each bone between consecutive `points` of a digit (thumb: four points),
+/// from the flesh around its middle ([`SHAFT_OF_FLESH`]), m.
+fn shafts_of(skin: &MeshSkin, points: &[Vector3<f64>], scale: f64) -> Vec<f64> {
+    let kind = usize::from(points.len() != 4);
+    (0..points.len() - 1)
+        .map(|k| {
+            let mid = (points[k] + points[k + 1]) / 2.0;
+            let flesh = -skin.distance(&mid);
+            (SHAFT_OF_FLESH[kind][k.min(3)] * flesh.max(0.0)).max(0.0005 * scale)
+        })
+        .collect()
+}
+
+/// The carpus block (centre, half extents; hand frame): from the wrist (or just distal of the
+/// cut) to the finger metacarpals' bases, as wide as they spread.
+fn carpus(
+    digits: &[Vec<Vector3<f64>>; 5],
+    wrist: Vector3<f64>,
+    cut: f64,
+    scale: f64,
+) -> (Vector3<f64>, [f64; 3]) {
+    let bases: Vec<Vector3<f64>> = (1..5).map(|d| digits[d][0]).collect();
+    let x0 = wrist.x.max(cut + 0.002 * scale);
+    let x1 = bases.iter().map(|b| b.x).fold(f64::INFINITY, f64::min) - 0.001 * scale;
+    let (y0, y1) = bases
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.y), b.max(p.y))
+        });
+    let z = bases.iter().map(|b| b.z).sum::<f64>() / 4.0 - 0.002 * scale;
+    let half = [
+        ((x1 - x0) / 2.0).max(0.004 * scale),
+        (y1 - y0) / 2.0 + 0.005 * scale,
+        0.0055 * scale,
+    ];
+    (Vector3::new((x0 + x1) / 2.0, (y0 + y1) / 2.0, z), half)
 }
 
 /// The hand's frame in the scene: origin at the wrist joint, x along the fingers' proximal
