@@ -521,7 +521,6 @@ fn view(scene: Option<PathBuf>, options: ViewOptions) -> Result<()> {
 /// threshold ended: a result), told as the error the command exits with (code 2: the frames are
 /// written, up to where the motion stopped).
 fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
-    let mut at_rest = false;
     let stops: Vec<String> = solved
         .frames
         .iter()
@@ -537,36 +536,24 @@ fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
                     } else {
                         "keyframe's motion"
                     };
-                    Some((
-                        i == 0,
-                        format!(
-                            "frame {i} (t = {} s): hand \"{}\" stopped at {:.0} % of its {motion}: \
+                    Some(format!(
+                        "frame {i} (t = {} s): hand \"{}\" stopped at {:.0} % of its {motion}: \
                              {}",
-                            solved.report.frames[i].time,
-                            solved.model.bodies[h.body].name,
-                            s.reached * 100.0,
-                            s.reason
-                        ),
+                        solved.report.frames[i].time,
+                        solved.model.bodies[h.body].name,
+                        s.reached * 100.0,
+                        s.reason
                     ))
                 })
                 .collect::<Vec<_>>()
-        })
-        .map(|(first, text)| {
-            at_rest |= first;
-            text
         })
         .collect();
     (!stops.is_empty()).then(|| {
         format!(
             "{}: the scene was not solved to its poses. {}. The frames written hold the motion \
-             up to where it stopped, and a keyframe at the pose reached solves{}",
+             up to where it stopped; report.json gives the pose reached",
             solved.report.scene,
             stops.join("; "),
-            if at_rest {
-                " (for frame 0, the body's `pose` set to the pose reached)"
-            } else {
-                ""
-            }
         )
     })
 }

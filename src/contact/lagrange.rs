@@ -25,7 +25,7 @@ use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactSummary, ContactTimes, Master,
+    ContactSummary, ContactTimes, Master, DEFAULT_MAX_ITERATIONS,
 };
 use super::problem::ContactProblem;
 use super::row::{coupling, Couplings, Row, Solved};
@@ -306,7 +306,10 @@ pub fn solve_lagrange(
             penetration: max_penetration,
             tolerance: settings.penetration_limit(),
             change: None,
-            advice: if at_iteration_cap {
+            advice: if at_iteration_cap && settings.max_iterations < DEFAULT_MAX_ITERATIONS {
+                "the active set was still changing at the cap: raise \
+                 solver.contact_max_iterations (it is below its default, 50)"
+            } else if at_iteration_cap {
                 "the active set was still changing at the cap: raise \
                  solver.contact_max_iterations"
             } else {

@@ -24,7 +24,7 @@ pub use obstacle::Obstacle;
 pub use paper::solve_paper;
 pub use point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactSummary, ContactTimes, Master, PairSides, Relaxation,
+    ContactSummary, ContactTimes, Master, PairSides, Relaxation, DEFAULT_MAX_ITERATIONS,
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};

@@ -80,11 +80,15 @@ impl ContactSettings {
     }
 }
 
+/// The contact iterations of [`ContactSettings`] when the scene does not say
+/// (`solver.contact_max_iterations`).
+pub const DEFAULT_MAX_ITERATIONS: usize = 50;
+
 impl Default for ContactSettings {
     fn default() -> Self {
         ContactSettings {
             tolerance: 1e-9,
-            max_iterations: 50,
+            max_iterations: DEFAULT_MAX_ITERATIONS,
             method: ContactMethod::Lagrange,
             change_tolerance: 1e-7,
             relaxation: Relaxation::Aitken,

@@ -17,7 +17,9 @@ pub fn contact_settings(
 ) -> Result<ContactSettings, (String, String)> {
     let mut out = ContactSettings {
         tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
-        max_iterations: s.contact_max_iterations.unwrap_or(50),
+        max_iterations: s
+            .contact_max_iterations
+            .unwrap_or(crate::contact::DEFAULT_MAX_ITERATIONS),
         method: s.contact.unwrap_or_default().into(),
         pairs: s.contact_pairs.unwrap_or_default().into(),
         ..ContactSettings::default()
