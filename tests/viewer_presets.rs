@@ -3,7 +3,8 @@
 //! (egui_kittest). Power grasp and Pinch put the skin far into the ball; each is solved (contact
 //! along the motion), shown, with no error, nothing left inside the ball beyond the contact's
 //! limit; the full Fist closes on the ball and reaches its pose;
-//! Rest releases the ball, which returns exactly to its static frame.
+//! Rest releases the ball, which returns exactly to its static frame. While a preset is solved,
+//! a preview is on screen: the hand at the preset's pose by skinning, the ball where it was.
 
 mod common;
 
@@ -17,15 +18,37 @@ use prehensile::scene::{Scene, DEFAULT_SCENE};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Steps the UI until the shown frame is the pose asked for (or a failure is reported).
-fn wait_for_pose(h: &mut Harness<'static, ViewerState>) {
+/// A preview seen on the way to a solved pose: its solution and when it was first on screen.
+struct Preview {
+    solution: prehensile::app::jobs::Solution,
+    after: Duration,
+}
+
+/// Steps the UI until the shown frame is the pose asked for, solved (or a failure is reported);
+/// returns the first preview shown on the way, and when the solved frame came.
+fn wait_for_pose(h: &mut Harness<'static, ViewerState>) -> (Option<Preview>, Duration) {
     let start = Instant::now();
     let before = h.state().shown.as_ref().map(|s| s.version);
+    let mut preview: Option<Preview> = None;
     loop {
         h.step();
         let s = h.state();
         if let Some(e) = &s.status.error {
             panic!("the viewer reports: {e}");
+        }
+        if let Some(shown) = s.shown.as_ref().filter(|x| x.solution.preview) {
+            assert!(
+                s.computing(),
+                "a preview is shown only while its pose is solved"
+            );
+            if preview.is_none() {
+                preview = Some(Preview {
+                    solution: shown.solution.clone(),
+                    after: start.elapsed(),
+                });
+            }
+            std::thread::sleep(Duration::from_millis(20));
+            continue;
         }
         // The pose reached, or a frame solved since the call whose motion towards it stopped
         // short (not realisable further).
@@ -36,7 +59,7 @@ fn wait_for_pose(h: &mut Harness<'static, ViewerState>) {
             })
         });
         if done {
-            return;
+            return (preview, start.elapsed());
         }
         if start.elapsed()
             > Duration::from_secs(
@@ -64,6 +87,54 @@ fn wait_for_pose(h: &mut Harness<'static, ViewerState>) {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
+}
+
+/// A preview of `shown`'s pose made from `before`: its hand at `shown`'s joint angles, every node
+/// attached to a bone exactly where that bone's motion to those angles puts it (the skinning of
+/// an attached node is its bone's rigid motion), the ball where `before` has it (nothing solved).
+fn assert_preview_moves_the_hand_alone(
+    preset: &str,
+    before: &prehensile::app::jobs::Solution,
+    preview: &prehensile::app::jobs::Solution,
+    shown: &prehensile::app::jobs::Solution,
+) {
+    let model = &shown.model;
+    let (old, new, solved) = (
+        &before.frame.hands[0],
+        &preview.frame.hands[0],
+        &shown.frame.hands[0],
+    );
+    assert_eq!(new.angles, solved.angles, "{preset}");
+    assert_ne!(new.angles, old.angles, "{preset}");
+    let hand = model.bodies[new.body].hand.as_deref().unwrap();
+    let (from, to) = (
+        hand.skeleton.transforms(&old.angles),
+        hand.skeleton.transforms(&new.angles),
+    );
+    let mut attached = 0;
+    for (n, bone) in hand.flesh.node_bone.iter().enumerate() {
+        let Some(b) = bone else { continue };
+        let expected = to[*b] * from[*b].inverse() * nalgebra::Point3::from(old.positions[n]);
+        let off = (new.positions[n] - expected.coords).norm();
+        assert!(
+            off < 1e-12,
+            "{preset}: attached node {n} {off} m off its bone"
+        );
+        // The solved frame puts it there too (an attached node follows its bone).
+        assert!(
+            (solved.positions[n] - expected.coords).norm() < 1e-9,
+            "{preset}: node {n}"
+        );
+        attached += 1;
+    }
+    assert!(attached > 1000, "{preset}: {attached} attached nodes");
+    let ball = model.bodies.iter().find(|b| b.name == "ball").unwrap();
+    let range = 3 * ball.nodes.start..3 * ball.nodes.end;
+    assert_eq!(
+        preview.frame.solution.displacement[range.clone()],
+        before.frame.solution.displacement[range],
+        "{preset}: the preview moved the ball"
+    );
 }
 
 /// The ball's displacement in the shown frame.
@@ -95,9 +166,17 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
         .is_none());
     let still = ball_displacement(h.state());
     for preset in ["Power grasp", "Pinch"] {
+        let before = h.state().shown.as_ref().unwrap().solution.clone();
         h.get_by_label(preset).click();
-        wait_for_pose(&mut h);
+        let (preview, solved_after) = wait_for_pose(&mut h);
         let shown = &h.state().shown.as_ref().unwrap().solution;
+        let preview = preview.unwrap_or_else(|| panic!("{preset}: no preview was shown"));
+        assert_preview_moves_the_hand_alone(preset, &before, &preview.solution, shown);
+        println!(
+            "{preset}: preview shown after {:.0} ms, the solved frame after {:.0} ms",
+            preview.after.as_secs_f64() * 1e3,
+            solved_after.as_secs_f64() * 1e3
+        );
         let contact = shown
             .frame
             .contact

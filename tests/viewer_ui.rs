@@ -5,7 +5,7 @@
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
-use prehensile::app::jobs::{Failure, Job, Solution, Target};
+use prehensile::app::jobs::{Failure, Job, JobResult, Solution, Target};
 use prehensile::app::testing::{tiny_solution, FakePort};
 use prehensile::app::worker::{Cancel, ThreadSolver};
 use prehensile::app::ViewerState;
@@ -135,6 +135,38 @@ fn a_failed_solve_keeps_the_last_good_frame_and_says_why() {
     );
     h.step();
     assert_eq!(shown_x(h.state()), Some(0.0));
+    h.get_by_label_contains("flesh element 12 would turn inside out");
+}
+
+/// A pose job's preview is shown while the job runs ("shown: a preview" in Status, the request
+/// still computing); when the pose then fails, the last solved frame comes back with the error,
+/// not the preview of a pose that has no solution.
+#[test]
+fn a_preview_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
+    let (port, mut h) = answered();
+    slider(&h, "index.pip").set_value_accesskit(100.0);
+    h.step();
+    let job = pose_jobs(&port).last().unwrap().clone();
+    let v = job.version;
+    let mut preview = tiny_solution(9.0, None);
+    preview.preview = true;
+    preview.visual = job.visual;
+    port.answer(JobResult {
+        version: v,
+        outcome: Ok(preview),
+        finished: false,
+    });
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(9.0));
+    assert!(h.state().computing() && h.state().showing_preview());
+    h.get_by_label_contains("shown: a preview");
+    port.answer_failure(
+        v,
+        Failure::Error("flesh element 12 would turn inside out".into()),
+    );
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    assert!(!h.state().computing() && !h.state().showing_preview());
     h.get_by_label_contains("flesh element 12 would turn inside out");
 }
 

@@ -226,7 +226,8 @@ fn a_stale_job_is_cancelled_between_increments_and_the_next_goes_on() {
     assert_eq!(hand.angles[pip], 60.0);
     assert!(hand.stats.increments_taken >= 6, "60° in steps of 10°");
     assert!(!solution.draw_list.surfaces.is_empty());
-    // The next pose goes on from there: 60° → 70° is one increment.
+    // The next pose goes on from there: 60° → 70° is one increment. A preview of it (the hand
+    // moved there by skinning from the frame at 60°: the scene has a ball) comes first.
     target[pip] = 70.0;
     let next = job(3, &target);
     let out = run(
@@ -234,8 +235,10 @@ fn a_stale_job_is_cancelled_between_increments_and_the_next_goes_on() {
         &next,
         &Cancel::new(Arc::new(AtomicU64::new(3)), 3),
     );
-    let [Ok(solution)] = out.as_slice() else {
-        panic!("one frame")
+    let [Ok(preview), Ok(solution)] = out.as_slice() else {
+        panic!("a preview, then the frame")
     };
+    assert!(preview.preview && !solution.preview);
+    assert_eq!(preview.frame.hands[0].angles[pip], 70.0);
     assert_eq!(solution.frame.hands[0].stats.increments_taken, 1);
 }

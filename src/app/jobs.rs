@@ -65,6 +65,9 @@ pub struct Solution {
     pub timeline_frame: Option<usize>,
     /// The options the draw list was built with.
     pub visual: VisualOptions,
+    /// A preview of a pose job, drawn at once while the pose is solved (the hands moved by
+    /// skinning, nothing else computed: `solve::skinned_preview`); the solved frame follows.
+    pub preview: bool,
 }
 
 /// Why a job produced no frame.

@@ -8,7 +8,7 @@ use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::model::Model;
 use crate::present::draw_list;
-use crate::solve::{CancelCheck, Posed, SimError, Workspace};
+use crate::solve::{skinned_preview, CancelCheck, Posed, SimError, Workspace};
 use crate::state::Frame;
 use crate::util::timing::ms;
 use std::sync::Arc;
@@ -28,6 +28,8 @@ pub struct Physics {
     last_good: Posed,
     /// Set while a job changes `hands`; still set at the next job means the last one panicked.
     dirty: bool,
+    /// The last frame a pose job delivered (of the current model): what a preview moves.
+    last_frame: Option<Arc<Frame>>,
 }
 
 fn error(e: impl std::fmt::Display) -> Failure {
@@ -45,6 +47,7 @@ impl Physics {
         if self.revision != Some(job.scene_revision) || self.model.is_none() {
             self.model = None;
             self.workspace = None;
+            self.last_frame = None;
             let model = Model::build(&job.scene, "scene").map_err(error)?;
             self.workspace = Some(Workspace::new(&model).map_err(error)?);
             self.hands = Posed::rest(&model);
@@ -71,7 +74,28 @@ impl Physics {
             solve_ms: ms(started),
             timeline_frame,
             visual: job.visual,
+            preview: false,
         })
+    }
+
+    /// The pose of `job` drawn at once from `from` by skinning, where the model has bodies
+    /// besides its hands (whose contact makes a pose cost seconds; in free air the solved pose
+    /// comes as fast as a preview would).
+    fn preview(
+        &self,
+        job: &Job,
+        model: &Arc<Model>,
+        from: &Frame,
+        pose: &Pose,
+        started: Instant,
+    ) -> Option<Solution> {
+        if model.bodies.iter().all(|b| b.hand.is_some()) {
+            return None;
+        }
+        let frame = skinned_preview(model, from, pose)?;
+        let mut solution = self.deliver(job, model, frame, started, None).ok()?;
+        solution.preview = true;
+        Some(solution)
     }
 
     fn pose(
@@ -80,12 +104,20 @@ impl Physics {
         pose: &Pose,
         start: Option<&Arc<Frame>>,
         cancel: &Cancel,
+        emit: &mut dyn FnMut(Result<Solution, Failure>),
     ) -> Result<Solution, Failure> {
         let started = Instant::now();
         let model = self.ensure_model(job)?;
+        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
         if let Some(start) = start {
-            if start.solution.displacement.len() == 3 * model.mesh.node_count() {
-                self.hands = Posed::of_frame(&model, start);
+            self.hands = Posed::of_frame(&model, start);
+        }
+        if let Some(from) = start
+            .or(self.last_frame.as_ref())
+            .filter(|_| !cancel.is_stale())
+        {
+            if let Some(preview) = self.preview(job, &model, from, pose, started) {
+                emit(Ok(preview));
             }
         }
         let workspace = self.workspace.as_mut().expect("built with the model");
@@ -95,7 +127,9 @@ impl Physics {
         match result {
             Ok(frame) => {
                 self.last_good = self.hands.clone();
-                self.deliver(job, &model, frame, started, None)
+                let solution = self.deliver(job, &model, frame, started, None)?;
+                self.last_frame = Some(solution.frame.clone());
+                Ok(solution)
             }
             // The hands stopped at a completed increment: the next job goes on from there.
             Err(SimError::Cancelled) => Err(Failure::Cancelled),
@@ -153,7 +187,10 @@ impl Solve for Physics {
             self.dirty = false;
         }
         match &job.target {
-            Target::Pose { pose, start } => emit(self.pose(job, pose, start.as_ref(), cancel)),
+            Target::Pose { pose, start } => {
+                let solved = self.pose(job, pose, start.as_ref(), cancel, emit);
+                emit(solved);
+            }
             Target::Timeline {
                 first,
                 start,

@@ -98,6 +98,9 @@ pub struct ViewerState {
     pub status: Status,
     /// The frame on screen.
     pub shown: Option<Shown>,
+    /// The last solved frame shown (not a preview): back on screen when the pose a preview
+    /// shows fails.
+    last_solved: Option<Shown>,
     /// The 3D view (none in UI tests).
     pub view: Option<Box<dyn SceneView>>,
     port: Box<dyn SolverPort>,
@@ -144,6 +147,7 @@ impl ViewerState {
             scene,
             status: Status::default(),
             shown: None,
+            last_solved: None,
             view: None,
             port,
             scene_revision: 0,
@@ -254,7 +258,12 @@ impl ViewerState {
         let visual = self.display.visual();
         if let Some(shown) = &self.shown {
             let asked = Some((shown.version, visual));
-            if shown.solution.visual != visual && self.redraw_asked != asked {
+            // (Not from a preview: its frame is no state to solve from; the solved frame that
+            // replaces it is redrawn then.)
+            if shown.solution.visual != visual
+                && self.redraw_asked != asked
+                && !shown.solution.preview
+            {
                 self.redraw_asked = asked;
                 let pose = shown
                     .solution
@@ -302,12 +311,21 @@ impl ViewerState {
     }
 
     fn show(&mut self, version: u64, solution: Solution, source: Source) {
-        self.shown = Some(Shown {
+        let shown = Shown {
             version,
             solution,
             source,
-        });
+        };
+        if !shown.solution.preview {
+            self.last_solved = Some(shown.clone());
+        }
+        self.shown = Some(shown);
         self.status.shown += 1;
+        self.redraw_shown();
+    }
+
+    /// Hands the shown frame to the 3D view.
+    fn redraw_shown(&mut self) {
         let range = self.current_range();
         if let (Some(view), Some(shown)) = (&mut self.view, &self.shown) {
             view.show_solution(&shown.solution, range);
@@ -350,6 +368,16 @@ impl ViewerState {
                 }
             }
             Err(Failure::Cancelled) => self.status.cancelled += 1,
+            Err(failure) if newest_pose && self.showing_preview() => {
+                // The pose a preview showed failed: the last solved frame goes back on screen.
+                self.shown = self.last_solved.clone();
+                self.redraw_shown();
+                self.take(JobResult {
+                    version: r.version,
+                    outcome: Err(failure),
+                    finished: r.finished,
+                });
+            }
             Err(Failure::Error(e)) if newest_pose || timeline => {
                 if timeline {
                     self.timeline_failed = true;
@@ -366,6 +394,11 @@ impl ViewerState {
             }
             Err(_) => self.status.discarded += 1,
         }
+    }
+
+    /// `true` while the frame on screen is a preview (its pose is being solved).
+    pub fn showing_preview(&self) -> bool {
+        self.shown.as_ref().is_some_and(|s| s.solution.preview)
     }
 
     /// Shows key `k` of the timeline (its cached frame if solved) and puts the sliders there.

@@ -114,5 +114,6 @@ pub fn tiny_solution(x: f32, timeline_frame: Option<usize>) -> Solution {
         solve_ms: 1.0,
         timeline_frame,
         visual: VisualOptions::default(),
+        preview: false,
     }
 }

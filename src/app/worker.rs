@@ -129,6 +129,18 @@ fn worker_loop(
         let mut alive = true;
         let outcome = catch_unwind(AssertUnwindSafe(|| {
             solve.run(&job, &cancel, &mut |outcome| {
+                // A preview goes out at once: it is never a job's last message.
+                if matches!(&outcome, Ok(s) if s.preview) {
+                    alive &= tx
+                        .send(JobResult {
+                            version,
+                            outcome,
+                            finished: false,
+                        })
+                        .is_ok();
+                    notify();
+                    return;
+                }
                 if let Some(r) = pending.replace(JobResult {
                     version,
                     outcome,

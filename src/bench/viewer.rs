@@ -26,6 +26,8 @@ struct Row {
     tier: Tier,
     first_ms: f64,
     frame_ms: Vec<f64>,
+    /// From the slider change to a preview on screen, where one came first.
+    preview_ms: Vec<f64>,
     solve_ms: Vec<f64>,
     upload_ms: Vec<f64>,
     draw_ms: Vec<f64>,
@@ -95,6 +97,7 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         tier,
         first_ms,
         frame_ms: Vec::new(),
+        preview_ms: Vec::new(),
         solve_ms: Vec::new(),
         upload_ms: Vec::new(),
         draw_ms: Vec::new(),
@@ -109,10 +112,15 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         state.pose_edited();
         let t = Instant::now();
         let before = state.latest_version();
+        let preview_at = std::cell::Cell::new(None);
         let times = frames_until(&ctx, &mut state, Duration::from_secs(120), |s| {
+            if preview_at.get().is_none() && s.showing_preview() {
+                preview_at.set(Some(ms(t)));
+            }
             s.shown.as_ref().is_some_and(|f| f.version > before) && !s.computing()
         })?;
         row.solve_ms.push(ms(t));
+        row.preview_ms.extend(preview_at.get());
         row.frame_ms.extend(times);
         let shown = state.shown.as_ref().expect("shown");
         let t = Instant::now();
@@ -148,19 +156,21 @@ pub fn run(changes: usize) -> Result<String> {
     let mut renderer = Renderer::new_headless()?;
     eprintln!("adapter: {}", renderer.adapter_summary());
     let mut out = String::from(
-        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|\n",
+        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for tier in Tier::ALL {
         let row = tier_row(tier, changes, &mut renderer)?;
         let (fm, fp, fx) = stats(&row.frame_ms);
         let (sm, _, sx) = stats(&row.solve_ms);
+        let (pm, _, _) = stats(&row.preview_ms);
         let (um, _, _) = stats(&row.upload_ms);
         let (dm, _, _) = stats(&row.draw_ms);
         out.push_str(&format!(
-            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
+            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
             crate::app::settings::tier_label(row.tier),
             row.first_ms,
             row.frame_ms.len(),
+            row.preview_ms.len(),
             sm + um + dm
         ));
     }

@@ -10,6 +10,11 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             ui.spinner();
             ui.label(format!("computing request {}…", state.latest_version()));
         });
+        if state.showing_preview() {
+            // Nothing below would be about the pose shown: its solve is what is awaited.
+            ui.label("shown: a preview (the hands moved by skinning); its forces are being solved");
+            return;
+        }
     } else if state.shown.is_some() && state.status.error.is_none() {
         ui.label(RichText::new("shown frame is current").color(Color32::LIGHT_GREEN));
     } else if state.shown.is_some() {
