@@ -128,6 +128,20 @@ fn assert_preview_moves_the_hand_alone(
         attached += 1;
     }
     assert!(attached > 1000, "{preset}: {attached} attached nodes");
+    // Drawn with the coarse skin (the contact skin, 16 times fewer vertices), the solved frame
+    // with the display skin.
+    let skin_drawn = |s: &prehensile::app::jobs::Solution, count: usize| {
+        s.draw_list
+            .surfaces
+            .iter()
+            .any(|x| x.positions.len() == count)
+    };
+    assert!(
+        skin_drawn(preview, hand.contact_skin.vertex_count()),
+        "{preset}"
+    );
+    assert!(!skin_drawn(preview, hand.skin.vertex_count()), "{preset}");
+    assert!(skin_drawn(shown, hand.skin.vertex_count()), "{preset}");
     let ball = model.bodies.iter().find(|b| b.name == "ball").unwrap();
     let range = 3 * ball.nodes.start..3 * ball.nodes.end;
     assert_eq!(

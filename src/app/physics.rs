@@ -7,7 +7,7 @@
 use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::model::Model;
-use crate::present::draw_list;
+use crate::present::{draw_list, draw_list_with, SkinDetail};
 use crate::solve::{skinned_preview, CancelCheck, Posed, SimError, Workspace};
 use crate::state::Frame;
 use crate::util::timing::ms;
@@ -78,7 +78,8 @@ impl Physics {
         })
     }
 
-    /// The pose of `job` drawn at once from `from` by skinning, where the model has bodies
+    /// The pose of `job` drawn at once from `from` by skinning, with the hands' coarse skin
+    /// ([`SkinDetail::Coarse`]), where the model has bodies
     /// besides its hands (whose contact makes a pose cost seconds; in free air the solved pose
     /// comes as fast as a preview would).
     fn preview(
@@ -93,9 +94,17 @@ impl Physics {
             return None;
         }
         let frame = skinned_preview(model, from, pose)?;
-        let mut solution = self.deliver(job, model, frame, started, None).ok()?;
-        solution.preview = true;
-        Some(solution)
+        // The coarse skin: a preview is drawn at once, even by a software renderer.
+        let list = draw_list_with(model, &frame, &job.visual, SkinDetail::Coarse).ok()?;
+        Some(Solution {
+            model: model.clone(),
+            frame: Arc::new(frame),
+            draw_list: Arc::new(list),
+            solve_ms: ms(started),
+            timeline_frame: None,
+            visual: job.visual,
+            preview: true,
+        })
     }
 
     fn pose(

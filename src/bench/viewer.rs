@@ -28,6 +28,8 @@ struct Row {
     frame_ms: Vec<f64>,
     /// From the slider change to a preview on screen, where one came first.
     preview_ms: Vec<f64>,
+    /// Upload and 3D draw of each preview (its coarse skin).
+    preview_draw_ms: Vec<f64>,
     solve_ms: Vec<f64>,
     upload_ms: Vec<f64>,
     draw_ms: Vec<f64>,
@@ -98,6 +100,7 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         first_ms,
         frame_ms: Vec::new(),
         preview_ms: Vec::new(),
+        preview_draw_ms: Vec::new(),
         solve_ms: Vec::new(),
         upload_ms: Vec::new(),
         draw_ms: Vec::new(),
@@ -112,32 +115,50 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         state.pose_edited();
         let t = Instant::now();
         let before = state.latest_version();
-        let preview_at = std::cell::Cell::new(None);
+        let preview = std::cell::RefCell::new(None);
         let times = frames_until(&ctx, &mut state, Duration::from_secs(120), |s| {
-            if preview_at.get().is_none() && s.showing_preview() {
-                preview_at.set(Some(ms(t)));
+            if preview.borrow().is_none() && s.showing_preview() {
+                let shown = s.shown.as_ref().expect("a preview is shown");
+                *preview.borrow_mut() = Some((ms(t), shown.solution.draw_list.clone()));
             }
             s.shown.as_ref().is_some_and(|f| f.version > before) && !s.computing()
         })?;
         row.solve_ms.push(ms(t));
-        row.preview_ms.extend(preview_at.get());
+        if let Some((at, list)) = preview.into_inner() {
+            row.preview_ms.push(at);
+            row.preview_draw_ms.push(upload_and_draw(renderer, &list)?);
+        }
         row.frame_ms.extend(times);
         let shown = state.shown.as_ref().expect("shown");
         let t = Instant::now();
         let mut gpu = renderer.upload(&shown.solution.draw_list)?;
         row.upload_ms.push(ms(t));
         let t = Instant::now();
-        let bounds = shown
-            .solution
-            .draw_list
-            .bounds()
-            .ok_or_else(|| anyhow!("empty draw list"))?;
-        let camera = Camera::preset("three-quarter", &bounds, VIEW.0 as f32 / VIEW.1 as f32)
-            .expect("a preset");
-        renderer.render_scene_to_rgba(&mut gpu, &camera, VIEW.0, VIEW.1)?;
+        draw(renderer, &mut gpu, &shown.solution.draw_list)?;
         row.draw_ms.push(ms(t));
     }
     Ok(row)
+}
+
+/// One draw of `list`'s uploaded buffers at the central view's size.
+fn draw(
+    renderer: &mut Renderer,
+    gpu: &mut crate::render::GpuScene,
+    list: &crate::render::DrawList,
+) -> Result<()> {
+    let bounds = list.bounds().ok_or_else(|| anyhow!("empty draw list"))?;
+    let camera =
+        Camera::preset("three-quarter", &bounds, VIEW.0 as f32 / VIEW.1 as f32).expect("a preset");
+    renderer.render_scene_to_rgba(gpu, &camera, VIEW.0, VIEW.1)?;
+    Ok(())
+}
+
+/// Upload and one draw of `list`, ms.
+fn upload_and_draw(renderer: &mut Renderer, list: &crate::render::DrawList) -> Result<f64> {
+    let t = Instant::now();
+    let mut gpu = renderer.upload(list)?;
+    draw(renderer, &mut gpu, list)?;
+    Ok(ms(t))
 }
 
 fn stats(v: &[f64]) -> (f64, f64, f64) {
@@ -156,17 +177,18 @@ pub fn run(changes: usize) -> Result<String> {
     let mut renderer = Renderer::new_headless()?;
     eprintln!("adapter: {}", renderer.adapter_summary());
     let mut out = String::from(
-        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | + its upload and 3D draw ms (mean) | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for tier in Tier::ALL {
         let row = tier_row(tier, changes, &mut renderer)?;
         let (fm, fp, fx) = stats(&row.frame_ms);
         let (sm, _, sx) = stats(&row.solve_ms);
         let (pm, _, _) = stats(&row.preview_ms);
+        let (pd, _, _) = stats(&row.preview_draw_ms);
         let (um, _, _) = stats(&row.upload_ms);
         let (dm, _, _) = stats(&row.draw_ms);
         out.push_str(&format!(
-            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
+            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {pd:.0} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
             crate::app::settings::tier_label(row.tier),
             row.first_ms,
             row.frame_ms.len(),

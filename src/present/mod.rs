@@ -184,38 +184,53 @@ fn rigid_sphere(center: &Vector3<f64>, radius: f64) -> Surface {
 const SKIN: [f32; 3] = [0.74, 0.42, 0.30];
 const BONE: [f32; 4] = [0.78, 0.72, 0.56, 1.0];
 
+/// Which skin a hand is drawn with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SkinDetail {
+    /// The display skin (the skin quads subdivided twice: ≈ 100 000 vertices at resolution 1).
+    #[default]
+    Full,
+    /// The contact skin: the same smooth skin at the lattice's resolution, 16 times fewer
+    /// vertices, for what must be drawn at once (the viewer's preview of a pose) on a software
+    /// renderer.
+    Coarse,
+}
+
 /// Adds hand body `b` (skin, bones) to `list`; returns each bone's load (−R, N) with the bone's
 /// posed centre.
 fn hand_drawing(
     model: &Model,
     frame: &Frame,
     b: usize,
-    options: &VisualOptions,
+    (options, detail): (&VisualOptions, SkinDetail),
     list: &mut DrawList,
 ) -> Vec<(Vector3<f64>, Vector3<f64>)> {
     let body = &model.bodies[b];
     let hand = body.hand.as_deref().expect("a hand body");
+    let skin = match detail {
+        SkinDetail::Full => &hand.skin,
+        SkinDetail::Coarse => &hand.contact_skin,
+    };
     let scale = options.displacement_scale;
     let nodes: Vec<Vector3<f64>> = body
         .nodes
         .clone()
         .map(|n| deformed(model, frame, n, scale))
         .collect();
-    let positions = hand.skin.positions(&nodes);
+    let positions = skin.positions(&nodes);
     let nodal = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { body.nodes.clone().map(f).collect() };
     let scalars = match options.overlay {
-        Overlay::Stress => Some(
-            hand.skin
-                .interpolate(&nodal(&|n| von_mises(&frame.stress.nodal[n]))),
-        ),
-        Overlay::Displacement => Some(
-            hand.skin
-                .interpolate(&nodal(&|n| frame.solution.node_displacement(n).norm())),
-        ),
+        Overlay::Stress => Some(skin.interpolate(&nodal(&|n| von_mises(&frame.stress.nodal[n])))),
+        Overlay::Displacement => {
+            Some(skin.interpolate(&nodal(&|n| frame.solution.node_displacement(n).norm())))
+        }
         // The tactile map on the skin itself (the contact is on the smooth skin).
         Overlay::Pressure => Some(
-            crate::state::skin_pressure(model, frame, b)
-                .unwrap_or_else(|| vec![0.0; hand.skin.vertex_count()]),
+            match detail {
+                SkinDetail::Full => crate::state::skin_pressure(model, frame, b),
+                SkinDetail::Coarse => crate::state::contact_skin_pressure(model, frame, b),
+            }
+            .unwrap_or_else(|| vec![0.0; skin.vertex_count()]),
         ),
         _ => None,
     }
@@ -223,7 +238,7 @@ fn hand_drawing(
     .map(|v| v.iter().map(|x| x.max(0.0) as f32).collect());
     list.surfaces.push(Surface {
         positions: positions.iter().map(to_f32).collect(),
-        indices: hand.skin.triangles().into_iter().flatten().collect(),
+        indices: skin.triangles().into_iter().flatten().collect(),
         scalars,
         color: [
             SKIN[0],
@@ -314,6 +329,16 @@ pub fn draw_list(
     frame: &Frame,
     options: &VisualOptions,
 ) -> Result<DrawList, VisualError> {
+    draw_list_with(model, frame, options, SkinDetail::Full)
+}
+
+/// [`draw_list`] with the hands' skin at `detail`.
+pub fn draw_list_with(
+    model: &Model,
+    frame: &Frame,
+    options: &VisualOptions,
+    detail: SkinDetail,
+) -> Result<DrawList, VisualError> {
     let expected = 3 * model.mesh.node_count();
     if frame.solution.displacement.len() != expected {
         return Err(VisualError::Mismatch {
@@ -330,7 +355,7 @@ pub fn draw_list(
     let mut bone_loads = Vec::new();
     for b in 0..model.bodies.len() {
         if model.bodies[b].hand.is_some() {
-            bone_loads.extend(hand_drawing(model, frame, b, options, &mut list));
+            bone_loads.extend(hand_drawing(model, frame, b, (options, detail), &mut list));
             if options.wireframe {
                 list.lines.push(body_wireframe(model, frame, b, scale));
             }
