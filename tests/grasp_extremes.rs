@@ -1,0 +1,111 @@
+//! The power grasp on balls from jelly to steel (issue 15, "extremes"): `hand-power-grasp.toml`
+//! with the ball's Young's modulus E from 10² to 10¹² Pa, its air pressure scaled with E (3·10⁴ Pa
+//! at the scene's 2·10⁶ Pa, so that the air strains every ball alike). Every one ends in an
+//! honest outcome, never in a contact that does not converge:
+//!
+//! - E = 10² Pa cannot carry its own weight (ρ·g·R/E ≈ 3.8): refused before any hand moves, the
+//!   error naming the strain and the modulus that would hold it;
+//! - E = 10⁴ Pa: the grasp solves (the report warns of the ball's strain, far past small strain);
+//! - E = 10⁹ and 10¹² Pa: the fingers cannot dent the ball; the grasp stops where a bone's
+//!   reaction overruns its muscle threshold — the paper's "not realisable", a result: the frame
+//!   says how far it went and which bones are over.
+//!
+//! In every solved frame nothing is left inside the ball beyond the contact's limit, and the
+//! hand's contact force is the ball's, opposite (action = reaction).
+
+use nalgebra::Vector3;
+use prehensile::headless::solve_scene;
+use prehensile::scene::Scene;
+
+/// The power grasp scene with the ball's modulus `young` and its air scaled alike.
+fn power_grasp(young: f64) -> Scene {
+    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
+    let (e, p) = ("young = 2.0e6 ", "pressure = 3.0e4 ");
+    assert!(
+        text.contains(e) && text.contains(p),
+        "the scene's ball changed"
+    );
+    let text = text
+        .replacen(e, &format!("young = {young:e} "), 1)
+        .replacen(p, &format!("pressure = {:e} ", 3.0e4 * young / 2.0e6), 1);
+    Scene::parse(&text, "hand-power-grasp.toml").unwrap()
+}
+
+#[test]
+fn a_ball_too_soft_to_carry_its_weight_is_refused_before_the_grasp() {
+    let error = solve_scene(&power_grasp(1e2), "jelly.toml")
+        .err()
+        .expect("a 100 Pa ball cannot hold its shape")
+        .to_string();
+    println!("{error}");
+    assert!(
+        error.contains("under its own loads (the static frame, before any hand moves)")
+            && error.contains("Young's modulus ≥"),
+        "{error}"
+    );
+    assert!(!error.contains("contact did not converge"), "{error}");
+}
+
+#[test]
+fn the_power_grasp_on_soft_to_rigid_balls_holds_or_stops_at_a_bone_threshold() {
+    for young in [1e4, 1e9, 1e12] {
+        let solved = solve_scene(&power_grasp(young), "extreme.toml")
+            .unwrap_or_else(|e| panic!("E = {young:e} Pa: {e}"));
+        let frame = solved.frames.last().unwrap();
+        let hand = &frame.hands[0];
+        let contact = frame
+            .contact
+            .as_ref()
+            .unwrap_or_else(|| panic!("E = {young:e} Pa: the hand does not touch the ball"));
+        let limit = solved.model.contact.penetration_limit();
+        assert!(
+            contact.max_penetration <= limit,
+            "E = {young:e} Pa: {} m inside",
+            contact.max_penetration
+        );
+        // Action = reaction between the hand and the ball.
+        let on_hand: Vector3<f64> = hand.contact_force.iter().sum();
+        let on_ball: Vector3<f64> = solved.report.frames.last().unwrap().hands["hand"]
+            .contact
+            .values()
+            .map(|p| Vector3::from(p.force))
+            .sum();
+        assert!(
+            (on_hand - on_ball).norm() <= 1e-6 * on_hand.norm().max(1e-9),
+            "E = {young:e} Pa: {on_hand} N on the hand, the report's parts sum to {on_ball} N"
+        );
+        match &hand.stats.stopped_short {
+            None => assert!(on_hand.norm() > 0.0, "E = {young:e} Pa: no contact force"),
+            Some(stop) => {
+                assert!(
+                    !stop.solver_limit,
+                    "E = {young:e} Pa: the contact could not follow: {}",
+                    stop.reason
+                );
+                assert!(
+                    !hand.overloads.is_empty()
+                        && hand.overloads.iter().all(|o| o.reaction > o.threshold),
+                    "E = {young:e} Pa: stopped ({}) with no bone over its threshold",
+                    stop.reason
+                );
+            }
+        }
+        println!(
+            "E = {young:e} Pa: {:.3} N on the hand, {}, penetration {:.1e} m",
+            on_hand.norm(),
+            hand.stats
+                .stopped_short
+                .as_ref()
+                .map_or("pose reached".to_string(), |s| format!(
+                    "stopped at {:.0} %: {}",
+                    100.0 * s.reached,
+                    hand.overloads
+                        .iter()
+                        .map(|o| format!("{} {:.1} N > {:.1} N", o.bone, o.reaction, o.threshold))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )),
+            contact.max_penetration
+        );
+    }
+}
