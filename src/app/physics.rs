@@ -7,7 +7,7 @@
 use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::model::Model;
-use crate::present::{draw_list, draw_list_with, SkinDetail};
+use crate::present::{draw_list_with, SkinDetail};
 use crate::solve::{skinned_preview, CancelCheck, Posed, SimError, Workspace};
 use crate::state::Frame;
 use crate::util::timing::ms;
@@ -58,55 +58,6 @@ impl Physics {
         Ok(self.model.clone().expect("built above"))
     }
 
-    fn deliver(
-        &self,
-        job: &Job,
-        model: &Arc<Model>,
-        frame: Frame,
-        started: Instant,
-        timeline_frame: Option<usize>,
-    ) -> Result<Solution, Failure> {
-        let list = draw_list(model, &frame, &job.visual).map_err(error)?;
-        Ok(Solution {
-            model: model.clone(),
-            frame: Arc::new(frame),
-            draw_list: Arc::new(list),
-            solve_ms: ms(started),
-            timeline_frame,
-            visual: job.visual,
-            preview: false,
-        })
-    }
-
-    /// The pose of `job` drawn at once from `from` by skinning, with the hands' coarse skin
-    /// ([`SkinDetail::Coarse`]), where the model has bodies
-    /// besides its hands (whose contact makes a pose cost seconds; in free air the solved pose
-    /// comes as fast as a preview would).
-    fn preview(
-        &self,
-        job: &Job,
-        model: &Arc<Model>,
-        from: &Frame,
-        pose: &Pose,
-        started: Instant,
-    ) -> Option<Solution> {
-        if model.bodies.iter().all(|b| b.hand.is_some()) {
-            return None;
-        }
-        let frame = skinned_preview(model, from, pose)?;
-        // The coarse skin: a preview is drawn at once, even by a software renderer.
-        let list = draw_list_with(model, &frame, &job.visual, SkinDetail::Coarse).ok()?;
-        Some(Solution {
-            model: model.clone(),
-            frame: Arc::new(frame),
-            draw_list: Arc::new(list),
-            solve_ms: ms(started),
-            timeline_frame: None,
-            visual: job.visual,
-            preview: true,
-        })
-    }
-
     fn pose(
         &mut self,
         job: &Job,
@@ -125,7 +76,7 @@ impl Physics {
             .or(self.last_frame.as_ref())
             .filter(|_| !cancel.is_stale())
         {
-            if let Some(preview) = self.preview(job, &model, from, pose, started) {
+            if let Some(preview) = preview(job, &model, from, pose, started) {
                 emit(Ok(preview));
             }
         }
@@ -136,7 +87,7 @@ impl Physics {
         match result {
             Ok(frame) => {
                 self.last_good = self.hands.clone();
-                let solution = self.deliver(job, &model, frame, started, None)?;
+                let solution = deliver(job, &model, frame, started, None, false)?;
                 self.last_frame = Some(solution.frame.clone());
                 Ok(solution)
             }
@@ -176,10 +127,55 @@ impl Physics {
                 Err(SimError::Cancelled) => return Err(Failure::Cancelled),
                 Err(e) => return Err(error(e)),
             };
-            emit(self.deliver(job, &model, frame, started, Some(first + i)));
+            emit(deliver(job, &model, frame, started, Some(first + i), false));
         }
         Ok(())
     }
+}
+
+/// `frame` of `model` as the window takes it, with its draw list: a preview's drawn with the
+/// hands' coarse skin ([`SkinDetail::Coarse`]), so that it is on screen at once even on a
+/// software renderer.
+fn deliver(
+    job: &Job,
+    model: &Arc<Model>,
+    frame: Frame,
+    started: Instant,
+    timeline_frame: Option<usize>,
+    preview: bool,
+) -> Result<Solution, Failure> {
+    let detail = if preview {
+        SkinDetail::Coarse
+    } else {
+        SkinDetail::Full
+    };
+    let list = draw_list_with(model, &frame, &job.visual, detail).map_err(error)?;
+    Ok(Solution {
+        model: model.clone(),
+        frame: Arc::new(frame),
+        draw_list: Arc::new(list),
+        solve_ms: ms(started),
+        timeline_frame,
+        visual: job.visual,
+        preview,
+    })
+}
+
+/// The pose of `job` drawn at once from `from` by skinning, where the model has bodies besides
+/// its hands (whose contact makes a pose cost seconds; in free air the solved pose comes as fast
+/// as a preview would).
+fn preview(
+    job: &Job,
+    model: &Arc<Model>,
+    from: &Frame,
+    pose: &Pose,
+    started: Instant,
+) -> Option<Solution> {
+    if model.bodies.iter().all(|b| b.hand.is_some()) {
+        return None;
+    }
+    let frame = skinned_preview(model, from, pose)?;
+    deliver(job, model, frame, started, None, true).ok()
 }
 
 /// The flexion's cancel check of a job: true once a newer request made it stale.

@@ -345,6 +345,12 @@ impl ViewerState {
         }
         let newest_pose = self.pose_version == Some(r.version);
         let timeline = self.timeline_job == Some(r.version);
+        let failed = matches!(r.outcome, Err(Failure::Error(_) | Failure::Panic(_)));
+        if failed && newest_pose && self.showing_preview() {
+            // The pose a preview showed failed: the last solved frame goes back on screen.
+            self.shown = self.last_solved.clone();
+            self.redraw_shown();
+        }
         match r.outcome {
             Ok(solution) => {
                 if let Some(i) = solution.timeline_frame {
@@ -368,16 +374,6 @@ impl ViewerState {
                 }
             }
             Err(Failure::Cancelled) => self.status.cancelled += 1,
-            Err(failure) if newest_pose && self.showing_preview() => {
-                // The pose a preview showed failed: the last solved frame goes back on screen.
-                self.shown = self.last_solved.clone();
-                self.redraw_shown();
-                self.take(JobResult {
-                    version: r.version,
-                    outcome: Err(failure),
-                    finished: r.finished,
-                });
-            }
             Err(Failure::Error(e)) if newest_pose || timeline => {
                 if timeline {
                     self.timeline_failed = true;
