@@ -928,3 +928,59 @@ fn a_correction_at_the_pose_that_fails_is_reported_with_its_cause() {
         .get("correction_failed")
         .is_none());
 }
+
+/// A hand (resolution 0.5) and a free rubber ball 10 cm below it, which no hand touches;
+/// `extra` adds tables.
+fn free_ball_below_a_hand(extra: &str) -> String {
+    format!(
+        "[[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\
+         [[material]]\nname = \"rubber\"\nyoung = 1.0e6\npoisson = 0.45\ndensity = 1100.0\n\
+         [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\n\
+         shape = {{ hand = {{ side = \"right\", resolution = 0.5 }} }}\n\
+         [[body]]\nname = \"ball\"\nmaterial = \"rubber\"\n\
+         shape = {{ sphere = {{ center = [0.09, 0.0, -0.2], radius = 0.02, cells = 4 }} }}\n{extra}"
+    )
+}
+
+#[test]
+fn a_free_body_nothing_touches_falls_and_is_not_written_hanging_from_its_springs() {
+    // Under gravity nothing holds it: refused, naming it (it used to be written displaced by
+    // its weight over its stabilising springs, 18 mm, out of balance by its weight, exit 0).
+    let gravity = "[world]\ngravity = [0.0, 0.0, -9.81]\n";
+    let stderr = refused("free-ball-falls", &free_ball_below_a_hand(gravity));
+    assert!(
+        stderr.contains("body \"ball\" is not held")
+            && stderr.contains("falls: nothing touches it")
+            && stderr.contains("give it supports"),
+        "{stderr}"
+    );
+    // Without a load on it, nothing moves it: solved, at rest.
+    let (output, stderr, out) =
+        solve_text(&fresh("free-ball-unloaded"), &free_ball_below_a_hand(""));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let imbalance = &report["frames"][0]["equilibrium"]["imbalance"];
+    for a in 0..3 {
+        assert!(imbalance[a].as_f64().unwrap().abs() < 1e-9, "{imbalance}");
+    }
+    // The advice followed: supported at its bottom, it is solved under gravity, in balance.
+    let stand = "[[constraint]]\nname = \"stand\"\nbody = \"ball\"\n\
+                 where = { box = { min = [0.08, -0.01, -0.221], max = [0.10, 0.01, -0.215] } }\n\
+                 displacement = [0.0, 0.0, 0.0]\n";
+    let (output, stderr, out) = solve_text(
+        &fresh("free-ball-supported"),
+        &free_ball_below_a_hand(&format!("{gravity}{stand}")),
+    );
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let imbalance = &report["frames"][0]["equilibrium"]["imbalance"];
+    let weight = 1100.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.02f64.powi(3) * 9.81;
+    for a in 0..3 {
+        assert!(
+            imbalance[a].as_f64().unwrap().abs() < 1e-6 * weight,
+            "{imbalance}"
+        );
+    }
+}

@@ -59,6 +59,27 @@ fn solve_static_with(
                 .map_err(solve_error)?,
             Some(cavity) => solve_with_cavity(model, cavity, solver, &k)?,
         };
+        // Without contact, nothing holds a floating body but its stabilising springs: it falls
+        // (it would be written hanging from them, displaced by its weight over their
+        // stiffness, out of balance).
+        let loaded = |b: usize| {
+            let nodes = &model.bodies[b].nodes;
+            model.load_vector[3 * nodes.start..3 * nodes.end]
+                .iter()
+                .any(|&f| f != 0.0)
+        };
+        if let Some(&(b, _)) = springs.iter().find(|(b, _)| loaded(*b)) {
+            return Err(SimError::Contact(ContactError::NotHeld {
+                body: model.bodies[b].name.clone(),
+                held: 100.0,
+                motion: "falls: nothing touches it".into(),
+                place: if model.bodies.iter().any(|o| o.hand.is_some()) {
+                    "pose a hand so that it holds it, place it on what holds it, or ".into()
+                } else {
+                    "place it on what holds it, or ".into()
+                },
+            }));
+        }
         (solution, None)
     } else {
         let obstacles: Vec<Obstacle> = model.obstacles.iter().map(|o| o.1.clone()).collect();
