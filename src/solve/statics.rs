@@ -47,6 +47,7 @@ fn solve_static_with(
     let assembly_ms = ms(t);
     let solve_error = |source: SolveError| SimError::solve(model, source);
     let (solution, contact) = if model.obstacles.is_empty() || !obstacles {
+        falls_untouched(model)?;
         let solution = match &model.gas {
             None => solver
                 .solve(
@@ -59,27 +60,6 @@ fn solve_static_with(
                 .map_err(solve_error)?,
             Some(cavity) => solve_with_cavity(model, cavity, solver, &k)?,
         };
-        // Without contact, nothing holds a floating body but its stabilising springs: it falls
-        // (it would be written hanging from them, displaced by its weight over their
-        // stiffness, out of balance).
-        let loaded = |b: usize| {
-            let nodes = &model.bodies[b].nodes;
-            model.load_vector[3 * nodes.start..3 * nodes.end]
-                .iter()
-                .any(|&f| f != 0.0)
-        };
-        if let Some(&(b, _)) = springs.iter().find(|(b, _)| loaded(*b)) {
-            return Err(SimError::Contact(ContactError::NotHeld {
-                body: model.bodies[b].name.clone(),
-                held: 100.0,
-                motion: "falls: nothing touches it".into(),
-                place: if model.bodies.iter().any(|o| o.hand.is_some()) {
-                    "pose a hand so that it holds it, place it on what holds it, or ".into()
-                } else {
-                    "place it on what holds it, or ".into()
-                },
-            }));
-        }
         (solution, None)
     } else {
         let obstacles: Vec<Obstacle> = model.obstacles.iter().map(|o| o.1.clone()).collect();
@@ -194,4 +174,36 @@ fn solve_with_cavity(
     solve_with_gas(cavity, at, |s| {
         cavity.volume(&model.mesh.nodes, &s.displacement)
     })
+}
+
+/// Refuses a frame without contact in which the loads on a floating body do not balance
+/// (its weight): nothing but its stabilising springs would hold it (it falls), and it would be
+/// written hanging from them, displaced by its load over their stiffness, out of balance. (A
+/// cavity's air alone balances on its wall.)
+pub(super) fn falls_untouched(model: &Model) -> Result<(), SimError> {
+    let loaded = |b: usize| {
+        let nodes = &model.bodies[b].nodes;
+        let mut net = nalgebra::Vector3::<f64>::zeros();
+        let mut gross = 0.0;
+        for n in nodes.clone() {
+            for a in 0..3 {
+                net[a] += model.load_vector[3 * n + a];
+                gross += model.load_vector[3 * n + a].abs();
+            }
+        }
+        net.norm() > 1e-9 * gross
+    };
+    match (0..model.bodies.len()).find(|&b| model.bodies[b].floating && loaded(b)) {
+        Some(b) => Err(SimError::Contact(ContactError::NotHeld {
+            body: model.bodies[b].name.clone(),
+            held: 100.0,
+            motion: "falls: nothing touches it".into(),
+            place: if model.bodies.iter().any(|o| o.hand.is_some()) {
+                "pose a hand so that it holds it, place it on what holds it, or ".into()
+            } else {
+                "place it on what holds it, or ".into()
+            },
+        })),
+        None => Ok(()),
+    }
 }
