@@ -28,7 +28,8 @@ pub use poses::full_fist;
 pub use rig::RigJoints;
 pub use shape::SkinShape;
 pub use skeleton::{
-    cup_radius, long_bone_radius, Bone, BoneShape, JointDof, Pose, PoseError, Side, Skeleton,
+    cup_radius, long_bone_radius, relative_motion, Bone, BoneShape, JointDof, Pose, PoseError,
+    Side, Skeleton,
 };
 pub use skin::DisplaySkin;
 pub use skinning::{Blend, SkinningWeights};

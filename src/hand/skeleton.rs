@@ -449,6 +449,12 @@ impl Skeleton {
         Ok(angles)
     }
 
+    /// For each bone, the rigid motion taking it from where the angles `from` put it to where
+    /// `to` put it (degrees, one per dof).
+    pub fn motion(&self, from: &[f64], to: &[f64]) -> Vec<Isometry3<f64>> {
+        relative_motion(&self.transforms(from), &self.transforms(to))
+    }
+
     /// Forward kinematics: for each bone, the rigid motion taking its rest position to its
     /// position at `angles` (degrees, one per dof).
     pub fn transforms(&self, angles: &[f64]) -> Vec<Isometry3<f64>> {
@@ -483,4 +489,10 @@ impl Skeleton {
     pub fn posed(transforms: &[Isometry3<f64>], b: usize, rest: &Vector3<f64>) -> Vector3<f64> {
         (transforms[b] * Point3::from(*rest)).coords
     }
+}
+
+/// Bone by bone, the rigid motion from the placements `from` to the placements `to`
+/// (to · from⁻¹).
+pub fn relative_motion(from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
+    to.iter().zip(from).map(|(t, f)| t * f.inverse()).collect()
 }

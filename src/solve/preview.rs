@@ -30,14 +30,7 @@ pub fn skinned_preview(
         if shown.angles == *angles {
             continue;
         }
-        let from = hand_model.skeleton.transforms(&shown.angles);
-        let motion: Vec<_> = hand_model
-            .skeleton
-            .transforms(angles)
-            .iter()
-            .zip(&from)
-            .map(|(to, from)| to * from.inverse())
-            .collect();
+        let motion = hand_model.skeleton.motion(&shown.angles, angles);
         let mut moved = vec![Vector3::zeros(); shown.positions.len()];
         hand_model.weights.apply(
             model.flexion.blend,

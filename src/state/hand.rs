@@ -24,10 +24,7 @@ impl HandState {
     /// The motion of every bone from this state to the bone transforms `then`
     /// (then · now⁻¹, what incremental skinning applies).
     pub fn motion_to(&self, then: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
-        then.iter()
-            .zip(&self.transforms)
-            .map(|(new, old)| new * old.inverse())
-            .collect()
+        crate::hand::relative_motion(&self.transforms, then)
     }
 
     /// The rest pose.
