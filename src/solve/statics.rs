@@ -198,10 +198,12 @@ pub(super) fn falls_untouched(model: &Model) -> Result<(), SimError> {
             body: model.bodies[b].name.clone(),
             held: 100.0,
             motion: "falls: nothing touches it".into(),
-            place: if model.bodies.iter().any(|o| o.hand.is_some()) {
-                "pose a hand so that it holds it, place it on what holds it, or ".into()
+            // (A hand posed around it does not yet hold a free body by friction: the advice is
+            // what works.)
+            place: if model.obstacles.is_empty() {
+                String::new()
             } else {
-                "place it on what holds it, or ".into()
+                "place it on an [[obstacle]] that holds it, or ".into()
             },
         })),
         None => Ok(()),
