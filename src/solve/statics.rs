@@ -47,7 +47,7 @@ fn solve_static_with(
     let assembly_ms = ms(t);
     let solve_error = |source: SolveError| SimError::solve(model, source);
     let (solution, contact) = if model.obstacles.is_empty() || !obstacles {
-        falls_untouched(model)?;
+        super::stabilize::falls_untouched(model)?;
         let solution = match &model.gas {
             None => solver
                 .solve(
@@ -174,38 +174,4 @@ fn solve_with_cavity(
     solve_with_gas(cavity, at, |s| {
         cavity.volume(&model.mesh.nodes, &s.displacement)
     })
-}
-
-/// Refuses a frame without contact in which the loads on a floating body do not balance
-/// (its weight): nothing but its stabilising springs would hold it (it falls), and it would be
-/// written hanging from them, displaced by its load over their stiffness, out of balance. (A
-/// cavity's air alone balances on its wall.)
-pub(super) fn falls_untouched(model: &Model) -> Result<(), SimError> {
-    let loaded = |b: usize| {
-        let nodes = &model.bodies[b].nodes;
-        let mut net = nalgebra::Vector3::<f64>::zeros();
-        let mut gross = 0.0;
-        for n in nodes.clone() {
-            for a in 0..3 {
-                net[a] += model.load_vector[3 * n + a];
-                gross += model.load_vector[3 * n + a].abs();
-            }
-        }
-        net.norm() > 1e-9 * gross
-    };
-    match (0..model.bodies.len()).find(|&b| model.bodies[b].floating && loaded(b)) {
-        Some(b) => Err(SimError::Contact(ContactError::NotHeld {
-            body: model.bodies[b].name.clone(),
-            held: 100.0,
-            motion: "falls: nothing touches it".into(),
-            // (A hand posed around it does not yet hold a free body by friction: the advice is
-            // what works.)
-            place: if model.obstacles.is_empty() {
-                String::new()
-            } else {
-                "place it on an [[obstacle]] that holds it, or ".into()
-            },
-        })),
-        None => Ok(()),
-    }
 }

@@ -72,7 +72,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             contact,
         });
     }
-    super::statics::falls_untouched(model)?;
+    super::stabilize::falls_untouched(model)?;
     let result = solve_body(
         &body,
         &model.partition,
