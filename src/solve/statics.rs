@@ -34,6 +34,10 @@ fn solve_static_with(
     if model.nonlinear_statics {
         return super::statics_nonlinear::solve_static_nonlinear(model);
     }
+    // Refused before anything is assembled.
+    if model.obstacles.is_empty() || !obstacles {
+        super::stabilize::falls_untouched(model)?;
+    }
     let inverted = |cell: usize, relative_det: f64| SimError::inverted(model, cell, relative_det);
     let t = Instant::now();
     let mut k = assemble_kind(
@@ -47,7 +51,6 @@ fn solve_static_with(
     let assembly_ms = ms(t);
     let solve_error = |source: SolveError| SimError::solve(model, source);
     let (solution, contact) = if model.obstacles.is_empty() || !obstacles {
-        super::stabilize::falls_untouched(model)?;
         let solution = match &model.gas {
             None => solver
                 .solve(

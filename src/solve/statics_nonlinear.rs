@@ -27,6 +27,12 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             cell - model.bodies[b].cells.start,
         )
     };
+    // Without contact or a gas cavity (solved with the stabilising springs, which say whether
+    // contact holds a body), a floating body under a load falls: refused before anything is
+    // built.
+    if model.obstacles.is_empty() && model.gas.is_none() {
+        super::stabilize::falls_untouched(model)?;
+    }
     let settings = NewtonSettings {
         ordering: model.ordering,
         volumetric: model.flexion.volumetric,
@@ -72,7 +78,6 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             contact,
         });
     }
-    super::stabilize::falls_untouched(model)?;
     let result = solve_body(
         &body,
         &model.partition,
