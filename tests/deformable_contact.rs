@@ -586,3 +586,80 @@ fn a_finger_driven_deep_into_the_ball_converges() {
         press(first)
     );
 }
+
+#[test]
+fn a_finger_pressed_deep_into_a_soft_or_coarse_hollow_ball_reaches_its_pose() {
+    // The skin meets a hollow ball's outer surface only (contact::exterior_quads). Held
+    // against the cavity's wall too, the pad's side pressed past the middle of the 4 mm wall
+    // left by the cavity's side, and the press stopped however small its steps (measured
+    // 2026-11-26, before: the 1 MPa ball at resolution 1 at 12 % of MCP 20° → 40°, the 2 MPa
+    // ball with the hand at resolution 0.5 at 84 %, both "went through the 4.0 mm wall").
+    let asset = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
+    for (resolution, young) in [("1.0", "1.0e6"), ("0.5", "2.0e6")] {
+        let text = asset
+            .replace(
+                "pose = { \"index.mcp.flex\" = 21.5 }",
+                "pose = { \"index.mcp.flex\" = 40.0 }",
+            )
+            .replace("young = 2.0e6", &format!("young = {young}"))
+            .replace(
+                "resolution = 1.0 }",
+                &format!("resolution = {resolution} }}"),
+            );
+        assert!(text.contains(&format!("resolution = {resolution} }}")));
+        let name = format!("hollow-{resolution}-{young}.toml");
+        let scene = prehensile::scene::Scene::parse(&text, &name).unwrap();
+        let solved = prehensile::headless::solve_scene(&scene, &name).unwrap();
+        let (first, last) = (&solved.frames[1], solved.frames.last().unwrap());
+        let h = &last.hands[0];
+        assert!(
+            h.stats.stopped_short.is_none(),
+            "{name}: {:?}",
+            h.stats.stopped_short
+        );
+        let model = &solved.model;
+        let mcp = model.bodies[0]
+            .hand
+            .as_ref()
+            .unwrap()
+            .skeleton
+            .dofs
+            .iter()
+            .position(|d| d.name == "index.mcp.flex")
+            .unwrap();
+        assert!(
+            (h.angles[mcp] - 40.0).abs() < 1e-9,
+            "{name}: MCP {}°",
+            h.angles[mcp]
+        );
+        // No contact point in the ball beyond the limit, the skin (by winding numbers about
+        // the ball's outer surface, so also in its cavity) within three times it, in balance.
+        let c = last.contact.as_ref().unwrap();
+        assert!(c.max_penetration <= model.contact.penetration_limit());
+        let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+        let (skin_depth, _) = common::skin_depth_inside(model, last, 0, ball);
+        let press =
+            |frame: &prehensile::state::Frame| frame.contact.as_ref().unwrap().normal_force();
+        println!(
+            "{name}: MCP 40°: {:.2} N on the pad (MCP 21°: {:.2} N), {} contact steps ({} \
+             redone), skin {:.3} mm inside",
+            press(last),
+            press(first),
+            h.stats.contact_steps,
+            h.stats.contact_retries,
+            skin_depth * 1e3
+        );
+        assert!(
+            skin_depth <= 3.0 * model.contact.penetration_limit(),
+            "{name}: the skin is {} mm inside the ball",
+            skin_depth * 1e3
+        );
+        let f = solved.report.frames.last().unwrap();
+        let imbalance = Vector3::from(f.equilibrium.imbalance);
+        assert!(imbalance.norm() < 1e-9, "{name}: {imbalance:?}");
+        // Pressed harder at 40° than at 21°. (On the 1 MPa ball the corrections at the pose
+        // do not settle — the force swings by 10–40 % from one to the next, the report warns —
+        // so only the order is asserted: measured 39.4 N against 10.2 N.)
+        assert!(press(last) > 2.0 * press(first), "{name}");
+    }
+}

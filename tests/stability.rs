@@ -587,9 +587,7 @@ fn f_a_grasp_on_a_ball_its_air_overinflates_is_told_as_that_strain_with_advice_t
             young * factor * 1.01
         );
         assert!(now <= prehensile::state::STRAIN_WARNING, "{now}");
-        // The strain is mended; what the solve meets then (measured: at E = 1.12e6 Pa the
-        // finger's pose through the ball's thinner-stretched wall;
-        // at 1.69e6 Pa it converges) is not blamed on it.
+        // The strain is mended; whatever the solve meets then is not blamed on it.
         if let Err(e) = solve_frames(&model) {
             assert!(!matches!(e, SimError::BeyondSmallStrain { .. }), "{e}");
             println!("then: {e}");

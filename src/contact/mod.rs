@@ -8,6 +8,7 @@
 
 mod coulomb;
 mod embedded;
+mod exterior;
 mod lagrange;
 mod obstacle;
 mod paper;
@@ -19,6 +20,7 @@ mod self_contact;
 mod surface;
 
 pub use embedded::EmbeddedPoints;
+pub use exterior::exterior_quads;
 pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;

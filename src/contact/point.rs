@@ -435,8 +435,8 @@ pub enum ContactError {
         depth_mm: f64,
         /// The search depth, mm.
         search_mm: f64,
-        /// Why, and what to change: deeper than the search depth, raise it; through a shell's
-        /// wall that gave way under the press, a stiffer material (`solve::grasp::too_deep`).
+        /// Why, and what to change: deeper than the search depth, raise it; otherwise the
+        /// diagnosis, the facets fold around it (`solve::grasp::too_deep`).
         advice: String,
     },
 }

@@ -243,7 +243,9 @@ impl ContactProblem<'_> {
                     // to its side as to the face it presses), else nothing if the node is
                     // outside (the far side of a thin finger, a crease), else the nearest
                     // (inside: out the nearest way; a node past the middle of a thin wall
-                    // leaves by the far side, so keep increments shallower than half a wall).
+                    // leaves by the far side, so keep increments shallower than half a wall —
+                    // skin meets a hollow object's outer surface only, `exterior_quads`, and
+                    // leaves its wall the way it came).
                     let proj = if facing(&nearest.nodes) {
                         nearest
                     } else {
