@@ -217,11 +217,11 @@ fn contact_search_advised(run: &Run) -> f64 {
 
 /// Item 10, as a failed correction at the pose (a warning, exit 0): "it went deeper than the
 /// contact searches (0.5 mm): raise solver.contact_search to X mm or more". Solved again with
-/// `contact_search` at the X printed, the correction holds. (The audit's press to MCP 30° no
-/// longer serves: there the 4 mm wall gives way under the press whatever the search depth —
-/// measured, 0.5 mm advises 1.0 mm, which advises 10.6 mm, where the correction fails through
-/// the wall, as at the default 10 mm; pressed to 24°–28°, the search advised leaves the
-/// correction failing too. Pressed to 23.5°, it holds.)
+/// `contact_search` at the X printed, the correction holds. (The audit's press to MCP 30° did
+/// not serve until 2026-11-26: skin was also met by the ball's cavity wall, which pulled it
+/// through the 4 mm wall whatever the search depth; since skin meets the outer surface only,
+/// the press reaches MCP 30° at the default search with no failed correction. Pressed to
+/// 23.5° at 0.5 mm, the correction fails and the advice mends it.)
 #[test]
 fn a_skin_point_deeper_than_the_search_in_a_correction_is_mended_by_the_search_advised() {
     let press = |search: &str| {

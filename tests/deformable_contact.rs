@@ -510,25 +510,21 @@ fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
     assert!(h.contact.contains_key("ring"));
 }
 
-#[test]
-fn a_finger_driven_deep_into_the_ball_converges() {
-    // The index MCP at 40° would put the finger pad about 12 mm into the ball, past its 4 mm
-    // wall. The keyframe goes in contact steps along the motion, each pressing the ball further
-    // from where the last left it, with the contact on the smooth skin: it reaches its pose,
-    // a frame in equilibrium with the skin outside the ball.
+/// The finger press of finger-press-ball.toml with its last keyframe at MCP 40° (and `edit`
+/// applied to the text), solved as `name`: it reaches MCP 40° (asserted).
+fn pressed_to_40(name: &str, edit: impl Fn(String) -> String) -> prehensile::headless::Solved {
     let text = std::fs::read_to_string("assets/scenes/finger-press-ball.toml")
         .unwrap()
         .replace(
             "pose = { \"index.mcp.flex\" = 21.5 }",
             "pose = { \"index.mcp.flex\" = 40.0 }",
         );
-    let scene = prehensile::scene::Scene::parse(&text, "deep.toml").unwrap();
-    let solved = prehensile::headless::solve_scene(&scene, "deep.toml").unwrap();
-    let (first, last) = (&solved.frames[1], solved.frames.last().unwrap());
-    let h = &last.hands[0];
+    let scene = prehensile::scene::Scene::parse(&edit(text), name).unwrap();
+    let solved = prehensile::headless::solve_scene(&scene, name).unwrap();
+    let h = &solved.frames.last().unwrap().hands[0];
     assert!(
         h.stats.stopped_short.is_none(),
-        "{:?}",
+        "{name}: {:?}",
         h.stats.stopped_short
     );
     let mcp = solved.model.bodies[0]
@@ -542,9 +538,21 @@ fn a_finger_driven_deep_into_the_ball_converges() {
         .unwrap();
     assert!(
         (h.angles[mcp] - 40.0).abs() < 1e-9,
-        "MCP {}°",
+        "{name}: MCP {}°",
         h.angles[mcp]
     );
+    solved
+}
+
+#[test]
+fn a_finger_driven_deep_into_the_ball_converges() {
+    // The index MCP at 40° would put the finger pad about 12 mm into the ball, past its 4 mm
+    // wall. The keyframe goes in contact steps along the motion, each pressing the ball further
+    // from where the last left it, with the contact on the smooth skin: it reaches its pose,
+    // a frame in equilibrium with the skin outside the ball.
+    let solved = pressed_to_40("deep.toml", |text| text);
+    let (first, last) = (&solved.frames[1], solved.frames.last().unwrap());
+    let h = &last.hands[0];
     assert!(
         h.stats.contact_steps >= 4,
         "{} contact steps",
@@ -594,48 +602,22 @@ fn a_finger_pressed_deep_into_a_soft_or_coarse_hollow_ball_reaches_its_pose() {
     // left by the cavity's side, and the press stopped however small its steps (measured
     // 2026-11-26, before: the 1 MPa ball at resolution 1 at 12 % of MCP 20° → 40°, the 2 MPa
     // ball with the hand at resolution 0.5 at 84 %, both "went through the 4.0 mm wall").
-    let asset = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
     for (resolution, young) in [("1.0", "1.0e6"), ("0.5", "2.0e6")] {
-        let text = asset
-            .replace(
-                "pose = { \"index.mcp.flex\" = 21.5 }",
-                "pose = { \"index.mcp.flex\" = 40.0 }",
-            )
-            .replace("young = 2.0e6", &format!("young = {young}"))
-            .replace(
-                "resolution = 1.0 }",
-                &format!("resolution = {resolution} }}"),
-            );
-        assert!(text.contains(&format!("resolution = {resolution} }}")));
         let name = format!("hollow-{resolution}-{young}.toml");
-        let scene = prehensile::scene::Scene::parse(&text, &name).unwrap();
-        let solved = prehensile::headless::solve_scene(&scene, &name).unwrap();
+        let solved = pressed_to_40(&name, |text| {
+            let at = format!("resolution = {resolution} }}");
+            let text = text
+                .replace("young = 2.0e6", &format!("young = {young}"))
+                .replace("resolution = 1.0 }", &at);
+            assert!(text.contains(&at));
+            text
+        });
         let (first, last) = (&solved.frames[1], solved.frames.last().unwrap());
         let h = &last.hands[0];
-        assert!(
-            h.stats.stopped_short.is_none(),
-            "{name}: {:?}",
-            h.stats.stopped_short
-        );
         let model = &solved.model;
-        let mcp = model.bodies[0]
-            .hand
-            .as_ref()
-            .unwrap()
-            .skeleton
-            .dofs
-            .iter()
-            .position(|d| d.name == "index.mcp.flex")
-            .unwrap();
-        assert!(
-            (h.angles[mcp] - 40.0).abs() < 1e-9,
-            "{name}: MCP {}°",
-            h.angles[mcp]
-        );
-        // No contact point in the ball beyond the limit (by winding numbers about the ball's
-        // outer surface, so also in its cavity), in balance.
-        let c = last.contact.as_ref().unwrap();
-        assert!(c.max_penetration <= model.contact.penetration_limit());
+        // Every contact point within the limit of the ball's outer surface (by winding
+        // numbers, so also none in its cavity) is the solve's own check; here the display
+        // skin and the balance.
         let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
         let (skin_depth, _) = common::skin_depth_inside(model, last, 0, ball);
         let press =

@@ -33,9 +33,12 @@ pub fn exterior_quads(quads: &[[usize; 4]], positions: &[Vector3<f64>]) -> Vec<[
         }
     }
     let piece: Vec<usize> = quads.iter().map(|q| root(&mut parent, q[0])).collect();
+    // Each piece's volume about one of its own nodes (its root), so that a small body far from
+    // the origin keeps its sign through round-off.
     let mut volume: HashMap<usize, f64> = HashMap::new();
     for (q, &r) in quads.iter().zip(&piece) {
-        let [a, b, c, d] = q.map(|n| positions[n]);
+        let o = positions[r];
+        let [a, b, c, d] = q.map(|n| positions[n] - o);
         *volume.entry(r).or_insert(0.0) += (a.dot(&b.cross(&c)) + a.dot(&c.cross(&d))) / 6.0;
     }
     let kept: Vec<[usize; 4]> = quads
@@ -54,7 +57,7 @@ pub fn exterior_quads(quads: &[[usize; 4]], positions: &[Vector3<f64>]) -> Vec<[
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{boundary_facets, box_mesh};
+    use crate::mesh::{boundary_facets, box_mesh, shell_mesh};
 
     /// A hollow box (a 3×3×3 block without its centre cell): its boundary is the outer cube
     /// (54 faces, +27 volume units) and the cavity's wall (6 faces, −1): the outer cube only.
@@ -78,6 +81,17 @@ mod tests {
         assert_eq!(outer.len(), 54);
         let inner_node = |n: usize| (mesh.nodes[n] - Vector3::repeat(1.5)).amax() < 0.5 + 1e-9;
         assert!(outer.iter().flatten().all(|&n| !inner_node(n)));
+        // A hollow ball far from the origin (a 35 mm shell 1 km away): its outer sphere, every
+        // kept node at the outer radius.
+        let centre = Vector3::new(1000.0, -1000.0, 500.0);
+        let shell = shell_mesh(centre, 0.031, 0.035, 6, 2);
+        let quads: Vec<[usize; 4]> = boundary_facets(&shell).iter().map(|f| f.nodes).collect();
+        let outer = exterior_quads(&quads, &shell.nodes);
+        assert!(!outer.is_empty() && outer.len() < quads.len());
+        for n in outer.iter().flatten() {
+            let r = (shell.nodes[*n] - centre).norm();
+            assert!((r - 0.035).abs() < 1e-9, "{r}");
+        }
         // A solid block: all of it.
         let solid = box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [2, 2, 2]);
         let all: Vec<[usize; 4]> = boundary_facets(&solid).iter().map(|f| f.nodes).collect();

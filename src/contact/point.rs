@@ -419,8 +419,8 @@ pub enum ContactError {
         relative_det: f64,
     },
     /// A node of one body is inside another and the contact does not hold it: beyond what
-    /// contact detection reaches, or through a thin wall (in a shell's cavity it projects onto
-    /// the inner wall and looks outside).
+    /// contact detection reaches, or where the other body's facets fold around it further than
+    /// one linearised step follows.
     #[error(
         "{place} lies {depth_mm:.1} mm inside body \"{other}\" and the contact does not hold \
          it: {advice}"

@@ -242,10 +242,10 @@ impl ContactProblem<'_> {
                     // almost as near (a node on an edge or a corner of the other body, as close
                     // to its side as to the face it presses), else nothing if the node is
                     // outside (the far side of a thin finger, a crease), else the nearest
-                    // (inside: out the nearest way; a node past the middle of a thin wall
-                    // leaves by the far side, so keep increments shallower than half a wall —
-                    // skin meets a hollow object's outer surface only, `exterior_quads`, and
-                    // leaves its wall the way it came).
+                    // (inside: out the nearest way; a node past the middle of a thin part of a
+                    // solid body leaves by the far side, so keep increments shallower than half
+                    // of it; a hollow object's cavity wall is not part of the surface skin
+                    // meets, `exterior_quads`, so skin in a shell's wall leaves it outwards).
                     let proj = if facing(&nearest.nodes) {
                         nearest
                     } else {
