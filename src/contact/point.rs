@@ -364,6 +364,26 @@ pub enum ContactError {
         /// Of which slipping.
         slipping: usize,
     },
+    /// A node of a held body would move further than the body's own size within one contact
+    /// step: not a motion the search is too short for, but a linearised step that diverges
+    /// (a soft pressurised ball on a tier that turns its small-strain elements, whose
+    /// corrections at the pose swing: the corotational tier on the finger press at 1.12 MPa).
+    #[error(
+        "node {node} of body \"{body}\" would move {distance:.3e} m within one contact step, \
+         more than the body's size ({size:.3e} m): the linearised contact step diverges{advice}"
+    )]
+    Diverges {
+        /// The node, numbered within its body.
+        node: usize,
+        /// Its body.
+        body: String,
+        /// How far it would move, m.
+        distance: f64,
+        /// The longest side of the body's box at rest, m.
+        size: f64,
+        /// What to change, with its leading separator, or empty.
+        advice: String,
+    },
     /// A node of a body that its supports (or bones) hold moved more than the contact's reach
     /// allows within one contact step: the contact search is too short for the motion (a
     /// runaway of a held body is not a missing support).

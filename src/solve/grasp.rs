@@ -635,6 +635,27 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
         // contact's reach is too short for the motion.
         ContactError::Runaway { node, distance, .. } => {
             match model.bodies.iter().find(|b| b.nodes.contains(&node)) {
+                // Further than the body's own size: the step diverges (a longer search lets
+                // it run further: 0.10 m became 6.8 m with the search at 0.25 m).
+                Some(body) if !body.floating && distance > body_size(model, body) => {
+                    let turned = model.corotates_objects()
+                        && !neo_hookean_objects(model)
+                        && body.hand.is_none();
+                    let advice = if turned {
+                        " — its small-strain law turned with its elements does not settle under \
+                         this press: solve the scene with [solver] tier = \"nonlinear\" \
+                         (Neo-Hookean bodies, their exact tangent)"
+                    } else {
+                        ""
+                    };
+                    SimError::Contact(ContactError::Diverges {
+                        node: node - body.nodes.start,
+                        body: body.name.clone(),
+                        distance,
+                        size: body_size(model, body),
+                        advice: advice.into(),
+                    })
+                }
                 Some(body) if !body.floating => SimError::Contact(ContactError::BeyondSearch {
                     node: node - body.nodes.start,
                     body: body.name.clone(),
@@ -648,6 +669,18 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
         }
         other => SimError::Contact(other),
     }
+}
+
+/// The longest side of `body`'s box at rest (a ball's diameter), m.
+fn body_size(model: &Model, body: &crate::model::BodyModel) -> f64 {
+    let nodes = &model.mesh.nodes[body.nodes.clone()];
+    let lo = nodes
+        .iter()
+        .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(p));
+    let hi = nodes
+        .iter()
+        .fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(p));
+    (hi - lo).max()
 }
 
 /// A skin point left inside an object (beyond the search depth, contact never found it).
