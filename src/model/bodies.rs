@@ -132,7 +132,7 @@ pub fn bodies(
             None => boundary_facets(&body_mesh),
         };
         let (node_offset, cell_offset) = mesh.append(&body_mesh);
-        let facets = facets
+        let facets: Vec<Facet> = facets
             .into_iter()
             .map(|f| Facet {
                 nodes: f.nodes.map(|n| n + node_offset),
@@ -145,6 +145,8 @@ pub fn bodies(
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
+        let quads: Vec<[usize; 4]> = facets.iter().map(|f| f.nodes).collect();
+        let exterior = crate::contact::exterior_quads(&quads, &mesh.nodes);
         let volume: f64 = (0..body_mesh.cell_count())
             .map(|c| cell_volume(&body_mesh.cell_coords(c)))
             .sum();
@@ -154,6 +156,7 @@ pub fn bodies(
             nodes: node_offset..node_offset + body_mesh.node_count(),
             cells: cell_offset..cell_offset + body_mesh.cell_count(),
             facets,
+            exterior,
             size: (hi - lo).max(),
             volume,
             mass: 0.0,

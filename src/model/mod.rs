@@ -54,6 +54,9 @@ pub struct BodyModel {
     pub cells: Range<usize>,
     /// Its boundary facets (global node indices).
     pub facets: Vec<Facet>,
+    /// The nodes of the facets skin meets: the pieces of the boundary enclosing its material,
+    /// without the walls of cavities inside it (`contact::exterior_quads`).
+    pub exterior: Vec<[usize; 4]>,
     /// Longest edge of its bounding box, m.
     pub size: f64,
     /// Volume, m³.

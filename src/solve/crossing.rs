@@ -1,7 +1,7 @@
 //! Skin that went into another body during a contact step's flexion (issue 15, item 5). A step's
 //! flexion moves fingertip skin by millimetres before contact is detected on the moved
 //! geometry; past the middle of a thin part of a body, the facet nearest to a skin node is the
-//! far side's and it looks outside (a shell's cavity wall is not met by skin, `exterior_of`,
+//! far side's and it looks outside (a shell's cavity wall is not met by skin, `BodyModel::exterior`,
 //! but a solid body's thin parts remain). Its straight path from where the last step left it
 //! tells which facet it went through: the contact holds it there.
 //! A node that was already just inside (held by the contact within its tolerance) and went

@@ -24,9 +24,8 @@ use super::hyperelastic_objects::{
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
-    connected_pieces, exterior_quads, solve_lagrange, solve_paper, winding_number_of, ContactError,
-    ContactMethod, ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master,
-    SurfacePair,
+    connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
+    ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
@@ -186,9 +185,11 @@ fn solve_grasp_with(
         ));
     }
     for &b in &objects {
-        let quads = exterior_of(model, b);
         surfaces.push(ContactSurface::from_quads_split_at(
-            b, &quads, &x_rest, &x_now,
+            b,
+            &model.bodies[b].exterior,
+            &x_rest,
+            &x_now,
         ));
     }
     // Which skin nodes are near which object, and the object nodes near the skin.
@@ -637,7 +638,7 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
             match model.bodies.iter().find(|b| b.nodes.contains(&node)) {
                 // Further than the body's own size: the step diverges (a longer search lets
                 // it run further: 0.10 m became 6.8 m with the search at 0.25 m).
-                Some(body) if !body.floating && distance > body_size(model, body) => {
+                Some(body) if !body.floating && distance > body.size => {
                     let turned = model.corotates_objects()
                         && !neo_hookean_objects(model)
                         && body.hand.is_none();
@@ -652,7 +653,7 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
                         node: node - body.nodes.start,
                         body: body.name.clone(),
                         distance,
-                        size: body_size(model, body),
+                        size: body.size,
                         advice: advice.into(),
                     })
                 }
@@ -669,18 +670,6 @@ fn contact_error(model: &Model, e: ContactError) -> SimError {
         }
         other => SimError::Contact(other),
     }
-}
-
-/// The longest side of `body`'s box at rest (a ball's diameter), m.
-fn body_size(model: &Model, body: &crate::model::BodyModel) -> f64 {
-    let nodes = &model.mesh.nodes[body.nodes.clone()];
-    let lo = nodes
-        .iter()
-        .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(p));
-    let hi = nodes
-        .iter()
-        .fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(p));
-    (hi - lo).max()
 }
 
 /// A skin point left inside an object (beyond the search depth, contact never found it).
@@ -747,15 +736,6 @@ fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
         b.name,
         search * 1e3
     )
-}
-
-/// The facets of object `b` that skin meets: its outer surface, without the walls of the
-/// cavities inside it (`contact::exterior_quads`; measured on the finger press of a hollow
-/// ball: held against the cavity's wall too, skin pressed past the middle of the 4 mm wall left
-/// by the cavity's side, and the press stopped at 12–84 % of its motion whatever the step).
-pub(super) fn exterior_of(model: &Model, b: usize) -> Vec<[usize; 4]> {
-    let facets: Vec<[usize; 4]> = model.bodies[b].facets.iter().map(|f| f.nodes).collect();
-    exterior_quads(&facets, &model.mesh.nodes)
 }
 
 /// Where contact point `n` (a mesh node, or a skin point embedded past them; `skin`: each

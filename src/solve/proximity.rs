@@ -13,7 +13,7 @@
 //! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
 //! palmar crease of a deep flexion) is solved by FEM all the same.
 
-use super::grasp::{deepest_inside, exterior_of};
+use super::grasp::deepest_inside;
 use crate::contact::{connected_pieces, winding_number_of, ContactSurface};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::model::FleshMethod;
@@ -52,7 +52,7 @@ pub fn far_parts(
     let rest = &model.mesh.nodes;
     let surfaces: Vec<ContactSurface> = objects
         .iter()
-        .map(|&b| ContactSurface::from_quads(b, &exterior_of(model, b), rest))
+        .map(|&b| ContactSurface::from_quads(b, &model.bodies[b].exterior, rest))
         .collect();
     let pieces: Vec<Vec<Vec<[usize; 3]>>> = surfaces
         .iter()
@@ -227,7 +227,7 @@ pub fn posed_deeper_than(
     positions.extend(skin.positions(&moved));
     let objects: Vec<ContactSurface> = (0..model.bodies.len())
         .filter(|&o| model.bodies[o].hand.is_none())
-        .map(|o| ContactSurface::from_quads(o, &exterior_of(model, o), &model.mesh.nodes))
+        .map(|o| ContactSurface::from_quads(o, &model.bodies[o].exterior, &model.mesh.nodes))
         .collect();
     let points: Vec<usize> = (model.mesh.node_count()..positions.len()).collect();
     deepest_inside(&objects, &points, &positions, depth).is_some()
