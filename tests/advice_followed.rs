@@ -438,56 +438,56 @@ force = [0.0, 0.0, -1.0]
 /// Item 32: a press whose contact, capped at 2 active-set iterations, cannot follow its
 /// keyframe exits with code 2, "hand \"hand\" stopped at NN % of its keyframe's motion: … the
 /// active set was still changing at the cap: raise solver.contact_max_iterations (it is below
-/// its default, 50)". With the cap at its default the press solves, at the two resolutions where
-/// two iterations stop it (0.5 and 0.75; at 1.0 they are enough for this press). (The message used to end "a keyframe at the pose reached solves": true at 0.75,
+/// its default, 50)". With the cap at its default the press solves, at resolution 0.5 where two
+/// iterations stop it. (At 0.75 they stopped it too until the corrections at the pose were
+/// relaxed, 2026-11-27: the motion now reaches its pose there and the correction the cap stops
+/// is warned of with the same advice; at 1.0 two iterations are enough for this press.) (The message used to end "a keyframe at the pose reached solves": true at 0.75,
 /// where the keyframe put at the share reached, MCP 26.89°, solved; at 0.5 the keyframe at 25.18°
 /// stopped again at 75 % of its motion, at 1.0 the keyframe at 29.36° at 94 %. It was dropped.)
 #[test]
 fn a_contact_capped_below_its_default_solves_with_the_cap_raised() {
     let (from, to) = (21.0, 30.0);
-    for resolution in [0.5, 0.75] {
-        let press = |solver: &'static str| {
-            FingerPress {
-                resolution,
-                solver,
-                keyframes: &[from, to],
-                ..FingerPress::default()
-            }
-            .scene()
-        };
-        let trigger = solve(
-            &format!("capped-{resolution}"),
-            &press("contact_max_iterations = 2"),
-        );
-        assert_eq!(trigger.code, Some(2), "{}", trigger.stderr);
-        let error = trigger
-            .stderr
-            .lines()
-            .find(|l| l.starts_with("error: "))
-            .unwrap_or_else(|| panic!("no error: {}", trigger.stderr));
-        assert!(
-            error.contains("the scene was not solved to its poses")
-                && error.contains("hand \"hand\" stopped at ")
-                && error
-                    .contains("raise solver.contact_max_iterations (it is below its default, 50)")
-                && error.ends_with("report.json gives the pose reached"),
-            "{error}"
-        );
+    let resolution = 0.5;
+    let press = |solver: &'static str| {
+        FingerPress {
+            resolution,
+            solver,
+            keyframes: &[from, to],
+            ..FingerPress::default()
+        }
+        .scene()
+    };
+    let trigger = solve(
+        &format!("capped-{resolution}"),
+        &press("contact_max_iterations = 2"),
+    );
+    assert_eq!(trigger.code, Some(2), "{}", trigger.stderr);
+    let error = trigger
+        .stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("no error: {}", trigger.stderr));
+    assert!(
+        error.contains("the scene was not solved to its poses")
+            && error.contains("hand \"hand\" stopped at ")
+            && error.contains("raise solver.contact_max_iterations (it is below its default, 50)")
+            && error.ends_with("report.json gives the pose reached"),
+        "{error}"
+    );
 
-        let followed = solve(&format!("capped-{resolution}-followed"), &press(""));
-        assert_eq!(followed.code, Some(0), "{}", followed.stderr);
-        assert!(
-            !followed.stderr.contains("stopped at"),
-            "{}",
-            followed.stderr
-        );
-        let report = followed.report();
-        let last = report["frames"].as_array().unwrap().last().unwrap();
-        let mcp = last["hands"]["hand"]["pose"]["index.mcp.flex"]
-            .as_f64()
-            .unwrap();
-        assert!((mcp - to).abs() < 1e-9, "{mcp}° for {to}°");
-    }
+    let followed = solve(&format!("capped-{resolution}-followed"), &press(""));
+    assert_eq!(followed.code, Some(0), "{}", followed.stderr);
+    assert!(
+        !followed.stderr.contains("stopped at"),
+        "{}",
+        followed.stderr
+    );
+    let report = followed.report();
+    let last = report["frames"].as_array().unwrap().last().unwrap();
+    let mcp = last["hands"]["hand"]["pose"]["index.mcp.flex"]
+        .as_f64()
+        .unwrap();
+    assert!((mcp - to).abs() < 1e-9, "{mcp}° for {to}°");
 }
 
 /// `prehensile render` in the crate's folder.
@@ -576,57 +576,4 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
     // Less deep, still a press: more than at the first keyframe (3 N at MCP 21°).
     let press = followed.last_press();
     assert!(press > 4.0, "{press} N");
-}
-
-/// The finger press on its ball at 1.124 MPa — the modulus the strain advice gives for a
-/// 10 kPa ball (tests/stability.rs (f)), × 1.01 — on the corotational tier: the corrections at
-/// the last pose swing, and one fails with a ball node that would move 0.10 m in one step,
-/// more than the ball's 70 mm: "the linearised contact step diverges … tier = "nonlinear"".
-/// (Told before 2026-11-26 as a search too short, "raise solver.contact_search": at 0.25 m
-/// the same node ran 6.8 m and the solve stopped with exit 1.) On the nonlinear tier the press
-/// solves, every correction settled.
-#[test]
-fn a_diverging_correction_is_mended_by_the_nonlinear_tier_advised() {
-    let asset = std::fs::read_to_string("assets/scenes/finger-press-ball.toml").unwrap();
-    assert!(asset.contains("young = 2.0e6") && asset.contains("contact = \"lagrange\"\n"));
-    let soft = asset.replace("young = 2.0e6", "young = 1.124e6");
-    let trigger = solve("diverges", &soft);
-    assert_eq!(trigger.code, Some(0), "{}", trigger.stderr);
-    let failed: Vec<&str> = trigger
-        .warnings()
-        .into_iter()
-        .filter(|w| w.contains("a correction at the pose of hand \"hand\" failed"))
-        .collect();
-    assert_eq!(failed.len(), 1, "{}", trigger.stderr);
-    let distance = number_between(failed[0], "would move ", " m within one contact step");
-    let size = number_between(failed[0], "more than the body's size (", " m)");
-    assert!(
-        distance > size && (size - 0.070).abs() < 1e-9,
-        "{}",
-        failed[0]
-    );
-    assert!(
-        failed[0].contains("the linearised contact step diverges")
-            && failed[0].contains("tier = \"nonlinear\"")
-            && !failed[0].contains("contact_search"),
-        "{}",
-        failed[0]
-    );
-
-    let followed = solve(
-        "diverges-followed",
-        &soft.replace(
-            "contact = \"lagrange\"\n",
-            "contact = \"lagrange\"\ntier = \"nonlinear\"\n",
-        ),
-    );
-    assert_eq!(followed.code, Some(0), "{}", followed.stderr);
-    let left: Vec<&str> = followed
-        .warnings()
-        .into_iter()
-        .filter(|w| w.contains("correction") || w.contains("still changed by"))
-        .collect();
-    assert!(left.is_empty(), "{left:#?}");
-    let press = followed.last_press();
-    assert!(press > 1.0, "{press} N");
 }

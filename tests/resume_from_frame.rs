@@ -8,6 +8,7 @@
 use nalgebra::Vector3;
 use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;
+use prehensile::solve::proximity::posed_deeper_than;
 use prehensile::solve::{Posed, Workspace, CONTACT_CORRECTION};
 use prehensile::state::KeyframeStats;
 
@@ -84,14 +85,15 @@ fn only_the_hands_contact_is_corrected_at_the_pose() {
     let solved = finger_press();
     let (model, shown) = (&solved.model, solved.frames.last().unwrap());
     let stats = &shown.hands[0].stats;
+    // Six at most, or twelve while each changes the force less than the one before.
     assert!(
-        (1..=6).contains(&stats.pose_corrections),
+        (1..=12).contains(&stats.pose_corrections),
         "{} corrections",
         stats.pose_corrections
     );
     assert!(stats.contact_steps >= stats.pose_corrections);
     if let Some(change) = stats.unsettled_at_pose {
-        assert!(change > CONTACT_CORRECTION && stats.pose_corrections == 6);
+        assert!(change > CONTACT_CORRECTION && stats.pose_corrections >= 6);
     }
     for (i, frame) in solved.frames.iter().enumerate() {
         let unsettled = frame.hands[0].stats.unsettled_at_pose;
@@ -127,4 +129,68 @@ fn only_the_hands_contact_is_corrected_at_the_pose() {
         "only the table may touch"
     );
     assert_eq!(lifted.hands[0].stats.pose_corrections, 0);
+}
+
+/// The Power grasp's pose puts the thumb's skin about 18 mm into the ball at rest, deeper than
+/// contact searches (10 mm): from rest that keyframe goes in contact steps along the motion. A
+/// two-degree move of the thumb on from the solved grasp (the animator nudging a slider) is
+/// measured against the ball and the flesh where the grasp left them, and is solved in one
+/// contact step from there (before, it was measured against the ball at rest and went in two
+/// steps): the thumb presses a little harder, nothing passes into the ball, the pose is reached.
+#[test]
+fn a_small_move_on_from_a_deep_grasp_is_one_contact_step() {
+    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
+    let scene = Scene::parse(&text, "power.toml").unwrap();
+    let solved = solve_scene(&scene, "power.toml").unwrap();
+    let (model, shown) = (&solved.model, solved.frames.last().unwrap());
+    let grip = shown.contact.as_ref().unwrap().normal_force();
+    let h = &shown.hands[0];
+    let hand = model.bodies[h.body].hand.as_deref().unwrap();
+    let ip = hand
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "thumb.ip")
+        .unwrap();
+    let mut target = h.angles.clone();
+    target[ip] += 2.0;
+    let mut posed = Posed::of_frame(model, shown);
+    let state = &posed.hands[0].state;
+    let depth = model.contact.search_depth;
+    assert!(
+        posed_deeper_than(model, h.body, state, &target, depth, None),
+        "against the ball at rest the pose is deeper than the search"
+    );
+    assert!(
+        !posed_deeper_than(
+            model,
+            h.body,
+            state,
+            &target,
+            depth,
+            posed.contact.as_deref()
+        ),
+        "against the grasp's ball the two degrees are not"
+    );
+    let mut workspace = Workspace::new(model).unwrap();
+    let moved = workspace
+        .move_hands(model, &mut posed, &[(h.body, target.clone())], None)
+        .unwrap();
+    let stats = &moved.hands[0].stats;
+    println!(
+        "{} contact steps, {} corrections, {} redone",
+        stats.contact_steps, stats.pose_corrections, stats.contact_retries
+    );
+    assert_eq!(stats.contact_steps - stats.pose_corrections, 1);
+    assert_eq!(stats.contact_retries, 0);
+    assert_eq!(moved.hands[0].angles, target);
+    let contact = moved.contact.as_ref().unwrap();
+    assert!(
+        contact.max_penetration <= model.contact.tolerance,
+        "{} m",
+        contact.max_penetration
+    );
+    let regrip = contact.normal_force();
+    println!("grip {grip:.4} N -> {regrip:.4} N");
+    assert!(regrip > grip && regrip < 1.5 * grip, "{grip} -> {regrip}");
 }

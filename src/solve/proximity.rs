@@ -204,14 +204,18 @@ pub(super) fn crushed_by_skinning(
 
 /// Whether the skin of hand body `body` (its contact skin, the smooth skin), moved by skinning
 /// from `state` to the joint angles `target`, lies deeper than `depth` (m) inside another body
-/// of the model at rest (by winding numbers): what a keyframe solved in one step would have to
-/// resolve at once.
+/// (by winding numbers): what a keyframe solved in one step would have to resolve at once. The
+/// bodies and the flesh are where `carried` (the displacements the last contact step left, over
+/// every dof: the other bodies' from rest, the flesh's over its flexed pose) puts them, so that a
+/// small motion on from a grasp is measured by what it adds, not by how deep the grasp's pose
+/// already is in the bodies at rest; at rest without it.
 pub fn posed_deeper_than(
     model: &Model,
     body: usize,
     state: &HandState,
     target: &[f64],
     depth: f64,
+    carried: Option<&[f64]>,
 ) -> bool {
     let b = &model.bodies[body];
     let hand = b.hand.as_deref().expect("posed_deeper_than of a hand body");
@@ -221,13 +225,29 @@ pub fn posed_deeper_than(
         .collect();
     nodes.sort_unstable();
     nodes.dedup();
-    let moved = skinned_to(model, hand, state, target, nodes.into_iter());
-    // The skin's points numbered after the model's nodes.
+    let mut moved = skinned_to(model, hand, state, target, nodes.into_iter());
     let mut positions = model.mesh.nodes.clone();
+    if let Some(u) = carried {
+        let at = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+        for (n, p) in positions.iter_mut().enumerate() {
+            *p += at(n);
+        }
+        for (i, p) in moved.iter_mut().enumerate() {
+            *p += at(b.nodes.start + i);
+        }
+    }
+    // The skin's points numbered after the model's nodes.
     positions.extend(skin.positions(&moved));
     let objects: Vec<ContactSurface> = (0..model.bodies.len())
         .filter(|&o| model.bodies[o].hand.is_none())
-        .map(|o| ContactSurface::from_quads(o, &model.bodies[o].exterior, &model.mesh.nodes))
+        .map(|o| {
+            ContactSurface::from_quads_split_at(
+                o,
+                &model.bodies[o].exterior,
+                &model.mesh.nodes,
+                &positions,
+            )
+        })
         .collect();
     let points: Vec<usize> = (model.mesh.node_count()..positions.len()).collect();
     deepest_inside(&objects, &points, &positions, depth).is_some()
