@@ -479,6 +479,8 @@ impl Workspace {
             }
             let before = posed.clone();
             let mut carried = carried_by(model, &frame);
+            // The factor this correction's start is relaxed by (1: not relaxed).
+            let mut applied = 1.0;
             if let (Some(x), Some(from)) = (carried.as_mut(), &started_from) {
                 // r = S(x) − x, the change the last correction made to where it started.
                 let r: Vec<f64> = x.iter().zip(from).map(|(s, x)| s - x).collect();
@@ -488,6 +490,7 @@ impl Workspace {
                 for ((x, from), r) in x.iter_mut().zip(from).zip(&r) {
                     *x = from + omega * r;
                 }
+                applied = omega;
                 last_change = Some(r);
             }
             started_from = carried.clone();
@@ -499,7 +502,9 @@ impl Workspace {
                     changes.push(change);
                     frame = next;
                     kept += 1;
-                    if change <= CONTACT_CORRECTION {
+                    // A damped start changes the force less by itself: the change is measured
+                    // as if undamped, so that damping does not pass for settling.
+                    if change <= CONTACT_CORRECTION * applied.min(1.0) {
                         unsettled.change = None;
                         break;
                     }
