@@ -1004,3 +1004,47 @@ fn a_free_body_nothing_touches_falls_and_is_not_written_hanging_from_its_springs
         );
     }
 }
+
+/// A plane obstacle's normal is a direction: the ball on its table feels the same table force
+/// whether the normal is given as [0, 0, 1], [0, 0, 1e200] (whose length overflows) or
+/// [0, 0, 1e-160] (whose length underflows). Before, the huge normal normalised to a zero
+/// vector and the table silently held nothing (0 N on 0 nodes, exit 0), and the tiny one was
+/// refused as zero.
+#[test]
+fn a_plane_normal_of_any_length_is_its_direction() {
+    let asset = std::fs::read_to_string("assets/scenes/ball-on-table.toml").unwrap();
+    assert!(asset.contains("normal = [0.0, 0.0, 1.0]"));
+    let dir = std::env::temp_dir().join(format!("prehensile-plane-normal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let force = |normal: &str| -> f64 {
+        let scene = dir.join(format!("table-{normal}.toml"));
+        std::fs::write(
+            &scene,
+            asset.replace("normal = [0.0, 0.0, 1.0]", &format!("normal = {normal}")),
+        )
+        .unwrap();
+        let out = dir.join(format!("out-{normal}"));
+        let run = solve_cli(&scene, &out);
+        assert!(
+            run.status.success(),
+            "{normal}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap())
+                .unwrap();
+        report["frames"][0]["contact"]["obstacles"]["table"]["force"][2]
+            .as_f64()
+            .unwrap()
+    };
+    let unit = force("[0.0, 0.0, 1.0]");
+    assert!(unit > 1.0, "{unit} N");
+    for normal in ["[0.0, 0.0, 1e200]", "[0.0, 0.0, 1e-160]"] {
+        let f = force(normal);
+        assert!(
+            (f - unit).abs() <= 1e-9 * unit,
+            "{normal}: {f} N against {unit} N"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -140,6 +140,12 @@ pub enum GltfError {
         /// What is wrong.
         reason: String,
     },
+    /// Frame times glTF's 32-bit floats cannot hold as an increasing sequence.
+    #[error(
+        "frame times {0} s and {1} s are one and the same time in glTF's 32-bit floats (the \
+         animation's times must increase): keep the keyframe times below 1e6 s or further apart"
+    )]
+    Times(f64, f64),
     /// The file would exceed glTF's 4 GiB.
     #[error("the animation would take {0} bytes, beyond glTF's 4 GiB limit")]
     TooLarge(usize),
@@ -149,8 +155,15 @@ pub enum GltfError {
 pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<u8>, GltfError> {
     let mut b = GlbBuilder::new();
     let targets = times.len().saturating_sub(1);
+    for (t0, t1) in times.iter().zip(times.iter().skip(1)) {
+        let (a, b) = (*t0 as f32, *t1 as f32);
+        if !(a.is_finite() && b.is_finite() && b > a) {
+            return Err(GltfError::Times(*t0, *t1));
+        }
+    }
     let mut nodes = Vec::new();
-    for s in surfaces {
+    // A surface without a triangle has no mesh glTF allows (an accessor of no element).
+    for s in surfaces.iter().filter(|s| !s.triangles.is_empty()) {
         let bad = |reason: String| GltfError::Surface {
             surface: s.name.clone(),
             reason,
@@ -163,12 +176,19 @@ pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<
             )));
         }
         let base = &s.frames[0];
-        if s.frames
+        // Every position, and its move from the first frame, within glTF's 32-bit floats.
+        let in_f32 = |x: f64| (x as f32).is_finite();
+        if let Some(p) = s
+            .frames
             .iter()
-            .flatten()
-            .any(|p| !p.iter().all(|x| x.is_finite()))
+            .flat_map(|f| f.iter().zip(base))
+            .find(|(p, q)| !p.iter().chain((*p - *q).iter()).all(|&x| in_f32(x)))
         {
-            return Err(bad("a non-finite position".into()));
+            return Err(bad(format!(
+                "a position ({:e}, {:e}, {:e}) m beyond what glTF's 32-bit floats hold \
+                 (±3.4e38): the result is not physical",
+                p.0.x, p.0.y, p.0.z
+            )));
         }
         let flat = |p: &[Vector3<f64>]| -> Vec<f32> {
             p.iter()
@@ -292,4 +312,52 @@ pub fn animation_glb(surfaces: &[AnimatedSurface], times: &[f64]) -> Result<Vec<
     });
     b.root.scene = Some(scene);
     b.finish().map_err(GltfError::TooLarge)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One triangle moved by `shift` (m) in its second frame.
+    fn triangle(shift: f64) -> AnimatedSurface {
+        let rest = vec![Vector3::zeros(), Vector3::x(), Vector3::y()];
+        let moved = rest.iter().map(|p| p + Vector3::z() * shift).collect();
+        AnimatedSurface {
+            name: "t".into(),
+            triangles: vec![[0, 1, 2]],
+            frames: vec![rest, moved],
+            colors: None,
+        }
+    }
+
+    /// A move that fits in a double but not in glTF's 32-bit floats is refused (it would be
+    /// written as infinity, min and max null); one that fits is written.
+    #[test]
+    fn positions_beyond_32_bit_floats_are_refused() {
+        assert!(animation_glb(&[triangle(1.0)], &[0.0, 1.0]).is_ok());
+        let err = animation_glb(&[triangle(4.8e40)], &[0.0, 1.0]).unwrap_err();
+        assert!(err.to_string().contains("32-bit floats"), "{err}");
+        assert!(err.to_string().contains("surface \"t\""), "{err}");
+    }
+
+    /// Times that are distinct doubles but one float (1e8 and 1e8 + 1), or beyond a float, are
+    /// refused: glTF's sampler times must increase.
+    #[test]
+    fn times_that_collapse_in_32_bit_floats_are_refused() {
+        assert!(animation_glb(&[triangle(1.0)], &[1e5, 1e5 + 1.0]).is_ok());
+        for times in [[1e8, 1e8 + 1.0], [0.0, 1e308]] {
+            let err = animation_glb(&[triangle(1.0)], &times).unwrap_err();
+            assert!(matches!(err, GltfError::Times(..)), "{err}");
+        }
+    }
+
+    /// A surface without a triangle is left out rather than written as an empty mesh.
+    #[test]
+    fn a_surface_without_triangles_is_left_out() {
+        let mut empty = triangle(1.0);
+        empty.triangles.clear();
+        let with = animation_glb(&[triangle(1.0), empty], &[0.0, 1.0]).unwrap();
+        let without = animation_glb(&[triangle(1.0)], &[0.0, 1.0]).unwrap();
+        assert_eq!(with.len(), without.len());
+    }
 }

@@ -66,6 +66,18 @@ impl OutputSet {
     /// earlier write that the new set lacks, records the new set in [`MANIFEST`] and removes
     /// the staging folder.
     pub fn commit(self) -> std::io::Result<Vec<PathBuf>> {
+        // A name the folder holds as something else than a file (a folder) would stop the
+        // renames halfway, old and new files mixed: refused before any is moved.
+        for name in &self.names {
+            let target = self.dir.join(name);
+            if std::fs::symlink_metadata(&target).is_ok_and(|m| m.is_dir()) {
+                return Err(std::io::Error::other(format!(
+                    "{} is a folder, where this output's file {name} goes: move it away (nothing \
+                     was replaced)",
+                    target.display()
+                )));
+            }
+        }
         let stale = self.stale()?;
         let mut written = Vec::new();
         for name in &self.names {

@@ -15,10 +15,23 @@ pub fn keyframes(
     let mut out: Vec<KeyframeModel> = Vec::new();
     for (i, k) in scene.keyframe.iter().enumerate() {
         let field = format!("keyframe[{i}]");
-        if !(k.time.is_finite() && k.time >= 0.0) {
+        if !(k.time.is_finite() && k.time >= 0.0 && (k.time as f32).is_finite()) {
             return Err((
                 format!("{field}.time"),
-                format!("must be a time ≥ 0 s, got {}", k.time),
+                format!("must be a time ≥ 0 s and below 3.4e38 s, got {}", k.time),
+            ));
+        }
+        // Distinct times stay distinct in the animation's 32-bit floats (glTF), the first
+        // frame's 0 s included.
+        let before = out.last().map_or(0.0, |l| l.time);
+        if k.time > before && (k.time as f32) <= (before as f32) {
+            return Err((
+                format!("{field}.time"),
+                format!(
+                    "{} s and the previous frame's {} s are one time in an animation's 32-bit \
+                     floats: keep keyframe times between 1e-6 s and 1e6 s, or further apart",
+                    k.time, before
+                ),
             ));
         }
         if let Some(last) = out.last() {

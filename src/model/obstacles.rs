@@ -16,8 +16,12 @@ pub fn obstacles(scene: &Scene) -> Result<Vec<(String, Obstacle)>, (String, Stri
         }
         let obstacle = match &o.shape {
             ObstacleShape::Plane { point, normal } => {
+                // Scaled by its largest component before it is normalised, so that neither a
+                // huge normal (whose length overflows) nor a tiny one (whose length underflows)
+                // loses its direction: only the direction is meant.
                 let n = Vector3::from(*normal);
-                if !(finite(point) && finite(normal)) || n.norm() < 1e-12 {
+                let largest = n.amax();
+                if !(finite(point) && finite(normal)) || largest == 0.0 {
                     return Err((
                         format!("{field}.shape.plane"),
                         "needs a finite point and a non-zero finite normal".into(),
@@ -25,7 +29,7 @@ pub fn obstacles(scene: &Scene) -> Result<Vec<(String, Obstacle)>, (String, Stri
                 }
                 Obstacle::Plane {
                     point: Vector3::from(*point),
-                    normal: n.normalize(),
+                    normal: (n / largest).normalize(),
                 }
             }
             ObstacleShape::Sphere { center, radius } => {

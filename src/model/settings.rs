@@ -82,6 +82,15 @@ pub fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> 
     let mut pairs = Vec::new();
     for (i, f) in scene.friction.iter().enumerate() {
         let field = format!("friction[{i}]");
+        if f.between.len() != 2 {
+            return Err((
+                format!("{field}.between"),
+                format!(
+                    "names two materials (or a material and an obstacle), got {} names",
+                    f.between.len()
+                ),
+            ));
+        }
         for name in &f.between {
             let known = scene.material.iter().any(|m| &m.name == name)
                 || scene.obstacle.iter().any(|o| &o.name == name);
@@ -98,19 +107,33 @@ pub fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> 
                 format!("μ must be ≥ 0, got {}", f.mu),
             ));
         }
-        pairs.push((f.between[0].clone(), f.between[1].clone(), f.mu));
+        let (a, b) = (&f.between[0], &f.between[1]);
+        if let Some(j) = pairs
+            .iter()
+            .position(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
+        {
+            return Err((
+                format!("{field}.between"),
+                format!("the pair \"{a}\", \"{b}\" is already given a μ by friction[{j}]"),
+            ));
+        }
+        pairs.push((a.clone(), b.clone(), f.mu));
     }
     Ok((default, pairs))
 }
+
+/// The smallest flexion increment a scene may ask for, degrees: a joint's whole range (at most
+/// 180°) in 1 800 increments; smaller ones would only make a solve that never ends.
+pub const MIN_STEP_DEG: f64 = 0.1;
 
 /// The flexion settings of `[solver]`.
 pub fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, String)> {
     let mut out = FlexionSettings::default();
     if let Some(step) = s.max_step_deg {
-        if !(step.is_finite() && step > 0.0 && step <= 45.0) {
+        if !(step.is_finite() && (MIN_STEP_DEG..=45.0).contains(&step)) {
             return Err((
                 "solver.max_step_deg".into(),
-                format!("must be in (0, 45] degrees, got {step}"),
+                format!("must be in [{MIN_STEP_DEG}, 45] degrees, got {step}"),
             ));
         }
         out.max_step_deg = step;

@@ -31,6 +31,19 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                     )));
                 }
             }
+            // The same cell twice (its nodes in any order) would count its material twice.
+            let mut seen: std::collections::HashMap<[usize; 8], usize> =
+                std::collections::HashMap::with_capacity(cells.len());
+            for (c, cell) in cells.iter().enumerate() {
+                let mut key = *cell;
+                key.sort_unstable();
+                if let Some(first) = seen.insert(key, c) {
+                    return Err(whole(format!(
+                        "mesh elements {first} and {c} are the same element (the same eight \
+                         nodes): each piece of material is one element"
+                    )));
+                }
+            }
             Ok(Mesh {
                 nodes: nodes.iter().map(|p| Vector3::from(*p)).collect(),
                 cells: cells.clone(),

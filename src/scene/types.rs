@@ -54,7 +54,7 @@ pub struct Scene {
 #[serde(deny_unknown_fields)]
 pub struct FrictionDef {
     /// Two names: materials, or a material and an obstacle (order does not matter).
-    pub between: [String; 2],
+    pub between: Vec<String>,
     /// Coulomb coefficient μ ≥ 0: sliding starts when F_t ≥ μ·F_n.
     pub mu: f64,
 }
