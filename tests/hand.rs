@@ -99,6 +99,67 @@ fn the_left_hand_mirrors_the_right() {
     }
 }
 
+/// The left hand is meshed as the right one mirrored: the same cells, the flesh nodes the
+/// mirrors of the right hand's, the display skin of as many vertices and triangles, and
+/// closed. (Until 2026-11-27 the left hand's lattice started at its own bound across the hand,
+/// cut the skin elsewhere, and its display skin had a hole at the index's knuckle: exported as a
+/// rig and imported back it was refused, "the skin mesh has a hole".)
+#[test]
+fn the_left_hand_is_meshed_as_the_right_one_mirrored() {
+    let right = hand();
+    let left = HandModel::new(Side::Left, 1.0).unwrap();
+    let (r, l) = (&right.flesh.mesh, &left.flesh.mesh);
+    assert_eq!(r.cells.len(), l.cells.len());
+    let key = |p: &Vector3<f64>| [p.x, p.y, p.z].map(|c| (c * 1e6).round() as i64);
+    let mirrored: std::collections::HashSet<[i64; 3]> = r
+        .nodes
+        .iter()
+        .map(|p| key(&Vector3::new(p.x, -p.y, p.z)))
+        .collect();
+    let own: std::collections::HashSet<[i64; 3]> = l.nodes.iter().map(key).collect();
+    // The lattice is the mirror; of the nodes projected onto the bones, a few land otherwise
+    // (measured 2026-11-27: 41 of 12 889, by more than 1 µm, all on the index's side of the
+    // palm, x ≈ 100 mm, and one node more on the right: the bones' surfaces are not exact
+    // mirrors there yet; the index's flexion reactions still mirror to 1e-6 N).
+    let unmatched = own.symmetric_difference(&mirrored).count();
+    println!(
+        "{} / {} nodes, {unmatched} without a mirror",
+        l.nodes.len(),
+        r.nodes.len()
+    );
+    for p in own.difference(&mirrored).take(6) {
+        println!("unmatched left node at {p:?} µm");
+    }
+    assert!(
+        unmatched * 200 <= l.nodes.len(),
+        "{unmatched} nodes without a mirror"
+    );
+    assert_eq!(right.skin.vertex_count(), left.skin.vertex_count());
+    let triangles = left.skin.triangles();
+    assert_eq!(right.skin.triangles().len(), triangles.len());
+    // Closed: every edge is shared by exactly two triangles, but the wrist's cut.
+    let mut edges: std::collections::HashMap<(u32, u32), usize> = Default::default();
+    for t in &triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let skin = left.skin.positions(&left.flesh.mesh.nodes);
+    let wrist = skin.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+    let open: Vec<_> = edges
+        .iter()
+        .filter(|(_, &n)| n != 2)
+        .filter(|((a, b), _)| {
+            skin[*a as usize].x > wrist + 1e-3 || skin[*b as usize].x > wrist + 1e-3
+        })
+        .collect();
+    assert!(
+        open.is_empty(),
+        "{} open edges away from the wrist",
+        open.len()
+    );
+}
+
 #[test]
 fn joint_limits_and_unknown_joints_are_errors() {
     let sk = Skeleton::new(Side::Right);

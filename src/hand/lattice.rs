@@ -132,12 +132,23 @@ pub fn mesh_flesh(
         .map(|b| b.start.x)
         .fold(f64::INFINITY, f64::min);
     let thumb_ip = skeleton.bones[skeleton.bone_index("thumb.distal").unwrap()].start;
-    let y_fine = match skeleton.side {
-        Side::Right => (thumb_ip.y - 0.004, hi.y + 1.0),
-        Side::Left => (lo.y - 1.0, thumb_ip.y + 0.004),
+    // Across the hand (y) the lattice starts on the little finger's side and is graded on the
+    // thumb's: a left hand's is the right hand's mirrored (the mirror of its bounds and thumb),
+    // so that the two hands are meshed alike — a lattice started at the left hand's own lower
+    // bound cut the skin elsewhere and left its surface a hole where the right one had none.
+    let ys = match skeleton.side {
+        Side::Right => graded(lo.y, hi.y, h, &[(thumb_ip.y - 0.004, hi.y + 1.0)]),
+        Side::Left => {
+            let fine = (-thumb_ip.y - 0.004, -lo.y + 1.0);
+            let mut ys: Vec<f64> = graded(-hi.y, -lo.y, h, &[fine])
+                .into_iter()
+                .map(|y| -y)
+                .collect();
+            ys.reverse();
+            ys
+        }
     };
     let xs = graded(lo.x, hi.x, h, &[(dip_x - 0.004, hi.x + 1.0)]);
-    let ys = graded(lo.y, hi.y, h, &[y_fine]);
     let zs = graded(lo.z, hi.z, h, &[]);
     let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, zs.len() - 1);
     let cell_id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
