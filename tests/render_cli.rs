@@ -140,3 +140,31 @@ fn pressure_on_a_frame_out_of_contact_is_drawn_as_zero() {
     let image = image::open(&out).unwrap();
     assert_eq!((image.width(), image.height()), (160, 90));
 }
+
+/// A display option that cannot be drawn is the option's error, named, before any solve:
+/// `--scale nan` used to be told "the scene has nothing to draw", `--skin-opacity nan` drew a
+/// white hand with exit 0.
+#[test]
+fn display_options_that_cannot_be_drawn_are_named() {
+    for (option, value, text) in [
+        ("--scale", "nan", "--scale NaN"),
+        ("--scale", "inf", "--scale inf"),
+        ("--skin-opacity", "nan", "--skin-opacity NaN"),
+        ("--skin-opacity", "1.5", "--skin-opacity 1.5"),
+    ] {
+        let run = bin()
+            .args([
+                "render",
+                "assets/scenes/block-press.toml",
+                option,
+                value,
+                "--out",
+                "unused.png",
+            ])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{option} {value}: {stderr}");
+        assert!(stderr.contains(text), "{option} {value}: {stderr}");
+    }
+}

@@ -75,6 +75,19 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
+    // Checked before the solve: a display option that cannot be drawn is the option's error.
+    if !args.scale.is_finite() {
+        bail!(
+            "--scale {}: the displacement scale must be a finite number",
+            args.scale
+        );
+    }
+    if !(args.skin_opacity.is_finite() && (0.0..=1.0).contains(&args.skin_opacity)) {
+        bail!(
+            "--skin-opacity {}: the skin's opacity must be between 0 and 1",
+            args.skin_opacity
+        );
+    }
     let solved = solve_scene_file(&args.scene)?;
     let options = VisualOptions {
         overlay: args.overlay.into(),

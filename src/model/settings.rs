@@ -211,6 +211,13 @@ pub fn max_memory(s: &SolverSettings) -> Result<Option<u64>, (String, String)> {
         Some(MemorySize::Bytes(b)) => *b,
         Some(MemorySize::Text(text)) => {
             let t = text.trim();
+            // A sign, NaN or infinity is no size: told as such, not as an unknown unit.
+            if t.starts_with(['-', '+']) || t.to_ascii_lowercase().starts_with(['n', 'i']) {
+                return Err((
+                    field(),
+                    format!("max_memory = \"{text}\" is not a size: give a positive number of bytes with a unit, e.g. \"8 GB\""),
+                ));
+            }
             let split = t
                 .find(|c: char| {
                     !(c.is_ascii_digit() || c == '.' || c == 'e' || c == 'E' || c == '+')
