@@ -202,7 +202,8 @@ pub(super) fn settle_coulomb(
             method: "lagrange (Coulomb friction, semi-smooth Newton)",
             iterations: steps,
             active: rows.len(),
-            penetration: w.iter().fold(0.0_f64, |m, v| m.max(-v)),
+            // The normal rows' gaps only (the others are slip velocities).
+            penetration: locals.iter().fold(0.0_f64, |m, l| m.max(-w[l.o])),
             tolerance: 0.0,
             change: Some(norm(&f)),
             advice: "the semi-smooth Newton iteration of the friction did not converge (its \
