@@ -3,7 +3,6 @@
 //! where they are to the angles asked for, and the frame with their contact solved. The timeline
 //! of a scene ([`solve_frames`]) is the driver run over its keyframes.
 
-use super::compose::compose;
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
@@ -476,9 +475,6 @@ impl Workspace {
             done += 1;
             let force = hand_contact_force(model, &frame);
             if force <= 0.0 {
-                if done == 1 {
-                    frame = self.released(model, posed, frame)?;
-                }
                 break;
             }
             let before = posed.clone();
@@ -529,24 +525,6 @@ impl Workspace {
             }
         }
         Ok((frame, kept, unsettled))
-    }
-
-    /// `frame`, reached by a motion whose hands end touching nothing (they let go of a body):
-    /// the other bodies' static frame with the hands as flexed, where there is one. Nothing
-    /// remembers the grasp — the contact is elastic and frictionless — so the bodies are where
-    /// their loads alone put them; the motion's last step, linearised about the squeezed state
-    /// it started from (the corotated ball turned with its dent), would have left them a step
-    /// short of it (the five-digit ball grasp opened: the ball tilted by 1.5–2.6° and its top
-    /// 3 mm off its static frame).
-    fn released(&self, model: &Model, posed: &Posed, frame: Frame) -> Result<Frame, SimError> {
-        match self.still.as_ref() {
-            Some(still) if frame.contact.is_some() => compose(
-                model,
-                still,
-                posed.hands.iter().map(|h| h.frame.clone()).collect(),
-            ),
-            _ => Ok(frame),
-        }
     }
 
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
