@@ -58,13 +58,15 @@ fn residual(locals: &[Local], lambda: &[f64], w: &[f64]) -> Vec<f64> {
     f
 }
 
-/// Settles the multipliers of `rows` with friction: each carries no force, sticks or slips. Returns λ in row order: λ_n, then (λ_t1, λ_t2) for a
+/// Settles the multipliers of `rows` with friction: each carries no force, sticks or slips
+/// (`tolerance`: the contact's penetration tolerance, m, which a failure is told against). Returns λ in row order: λ_n, then (λ_t1, λ_t2) for a
 /// sticking row (a slipping row's tangential force is μ·λ_n along `slip`).
 pub(super) fn settle_coulomb(
     rows: &mut [Row],
     u0: &[f64],
     partition: &DofPartition,
     cache: &mut Couplings,
+    tolerance: f64,
 ) -> Result<DVector<f64>, ContactError> {
     let offset = slot_offsets(rows);
     let n = *offset.last().unwrap_or(&0);
@@ -204,7 +206,7 @@ pub(super) fn settle_coulomb(
             active: rows.len(),
             // The normal rows' gaps only (the others are slip velocities).
             penetration: locals.iter().fold(0.0_f64, |m, l| m.max(-w[l.o])),
-            tolerance: 0.0,
+            tolerance,
             change: Some(norm(&f)),
             advice: "the semi-smooth Newton iteration of the friction did not converge (its \
                      steps are not limited by solver.contact_max_iterations)",

@@ -250,27 +250,13 @@ pub fn solve_lagrange(
         }
         let ts = Instant::now();
         lambda = if rows.iter().any(|r| r.mu > 0.0) {
-            settle_coulomb(&mut rows, &u0, partition, &mut couplings).map_err(|e| match e {
-                // The penetration is measured against the contact's own tolerance.
-                ContactError::NotConverged {
-                    method,
-                    iterations,
-                    active,
-                    penetration,
-                    change,
-                    advice,
-                    ..
-                } => ContactError::NotConverged {
-                    method,
-                    iterations,
-                    active,
-                    penetration,
-                    tolerance: settings.tolerance,
-                    change,
-                    advice,
-                },
-                other => other,
-            })?
+            settle_coulomb(
+                &mut rows,
+                &u0,
+                partition,
+                &mut couplings,
+                settings.tolerance,
+            )?
         } else {
             settle(&mut rows, &mut pool, &u0, partition, &mut couplings)?
         };
