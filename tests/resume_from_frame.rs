@@ -120,7 +120,12 @@ fn only_the_hands_contact_is_corrected_at_the_pose() {
         .unwrap();
     angles[mcp] = 0.0;
     let lifted = workspace
-        .move_hands(model, &mut posed, &[(shown.hands[0].body, angles)], None)
+        .move_hands(
+            model,
+            &mut posed,
+            &[(shown.hands[0].body, angles.clone())],
+            None,
+        )
         .unwrap();
     // The frame keeps the table's contact (here without force: the ball is held at its base).
     let contact = lifted.contact.as_ref().expect("the table's contact");
@@ -128,7 +133,35 @@ fn only_the_hands_contact_is_corrected_at_the_pose() {
         contact.contacts.iter().all(|c| c.obstacle().is_some()),
         "only the table may touch"
     );
-    assert_eq!(lifted.hands[0].stats.pose_corrections, 0);
+    // Let go, the ball is solved as if the finger had never touched it (one contact step from
+    // the bodies at rest, counted as a correction at the pose): where a fresh workspace moving
+    // the hand from rest to the lifted pose puts it.
+    assert!(lifted.hands[0].stats.pose_corrections <= 1);
+    let mut fresh = Workspace::new(model).unwrap();
+    let never = fresh
+        .move_hands(
+            model,
+            &mut Posed::rest(model),
+            &[(shown.hands[0].body, angles.clone())],
+            None,
+        )
+        .unwrap();
+    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+    let (u0, u) = (&never.solution.displacement, &lifted.solution.displacement);
+    let dofs = || {
+        model.bodies[ball]
+            .nodes
+            .clone()
+            .flat_map(|n| 3 * n..3 * n + 3)
+    };
+    let size = dofs().map(|i| u0[i].abs()).fold(0.0, f64::max);
+    let off = dofs().map(|i| (u[i] - u0[i]).abs()).fold(0.0, f64::max);
+    let pressed = dofs()
+        .map(|i| (shown.solution.displacement[i] - u0[i]).abs())
+        .fold(0.0, f64::max);
+    println!("ball: {off:.3e} m off the untouched frame (the press moved it {pressed:.3e} m, its largest {size:.3e} m)");
+    assert!(pressed > 1e-4, "the press moves the ball {pressed} m");
+    assert!(off <= 1e-6 * pressed, "{off} m off the untouched frame");
 }
 
 /// The Power grasp's pose puts the thumb's skin about 18 mm into the ball at rest, deeper than

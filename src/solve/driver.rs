@@ -132,6 +132,13 @@ const FIRST_RELAXATION: f64 = 0.7;
 /// Bounds of the corrections' relaxation factor (see [`aitken`]).
 const RELAXATION: (f64, f64) = (0.1, 10.0);
 
+/// A keyframe ending with its hands near a body but not pressing it is settled at its pose
+/// until the bodies' displacements change by less than this fraction of their largest…
+const RELEASE_SETTLED: f64 = 1e-8;
+
+/// …or this many steps were made.
+const RELEASE_CORRECTIONS: usize = 8;
+
 /// Halvings of a contact step whose contact does not settle before the keyframe gives up
 /// (the smallest step is [`CONTACT_STEP_DEG`] / 2⁴).
 const CONTACT_HALVINGS: usize = 4;
@@ -327,6 +334,12 @@ impl Workspace {
         carried: Option<Vec<f64>>,
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
+        // Whether the motion pressed a body: what it carries in from a frame in contact (the
+        // flesh's contact displacements), or a step in contact.
+        let hand_dof = hand_dofs(model, posed);
+        let mut pressed = carried
+            .as_ref()
+            .is_some_and(|c| c.iter().zip(&hand_dof).any(|(u, h)| *h && *u != 0.0));
         posed.contact = carried;
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
         let (mut kept, mut retries) = (0, 0);
@@ -370,7 +383,7 @@ impl Workspace {
                     let mut unsettled = Unsettled::default();
                     if short.is_none() {
                         (frame, corrections, unsettled) =
-                            self.correct(model, posed, (moving, path), frame, cancel)?;
+                            self.correct(model, posed, (moving, path), frame, pressed, cancel)?;
                     }
                     let counts = Counts {
                         steps: kept + touched + corrections,
@@ -383,6 +396,7 @@ impl Workspace {
                 }
                 Ok(frame) => {
                     kept += usize::from(frame.contact.is_some());
+                    pressed |= hand_contact_force(model, &frame) > 0.0;
                     posed.contact = carried_by(model, &frame);
                     control.accept(f, true);
                     last = frame.contact.is_some().then_some((frame, f));
@@ -456,6 +470,7 @@ impl Workspace {
         posed: &mut Posed,
         (moving, path): Motion<'_, '_>,
         mut frame: Frame,
+        pressed: bool,
         cancel: Option<&CancelCheck>,
     ) -> Result<(Frame, usize, Unsettled), SimError> {
         let mut kept = 0;
@@ -469,6 +484,12 @@ impl Workspace {
         // CONTACT_CORRECTIONS while these shrink.
         let mut changes: Vec<f64> = Vec::new();
         let mut done = 0;
+        if pressed && hand_contact_force(model, &frame) <= 0.0 {
+            let released;
+            (frame, released) =
+                self.settle_released(model, posed, (moving, path), frame, cancel)?;
+            kept += released;
+        }
         while done < CONTACT_CORRECTIONS
             || (done < CONTACT_CORRECTIONS_EXTENDED && matches!(changes[..], [.., a, b] if b < a))
         {
@@ -525,6 +546,73 @@ impl Workspace {
             }
         }
         Ok((frame, kept, unsettled))
+    }
+
+    /// `frame`, reached by a motion that pressed a body and whose hands end near it without
+    /// pressing it (they let go). Nothing remembers the grasp — the contact is elastic — so the
+    /// frame is solved as one that was never touched: on the small-strain and corotational
+    /// tiers one contact step from the bodies at rest, as the frames before the hands touched;
+    /// on the nonlinear tier Newton iterations at the pose from the bodies' static frame until
+    /// their displacements change by less than [`RELEASE_SETTLED`] of their largest (at most
+    /// [`RELEASE_CORRECTIONS`]). The motion's last step alone, linearised about the squeezed
+    /// state it started from (the corotated ball turned with its dent), left them a step short
+    /// (the five-digit ball grasp opened: the ball tilted by 1.5–2.6° and its top 3 mm off its
+    /// static frame). The pairs within the search stay in the frame. A step that touches again
+    /// ends it with that frame (then corrected as any frame in contact); one that fails leaves
+    /// the last frame. Returns the frame and the steps kept.
+    fn settle_released(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        (moving, path): Motion<'_, '_>,
+        mut frame: Frame,
+        cancel: Option<&CancelCheck>,
+    ) -> Result<(Frame, usize), SimError> {
+        let mut start = match (model.nonlinear_statics, self.still.as_ref()) {
+            (true, Some(still)) => {
+                let mut x = still.solution.displacement.clone();
+                for h in &posed.hands {
+                    for n in model.bodies[h.body].nodes.clone() {
+                        x[3 * n..3 * n + 3].fill(0.0);
+                    }
+                }
+                Some(x)
+            }
+            _ => None,
+        };
+        let nonlinear = start.is_some();
+        let hand_dof = hand_dofs(model, posed);
+        let mut kept = 0;
+        while kept < RELEASE_CORRECTIONS {
+            let before = posed.clone();
+            posed.contact = start.clone();
+            match self.contact_step(model, posed, (moving, path), 1.0, false, cancel) {
+                Ok(next) => {
+                    let now = carried_by(model, &next);
+                    let touching = hand_contact_force(model, &next) > 0.0;
+                    frame = next;
+                    kept += 1;
+                    let (Some(now), Some(from), false) = (now, start.as_ref(), touching) else {
+                        break;
+                    };
+                    let (change, size) = (0..now.len())
+                        .filter(|&i| !hand_dof[i])
+                        .fold((0.0_f64, 0.0_f64), |(c, s), i| {
+                            (c.max((now[i] - from[i]).abs()), s.max(now[i].abs()))
+                        });
+                    if !nonlinear || change <= RELEASE_SETTLED * size {
+                        break;
+                    }
+                    start = Some(now);
+                }
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                Err(_) => {
+                    *posed = before;
+                    break;
+                }
+            }
+        }
+        Ok((frame, kept))
     }
 
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
@@ -673,6 +761,18 @@ fn finish(
         posed.hands[*h].frame.stats = total;
     }
     posed.contact = carried_by(model, frame);
+}
+
+/// Whether each dof is a hand's (their carried displacements are the flesh's contact
+/// displacements, the others the bodies' own).
+fn hand_dofs(model: &Model, posed: &Posed) -> Vec<bool> {
+    let mut of_hand = vec![false; 3 * model.mesh.node_count()];
+    for h in &posed.hands {
+        for n in model.bodies[h.body].nodes.clone() {
+            of_hand[3 * n..3 * n + 3].fill(true);
+        }
+    }
+    of_hand
 }
 
 /// The normal contact force on the hands in `frame`, N: the contacts one of whose nodes (skin
