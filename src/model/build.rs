@@ -67,7 +67,15 @@ impl Model {
         let obstacles = obstacles(scene).map_err(err)?;
         let contact_candidates = contact_candidates(&bodies);
         let largest = bodies.iter().map(|b| b.size).fold(0.0, f64::max);
-        let contact = contact_settings(&scene.solver, largest).map_err(err)?;
+        let smallest = (bodies.len() > 1)
+            .then(|| {
+                bodies
+                    .iter()
+                    .min_by(|a, b| a.size.total_cmp(&b.size))
+                    .map(|b| (b.name.as_str(), b.size))
+            })
+            .flatten();
+        let contact = contact_settings(&scene.solver, largest, smallest).map_err(err)?;
         // Experimental, off unless asked for (docs/hand.md, "Self-contact").
         flexion.self_contact = match scene.solver.self_contact {
             Some(true) => Some(contact),

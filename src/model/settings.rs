@@ -11,9 +11,12 @@ use crate::scene::{
 };
 
 /// The contact settings of `[solver]`.
+/// `smallest`: the smallest body contact can meet between bodies, its name and size (m), where
+/// there are two bodies or more.
 pub fn contact_settings(
     s: &SolverSettings,
     largest: f64,
+    smallest: Option<(&str, f64)>,
 ) -> Result<ContactSettings, (String, String)> {
     let mut out = ContactSettings {
         tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
@@ -50,6 +53,20 @@ pub fn contact_settings(
             return Err((
                 "solver.contact_search".into(),
                 format!("must be a length > 0 m, got {d}"),
+            ));
+        }
+        // How deep a point may be inside a body and still be pushed out of it: no point is
+        // deeper inside a body than its size. Deeper searches met far facets and invented
+        // contact (1 m: the grasp's ball diverged; 1e300 m: "element 2 inverted").
+        if let Some((name, size)) = smallest.filter(|&(_, size)| d > size) {
+            return Err((
+                "solver.contact_search".into(),
+                format!(
+                    "must be at most the size of the smallest body contact meets, \"{name}\" \
+                     ({size:.3e} m across), got {d:e} m: it is how deep a point may be inside a \
+                     body and still be pushed out (the default is {:.0e} m)",
+                    ContactSettings::default().search_depth
+                ),
             ));
         }
         out.search_depth = d;
