@@ -1048,3 +1048,31 @@ fn a_plane_normal_of_any_length_is_its_direction() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A point 1e300 m away still acts at the node nearest to it, the bar's end on that side (its
+/// squared distances overflowed, every one infinite, and node 0 was taken), and the warning
+/// tells a finite distance.
+#[test]
+fn a_point_at_a_huge_distance_acts_at_the_node_nearest_to_it() {
+    let rest = "[[probe]]\nname = \"tip\"\nbody = \"bar\"\npoint = [1e300, 0.05, 0.05]\n\
+                [[probe]]\nname = \"up\"\nbody = \"bar\"\npoint = [0.5, 0.05, 1e300]\n\
+                [[probe]]\nname = \"west\"\nbody = \"bar\"\npoint = [-1e300, 0.05, 0.05]\n";
+    let text = Bar {
+        rest,
+        ..Bar::default()
+    }
+    .scene();
+    let scene = Scene::parse(&text, "far.toml").unwrap();
+    let model = prehensile::model::Model::build(&scene, "far.toml").unwrap();
+    let at = |name: &str| {
+        let p = model.probes.iter().find(|p| p.name == name).unwrap();
+        model.mesh.nodes[p.node]
+    };
+    assert_eq!(at("tip").x, 1.0, "{:?}", at("tip"));
+    assert_eq!(at("west").x, 0.0, "{:?}", at("west"));
+    assert_eq!(at("up").z, 0.1, "{:?}", at("up"));
+    let (warnings, _) = warnings_and_tip(&text);
+    let tip: Vec<&String> = warnings.iter().filter(|w| w.contains("\"tip\"")).collect();
+    assert_eq!(tip.len(), 1, "{warnings:?}");
+    assert!(tip[0].contains("1.0000e300 m"), "{}", tip[0]);
+}

@@ -136,7 +136,7 @@ fn far_point_warnings(scene: &Scene, bodies: &[BodyModel], mesh: &Mesh) -> Vec<S
         let Some((node, distance)) = body
             .nodes
             .clone()
-            .map(|n| (n, (mesh.nodes[n] - p).norm()))
+            .map(|n| (n, super::select::distance(&mesh.nodes[n], &p)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
         else {
             continue;

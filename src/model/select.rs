@@ -119,15 +119,19 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
             if !p.iter().all(|x| x.is_finite()) {
                 return Err(format!("point = {p:?} is not a finite point"));
             }
-            let p = Vector3::from(*p);
+            // |x − p|² = |p|² + s·(|x|²/s − 2·(p/s)·x), s = max(1, |p|∞): the nearest node
+            // minimises the bracket, which neither overflows nor loses the nodes' differences
+            // to |p|² for a far point (1e300 m picked node 0, every distance infinite).
+            let q = Vector3::from(*p);
+            let s = q.amax().max(1.0);
+            let key = |n: usize| {
+                let x = mesh.nodes[n];
+                x.norm_squared() / s - 2.0 * (q / s).dot(&x)
+            };
             let nearest = body
                 .nodes
                 .clone()
-                .min_by(|&a, &b| {
-                    (mesh.nodes[a] - p)
-                        .norm_squared()
-                        .total_cmp(&(mesh.nodes[b] - p).norm_squared())
-                })
+                .min_by(|&a, &b| key(a).total_cmp(&key(b)))
                 .ok_or("the body has no node")?;
             Selected {
                 nodes: vec![nearest],
@@ -182,4 +186,16 @@ fn facet_radius(mesh: &Mesh, f: &Facet, c: &Vector3<f64>) -> f64 {
         .iter()
         .map(|&n| mesh.nodes[n].metric_distance(c))
         .fold(0.0, f64::max)
+}
+
+/// |a − b|, m, scaled by the largest component so that it does not overflow (a point 1e300 m
+/// away is that far, not infinitely: 1e300² is beyond f64).
+pub(crate) fn distance(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let d = a - b;
+    let s = d.amax();
+    if s > 0.0 && s.is_finite() {
+        s * (d / s).norm()
+    } else {
+        s
+    }
 }
