@@ -1076,3 +1076,36 @@ fn a_point_at_a_huge_distance_acts_at_the_node_nearest_to_it() {
     assert_eq!(tip.len(), 1, "{warnings:?}");
     assert!(tip[0].contains("1.0000e300 m"), "{}", tip[0]);
 }
+
+/// A table plane through the middle of the grasped ball: the static frame pushes the ball's
+/// lower half out of it, straining it 775 %, and the grasp then fails. The error names the
+/// obstacle and how deep it cuts the ball at rest (it blamed the ball's stiffness, whose
+/// advice, 77× stiffer, did not address the cut); with the plane moved clear, as it advises,
+/// the scene solves.
+#[test]
+fn an_obstacle_cutting_a_body_at_rest_is_named_as_the_cause() {
+    let asset = std::fs::read_to_string("assets/scenes/hand-grasp-ball.toml").unwrap();
+    let coarse = asset
+        .replace("resolution = 1.0", "resolution = 0.5")
+        .replace("cells = 12, layers = 2", "cells = 6, layers = 1");
+    assert_ne!(coarse, asset);
+    let plane = |z: f64| {
+        format!(
+            "{coarse}\n[[obstacle]]\nname = \"table\"\n\
+             shape = {{ plane = {{ point = [0.0, 0.0, {z}], normal = [0.0, 0.0, 1.0] }} }}\n"
+        )
+    };
+    let dir = fresh("obstacle_cut");
+    // The ball's bottom is at z = −0.062 − 0.035 = −0.097 m: a plane at −0.06 is 37 mm in.
+    let (output, stderr, _) = solve_text(&dir, &plane(-0.06));
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("obstacle \"table\" cuts body \"ball\" at rest")
+            && stderr.contains("up to 37.0 mm behind its surface"),
+        "{stderr}"
+    );
+    let dir = fresh("obstacle_clear");
+    let (output, stderr, _) = solve_text(&dir, &plane(-0.0975));
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}

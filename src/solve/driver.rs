@@ -868,6 +868,11 @@ fn keyframe_share(
 
 /// `error` told as the strain of `still`, the static frame, where it strains a body beyond
 /// [`STRAIN_WARNING`] (see [`Workspace::beyond_small_strain`]); otherwise `error`.
+/// An obstacle whose surface lies deeper than this fraction of a body's size inside it at rest
+/// is told as the cause of the body's strain (a shallower overlap is a squeeze, as the plates
+/// of tests/gas_cavity.rs).
+const OBSTACLE_CUT: f64 = 0.02;
+
 fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimError {
     let object = |name: &str| {
         model
@@ -892,6 +897,30 @@ fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimErro
     let Some((b, strain)) = worst else {
         return error;
     };
+    // An obstacle cutting the body at rest by more than a squeeze: that is the cause.
+    let body = &model.bodies[b];
+    let cut = model
+        .obstacles
+        .iter()
+        .map(|(name, o)| {
+            let depth = body
+                .nodes
+                .clone()
+                .map(|n| -o.nearest(&model.mesh.nodes[n]).0)
+                .fold(0.0_f64, f64::max);
+            (name, depth)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((obstacle, depth)) = cut.filter(|&(_, d)| d > OBSTACLE_CUT * body.size) {
+        return SimError::ObstacleCutsBody {
+            obstacle: obstacle.clone(),
+            body: body.name.clone(),
+            depth,
+            size: body.size,
+            strain,
+            cause: Box::new(error),
+        };
+    }
     // Linear elasticity scales exactly: E × factor brings the loads' strain to half the
     // warning, a margin for what contact with the obstacles adds (the table under a ball).
     let factor = strain / (0.5 * STRAIN_WARNING);

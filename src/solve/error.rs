@@ -170,6 +170,33 @@ pub enum SimError {
         /// The error the keyframe met.
         cause: Box<SimError>,
     },
+    /// As [`SimError::BeyondSmallStrain`], where an obstacle cuts the strained body at rest:
+    /// the static frame pushed the body out of it, and that is what strains it.
+    #[error(
+        "obstacle \"{obstacle}\" cuts body \"{body}\" at rest: the body's nodes lie up to \
+         {:.1} mm behind its surface (the body is {:.1} mm across), and pushing them out \
+         strains the body {:.0} % in the static frame, before any hand moves — far outside \
+         small-strain elasticity, so the grasp cannot be solved on it ({cause}). Move the \
+         obstacle clear of the body at rest (an overlap of a few per cent of the body's size is \
+         a squeeze the contact resolves)",
+        depth * 1e3,
+        size * 1e3,
+        strain * 100.0
+    )]
+    ObstacleCutsBody {
+        /// The obstacle.
+        obstacle: String,
+        /// The body.
+        body: String,
+        /// How far its deepest node lies behind the obstacle's surface at rest, m.
+        depth: f64,
+        /// The body's size, m.
+        size: f64,
+        /// Its largest principal strain in the static frame.
+        strain: f64,
+        /// The error the keyframe met.
+        cause: Box<SimError>,
+    },
     /// A solved value overflowed: nothing is written or shown.
     #[error(
         "body \"{}\": the {} at {} is {} — the scene's magnitudes overflow double precision, \
