@@ -1109,3 +1109,44 @@ fn an_obstacle_cutting_a_body_at_rest_is_named_as_the_cause() {
     let (output, stderr, _) = solve_text(&dir, &plane(-0.0975));
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
+
+/// The five-digit grasp under `ulimit -v` of 400 MB, then 1.5 GB: refused with the address
+/// space named (it aborted, "memory allocation of 67108864 bytes failed": the linear-algebra
+/// workers' scratch pages and allocator arenas were not left room for), then solved.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_grasp_under_a_small_address_space_is_refused_not_aborted() {
+    use std::os::unix::process::CommandExt;
+    let scene = std::path::Path::new("assets/scenes/hand-grasp-ball.toml");
+    for (limit, code) in [(400u64 << 20, 1), (1536u64 << 20, 0)] {
+        let dir = fresh(&format!("grasp_address_space_{}", limit >> 20));
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
+        command
+            .arg("solve")
+            .arg(scene)
+            .arg("--out")
+            .arg(dir.join("out"));
+        // SAFETY: only setrlimit between fork and exec.
+        unsafe {
+            command.pre_exec(move || {
+                let limit = libc::rlimit {
+                    rlim_cur: limit as libc::rlim_t,
+                    rlim_max: limit as libc::rlim_t,
+                };
+                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let output = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        println!("{} MiB: {stderr}", limit >> 20);
+        assert_eq!(output.status.code(), Some(code), "{stderr}");
+        assert!(!stderr.contains("memory allocation"), "{stderr}");
+        if code == 1 {
+            assert!(stderr.contains("address-space"), "{stderr}");
+            assert!(names(&dir.join("out")).is_empty());
+        }
+    }
+}

@@ -181,7 +181,28 @@ fn address_space_left() -> Option<u64> {
         .ok()?
         .checked_mul(1024)?;
     #[allow(clippy::unnecessary_cast)] // rlim_t is u32 on some targets
-    Some((limit.rlim_cur as u64).saturating_sub(used))
+    Some(
+        (limit.rlim_cur as u64)
+            .saturating_sub(used)
+            .saturating_sub(worker_address_space()),
+    )
+}
+
+/// Address space each linear-algebra worker takes outside the solve's own buffers when it
+/// first works, bytes: the dense kernels' scratch pages, 64 MiB a thread (private-gemm's
+/// thread-local page buffer, allocated whole on a thread's first product), and the C
+/// allocator's arena a new thread reserves, 64 MiB on 64-bit glibc. Under `ulimit -v` they are
+/// what the budget must leave room for: without it, a solve the budget let through aborted
+/// with "memory allocation of 67108864 bytes failed" (`ulimit -v 400000`, the five-digit grasp).
+const WORKER_ADDRESS_SPACE: u64 = 2 * 64 * 1024 * 1024;
+
+/// [`WORKER_ADDRESS_SPACE`] for every worker of the thread pool, and the scratch pages of the
+/// calling thread (which allocates in the main arena, already mapped).
+#[cfg(target_os = "linux")]
+fn worker_address_space() -> u64 {
+    (rayon::current_num_threads() as u64)
+        .saturating_mul(WORKER_ADDRESS_SPACE)
+        .saturating_add(WORKER_ADDRESS_SPACE / 2)
 }
 
 #[cfg(not(target_os = "linux"))]
