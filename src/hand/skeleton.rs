@@ -170,7 +170,10 @@ pub enum PoseError {
         known: String,
     },
     /// Outside the anatomical range.
-    #[error("joint \"{name}\": {angle}° is outside its range {min}° … {max}°")]
+    #[error(
+        "joint \"{name}\": {}° is outside its range {min}° … {max}°",
+        crate::util::readable(*angle)
+    )]
     OutOfRange {
         /// The joint.
         name: String,

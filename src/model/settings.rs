@@ -78,10 +78,14 @@ pub fn contact_settings(
             Relaxation::Fixed(*w)
         }
         Some(other) => {
+            let got = match other {
+                RelaxationDef::Name(n) => format!("\"{n}\""),
+                RelaxationDef::Factor(w) => format!("{w}"),
+            };
             return Err((
                 "solver.contact_relaxation".into(),
-                format!("must be \"aitken\" or a factor in (0, 1], got {other:?}"),
-            ))
+                format!("must be \"aitken\" or a factor in (0, 1], got {got}"),
+            ));
         }
     };
     Ok(out)
@@ -273,7 +277,10 @@ pub fn max_memory(s: &SolverSettings) -> Result<Option<u64>, (String, String)> {
     if !(1e6..1.8e19).contains(&bytes) {
         return Err((
             field(),
-            format!("max_memory = {bytes} bytes must be a finite size from 1 MB up"),
+            format!(
+                "max_memory = {} bytes must be a finite size from 1 MB up",
+                crate::util::readable(bytes)
+            ),
         ));
     }
     Ok(Some(bytes as u64))

@@ -1,5 +1,7 @@
-//! Small helpers (timing, glTF's axes) every folder may use.
+//! Small helpers (timing, glTF's axes, numbers in messages) every folder may use.
 //! Imports nothing of the crate.
 
 pub mod gltf_axes;
+pub mod number;
 pub mod timing;
+pub use number::readable;
