@@ -194,6 +194,9 @@ fn address_space_left() -> Option<u64> {
 /// allocator's arena a new thread reserves, 64 MiB on 64-bit glibc. Under `ulimit -v` they are
 /// what the budget must leave room for: without it, a solve the budget let through aborted
 /// with "memory allocation of 67108864 bytes failed" (`ulimit -v 400000`, the five-digit grasp).
+/// (Workers that already ran are in `VmSize` too, so they are counted twice: the budget errs
+/// on the side of refusing.)
+#[cfg(target_os = "linux")]
 const WORKER_ADDRESS_SPACE: u64 = 2 * 64 * 1024 * 1024;
 
 /// [`WORKER_ADDRESS_SPACE`] for every worker of the thread pool, and the scratch pages of the

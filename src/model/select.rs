@@ -122,11 +122,16 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
             // |x − p|² = |p|² + s·(|x|²/s − 2·(p/s)·x), s = max(1, |p|∞): the nearest node
             // minimises the bracket, which neither overflows nor loses the nodes' differences
             // to |p|² for a far point (1e300 m picked node 0, every distance infinite).
+            // (Only for a far point: near, |x − p|² itself, which keeps exact ties exact.)
             let q = Vector3::from(*p);
             let s = q.amax().max(1.0);
             let key = |n: usize| {
                 let x = mesh.nodes[n];
-                x.norm_squared() / s - 2.0 * (q / s).dot(&x)
+                if s < 1e150 {
+                    (x - q).norm_squared()
+                } else {
+                    x.norm_squared() / s - 2.0 * (q / s).dot(&x)
+                }
             };
             let nearest = body
                 .nodes

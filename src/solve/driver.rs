@@ -172,7 +172,7 @@ impl Workspace {
                 // their loads alone, where that is beyond small strain.
                 Err(e) if !model.obstacles.is_empty() => {
                     return Err(match solve_static_alone(model, &mut solver) {
-                        Ok(alone) => beyond_small_strain(model, &alone, e),
+                        Ok(alone) => beyond_small_strain(model, &alone, false, e),
                         Err(_) => e,
                     })
                 }
@@ -193,7 +193,7 @@ impl Workspace {
     /// does not help. Errors of the hands' flexion, and cancellations, are left as they are.
     fn beyond_small_strain(&self, model: &Model, error: SimError) -> SimError {
         match self.still.as_ref() {
-            Some(still) => beyond_small_strain(model, still, error),
+            Some(still) => beyond_small_strain(model, still, true, error),
             None => error,
         }
     }
@@ -484,9 +484,10 @@ impl Workspace {
         // CONTACT_CORRECTIONS while these shrink.
         let mut changes: Vec<f64> = Vec::new();
         let mut done = 0;
-        if pressed && hand_contact_force(model, &frame) <= 0.0 {
+        // (A frame without contact is already the bodies' static frame.)
+        if pressed && frame.contact.is_some() && hand_contact_force(model, &frame) <= 0.0 {
             let released;
-            (frame, released) =
+            (frame, released, unsettled.failed) =
                 self.settle_released(model, posed, (moving, path), frame, cancel)?;
             kept += released;
         }
@@ -559,7 +560,8 @@ impl Workspace {
     /// (the five-digit ball grasp opened: the ball tilted by 1.5–2.6° and its top 3 mm off its
     /// static frame). The pairs within the search stay in the frame. A step that touches again
     /// ends it with that frame (then corrected as any frame in contact); one that fails leaves
-    /// the last frame. Returns the frame and the steps kept.
+    /// the last frame and says why, as does a nonlinear settle still changing after its last
+    /// step. Returns the frame, the steps kept and that failure.
     fn settle_released(
         &mut self,
         model: &Model,
@@ -567,20 +569,22 @@ impl Workspace {
         (moving, path): Motion<'_, '_>,
         mut frame: Frame,
         cancel: Option<&CancelCheck>,
-    ) -> Result<(Frame, usize), SimError> {
-        let mut start = match (model.nonlinear_statics, self.still.as_ref()) {
-            (true, Some(still)) => {
-                let mut x = still.solution.displacement.clone();
-                for h in &posed.hands {
-                    for n in model.bodies[h.body].nodes.clone() {
-                        x[3 * n..3 * n + 3].fill(0.0);
-                    }
+    ) -> Result<(Frame, usize, Option<String>), SimError> {
+        let nonlinear = model.nonlinear_statics;
+        // Without a static frame (a floating body held by the hands) Newton starts from rest.
+        let mut start = nonlinear.then(|| {
+            let mut x = self.still.as_ref().map_or_else(
+                || vec![0.0; 3 * model.mesh.node_count()],
+                |still| still.solution.displacement.clone(),
+            );
+            for h in &posed.hands {
+                for n in model.bodies[h.body].nodes.clone() {
+                    x[3 * n..3 * n + 3].fill(0.0);
                 }
-                Some(x)
             }
-            _ => None,
-        };
-        let nonlinear = start.is_some();
+            x
+        });
+        let mut failed = None;
         let hand_dof = hand_dofs(model, posed);
         let mut kept = 0;
         while kept < RELEASE_CORRECTIONS {
@@ -603,16 +607,23 @@ impl Workspace {
                     if !nonlinear || change <= RELEASE_SETTLED * size {
                         break;
                     }
+                    if kept == RELEASE_CORRECTIONS {
+                        failed = Some(format!(
+                            "the bodies let go of still moved {change:.3e} m in the last of \
+                             {kept} Newton iterations at the pose"
+                        ));
+                    }
                     start = Some(now);
                 }
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
-                Err(_) => {
+                Err(e) => {
                     *posed = before;
+                    failed = Some(format!("settling the bodies let go of: {e}"));
                     break;
                 }
             }
         }
-        Ok((frame, kept))
+        Ok((frame, kept, failed))
     }
 
     /// One contact step: the moving hands flexed to fraction `f` of their motion, then the frame
@@ -866,14 +877,16 @@ fn keyframe_share(
     })
 }
 
-/// `error` told as the strain of `still`, the static frame, where it strains a body beyond
-/// [`STRAIN_WARNING`] (see [`Workspace::beyond_small_strain`]); otherwise `error`.
 /// An obstacle whose surface lies deeper than this fraction of a body's size inside it at rest
 /// is told as the cause of the body's strain (a shallower overlap is a squeeze, as the plates
 /// of tests/gas_cavity.rs).
 const OBSTACLE_CUT: f64 = 0.02;
 
-fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimError {
+/// `error` told as the strain of `still`, the static frame, where it strains a body beyond
+/// [`STRAIN_WARNING`] (see [`Workspace::beyond_small_strain`]); otherwise `error`. With
+/// `obstacles` (`still` was solved in contact with them), an obstacle cutting the body at rest
+/// is named as the cause.
+fn beyond_small_strain(model: &Model, still: &Frame, obstacles: bool, error: SimError) -> SimError {
     let object = |name: &str| {
         model
             .bodies
@@ -902,6 +915,7 @@ fn beyond_small_strain(model: &Model, still: &Frame, error: SimError) -> SimErro
     let cut = model
         .obstacles
         .iter()
+        .filter(|_| obstacles)
         .map(|(name, o)| {
             let depth = body
                 .nodes

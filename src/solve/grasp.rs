@@ -716,11 +716,21 @@ fn too_deep(
 fn too_deep_advice(model: &Model, body: usize, depth: f64) -> String {
     let search = model.contact.search_depth;
     if depth >= search {
+        // No deeper than the smallest body: a deeper search is refused (docs/scene-format.md).
+        let smallest = if model.bodies.len() > 1 {
+            model
+                .bodies
+                .iter()
+                .map(|b| b.size)
+                .fold(f64::INFINITY, f64::min)
+        } else {
+            f64::INFINITY
+        };
         return format!(
             "it went deeper than the contact searches ({:.1} mm): raise solver.contact_search \
              to {:.1} mm or more",
             search * 1e3,
-            2.0 * depth * 1e3
+            (2.0 * depth).min(smallest).max(depth) * 1e3
         );
     }
     let b = &model.bodies[body];

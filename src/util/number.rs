@@ -8,18 +8,23 @@ pub fn readable(x: f64) -> String {
         return format!("{x}");
     }
     let a = x.abs();
-    if a == 0.0 || (1e-3..1e6).contains(&a) {
+    if a == 0.0 {
+        return "0".into();
+    }
+    if (1e-3..1e6).contains(&a) {
         // Six significant digits, trailing zeros dropped.
         let digits = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
         let text = format!("{x:.digits$}");
-        if text.contains('.') {
-            text.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            text
+        // Rounded up to a million (999999.9): scientific, as a million is.
+        if text.parse::<f64>().is_ok_and(|r| r.abs() < 1e6) {
+            return if text.contains('.') {
+                text.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                text
+            };
         }
-    } else {
-        format!("{x:.3e}")
     }
+    format!("{x:.3e}")
 }
 
 #[cfg(test)]
@@ -35,5 +40,9 @@ mod tests {
         assert_eq!(readable(0.0), "0");
         assert_eq!(readable(1e30), "1.000e30");
         assert_eq!(readable(f64::NAN), "NaN");
+        assert_eq!(readable(-0.0), "0");
+        assert_eq!(readable(999999.9), "1.000e6");
+        assert_eq!(readable(0.001), "0.001");
+        assert_eq!(readable(-45.5), "-45.5");
     }
 }
