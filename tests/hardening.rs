@@ -1116,36 +1116,26 @@ fn an_obstacle_cutting_a_body_at_rest_is_named_as_the_cause() {
 #[cfg(target_os = "linux")]
 #[test]
 fn the_grasp_under_a_small_address_space_is_refused_not_aborted() {
-    use std::os::unix::process::CommandExt;
-    let scene = std::path::Path::new("assets/scenes/hand-grasp-ball.toml");
+    use common::limited::{solve_limited_with, Ending};
+    let scene = Path::new("assets/scenes/hand-grasp-ball.toml");
     for (limit, code) in [(400u64 << 20, 1), (1536u64 << 20, 0)] {
         let dir = fresh(&format!("grasp_address_space_{}", limit >> 20));
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
         // Two workers, as on the 2-core machine this was measured on: the budget leaves each
         // worker room, so a many-core machine needs a larger limit.
-        command
-            .env("RAYON_NUM_THREADS", "2")
-            .arg("solve")
-            .arg(scene)
-            .arg("--out")
-            .arg(dir.join("out"));
-        // SAFETY: only setrlimit between fork and exec.
-        unsafe {
-            command.pre_exec(move || {
-                let limit = libc::rlimit {
-                    rlim_cur: limit as libc::rlim_t,
-                    rlim_max: limit as libc::rlim_t,
-                };
-                if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let output = command.output().unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
+        let (ending, _) = solve_limited_with(
+            scene,
+            &dir.join("out"),
+            &dir.join("stderr.txt"),
+            (std::time::Duration::from_secs(600), limit),
+            &[("RAYON_NUM_THREADS", "2")],
+        )
+        .unwrap();
+        let stderr = std::fs::read_to_string(dir.join("stderr.txt")).unwrap();
         println!("{} MiB: {stderr}", limit >> 20);
-        assert_eq!(output.status.code(), Some(code), "{stderr}");
+        let Ending::Exited(status) = ending else {
+            panic!("timed out: {stderr}")
+        };
+        assert_eq!(status.code(), Some(code), "{stderr}");
         assert!(!stderr.contains("memory allocation"), "{stderr}");
         if code == 1 {
             assert!(stderr.contains("address-space"), "{stderr}");

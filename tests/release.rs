@@ -20,6 +20,20 @@ fn pose(skeleton: &Skeleton, angles: &[f64]) -> String {
     format!("{{ {} }}", entries.join(", "))
 }
 
+/// The largest distance between a node of `body` displaced by `a` and by `b`, m.
+fn farthest(model: &prehensile::model::Model, body: usize, a: &[f64], b: &[f64]) -> f64 {
+    model.bodies[body]
+        .nodes
+        .clone()
+        .map(|n| {
+            (0..3)
+                .map(|k| (a[3 * n + k] - b[3 * n + k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
 #[test]
 fn opening_the_hand_returns_ball_and_flesh_to_rest() {
     let skeleton = Skeleton::new(Side::Right);
@@ -54,18 +68,7 @@ fn opening_the_hand_returns_ball_and_flesh_to_rest() {
     let hand = model.bodies.iter().position(|b| b.hand.is_some()).unwrap();
     // How far each body's nodes are from where they were at rest, and how far the grasp took
     // them: the largest of each.
-    let largest = |a: &[f64], b: &[f64], body: usize| -> f64 {
-        model.bodies[body]
-            .nodes
-            .clone()
-            .map(|n| {
-                (0..3)
-                    .map(|k| (a[3 * n + k] - b[3 * n + k]).powi(2))
-                    .sum::<f64>()
-                    .sqrt()
-            })
-            .fold(0.0, f64::max)
-    };
+    let largest = |a: &[f64], b: &[f64], body: usize| farthest(model, body, a, b);
     let (u0, u1, u2) = (
         &rest.solution.displacement,
         &grasp.solution.displacement,
@@ -140,18 +143,7 @@ fn opening_the_five_digit_grasp_returns_the_ball_to_its_static_frame() {
     };
     assert!(hands_force(grasp) > 1.0, "{} N", hands_force(grasp));
     let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
-    let largest = |a: &[f64], b: &[f64]| -> f64 {
-        model.bodies[ball]
-            .nodes
-            .clone()
-            .map(|n| {
-                (0..3)
-                    .map(|k| (a[3 * n + k] - b[3 * n + k]).powi(2))
-                    .sum::<f64>()
-                    .sqrt()
-            })
-            .fold(0.0, f64::max)
-    };
+    let largest = |a: &[f64], b: &[f64]| farthest(model, ball, a, b);
     let u0 = &rest.solution.displacement;
     let moved = largest(&grasp.solution.displacement, u0);
     assert!(moved > 1e-4, "the grasp moves the ball {moved} m");

@@ -318,6 +318,33 @@ pub struct PartContact {
     pub magnitude: f64,
 }
 
+/// `by_bone` summed over each part of the hand (palm, thumb … little), named; parts with no
+/// force left out unless `all`.
+fn per_part(
+    hand: &crate::hand::HandModel,
+    by_bone: &[Vector3<f64>],
+    all: bool,
+) -> BTreeMap<String, PartContact> {
+    let mut parts = vec![Vector3::zeros(); crate::state::outcome::PARTS.len()];
+    for (b, f) in by_bone.iter().enumerate() {
+        parts[crate::state::outcome::part_of_bone(hand, b)] += f;
+    }
+    crate::state::outcome::PARTS
+        .iter()
+        .zip(parts)
+        .filter(|(_, f)| all || f.norm() > 0.0)
+        .map(|(name, f)| {
+            (
+                name.to_string(),
+                PartContact {
+                    force: arr(f),
+                    magnitude: f.norm(),
+                },
+            )
+        })
+        .collect()
+}
+
 /// The report entries of the hands of a frame.
 pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport> {
     frame
@@ -361,48 +388,11 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                         .collect(),
                     bones,
                     bone_reaction_sum: arr(h.bone_reactions.iter().sum()),
-                    part_reactions: {
-                        let mut parts = vec![Vector3::zeros(); crate::state::outcome::PARTS.len()];
-                        for (b, r) in h.bone_reactions.iter().enumerate() {
-                            parts[crate::state::outcome::part_of_bone(hand, b)] += r;
-                        }
-                        crate::state::outcome::PARTS
-                            .iter()
-                            .zip(parts)
-                            .map(|(name, r)| {
-                                (
-                                    name.to_string(),
-                                    PartContact {
-                                        force: arr(r),
-                                        magnitude: r.norm(),
-                                    },
-                                )
-                            })
-                            .collect()
-                    },
+                    part_reactions: per_part(hand, &h.bone_reactions, true),
                     flesh_volume: h.volume,
                     volume_change: h.volume / body.volume - 1.0,
                     motion: h.stats.clone(),
-                    contact: {
-                        let mut parts = vec![Vector3::zeros(); crate::state::outcome::PARTS.len()];
-                        for (b, f) in h.contact_force.iter().enumerate() {
-                            parts[crate::state::outcome::part_of_bone(hand, b)] += f;
-                        }
-                        crate::state::outcome::PARTS
-                            .iter()
-                            .zip(parts)
-                            .filter(|(_, f)| f.norm() > 0.0)
-                            .map(|(name, f)| {
-                                (
-                                    name.to_string(),
-                                    PartContact {
-                                        force: arr(f),
-                                        magnitude: f.norm(),
-                                    },
-                                )
-                            })
-                            .collect()
-                    },
+                    contact: per_part(hand, &h.contact_force, false),
                     realisable: h.overloads.is_empty(),
                     overloads: h.overloads.clone(),
                 },

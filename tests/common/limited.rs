@@ -24,8 +24,20 @@ pub fn solve_limited(
     time_limit: Duration,
     address_space: u64,
 ) -> std::io::Result<(Ending, Duration)> {
+    solve_limited_with(scene, out, stderr_file, (time_limit, address_space), &[])
+}
+
+/// [`solve_limited`] with the variables `env` set in the child (`RAYON_NUM_THREADS`, …).
+pub fn solve_limited_with(
+    scene: &Path,
+    out: &Path,
+    stderr_file: &Path,
+    (time_limit, address_space): (Duration, u64),
+    env: &[(&str, &str)],
+) -> std::io::Result<(Ending, Duration)> {
     let stderr = fs::File::create(stderr_file)?;
     let mut command = Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    command.envs(env.iter().copied());
     command
         .arg("solve")
         .arg(scene)
