@@ -23,6 +23,10 @@ use nalgebra::{DMatrix, DVector, Vector2};
 
 /// Newton steps before giving up.
 const MAX_STEPS: usize = 200;
+/// What [`newton`] ends with: λ, w = G·λ + c, F(λ), its steps, whether it converged.
+type Newton = (DVector<f64>, DVector<f64>, Vec<f64>, usize, bool);
+/// Gauss–Seidel sweeps tried where Newton stalls.
+const SWEEPS: usize = 3000;
 /// Converged when the residual is below this share of the largest multiplier.
 const TOLERANCE: f64 = 1e-11;
 
@@ -116,8 +120,74 @@ pub(super) fn settle_coulomb(
             }
         })
         .collect();
-    let mut w = &g * &lambda + &c;
-    let mut f = residual(&locals, lambda.as_slice(), w.as_slice());
+    let (mut lambda, mut w, mut f, mut steps, mut converged) = newton(&g, &c, &locals, lambda)?;
+    // Where Newton stalls (the hand's grasp with μ = 0.8: runs of 1/1024 steps, then a
+    // 2-cycle), block Gauss–Seidel sweeps on the same law, which creep but do not cycle, bring
+    // the multipliers near the solution; Newton then finishes from there.
+    if !converged {
+        let swept = gauss_seidel(&g, &c, &locals, lambda);
+        let again = newton(&g, &c, &locals, swept)?;
+        steps += again.3;
+        (lambda, w, f, converged) = (again.0, again.1, again.2, again.4);
+    }
+    if !converged {
+        let norm = |f: &[f64]| f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        return Err(ContactError::NotConverged {
+            method: "lagrange (Coulomb friction, semi-smooth Newton)",
+            iterations: steps,
+            active: rows.len(),
+            // The normal rows' gaps only (the others are slip velocities).
+            penetration: locals.iter().fold(0.0_f64, |m, l| m.max(-w[l.o])),
+            tolerance,
+            change: Some(norm(&f)),
+            advice: "the semi-smooth Newton iteration of the friction did not converge (its \
+                     steps are not limited by solver.contact_max_iterations)",
+        });
+    }
+    // The state of every contact. One without force stays in the set (it may carry force
+    // again as others join; releasing it could make the set cycle): its λ is zero.
+    for (r, row) in rows.iter_mut().enumerate() {
+        let o = offset[r];
+        let ln = lambda[o].max(0.0);
+        row.last = [ln, 0.0, 0.0];
+        if row.axes() < 3 {
+            continue;
+        }
+        let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
+        if ln > 0.0 && lt.norm() >= row.mu * ln * (1.0 - 1e-9) && lt.norm() > 0.0 {
+            row.state = Adhesion::Slip;
+            row.slip = lt / lt.norm();
+            row.last = [ln, lt.x, lt.y];
+        } else if ln > 0.0 {
+            row.state = Adhesion::Stick;
+            row.last = [ln, lt.x, lt.y];
+        } else {
+            row.state = Adhesion::Stick;
+        }
+    }
+    let mut out = Vec::new();
+    for row in rows.iter() {
+        out.push(row.last[0]);
+        if row.state == Adhesion::Stick {
+            out.push(row.last[1]);
+            out.push(row.last[2]);
+        }
+    }
+    Ok(DVector::from_vec(out))
+}
+
+/// Newton's method on the Alart–Curnier equations from `lambda`: λ, w, F(λ), the steps taken
+/// and whether it converged; an error where a
+/// step is not finite (the contacts' compliance singular).
+fn newton(
+    g: &DMatrix<f64>,
+    c: &DVector<f64>,
+    locals: &[Local],
+    mut lambda: DVector<f64>,
+) -> Result<Newton, ContactError> {
+    let n = lambda.len();
+    let mut w = g * &lambda + c;
+    let mut f = residual(locals, lambda.as_slice(), w.as_slice());
     let norm = |f: &[f64]| f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut converged = false;
     let mut steps = 0;
@@ -132,7 +202,7 @@ pub(super) fn settle_coulomb(
         steps += 1;
         // The generalized Jacobian, row by row.
         let mut jac = DMatrix::zeros(n, n);
-        for l in &locals {
+        for l in locals {
             let o = l.o;
             let sn = lambda[o] - l.rn * w[o];
             if sn <= 0.0 {
@@ -181,15 +251,17 @@ pub(super) fn settle_coulomb(
         lu.solve_in_place(x.as_mut());
         let step = DVector::from_fn(n, |i, _| x[(i, 0)]);
         if !step.iter().all(|v| v.is_finite()) {
-            return Err(ContactError::Singular { active: rows.len() });
+            return Err(ContactError::Singular {
+                active: locals.len(),
+            });
         }
         // Halve the step until the residual decreases (a few times at most).
         let before = norm(&f);
         let mut t = 1.0;
         loop {
             let trial = &lambda + &step * t;
-            let wt = &g * &trial + &c;
-            let ft = residual(&locals, trial.as_slice(), wt.as_slice());
+            let wt = g * &trial + c;
+            let ft = residual(locals, trial.as_slice(), wt.as_slice());
             if norm(&ft) < before || t < 1e-3 {
                 lambda = trial;
                 w = wt;
@@ -199,47 +271,66 @@ pub(super) fn settle_coulomb(
             t *= 0.5;
         }
     }
-    if !converged {
-        return Err(ContactError::NotConverged {
-            method: "lagrange (Coulomb friction, semi-smooth Newton)",
-            iterations: steps,
-            active: rows.len(),
-            // The normal rows' gaps only (the others are slip velocities).
-            penetration: locals.iter().fold(0.0_f64, |m, l| m.max(-w[l.o])),
-            tolerance,
-            change: Some(norm(&f)),
-            advice: "the semi-smooth Newton iteration of the friction did not converge (its \
-                     steps are not limited by solver.contact_max_iterations)",
-        });
-    }
-    // The state of every contact. One without force stays in the set (it may carry force
-    // again as others join; releasing it could make the set cycle): its λ is zero.
-    for (r, row) in rows.iter_mut().enumerate() {
-        let o = offset[r];
-        let ln = lambda[o].max(0.0);
-        row.last = [ln, 0.0, 0.0];
-        if row.axes() < 3 {
-            continue;
+    Ok((lambda, w, f, steps, converged))
+}
+
+/// Block Gauss–Seidel on Coulomb's law from `lambda`: contact by contact, the normal multiplier
+/// that closes its gap given the others, clipped at zero, then the tangential ones that stop its
+/// slip, projected onto the cone μ·λ_n (De Saxcé's and Jean's non-smooth contact dynamics
+/// sweep), for at most [`SWEEPS`] sweeps or until a sweep changes no multiplier by more than
+/// 1e-10 of the largest.
+fn gauss_seidel(
+    g: &DMatrix<f64>,
+    c: &DVector<f64>,
+    locals: &[Local],
+    mut lambda: DVector<f64>,
+) -> DVector<f64> {
+    let mut w = g * &lambda + c;
+    for _ in 0..SWEEPS {
+        let mut change = 0.0_f64;
+        for l in locals {
+            let o = l.o;
+            let mut delta = [0.0; 3];
+            let gnn = g[(o, o)].max(f64::MIN_POSITIVE);
+            let ln = (lambda[o] - w[o] / gnn).max(0.0);
+            delta[0] = ln - lambda[o];
+            if l.k == 3 {
+                // The tangential gaps with the new normal multiplier.
+                let wt = Vector2::new(
+                    w[o + 1] + g[(o + 1, o)] * delta[0],
+                    w[o + 2] + g[(o + 2, o)] * delta[0],
+                );
+                let block = nalgebra::Matrix2::new(
+                    g[(o + 1, o + 1)],
+                    g[(o + 1, o + 2)],
+                    g[(o + 2, o + 1)],
+                    g[(o + 2, o + 2)],
+                );
+                let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
+                let free = match block.try_inverse() {
+                    Some(inv) => lt - inv * wt,
+                    None => lt,
+                };
+                let radius = l.mu * ln;
+                let new = if free.norm() > radius {
+                    free * (radius / free.norm())
+                } else {
+                    free
+                };
+                delta[1] = new.x - lt.x;
+                delta[2] = new.y - lt.y;
+            }
+            for (a, d) in delta.iter().enumerate().take(l.k) {
+                if *d != 0.0 {
+                    lambda[o + a] += d;
+                    w.axpy(*d, &g.column(o + a), 1.0);
+                    change = change.max(d.abs());
+                }
+            }
         }
-        let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
-        if ln > 0.0 && lt.norm() >= row.mu * ln * (1.0 - 1e-9) && lt.norm() > 0.0 {
-            row.state = Adhesion::Slip;
-            row.slip = lt / lt.norm();
-            row.last = [ln, lt.x, lt.y];
-        } else if ln > 0.0 {
-            row.state = Adhesion::Stick;
-            row.last = [ln, lt.x, lt.y];
-        } else {
-            row.state = Adhesion::Stick;
+        if change <= 1e-10 * lambda.amax().max(f64::MIN_POSITIVE) {
+            break;
         }
     }
-    let mut out = Vec::new();
-    for row in rows.iter() {
-        out.push(row.last[0]);
-        if row.state == Adhesion::Stick {
-            out.push(row.last[1]);
-            out.push(row.last[2]);
-        }
-    }
-    Ok(DVector::from_vec(out))
+    lambda
 }
