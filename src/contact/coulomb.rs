@@ -23,8 +23,24 @@ use nalgebra::{DMatrix, DVector, Vector2};
 
 /// Newton steps before giving up.
 const MAX_STEPS: usize = 200;
-/// What [`newton`] ends with: λ, w = G·λ + c, F(λ), its steps, whether it converged.
-type Newton = (DVector<f64>, DVector<f64>, Vec<f64>, usize, bool);
+/// What [`newton`] ends with.
+struct Newton {
+    /// The multipliers λ.
+    lambda: DVector<f64>,
+    /// The gaps and slips w = G·λ + c.
+    w: DVector<f64>,
+    /// The residual F(λ).
+    f: Vec<f64>,
+    /// Newton steps taken.
+    steps: usize,
+    /// Whether F(λ) met the tolerance.
+    converged: bool,
+}
+
+/// The largest |f_i|.
+fn max_abs(f: &[f64]) -> f64 {
+    f.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+}
 /// Gauss–Seidel sweeps tried where Newton stalls.
 const SWEEPS: usize = 3000;
 /// Converged when the residual is below this share of the largest multiplier.
@@ -120,18 +136,24 @@ pub(super) fn settle_coulomb(
             }
         })
         .collect();
-    let (mut lambda, mut w, mut f, mut steps, mut converged) = newton(&g, &c, &locals, lambda)?;
+    let mut solved = newton(&g, &c, &locals, lambda)?;
     // Where Newton stalls (the hand's grasp with μ = 0.8: runs of 1/1024 steps, then a
     // 2-cycle), block Gauss–Seidel sweeps on the same law, which creep but do not cycle, bring
     // the multipliers near the solution; Newton then finishes from there.
-    if !converged {
-        let swept = gauss_seidel(&g, &c, &locals, lambda);
-        let again = newton(&g, &c, &locals, swept)?;
-        steps += again.3;
-        (lambda, w, f, converged) = (again.0, again.1, again.2, again.4);
+    if !solved.converged {
+        let swept = gauss_seidel(&g, &c, &locals, solved.lambda);
+        let steps = solved.steps;
+        solved = newton(&g, &c, &locals, swept)?;
+        solved.steps += steps;
     }
+    let Newton {
+        lambda,
+        w,
+        f,
+        steps,
+        converged,
+    } = solved;
     if !converged {
-        let norm = |f: &[f64]| f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         return Err(ContactError::NotConverged {
             method: "lagrange (Coulomb friction, semi-smooth Newton)",
             iterations: steps,
@@ -139,7 +161,7 @@ pub(super) fn settle_coulomb(
             // The normal rows' gaps only (the others are slip velocities).
             penetration: locals.iter().fold(0.0_f64, |m, l| m.max(-w[l.o])),
             tolerance,
-            change: Some(norm(&f)),
+            change: Some(max_abs(&f)),
             advice: "the semi-smooth Newton iteration of the friction did not converge (its \
                      steps are not limited by solver.contact_max_iterations)",
         });
@@ -176,9 +198,8 @@ pub(super) fn settle_coulomb(
     Ok(DVector::from_vec(out))
 }
 
-/// Newton's method on the Alart–Curnier equations from `lambda`: λ, w, F(λ), the steps taken
-/// and whether it converged; an error where a
-/// step is not finite (the contacts' compliance singular).
+/// Newton's method on the Alart–Curnier equations from `lambda`; an error where a step is not
+/// finite (the contacts' compliance singular).
 fn newton(
     g: &DMatrix<f64>,
     c: &DVector<f64>,
@@ -188,7 +209,7 @@ fn newton(
     let n = lambda.len();
     let mut w = g * &lambda + c;
     let mut f = residual(locals, lambda.as_slice(), w.as_slice());
-    let norm = |f: &[f64]| f.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let norm = max_abs;
     let mut converged = false;
     let mut steps = 0;
     while steps < MAX_STEPS {
@@ -271,7 +292,13 @@ fn newton(
             t *= 0.5;
         }
     }
-    Ok((lambda, w, f, steps, converged))
+    Ok(Newton {
+        lambda,
+        w,
+        f,
+        steps,
+        converged,
+    })
 }
 
 /// Block Gauss–Seidel on Coulomb's law from `lambda`: contact by contact, the normal multiplier

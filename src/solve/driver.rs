@@ -132,8 +132,9 @@ const FIRST_RELAXATION: f64 = 0.7;
 /// Bounds of the corrections' relaxation factor (see [`aitken`]).
 const RELAXATION: (f64, f64) = (0.1, 10.0);
 
-/// A keyframe ending with its hands near a body but not pressing it is settled at its pose
-/// until the bodies' displacements change by less than this fraction of their largest…
+/// On the nonlinear tier a keyframe whose hands let go of a body is settled at its pose
+/// ([`Workspace::settle_released`]) until the bodies' displacements change by less than this
+/// fraction of their largest…
 const RELEASE_SETTLED: f64 = 1e-8;
 
 /// …or this many steps were made.
@@ -571,21 +572,20 @@ impl Workspace {
         cancel: Option<&CancelCheck>,
     ) -> Result<(Frame, usize, Option<String>), SimError> {
         let nonlinear = model.nonlinear_statics;
-        // Without a static frame (a floating body held by the hands) Newton starts from rest.
+        let hand_dof = hand_dofs(model, posed);
+        // Without a static frame (a floating body held by the hands) Newton starts from rest;
+        // the flesh carries no contact displacement.
         let mut start = nonlinear.then(|| {
             let mut x = self.still.as_ref().map_or_else(
-                || vec![0.0; 3 * model.mesh.node_count()],
+                || vec![0.0; hand_dof.len()],
                 |still| still.solution.displacement.clone(),
             );
-            for h in &posed.hands {
-                for n in model.bodies[h.body].nodes.clone() {
-                    x[3 * n..3 * n + 3].fill(0.0);
-                }
+            for (x, _) in x.iter_mut().zip(&hand_dof).filter(|(_, h)| **h) {
+                *x = 0.0;
             }
             x
         });
         let mut failed = None;
-        let hand_dof = hand_dofs(model, posed);
         let mut kept = 0;
         while kept < RELEASE_CORRECTIONS {
             let before = posed.clone();
