@@ -4,11 +4,12 @@
 //! Contact: deformable bodies against rigid obstacles (a table plane, a rigid sphere) and against
 //! each other (node to facet, both ways), by the paper's repel–prescribe–release iteration or by
 //! an active set of Lagrange multipliers solved through a Schur complement that reuses the
-//! stiffness factorization, with Coulomb friction; and the tactile map.
+//! stiffness factorization, with Coulomb friction; the tactile map; and whether a grip's forces hold an object (`hold.rs`).
 
 mod coulomb;
 mod embedded;
 mod exterior;
+mod hold;
 mod lagrange;
 mod obstacle;
 mod paper;
@@ -21,6 +22,7 @@ mod surface;
 
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
+pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};
 pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;
