@@ -96,6 +96,7 @@ impl Timeline {
                         time: key.time,
                         body: (hands.len() > 1).then(|| h.name.clone()),
                         pose: named(h, angles),
+                        grasp: None,
                     });
                 }
             }

@@ -307,6 +307,10 @@ pub struct HandReport {
     pub realisable: bool,
     /// The bones over their thresholds, worst first, with what the animator should change.
     pub overloads: Vec<crate::state::outcome::Overload>,
+    /// What a grasp keyframe found (the gentlest grip): whether it holds, the pose, the margin
+    /// achieved, why not (docs/contact.md, "The gentlest grip").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub grasp: Option<crate::state::GraspOutcome>,
 }
 
 /// A force on one part of a hand (its contact, or its bones' reactions).
@@ -395,6 +399,7 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     contact: per_part(hand, &h.contact_force, false),
                     realisable: h.overloads.is_empty(),
                     overloads: h.overloads.clone(),
+                    grasp: h.grasp.clone(),
                 },
             )
         })

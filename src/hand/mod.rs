@@ -2,7 +2,8 @@
 //! May import the mesh and fem kernels and util only.
 //!
 //! The synthetic hand: anatomy, skeleton and pose, the skin's shape, the meshed flesh around the
-//! bones, the smooth display skin, and geometric skinning (the fast path).
+//! bones, the smooth display skin, geometric skinning (the fast path), and the preshapes and closing
+//! synergies a hand grasps by itself with (`synergy.rs`).
 
 pub mod anatomy;
 mod bone_mesh;
@@ -18,6 +19,7 @@ mod shape;
 mod skeleton;
 mod skin;
 mod skinning;
+pub mod synergy;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use imported::{RigError, RiggedHand};

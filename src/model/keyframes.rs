@@ -85,14 +85,29 @@ pub fn keyframes(
             ));
         }
         let hand = bodies[body].hand.as_ref().unwrap();
-        angles[body] = hand
-            .skeleton
-            .apply_pose(&angles[body], &k.pose)
-            .map_err(|e| (format!("{field}.pose"), e.to_string()))?;
+        let grasp = match &k.grasp {
+            Some(def) => Some(Box::new(super::grasp::grasp(
+                def,
+                &k.pose,
+                &field,
+                bodies,
+                scene.world.gravity,
+                &hand.skeleton,
+                &mut angles[body],
+            )?)),
+            None => {
+                angles[body] = hand
+                    .skeleton
+                    .apply_pose(&angles[body], &k.pose)
+                    .map_err(|e| (format!("{field}.pose"), e.to_string()))?;
+                None
+            }
+        };
         out.push(KeyframeModel {
             time: k.time,
             body,
             angles: angles[body].clone(),
+            grasp,
         });
     }
     Ok(out)

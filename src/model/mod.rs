@@ -9,6 +9,7 @@ mod constraints;
 mod convert;
 mod flexion_settings;
 mod gas;
+mod grasp;
 mod hand_gltf;
 mod input_warnings;
 mod keyframes;
@@ -27,6 +28,7 @@ mod tier;
 
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 pub use gas::{GasCavity, STANDARD_AMBIENT};
+pub use grasp::{ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};
 pub use refinement::DEFAULT_SIZE_OF_RADIUS;
 pub use tier::{Tier, STEP_WARNING_DEG};
 
@@ -96,8 +98,10 @@ pub struct KeyframeModel {
     /// The hand body.
     pub body: usize,
     /// All its joint angles, degrees (joints the keyframe does not name keep their previous
-    /// angle).
+    /// angle); for a grasp, where its digits start closing (the preshape).
     pub angles: Vec<f64>,
+    /// The hand closes on an object by itself from `angles` (a grasp keyframe).
+    pub grasp: Option<Box<GraspModel>>,
 }
 
 /// A named set of prescribed dofs.

@@ -134,8 +134,46 @@ pub struct KeyframeDef {
     /// The hand body it poses (may be left out when the scene has one hand).
     #[serde(default)]
     pub body: Option<String>,
-    /// Joint angles in degrees by name, e.g. `{ "index.pip" = 40 }`.
+    /// Joint angles in degrees by name, e.g. `{ "index.pip" = 40 }` (may be left out in a
+    /// grasp keyframe; there they adjust the preshape).
+    #[serde(default)]
     pub pose: BTreeMap<String, f64>,
+    /// The hand closes on an object by itself: the gentlest grip that holds it
+    /// (docs/contact.md, "The gentlest grip").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grasp: Option<GraspDef>,
+}
+
+/// `grasp = { object = "ball", preshape = "power" }` in a keyframe.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GraspDef {
+    /// The body grasped.
+    pub object: String,
+    /// `"power"` (default), `"pinch"` (thumb and index pads), `"tripod"` (thumb, index,
+    /// middle), or a pose table where the digits start closing from (every digit closes).
+    #[serde(default)]
+    pub preshape: Option<PreshapeDef>,
+    /// `"gravity"` (default): the grip must hold the object against the scene's gravity by
+    /// friction, with `margin`, as if nothing else held it.
+    #[serde(default)]
+    pub hold: Option<String>,
+    /// A target grip instead: the sum of the hand's normal contact forces on the object, N.
+    #[serde(default)]
+    pub force: Option<f64>,
+    /// Safety factor on the friction the hold needs (default 1.5).
+    #[serde(default)]
+    pub margin: Option<f64>,
+}
+
+/// A grasp's preshape: a name or a pose table.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PreshapeDef {
+    /// `"power"`, `"pinch"` or `"tripod"`.
+    Named(String),
+    /// Joint angles in degrees by name.
+    Pose(BTreeMap<String, f64>),
 }
 
 /// `[world]`

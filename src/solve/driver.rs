@@ -969,12 +969,36 @@ pub fn solve_frames(model: &Model) -> Result<(Vec<f64>, Vec<Frame>), SimError> {
     while k < model.keyframes.len() {
         let time = model.keyframes[k].time;
         let mut targets = Vec::new();
+        let mut grasps = Vec::new();
         while k < model.keyframes.len() && model.keyframes[k].time == time {
             let key = &model.keyframes[k];
-            targets.push((key.body, key.angles.clone()));
+            if key.grasp.is_some() {
+                grasps.push(key);
+            } else {
+                targets.push((key.body, key.angles.clone()));
+            }
             k += 1;
         }
-        let frame = workspace.move_hands(model, &mut posed, &targets, None)?;
+        // The hands posed first, then each grasp closes its hand on its object.
+        let mut frame = None;
+        if !targets.is_empty() || grasps.is_empty() {
+            frame = Some(workspace.move_hands(model, &mut posed, &targets, None)?);
+        }
+        for key in grasps {
+            let mut closed = workspace.close_grip(model, &mut posed, key, None)?;
+            // A frame of several hands keeps what each grasp found.
+            if let Some(before) = &frame {
+                for h in &before.hands {
+                    if let (Some(g), Some(now)) =
+                        (&h.grasp, closed.hands.iter_mut().find(|c| c.body == h.body))
+                    {
+                        now.grasp.get_or_insert_with(|| g.clone());
+                    }
+                }
+            }
+            frame = Some(closed);
+        }
+        let frame = frame.expect("a frame per keyframe time");
         if time == 0.0 {
             frames[0] = frame;
         } else {
@@ -1061,5 +1085,6 @@ fn hand_frame(
             &bone_reactions,
             &model.bodies[body].thresholds,
         ),
+        grasp: None,
     }
 }

@@ -9,6 +9,7 @@ mod error;
 mod flexion;
 mod flexion_nonlinear;
 mod gas;
+mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
 mod linear_factor;

@@ -51,4 +51,6 @@ pub struct HandFrame {
     pub contact_force: Vec<nalgebra::Vector3<f64>>,
     /// Bones whose reaction overruns their muscle force threshold: the grasp is not realisable.
     pub overloads: Vec<Overload>,
+    /// What a grasp keyframe found (the gentlest grip), for the frame it ends in.
+    pub grasp: Option<super::GraspOutcome>,
 }

@@ -1,0 +1,141 @@
+//! Preshapes and closing synergies: how a hand closes on an object by itself (the gentlest grip,
+//! issue 17).
+//!
+//! A preshape opens the digits that will grasp and sets the others aside; each grasping digit
+//! then closes along one synergy, its joints coupled — a finger's MCP, PIP and DIP flexing
+//! together (the flexor tendons couple them), the thumb's CMC flexing and abducting into
+//! opposition while its MCP and IP flex — from its open angles to its closed ones, as one
+//! parameter s from 0 to 1.
+
+use super::skeleton::Pose;
+
+/// Digits in the order of the hand's parts: thumb, index, middle, ring, little.
+pub const DIGITS: [&str; 5] = ["thumb", "index", "middle", "ring", "little"];
+
+/// A named preshape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preshape {
+    /// Every digit wraps the object.
+    Power,
+    /// Thumb and index pads.
+    Pinch,
+    /// Thumb, index and middle.
+    Tripod,
+}
+
+impl Preshape {
+    /// Every named preshape.
+    pub const ALL: [Preshape; 3] = [Preshape::Power, Preshape::Pinch, Preshape::Tripod];
+
+    /// Its name in a scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preshape::Power => "power",
+            Preshape::Pinch => "pinch",
+            Preshape::Tripod => "tripod",
+        }
+    }
+
+    /// The preshape named `name`, if any.
+    pub fn from_name(name: &str) -> Option<Preshape> {
+        Preshape::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// Which digits grasp (in [`DIGITS`] order).
+    pub fn grasping(self) -> [bool; 5] {
+        match self {
+            Preshape::Power => [true; 5],
+            Preshape::Pinch => [true, true, false, false, false],
+            Preshape::Tripod => [true, true, true, false, false],
+        }
+    }
+
+    /// The preshape's angles, degrees: the grasping digits open (their synergies at s = 0), the
+    /// others curled out of the way (they would touch first in a pinch otherwise).
+    pub fn pose(self) -> Pose {
+        let grasping = self.grasping();
+        let mut pose = Pose::new();
+        for (d, digit) in DIGITS.iter().enumerate() {
+            let angles = if grasping[d] {
+                open(digit)
+            } else {
+                tucked(digit)
+            };
+            for (joint, angle) in angles {
+                pose.insert(joint, angle);
+            }
+        }
+        pose
+    }
+}
+
+/// A grasping digit's synergy at rest: its open angles (s = 0).
+pub fn open(digit: &str) -> Vec<(String, f64)> {
+    synergy(digit).into_iter().map(|(j, a, _)| (j, a)).collect()
+}
+
+/// A digit folded out of the way of a pinch (a fist's angles, short of the limits).
+fn tucked(digit: &str) -> Vec<(String, f64)> {
+    if digit == "thumb" {
+        return open(digit);
+    }
+    vec![
+        (format!("{digit}.mcp.flex"), 70.0),
+        (format!("{digit}.pip"), 90.0),
+        (format!("{digit}.dip"), 50.0),
+    ]
+}
+
+/// A digit's closing synergy: (joint, open angle, closed angle), degrees. Fingers flex MCP,
+/// PIP and DIP together from slightly bent to near a fist's (88°, 105°, 70° at the limits'
+/// edge: the full fist is reached without a crushed cell, `hand::full_fist`); the thumb
+/// abducts out of the palm and flexes across it, its MCP and IP flexing as it goes.
+pub fn synergy(digit: &str) -> Vec<(String, f64, f64)> {
+    let j = |name: &str| format!("{digit}.{name}");
+    if digit == "thumb" {
+        vec![
+            (j("cmc.abd"), 35.0, 45.0),
+            (j("cmc.flex"), 0.0, 35.0),
+            (j("mcp"), 0.0, 40.0),
+            (j("ip"), 0.0, 45.0),
+        ]
+    } else {
+        vec![
+            (j("mcp.flex"), 10.0, 85.0),
+            (j("pip"), 10.0, 100.0),
+            (j("dip"), 5.0, 65.0),
+        ]
+    }
+}
+
+/// The largest joint turn of `digit`'s synergy from open to closed, degrees: one unit of its
+/// parameter s.
+pub fn span(digit: &str) -> f64 {
+    synergy(digit)
+        .iter()
+        .map(|(_, a, b)| (b - a).abs())
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hand::{Side, Skeleton};
+
+    #[test]
+    fn preshapes_and_synergies_lie_within_the_joint_limits() {
+        let s = Skeleton::new(Side::Right);
+        for p in Preshape::ALL {
+            assert_eq!(Preshape::from_name(p.name()), Some(p));
+            s.apply_pose(&s.rest_angles(), &p.pose())
+                .unwrap_or_else(|e| panic!("{}: {e}", p.name()));
+        }
+        for digit in DIGITS {
+            let closed: Pose = synergy(digit).into_iter().map(|(j, _, b)| (j, b)).collect();
+            s.apply_pose(&s.rest_angles(), &closed)
+                .unwrap_or_else(|e| panic!("{digit}: {e}"));
+            assert!(span(digit) > 0.0);
+        }
+        assert_eq!(Preshape::from_name("fist"), None);
+    }
+}

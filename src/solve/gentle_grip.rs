@@ -1,0 +1,530 @@
+//! The gentlest grip that holds (issue 17; the paper: the grip "is as gentle as possible without
+//! letting go of the ball"): a grasp keyframe closes the hand on an object by itself.
+//!
+//! 1. The hand moves to the preshape (an ordinary keyframe's motion).
+//! 2. Each grasping digit closes along its synergy (`hand::synergy`) until its skin first meets
+//!    the object: found on the skin the bones carry (skinning), against the object's surface
+//!    where the preshape's frame leaves it, by a scan in sixteenths of the synergy and a
+//!    bisection of the first interval that meets. A digit that never meets closes fully.
+//! 3. The touching digits close on together, each by the same angle θ of its synergy's largest
+//!    joint past its first contact, and every pose is solved by FEM (the keyframe driver, from
+//!    the last pose solved: the grip tightens monotonically). θ doubles from 1° until the grip
+//!    holds the object as asked, then the last interval is bisected down to a quarter of a
+//!    degree, or until the hold is met within 10 %: the least closing that holds, the least
+//!    effort of the muscles along the synergy.
+//! 4. It holds when the contact forces on the object, taken as a rigid body with nothing else
+//!    holding it, can balance its weight with friction to spare by the margin
+//!    (`contact::hold_margin`), or press it with the grip force asked. A bone past its
+//!    threshold, a pose the solver cannot reach, or a synergy closed to its end without a hold
+//!    end the search with the best grip found and `held = false`, and why.
+
+use super::driver::{Posed, Workspace};
+use super::error::SimError;
+use crate::hand::synergy::{span, DIGITS};
+use crate::model::{GraspModel, HoldTarget, KeyframeModel, Model};
+use crate::state::{grip, Frame, GraspOutcome, GripTrial};
+use nalgebra::Vector3;
+use parry3d_f64::math::Vec3;
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+
+/// The first trial's closing past first contact, degrees.
+const FIRST_THETA: f64 = 1.0;
+
+/// The bisection stops when the interval is this narrow, degrees.
+const THETA_TOLERANCE: f64 = 0.25;
+
+/// …or when the hold is met within this share of what is asked.
+const HOLD_TOLERANCE: f64 = 0.1;
+
+/// Poses solved by FEM at most.
+const MAX_TRIALS: usize = 16;
+
+/// A pose tried: its closing, frame, where it left the hands, and what its grip achieves.
+#[derive(Clone)]
+struct Trial {
+    theta: f64,
+    frame: Frame,
+    posed: Posed,
+    /// The sum of the normal forces on the object, N.
+    grip: f64,
+    /// The friction margin against the weight (gravity holds; 0 otherwise).
+    margin: f64,
+}
+
+impl Workspace {
+    /// Solves the grasp keyframe `key` (it has a `grasp`): the hand moves to the preshape, then
+    /// closes on the object to the gentlest grip that holds it (module documentation). The
+    /// frame returned carries the outcome in its hand's `grasp`; `posed` is left in its pose.
+    pub fn close_grip(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        key: &KeyframeModel,
+        cancel: Option<&super::CancelCheck>,
+    ) -> Result<Frame, SimError> {
+        let grasp = key.grasp.as_deref().expect("a grasp keyframe");
+        let body = key.body;
+        let preshape = self.move_hands(model, posed, &[(body, key.angles.clone())], cancel)?;
+        let object = Surface::of(model, &preshape, grasp.object);
+        let hand = model.bodies[body]
+            .hand
+            .as_deref()
+            .expect("a grasp keyframe poses a hand");
+        // Each closing digit's synergy parameter at first contact (None: it never meets).
+        let first: Vec<Option<f64>> = grasp
+            .digits
+            .iter()
+            .map(|(d, joints)| first_contact(model, body, hand, &key.angles, *d, joints, &object))
+            .collect();
+        let angles_at = |theta: f64| -> Vec<f64> {
+            let mut angles = key.angles.clone();
+            for ((d, joints), s) in grasp.digits.iter().zip(&first) {
+                let s = match s {
+                    Some(s) => (s + theta / span(DIGITS[*d])).min(1.0),
+                    None => 1.0,
+                };
+                for j in joints {
+                    angles[j.dof] = j.open + s * (j.closed - j.open);
+                }
+            }
+            angles
+        };
+        let touching: Vec<String> = grasp
+            .digits
+            .iter()
+            .zip(&first)
+            .filter(|(_, s)| s.is_some())
+            .map(|((d, _), _)| DIGITS[*d].to_string())
+            .collect();
+        // The largest closing any touching digit can take.
+        let theta_max = grasp
+            .digits
+            .iter()
+            .zip(&first)
+            .filter_map(|((d, _), s)| s.map(|s| (1.0 - s) * span(DIGITS[*d])))
+            .fold(0.0, f64::max);
+
+        let count = std::cell::Cell::new(0);
+        let search = std::cell::RefCell::new(Vec::new());
+        let solve = |ws: &mut Workspace, from: &Posed, theta: f64| -> Result<Trial, SimError> {
+            count.set(count.get() + 1);
+            let mut p = from.clone();
+            let frame = ws.move_hands(model, &mut p, &[(body, angles_at(theta))], cancel)?;
+            let g = grip(model, &frame, body, grasp.object);
+            let margin = match grasp.hold {
+                HoldTarget::Gravity { weight } => {
+                    g.margin(&weight, model.bodies[grasp.object].size)
+                }
+                HoldTarget::Force(_) => 0.0,
+            };
+            search.borrow_mut().push(GripTrial {
+                closing_deg: theta,
+                grip: g.normal_force,
+                margin,
+            });
+            Ok(Trial {
+                theta,
+                frame,
+                posed: p,
+                grip: g.normal_force,
+                margin,
+            })
+        };
+        let holds = |t: &Trial| match grasp.hold {
+            HoldTarget::Gravity { .. } => t.margin >= grasp.margin,
+            HoldTarget::Force(f) => t.grip >= f,
+        };
+        let close_enough = |t: &Trial| match grasp.hold {
+            HoldTarget::Gravity { .. } => t.margin <= grasp.margin * (1.0 + HOLD_TOLERANCE),
+            HoldTarget::Force(f) => t.grip <= f * (1.0 + HOLD_TOLERANCE),
+        };
+        let overloaded = |t: &Trial| {
+            t.frame
+                .hands
+                .iter()
+                .find(|h| h.body == body)
+                .and_then(|h| h.overloads.first().cloned())
+        };
+
+        // The grip at first contact.
+        let start = Trial {
+            theta: 0.0,
+            frame: preshape,
+            posed: posed.clone(),
+            grip: 0.0,
+            margin: 0.0,
+        };
+        let mut lo = if touching.is_empty() {
+            start
+        } else {
+            match solve(self, &start.posed, 0.0) {
+                Ok(t) => t,
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                Err(e) => {
+                    return Ok(self.finish(
+                        model,
+                        posed,
+                        grasp,
+                        start,
+                        &touching,
+                        (count.get(), search.take()),
+                        Some(format!(
+                            "the digits could not be closed to their first contact: {e}"
+                        )),
+                    ))
+                }
+            }
+        };
+        if touching.is_empty() {
+            return Ok(self.finish(model, posed, grasp, lo, &touching, (count.get(), search.take()), Some(
+                "no digit reaches the object along its synergy: move the object into the hand, \
+                 or the hand to it".into(),
+            )));
+        }
+        // No friction, no hold against gravity (whatever the grip).
+        if let HoldTarget::Gravity { .. } = grasp.hold {
+            let material =
+                |b: usize| model.material_name(model.cell_material[model.bodies[b].cells.start]);
+            let (a, b) = (material(body), material(grasp.object));
+            if model.friction_between(a, b) == 0.0 {
+                let reason = format!(
+                    "there is no friction between \"{a}\" and \"{b}\" (μ = 0): no grip holds \
+                     an object against gravity without it; set [[friction]] between = [\"{a}\", \
+                     \"{b}\"] (skin on rubber: μ ≈ 0.8), or give force = N for a target grip"
+                );
+                return Ok(self.finish(
+                    model,
+                    posed,
+                    grasp,
+                    lo,
+                    &touching,
+                    (count.get(), search.take()),
+                    Some(reason),
+                ));
+            }
+        }
+        // Bracket: double θ until the grip holds.
+        let mut hi: Option<Trial> = None;
+        let mut stop: Option<String> = None;
+        let mut theta = FIRST_THETA;
+        if holds(&lo) {
+            hi = Some(lo.clone());
+        }
+        while hi.is_none() && stop.is_none() {
+            if lo.theta >= theta_max {
+                stop = Some(format!(
+                    "the digits closed to the end of their synergies ({:.1}° past first contact) \
+                     without holding it{}",
+                    lo.theta,
+                    why_not(model, grasp, body, &lo)
+                ));
+                break;
+            }
+            if count.get() >= MAX_TRIALS {
+                stop = Some(format!("no hold within {MAX_TRIALS} poses"));
+                break;
+            }
+            let next = theta.min(theta_max);
+            match solve(self, &lo.posed, next) {
+                Ok(t) => {
+                    if let Some(o) = overloaded(&t) {
+                        stop = Some(overload_reason(&o, grasp, &t));
+                        lo = t;
+                    } else if holds(&t) {
+                        hi = Some(t);
+                    } else {
+                        lo = t;
+                    }
+                }
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                Err(e) => {
+                    stop = Some(format!(
+                        "closing further to {next:.1}° past first contact failed: {e}"
+                    ))
+                }
+            }
+            theta *= 2.0;
+        }
+        let Some(mut hi) = hi else {
+            return Ok(self.finish(
+                model,
+                posed,
+                grasp,
+                lo,
+                &touching,
+                (count.get(), search.take()),
+                stop,
+            ));
+        };
+        // Bisect: the least closing that holds.
+        while hi.theta - lo.theta > THETA_TOLERANCE
+            && !close_enough(&hi)
+            && count.get() < MAX_TRIALS
+        {
+            let mid = 0.5 * (lo.theta + hi.theta);
+            match solve(self, &lo.posed, mid) {
+                Ok(t) if holds(&t) && overloaded(&t).is_none() => hi = t,
+                Ok(t) => lo = t,
+                Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                Err(_) => break,
+            }
+        }
+        let reason = overloaded(&hi).map(|o| overload_reason(&o, grasp, &hi));
+        Ok(self.finish(
+            model,
+            posed,
+            grasp,
+            hi,
+            &touching,
+            (count.get(), search.take()),
+            reason,
+        ))
+    }
+
+    /// The frame of the grip `trial` with its outcome; `posed` left where it is.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        grasp: &GraspModel,
+        trial: Trial,
+        touching: &[String],
+        (trials, search): (usize, Vec<GripTrial>),
+        reason: Option<String>,
+    ) -> Frame {
+        let Trial {
+            theta,
+            mut frame,
+            posed: p,
+            grip,
+            margin,
+        } = trial;
+        *posed = p;
+        let held = reason.is_none()
+            && match grasp.hold {
+                HoldTarget::Gravity { .. } => margin >= grasp.margin,
+                HoldTarget::Force(f) => grip >= f,
+            };
+        let reason = match (held, reason) {
+            (true, _) => None,
+            (false, Some(r)) => Some(r),
+            (false, None) => Some("the search ended without a hold".into()),
+        };
+        let body = model.bodies[grasp.object].name.clone();
+        if let Some(h) = frame
+            .hands
+            .iter_mut()
+            .find(|h| model.bodies[h.body].hand.is_some())
+        {
+            let skeleton = &model.bodies[h.body]
+                .hand
+                .as_deref()
+                .expect("a hand")
+                .skeleton;
+            h.grasp = Some(GraspOutcome {
+                object: body,
+                preshape: grasp.preshape.clone(),
+                held,
+                pose: skeleton
+                    .dofs
+                    .iter()
+                    .zip(&h.angles)
+                    .map(|(d, a)| (d.name.clone(), *a))
+                    .collect(),
+                margin,
+                margin_target: matches!(grasp.hold, HoldTarget::Gravity { .. })
+                    .then_some(grasp.margin),
+                grip,
+                force_target: match grasp.hold {
+                    HoldTarget::Force(f) => Some(f),
+                    HoldTarget::Gravity { .. } => None,
+                },
+                closing_deg: theta,
+                digits_touching: touching.to_vec(),
+                trials,
+                search,
+                reason,
+            });
+        }
+        frame
+    }
+}
+
+/// Why a bone's overload stops the grip: the bone, its reaction and threshold, and the force
+/// the hold still misses.
+fn overload_reason(o: &crate::state::outcome::Overload, grasp: &GraspModel, t: &Trial) -> String {
+    let missing = match grasp.hold {
+        HoldTarget::Force(f) => (f - t.grip).max(0.0),
+        // The grip needed grows about as the margin asked over the margin achieved.
+        HoldTarget::Gravity { .. } if t.margin > 0.0 => {
+            (t.grip * (grasp.margin / t.margin - 1.0)).max(0.0)
+        }
+        HoldTarget::Gravity { .. } => f64::NAN,
+    };
+    let missing = if missing.is_finite() {
+        format!("about {missing:.2} N more grip")
+    } else {
+        "a grip its contacts cannot give".into()
+    };
+    format!(
+        "bone {} would bear {:.1} N, past its threshold of {:.1} N, with {:.2} N of grip \
+         (margin {:.2}); holding needs {missing}",
+        o.bone, o.reaction, o.threshold, t.grip, t.margin
+    )
+}
+
+/// The object's surface where a frame leaves it, for the skin's signed distance to it.
+struct Surface {
+    mesh: Option<TriMesh>,
+}
+
+impl Surface {
+    fn of(model: &Model, frame: &Frame, object: usize) -> Surface {
+        let u = &frame.solution.displacement;
+        let b = &model.bodies[object];
+        let mut index = std::collections::HashMap::new();
+        let mut points = Vec::new();
+        let mut triangles = Vec::new();
+        let mut id = |n: usize, points: &mut Vec<Vec3>| -> u32 {
+            *index.entry(n).or_insert_with(|| {
+                let p = model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+                points.push(Vec3::new(p.x, p.y, p.z));
+                (points.len() - 1) as u32
+            })
+        };
+        for q in &b.exterior {
+            let v = q.map(|n| id(n, &mut points));
+            triangles.push([v[0], v[1], v[2]]);
+            triangles.push([v[0], v[2], v[3]]);
+        }
+        Surface {
+            mesh: TriMesh::with_flags(points, triangles, TriMeshFlags::ORIENTED).ok(),
+        }
+    }
+
+    /// Signed distance from `p` (negative inside), m; infinite without a surface.
+    fn distance(&self, p: &Vector3<f64>) -> f64 {
+        let Some(mesh) = &self.mesh else {
+            return f64::INFINITY;
+        };
+        let proj = mesh.project_local_point(Vec3::new(p.x, p.y, p.z), false);
+        let q = proj.point;
+        let d = ((q.x - p.x).powi(2) + (q.y - p.y).powi(2) + (q.z - p.z).powi(2)).sqrt();
+        if proj.is_inside {
+            -d
+        } else {
+            d
+        }
+    }
+}
+
+/// The synergy parameter at which digit `digit`'s skin first meets the object, closing from
+/// `angles` along `joints`; `None` when it never does.
+fn first_contact(
+    model: &Model,
+    body: usize,
+    hand: &crate::hand::HandModel,
+    angles: &[f64],
+    digit: usize,
+    joints: &[crate::model::ClosingJoint],
+    object: &Surface,
+) -> Option<f64> {
+    let skeleton = &hand.skeleton;
+    let skin = &hand.contact_skin;
+    let rest = &hand.flesh.mesh.nodes;
+    // The digit's skin points: those whose heaviest node follows a bone of the digit most.
+    let bone_of = |n: usize| {
+        hand.weights.weights[n]
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|w| w.0)
+    };
+    let points: Vec<usize> = (0..skin.vertex_count())
+        .filter(|&v| {
+            let heaviest = skin
+                .terms(v)
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|t| t.0);
+            heaviest
+                .and_then(bone_of)
+                .is_some_and(|b| skeleton.bones[b].digit == Some(digit))
+        })
+        .collect();
+    if points.is_empty() {
+        return None;
+    }
+    // The hand's flesh in the model's frame is its rest mesh (the scene places the hand).
+    debug_assert_eq!(rest.len(), model.bodies[body].nodes.len());
+    let gap = |s: f64| -> f64 {
+        let mut a = angles.to_vec();
+        for j in joints {
+            a[j.dof] = j.open + s * (j.closed - j.open);
+        }
+        let transforms = skeleton.transforms(&a);
+        let mut flesh = rest.clone();
+        hand.weights.apply(
+            model.flexion.blend,
+            &transforms,
+            rest,
+            0..rest.len(),
+            &mut flesh,
+        );
+        points
+            .iter()
+            .map(|&v| {
+                let p: Vector3<f64> = skin.terms(v).map(|(n, w)| flesh[n] * w).sum();
+                object.distance(&p)
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    if gap(0.0) <= 0.0 {
+        return Some(0.0);
+    }
+    const SCAN: usize = 16;
+    let mut before = 0.0;
+    for k in 1..=SCAN {
+        let s = k as f64 / SCAN as f64;
+        if gap(s) <= 0.0 {
+            let (mut a, mut b) = (before, s);
+            for _ in 0..12 {
+                let m = 0.5 * (a + b);
+                if gap(m) <= 0.0 {
+                    b = m;
+                } else {
+                    a = m;
+                }
+            }
+            return Some(b);
+        }
+        before = s;
+    }
+    None
+}
+
+/// What keeps a gravity hold short at `t`, in words (empty otherwise): the grip's normal forces
+/// do not balance among themselves, so friction must take their resultant as well as the
+/// weight — however hard the digits press, the margin stays where their geometry puts it.
+fn why_not(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String {
+    let HoldTarget::Gravity { weight } = grasp.hold else {
+        return String::new();
+    };
+    let g = grip(model, &t.frame, body, grasp.object);
+    let resultant: Vector3<f64> = g.contacts.iter().map(|c| c.inward * c.normal_force).sum();
+    if resultant.norm() > weight.norm() {
+        format!(
+            " (margin {:.2} of {:.2}: the digits' normal forces, {:.2} N in all, leave {:.2} N \
+             unbalanced, pushing the object against what supports it, and friction would have \
+             to take that as well as its {:.2} N weight; place the object between opposing \
+             digits, the thumb against the fingers)",
+            t.margin,
+            grasp.margin,
+            g.normal_force,
+            resultant.norm(),
+            weight.norm()
+        )
+    } else {
+        format!(" (margin {:.2} of {:.2})", t.margin, grasp.margin)
+    }
+}

@@ -1,0 +1,180 @@
+//! What a hand's grip does to an object in a solved frame: its contacts on the object as a rigid
+//! body sees them, the sum of their normal forces, and the friction margin with which they hold
+//! it against a load (`contact::hold_margin`); and the outcome of a grasp keyframe.
+
+use super::Frame;
+use crate::contact::{hold_margin, GripContact, Master};
+use crate::model::Model;
+use nalgebra::Vector3;
+use std::collections::BTreeMap;
+
+/// The outcome of a grasp keyframe (`hands.<hand>.grasp` in report.json).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct GraspOutcome {
+    /// The body grasped.
+    pub object: String,
+    /// The preshape the digits closed from.
+    pub preshape: String,
+    /// Whether the grip found holds the object as asked.
+    pub held: bool,
+    /// The joint angles found, degrees (save them as an ordinary keyframe's `pose`).
+    pub pose: BTreeMap<String, f64>,
+    /// The friction margin achieved: the friction the contacts have over what holding the
+    /// object against its weight needs (0: no friction holds it; capped at 1e6: the normal
+    /// forces alone hold it).
+    pub margin: f64,
+    /// The margin asked for (a gravity hold).
+    pub margin_target: Option<f64>,
+    /// The sum of the hand's normal contact forces on the object, N.
+    pub grip: f64,
+    /// The grip force asked for, N (a force hold).
+    pub force_target: Option<f64>,
+    /// How far the touching digits closed past their first contact, degrees of each synergy's
+    /// largest joint.
+    pub closing_deg: f64,
+    /// The digits that touch the object in the pose found.
+    pub digits_touching: Vec<String>,
+    /// Poses solved by FEM in the search.
+    pub trials: usize,
+    /// Each pose solved, in the order of the search: its closing past first contact
+    /// (degrees), grip (N) and margin.
+    pub search: Vec<GripTrial>,
+    /// Why the grip does not hold (when `held` is false).
+    pub reason: Option<String>,
+}
+
+/// One pose of a grasp's search.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct GripTrial {
+    /// Closing past first contact, degrees.
+    pub closing_deg: f64,
+    /// The sum of the normal forces on the object, N.
+    pub grip: f64,
+    /// The friction margin against its weight (0 for a force hold).
+    pub margin: f64,
+}
+
+/// A hand's grip on an object in a frame.
+#[derive(Clone, Debug)]
+pub struct Grip {
+    /// Its contacts, as the object feels them.
+    pub contacts: Vec<GripContact>,
+    /// The sum of their normal forces, N.
+    pub normal_force: f64,
+    /// The object's centre of mass where the frame leaves it, m.
+    pub centre: Vector3<f64>,
+}
+
+impl Grip {
+    /// The friction margin with which the grip holds the object against `load` (N).
+    pub fn margin(&self, load: &Vector3<f64>, size: f64) -> f64 {
+        hold_margin(&self.contacts, &self.centre, load, size).margin
+    }
+}
+
+/// Hand body `hand`'s grip on body `object` in `frame`, with the Coulomb friction of `model`
+/// between their materials.
+pub fn grip(model: &Model, frame: &Frame, hand: usize, object: usize) -> Grip {
+    let u = &frame.solution.displacement;
+    let at = |n: usize| model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+    let (hands, objects) = (&model.bodies[hand].nodes, &model.bodies[object].nodes);
+    let material = |b: usize| model.material_name(model.cell_material[model.bodies[b].cells.start]);
+    let friction = model.friction_between(material(hand), material(object));
+    let mut contacts = Vec::new();
+    if let Some(result) = &frame.contact {
+        for c in &result.contacts {
+            let on_object = |n: &usize| objects.contains(n);
+            let slave_is_object = c.terms[..c.slave_terms].iter().any(|t| on_object(&t.0));
+            let master_is_object = matches!(c.master, Master::Facet { body, .. } if body == object);
+            let touches_hand = c.terms.iter().any(|t| hands.contains(&t.0));
+            if !(touches_hand && (slave_is_object || master_is_object)) {
+                continue;
+            }
+            // The force on the slave is along the master's outward normal: on the object as
+            // the slave that pushes it in; on the object as the master, it feels the reverse.
+            let inward = if slave_is_object { c.normal } else { -c.normal };
+            let (mut point, mut weight) = (Vector3::zeros(), 0.0);
+            for &(n, w) in &c.terms {
+                if on_object(&n) {
+                    point += at(n) * w.abs();
+                    weight += w.abs();
+                }
+            }
+            if weight > 0.0 && c.force > 0.0 {
+                contacts.push(GripContact {
+                    point: point / weight,
+                    inward,
+                    normal_force: c.force,
+                    friction,
+                });
+            }
+        }
+    }
+    let normal_force = contacts.iter().map(|c| c.normal_force).sum();
+    Grip {
+        contacts,
+        normal_force,
+        centre: mass_centre(model, frame, object),
+    }
+}
+
+/// The centre of mass of body `b` where `frame` leaves it, m: its cells' centres where they are
+/// now, weighted by their mass at rest (a cell's volume from its eight corners' hexahedron).
+pub fn mass_centre(model: &Model, frame: &Frame, b: usize) -> Vector3<f64> {
+    let u = &frame.solution.displacement;
+    let (mut sum, mut mass) = (Vector3::zeros(), 0.0);
+    for c in model.bodies[b].cells.clone() {
+        let nodes = &model.mesh.cells[c];
+        let rest: Vec<Vector3<f64>> = nodes.iter().map(|&n| model.mesh.nodes[n]).collect();
+        let m = model.cell_materials[c].density * hexahedron_volume(&rest).abs();
+        let now = nodes
+            .iter()
+            .map(|&n| model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
+            .sum::<Vector3<f64>>()
+            / 8.0;
+        sum += now * m;
+        mass += m;
+    }
+    if mass > 0.0 {
+        sum / mass
+    } else {
+        model.bodies[b]
+            .nodes
+            .clone()
+            .map(|n| model.mesh.nodes[n])
+            .sum::<Vector3<f64>>()
+            / model.bodies[b].nodes.len().max(1) as f64
+    }
+}
+
+/// The volume of a hexahedron with corners `p` (VTK order), m³: six tetrahedra about the
+/// diagonal 0–6 (exact for planar faces, within a few per cent for warped ones).
+fn hexahedron_volume(p: &[Vector3<f64>]) -> f64 {
+    let tet =
+        |a: usize, b: usize, c: usize| (p[a] - p[0]).dot(&(p[b] - p[0]).cross(&(p[c] - p[0])));
+    let d = 6;
+    (tet(1, 2, d) + tet(2, 3, d) + tet(3, 7, d) + tet(7, 4, d) + tet(4, 5, d) + tet(5, 1, d)) / 6.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_unit_cube_has_unit_volume() {
+        let p: Vec<Vector3<f64>> = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [1., 0., 1.],
+            [1., 1., 1.],
+            [0., 1., 1.],
+        ]
+        .iter()
+        .map(|a| Vector3::from(*a) * 2.0)
+        .collect();
+        assert!((hexahedron_volume(&p) - 8.0).abs() < 1e-12);
+    }
+}

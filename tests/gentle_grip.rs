@@ -1,0 +1,182 @@
+//! The gentlest grip (issue 17): a grasp keyframe closes the hand on the ball by itself, along
+//! the power preshape's synergies, to the least closing that gives the grip asked for.
+//!
+//! The scene is the Power-grasp scene (`assets/scenes/hand-power-grasp.toml`: the default hand
+//! beside a pressurised rubber ball on a stand) with its keyframe replaced by a grasp.
+
+use prehensile::headless::solve_scene;
+use prehensile::model::Model;
+use prehensile::scene::Scene;
+use prehensile::state::GraspOutcome;
+use std::process::Command;
+
+/// The Power-grasp scene up to its keyframe, with `extra` appended to its `[solver]` table.
+fn base(extra: &str) -> String {
+    let s = include_str!("../assets/scenes/hand-power-grasp.toml");
+    let s = &s[..s.find("[[keyframe]]").unwrap()];
+    s.replace("[solver]\n", &format!("[solver]\n{extra}"))
+}
+
+fn with_grasp(extra: &str, grasp: &str) -> String {
+    format!(
+        "{}[[keyframe]]\ntime = 1.0\ngrasp = {{ {grasp} }}\n",
+        base(extra)
+    )
+}
+
+/// The grasp outcome of the last frame of `text`, solved as the command line does.
+fn outcome(text: &str) -> GraspOutcome {
+    let scene = Scene::parse(text, "grasp.toml").unwrap();
+    let solved = solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"));
+    let last = solved.frames.last().unwrap();
+    last.hands[0]
+        .grasp
+        .clone()
+        .expect("the grasp keyframe's frame carries its outcome")
+}
+
+/// A target grip of 5 N: the search brackets it by doubling the closing past first contact,
+/// then bisects to the least closing that presses the ball with at least 5 N — within 10 %
+/// (the hold tolerance), every pose closer than it pressing less.
+#[test]
+fn a_target_grip_is_reached_by_the_least_closing() {
+    let target = 5.0;
+    let g = outcome(&with_grasp(
+        "",
+        &format!("object = \"ball\", preshape = \"power\", force = {target}"),
+    ));
+    assert!(g.held, "{g:?}");
+    assert_eq!(g.reason, None);
+    assert!(
+        g.grip >= target && g.grip <= 1.1 * target,
+        "grip {} N against {target} N",
+        g.grip
+    );
+    // Every pose closed less than the one found pressed less than the target: it is the least.
+    for t in &g.search {
+        if t.closing_deg < g.closing_deg {
+            assert!(t.grip < target, "{t:?} held before the closing found");
+        }
+    }
+    // The grip grows with the closing (the search's premise), from nothing at first contact.
+    let mut sorted = g.search.clone();
+    sorted.sort_by(|a, b| a.closing_deg.total_cmp(&b.closing_deg));
+    assert!(
+        sorted[0].closing_deg == 0.0 && sorted[0].grip < 0.2 * target,
+        "{sorted:?}"
+    );
+    for w in sorted.windows(2) {
+        assert!(w[1].grip > w[0].grip, "{sorted:?}");
+    }
+    // Every digit of the power preshape reaches the ball along its synergy.
+    assert_eq!(
+        g.digits_touching,
+        ["thumb", "index", "middle", "ring", "little"]
+    );
+    assert_eq!(g.trials, g.search.len());
+    assert!(g.pose["index.pip"] > 10.0 && g.pose["index.pip"] < 100.0);
+}
+
+/// Without friction between skin and rubber no grip holds against gravity: held = false after
+/// the first contact, naming both materials and what to set (a result, not an error).
+#[test]
+fn a_frictionless_hold_is_not_held_and_says_why() {
+    let g = outcome(&with_grasp("", "object = \"ball\""));
+    assert!(!g.held);
+    assert_eq!(g.preshape, "power");
+    assert_eq!(g.margin_target, Some(1.5));
+    let reason = g.reason.expect("a reason");
+    for text in ["\"flesh\"", "\"rubber\"", "μ = 0", "[[friction]]"] {
+        assert!(reason.contains(text), "{text} not in {reason}");
+    }
+    assert_eq!(g.trials, 1, "one pose solved: the first contact");
+}
+
+/// The command line writes the outcome into report.json, exit 0.
+#[test]
+fn the_report_holds_the_grasp() {
+    let dir = std::env::temp_dir().join(format!("prehensile-grip-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("grasp.toml");
+    std::fs::write(&file, with_grasp("", "object = \"ball\", margin = 2")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .args(["solve", file.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/report.json")).unwrap())
+            .unwrap();
+    let grasp = &report["frames"][1]["hands"]["hand"]["grasp"];
+    assert_eq!(grasp["object"], "ball");
+    assert_eq!(grasp["held"], false);
+    assert_eq!(grasp["margin_target"], 2.0);
+    assert!(grasp["pose"]["thumb.cmc.abd"].as_f64().unwrap() >= 35.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A grasp asked wrongly is refused naming the field.
+#[test]
+fn a_malformed_grasp_is_refused_naming_the_field() {
+    let cases = [
+        (
+            "object = \"bowl\"",
+            "keyframe[0].grasp.object",
+            "no body named \"bowl\"",
+        ),
+        ("object = \"hand\"", "keyframe[0].grasp.object", "is a hand"),
+        (
+            "object = \"ball\", preshape = \"fist\"",
+            "keyframe[0].grasp.preshape",
+            "unknown preshape",
+        ),
+        (
+            "object = \"ball\", hold = \"gravity\", force = 3",
+            "keyframe[0].grasp.force",
+            "not both",
+        ),
+        (
+            "object = \"ball\", hold = \"lift\"",
+            "keyframe[0].grasp.hold",
+            "unknown hold",
+        ),
+        (
+            "object = \"ball\", force = -1",
+            "keyframe[0].grasp.force",
+            "above 0 N",
+        ),
+        (
+            "object = \"ball\", margin = 0.5",
+            "keyframe[0].grasp.margin",
+            "from 1 to 100",
+        ),
+        (
+            "object = \"ball\", preshape = { \"index.pip\" = 500 }",
+            "keyframe[0].grasp.preshape",
+            "index.pip",
+        ),
+    ];
+    for (grasp, field, text) in cases {
+        let scene = Scene::parse(&with_grasp("", grasp), "grasp.toml").unwrap();
+        let e = Model::build(&scene, "grasp.toml")
+            .expect_err(grasp)
+            .to_string();
+        assert!(e.contains(field) && e.contains(text), "{grasp}: {e}");
+    }
+    // Without gravity a gravity hold has nothing to hold against.
+    let text = with_grasp("", "object = \"ball\"").replace("gravity = [0.0, 0.0, -9.81]", "");
+    let scene = Scene::parse(&text, "grasp.toml").unwrap();
+    let e = Model::build(&scene, "grasp.toml")
+        .expect_err("no gravity")
+        .to_string();
+    assert!(
+        e.contains("keyframe[0].grasp.hold") && e.contains("[world] gravity"),
+        "{e}"
+    );
+}
