@@ -77,6 +77,28 @@ fn a_target_grip_is_reached_by_the_least_closing() {
     assert!(g.pose["index.pip"] > 10.0 && g.pose["index.pip"] < 100.0);
 }
 
+/// A grip the synergies cannot give (150 N: frictionless, the fingers slide round the ball past
+/// about 18 N) is a result, not an error: held = false, the firmest grip found shown and the
+/// force it misses named.
+#[test]
+fn an_unreachable_grip_shows_the_firmest_and_names_what_is_missing() {
+    let target = 150.0;
+    let g = outcome(&with_grasp(
+        "",
+        &format!("object = \"ball\", force = {target}"),
+    ));
+    assert!(!g.held);
+    let firmest = g.search.iter().map(|t| t.grip).fold(0.0, f64::max);
+    assert_eq!(
+        g.grip, firmest,
+        "the frame shown is the firmest grip of the search"
+    );
+    assert!(firmest < target);
+    let reason = g.reason.expect("a reason");
+    let short = format!("{:.2} N short of the {target} N asked", target - firmest);
+    assert!(reason.contains(&short), "{short} not in {reason}");
+}
+
 /// Without friction between skin and rubber no grip holds against gravity: held = false after
 /// the first contact, naming both materials and what to set (a result, not an error).
 #[test]

@@ -205,6 +205,11 @@ impl Workspace {
             }
         }
         // Bracket: double θ until the grip holds.
+        let measure = |t: &Trial| match grasp.hold {
+            HoldTarget::Gravity { .. } => t.margin,
+            HoldTarget::Force(_) => t.grip,
+        };
+        let mut best = lo.clone();
         let mut hi: Option<Trial> = None;
         let mut stop: Option<String> = None;
         let mut theta = FIRST_THETA;
@@ -215,9 +220,8 @@ impl Workspace {
             if lo.theta >= theta_max {
                 stop = Some(format!(
                     "the digits closed to the end of their synergies ({:.1}° past first contact) \
-                     without holding it{}",
+                     without holding it",
                     lo.theta,
-                    why_not(model, grasp, body, &lo)
                 ));
                 break;
             }
@@ -229,11 +233,14 @@ impl Workspace {
             match solve(self, &lo.posed, next) {
                 Ok(t) => {
                     if let Some(o) = overloaded(&t) {
+                        // Past a bone's threshold: the grip shown is the last within them.
                         stop = Some(overload_reason(&o, grasp, &t));
-                        lo = t;
                     } else if holds(&t) {
                         hi = Some(t);
                     } else {
+                        if measure(&t) > measure(&best) {
+                            best = t.clone();
+                        }
                         lo = t;
                     }
                 }
@@ -247,11 +254,13 @@ impl Workspace {
             theta *= 2.0;
         }
         let Some(mut hi) = hi else {
+            // Not held: the firmest grip found within the bones' thresholds, and why.
+            let stop = stop.map(|s| format!("{s}; {}", firmest(model, grasp, body, &best)));
             return Ok(self.finish(
                 model,
                 posed,
                 grasp,
-                lo,
+                best,
                 &touching,
                 (count.get(), search.take()),
                 stop,
@@ -503,28 +512,40 @@ fn first_contact(
     None
 }
 
-/// What keeps a gravity hold short at `t`, in words (empty otherwise): the grip's normal forces
-/// do not balance among themselves, so friction must take their resultant as well as the
-/// weight — however hard the digits press, the margin stays where their geometry puts it.
-fn why_not(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String {
-    let HoldTarget::Gravity { weight } = grasp.hold else {
-        return String::new();
+/// The firmest grip found, `t`, in words: how far it is from what was asked, and for a gravity
+/// hold what keeps it short — the grip's normal forces do not balance among themselves, so
+/// friction must take their resultant as well as the weight: however hard the digits press,
+/// the margin stays where their geometry puts it.
+fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String {
+    let weight = match grasp.hold {
+        HoldTarget::Force(f) => {
+            return format!(
+                "the firmest grip found (shown), {:.2} N at {:.1}° past first contact, is {:.2} N \
+                 short of the {f} N asked",
+                t.grip,
+                t.theta,
+                (f - t.grip).max(0.0)
+            )
+        }
+        HoldTarget::Gravity { weight } => weight,
     };
     let g = grip(model, &t.frame, body, grasp.object);
     let resultant: Vector3<f64> = g.contacts.iter().map(|c| c.inward * c.normal_force).sum();
+    let found = format!(
+        "the best grip found (shown), {:.2} N at {:.1}° past first contact, holds with a margin \
+         of {:.2} against the {:.2} asked",
+        t.grip, t.theta, t.margin, grasp.margin
+    );
     if resultant.norm() > weight.norm() {
         format!(
-            " (margin {:.2} of {:.2}: the digits' normal forces, {:.2} N in all, leave {:.2} N \
-             unbalanced, pushing the object against what supports it, and friction would have \
-             to take that as well as its {:.2} N weight; place the object between opposing \
-             digits, the thumb against the fingers)",
-            t.margin,
-            grasp.margin,
-            g.normal_force,
+            "{found}: the digits' normal forces leave {:.2} N unbalanced, pushing the object \
+             against what supports it, and friction would have to take that as well as its \
+             {:.2} N weight; place the object between opposing digits, the thumb against the \
+             fingers",
             resultant.norm(),
             weight.norm()
         )
     } else {
-        format!(" (margin {:.2} of {:.2})", t.margin, grasp.margin)
+        found
     }
 }
