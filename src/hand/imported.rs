@@ -129,6 +129,17 @@ const WRIST_TO_MIDDLE_MCP: f64 = 0.0974;
 impl HandModel {
     /// The hand of `side` whose skin and joints are `rig`, meshed at `resolution`.
     pub fn from_rig(side: Side, rig: &RiggedHand, resolution: f64) -> Result<HandModel, RigError> {
+        HandModel::from_rig_within(side, rig, resolution, None)
+    }
+
+    /// [`HandModel::from_rig`] refused when meshing it would take more than `max_memory` bytes
+    /// (or what the machine has free).
+    pub fn from_rig_within(
+        side: Side,
+        rig: &RiggedHand,
+        resolution: f64,
+        max_memory: Option<u64>,
+    ) -> Result<HandModel, RigError> {
         let missing: Vec<String> = joint_keys()
             .into_iter()
             .filter(|k| required(k) && !rig.joints.contains_key(k))
@@ -192,7 +203,12 @@ impl HandModel {
             thumb_pronation_deg: THUMB.pronation_deg,
         };
         let skeleton = Skeleton::from_joints(side, &joints);
-        let hand = HandModel::build(skeleton, SkinShape::Mesh(Box::new(skin)), resolution)?;
+        let hand = HandModel::build(
+            skeleton,
+            SkinShape::Mesh(Box::new(skin)),
+            resolution,
+            max_memory,
+        )?;
         Ok(hand.placed(&frame))
     }
 

@@ -107,21 +107,99 @@ pub enum MeshingError {
     /// Bad resolution.
     #[error("resolution must be a number between 0.5 and 4, got {0}")]
     Resolution(f64),
+    /// The lattice would not fit the memory a solve may take.
+    #[error(
+        "meshing the hand at resolution {resolution} takes a lattice of {points} points, about \
+         {needed} of memory, but {available} is free ({limit}): {advice}"
+    )]
+    TooLarge {
+        /// The resolution asked for.
+        resolution: f64,
+        /// Lattice points.
+        points: u64,
+        /// Memory the meshing needs, in words.
+        needed: String,
+        /// Memory available, in words.
+        available: String,
+        /// What limits it.
+        limit: String,
+        /// What to do: the largest resolution that fits, or what frees memory.
+        advice: String,
+    },
+}
+
+/// Memory the meshing takes per lattice point, bytes (measured on an imported hand at twice
+/// the built-in hand's size, the whole model's build: 0.44 M lattice points peaked at 0.58 GB,
+/// 3.44 M at 3.0 GB — 875 B a point, 810 B for each point more; a sixth kept in hand).
+pub const LATTICE_BYTES: u64 = 1000;
+
+/// Refuses to mesh the hand of `skeleton` in `skin` at `resolution` when its lattice would take
+/// more memory than a solve may (`max_memory`, `[solver] max_memory`; the machine's free memory
+/// and the address space left otherwise): an error naming the resolution that fits, instead of
+/// the allocator aborting the process.
+pub fn check_memory(
+    skeleton: &Skeleton,
+    skin: &SkinShape,
+    resolution: f64,
+    max_memory: Option<u64>,
+) -> Result<(), MeshingError> {
+    if !(0.5..=4.0).contains(&resolution) {
+        return Err(MeshingError::Resolution(resolution));
+    }
+    let Some((available, limit)) = crate::fem::memory::budget_with(max_memory) else {
+        return Ok(());
+    };
+    let points = |r: f64| {
+        let [xs, ys, zs] = lattice_axes(skeleton, skin, r);
+        (xs.len() as u64)
+            .saturating_mul(ys.len() as u64)
+            .saturating_mul(zs.len() as u64)
+    };
+    let fits = |r: f64| points(r).saturating_mul(LATTICE_BYTES) <= available;
+    let asked = points(resolution);
+    if fits(resolution) {
+        return Ok(());
+    }
+    // The largest resolution (to a hundredth, rounded down) whose lattice fits: the lattice
+    // grows about as the resolution's cube, but its grading and rounding make it step.
+    let (mut lo, mut hi) = (0.5, resolution);
+    for _ in 0..20 {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let mut advised = (lo * 100.0).floor() / 100.0;
+    while advised > 0.5 && !fits(advised) {
+        advised -= 0.01;
+    }
+    use crate::fem::memory::human;
+    Err(MeshingError::TooLarge {
+        resolution,
+        points: asked,
+        needed: human(asked.saturating_mul(LATTICE_BYTES)),
+        available: human(available),
+        limit: limit.to_string(),
+        advice: if fits(advised) {
+            format!(
+                "use a resolution of at most {advised:.2}, or {}",
+                limit.remedy()
+            )
+        } else {
+            format!("no resolution from 0.5 fits: {}", limit.remedy())
+        },
+    })
 }
 
 /// Base lattice spacing at resolution 1, m.
 pub const BASE_SPACING: f64 = 0.0032;
 
-/// Meshes the flesh of the hand of `skeleton` (rest pose); `resolution` scales the number of
-/// cells per unit length (1 = 3.2 mm base spacing, 1.6 mm on the pads).
-pub fn mesh_flesh(
-    skeleton: &Skeleton,
-    skin: &SkinShape,
-    resolution: f64,
-) -> Result<FleshMesh, MeshingError> {
-    if !(0.5..=4.0).contains(&resolution) {
-        return Err(MeshingError::Resolution(resolution));
-    }
+/// The lattice's coordinates along x, y and z for the hand of `skeleton` in `skin` at
+/// `resolution`: spacing `BASE_SPACING / resolution`, halved over the finger-tip pads and the
+/// thumb's distal phalanx.
+fn lattice_axes(skeleton: &Skeleton, skin: &SkinShape, resolution: f64) -> [Vec<f64>; 3] {
     let h = BASE_SPACING / resolution;
     let (lo, hi) = skin.bounds();
     // Fine windows: the finger-tip pads (distal phalanges) and the thumb's distal phalanx.
@@ -150,6 +228,21 @@ pub fn mesh_flesh(
     };
     let xs = graded(lo.x, hi.x, h, &[(dip_x - 0.004, hi.x + 1.0)]);
     let zs = graded(lo.z, hi.z, h, &[]);
+    [xs, ys, zs]
+}
+
+/// Meshes the flesh of the hand of `skeleton` (rest pose); `resolution` scales the number of
+/// cells per unit length (1 = 3.2 mm base spacing, 1.6 mm on the pads).
+pub fn mesh_flesh(
+    skeleton: &Skeleton,
+    skin: &SkinShape,
+    resolution: f64,
+) -> Result<FleshMesh, MeshingError> {
+    if !(0.5..=4.0).contains(&resolution) {
+        return Err(MeshingError::Resolution(resolution));
+    }
+    let h = BASE_SPACING / resolution;
+    let [xs, ys, zs] = lattice_axes(skeleton, skin, resolution);
     let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, zs.len() - 1);
     let cell_id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
     let point = |i: usize, j: usize, k: usize| Vector3::new(xs[i], ys[j], zs[k]);

@@ -36,16 +36,34 @@ pub struct HandModel {
 impl HandModel {
     /// Builds the hand of the given side at `resolution` (1 = default).
     pub fn new(side: Side, resolution: f64) -> Result<HandModel, MeshingError> {
-        HandModel::build(Skeleton::new(side), SkinShape::new(side), resolution)
+        HandModel::new_within(side, resolution, None)
+    }
+
+    /// [`HandModel::new`] refused when meshing it would take more than `max_memory` bytes (or
+    /// what the machine has free: [`super::lattice::check_memory`]).
+    pub fn new_within(
+        side: Side,
+        resolution: f64,
+        max_memory: Option<u64>,
+    ) -> Result<HandModel, MeshingError> {
+        HandModel::build(
+            Skeleton::new(side),
+            SkinShape::new(side),
+            resolution,
+            max_memory,
+        )
     }
 
     /// The hand of `skeleton` inside the skin `shape` (both in the hand's frame), meshed at
-    /// `resolution`.
+    /// `resolution`, refused when meshing it would take more than `max_memory` bytes (or what
+    /// the machine has free).
     pub fn build(
         skeleton: Skeleton,
         shape: SkinShape,
         resolution: f64,
+        max_memory: Option<u64>,
     ) -> Result<HandModel, MeshingError> {
+        super::lattice::check_memory(&skeleton, &shape, resolution, max_memory)?;
         let flesh = mesh_flesh(&skeleton, &shape, resolution)?;
         let embedded = |levels| {
             DisplaySkin::embedded(

@@ -55,7 +55,7 @@ pub fn bodies(
                 gltf: None,
                 ..
             } => Some(Arc::new(
-                HandModel::new((*side).into(), *resolution)
+                HandModel::new_within((*side).into(), *resolution, memory.0)
                     .map_err(|e| (format!("{field}.shape.hand"), e.to_string()))?,
             )),
             Shape::Hand {
@@ -74,7 +74,7 @@ pub fn bodies(
                 )
                 .map_err(|e| (field.clone(), e))?;
                 Some(Arc::new(
-                    HandModel::from_rig((*side).into(), &rig, *resolution)
+                    HandModel::from_rig_within((*side).into(), &rig, *resolution, memory.0)
                         .map_err(|e| (field, format!("\"{file}\": {e}")))?,
                 ))
             }
