@@ -191,6 +191,19 @@ fn a_malformed_grasp_is_refused_naming_the_field() {
             .to_string();
         assert!(e.contains(field) && e.contains(text), "{grasp}: {e}");
     }
+    // The hold's weight is the object's: its mass (built from its cells) under the scene's g.
+    let scene = Scene::parse(&with_grasp("", "object = \"ball\""), "grasp.toml").unwrap();
+    let model = Model::build(&scene, "grasp.toml").unwrap();
+    let grasp = model.keyframes[0].grasp.as_deref().unwrap();
+    let prehensile::model::HoldTarget::Gravity { weight } = grasp.hold else {
+        panic!("a gravity hold by default")
+    };
+    assert!(model.bodies[1].mass > 0.05);
+    assert!(
+        (weight - model.gravity_total).norm() < 1e-12 * weight.norm(),
+        "{weight} {}",
+        model.gravity_total
+    );
     // Without gravity a gravity hold has nothing to hold against.
     let text = with_grasp("", "object = \"ball\"").replace("gravity = [0.0, 0.0, -9.81]", "");
     let scene = Scene::parse(&text, "grasp.toml").unwrap();

@@ -61,6 +61,8 @@ impl Model {
             bodies[b].floating = true;
         }
         let mut flexion = flexion_settings(&scene.solver).map_err(err)?;
+        // The masses before the keyframes: a grasp holds its object's weight.
+        set_masses(&mut bodies, &mesh, &cell_materials);
         let keyframes = keyframes(scene, &bodies).map_err(err)?;
         let cameras = cameras(scene).map_err(err)?;
 
@@ -91,7 +93,6 @@ impl Model {
         let friction = friction_table(scene).map_err(err)?;
         let node_cell = node_cells(&mesh);
         let ordering = ordering(&scene.solver);
-        set_masses(&mut bodies, &mesh, &cell_materials);
         let element: ElementKind = scene.solver.element.unwrap_or_default().into();
         let input_warnings = input_warnings(
             scene,
