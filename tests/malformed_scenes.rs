@@ -74,6 +74,7 @@ fn gives_advice(stderr: &str) -> bool {
         "name the one",
         " set ",
         "raise ",
+        "keep keyframe times",
     ]
     .iter()
     .any(|a| stderr.contains(a))

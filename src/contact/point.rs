@@ -332,9 +332,10 @@ pub enum ContactError {
     },
     /// A body is held by nothing: after contact it still moves rigidly.
     #[error(
-        "body \"{body}\" is not held: {held:.1} % of the forces on it are carried by nothing \
+        "body \"{body}\" is not held: {} % of the forces on it are carried by nothing \
          (it {motion}); {place}give it supports (a [[constraint]]) (in a scene without hands, \
-         contact with obstacles is frictionless: they hold a body only along their normals)"
+         contact with obstacles is frictionless: they hold a body only along their normals)",
+        crate::util::readable(*.held)
     )]
     NotHeld {
         /// The body.

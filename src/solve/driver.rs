@@ -941,6 +941,7 @@ fn beyond_small_strain(model: &Model, still: &Frame, obstacles: bool, error: Sim
     let advice = super::error::stiffer_materials(model, b, factor);
     SimError::BeyondSmallStrain {
         body: model.bodies[b].name.clone(),
+        hands: model.bodies.iter().any(|b| b.hand.is_some()),
         strain,
         factor,
         advice,

@@ -149,16 +149,20 @@ pub enum SimError {
     /// A keyframe failed on a scene whose static frame already strains a body far beyond
     /// small-strain elasticity (`state::STRAIN_WARNING`): that is the cause to mend first.
     #[error(
-        "body \"{body}\" strains {:.0} % under its own loads (the static frame, before any \
-         hand moves): far outside small-strain elasticity, whose displacements grow as 1/E without \
-         bound, so the grasp cannot be solved on it ({cause}). Make the body stiffer — {advice} — \
-         or its loads {}× smaller",
+        "body \"{body}\" strains {:.0} % under its own loads (the static frame{}): far outside \
+         small-strain elasticity, whose displacements grow as 1/E without bound, so {} cannot be \
+         solved on it ({}). Make the body stiffer — {advice} — or its loads {}× smaller",
         strain * 100.0,
+        if *hands { ", before any hand moves" } else { "" },
+        if *hands { "the grasp" } else { "the scene" },
+        brief(cause),
         times(*factor)
     )]
     BeyondSmallStrain {
         /// The body.
         body: String,
+        /// Whether the scene has hands (the words of the message).
+        hands: bool,
         /// Its largest principal strain in the static frame.
         strain: f64,
         /// The factor by which its Young's moduli must grow (or its loads shrink) for the
@@ -417,6 +421,32 @@ pub(crate) fn stiffer_materials(model: &Model, b: usize, factor: f64) -> String 
 /// What a contact step of the paper's iteration met, without the advice its own message gives
 /// (raise the iterations): for the paper's iteration the advice that
 /// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
+/// What went wrong in `cause`, without the advice it gives for a cause of its own: where the
+/// static frame's strain is the cause to mend, a runaway body is not one to "give supports"
+/// (it has them: the strain tore it off them).
+fn brief(cause: &SimError) -> String {
+    match cause {
+        SimError::Contact(ContactError::Runaway {
+            node,
+            distance,
+            contacts,
+            slipping,
+        }) => format!(
+            "contact cannot hold the bodies: node {node} would move {distance:.3e} m ({contacts} \
+             contacts, {slipping} slipping)"
+        ),
+        SimError::Contact(ContactError::NotHeld {
+            body, held, motion, ..
+        }) => format!(
+            "body \"{body}\" is not held: {} % of the forces on it are carried by nothing (it \
+             {motion})",
+            crate::util::readable(*held)
+        ),
+        SimError::Contact(c) => what_failed(c),
+        other => other.to_string(),
+    }
+}
+
 pub(crate) fn what_failed(cause: &ContactError) -> String {
     match cause {
         ContactError::NotConverged {
