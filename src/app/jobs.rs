@@ -38,6 +38,16 @@ pub enum Target {
         /// The frame to start from (its hands' states), if not the solver's current one.
         start: Option<Arc<Frame>>,
     },
+    /// Hand `body` closes on an object by itself (the gentlest grip: `solve::Workspace::
+    /// close_grip`) from the pose the solver holds (or from `start`).
+    Grasp {
+        /// The hand body.
+        body: usize,
+        /// What to grasp, from which preshape, holding how.
+        grasp: crate::scene::GraspDef,
+        /// The frame to start from (its hands' states), if not the solver's current one.
+        start: Option<Arc<Frame>>,
+    },
     /// Timeline frames `first..first + poses.len()`, in order, from `start` (the pose of frame
     /// `first - 1` as cached, or rest when `None`); one result per frame.
     Timeline {

@@ -100,6 +100,52 @@ impl Physics {
         }
     }
 
+    /// The gentlest grip of hand `body` on the object `grasp` names, from the pose the solver
+    /// holds (or `start`'s).
+    fn grasp(
+        &mut self,
+        job: &Job,
+        body: usize,
+        grasp: &crate::scene::GraspDef,
+        start: Option<&Arc<Frame>>,
+        cancel: &Cancel,
+    ) -> Result<Solution, Failure> {
+        let started = Instant::now();
+        let model = self.ensure_model(job)?;
+        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
+        if let Some(start) = start {
+            self.hands = Posed::of_frame(&model, start);
+        }
+        let from = self
+            .hands
+            .hands
+            .iter()
+            .find(|h| h.body == body)
+            .map(|h| h.state.angles.clone())
+            .ok_or_else(|| error(format!("body {body} is not a hand of the scene")))?;
+        let key = crate::model::grasp_keyframe(&model, body, &from, grasp).map_err(error)?;
+        let workspace = self.workspace.as_mut().expect("built with the model");
+        self.dirty = true;
+        let result = workspace.close_grip(&model, &mut self.hands, &key, Some(&stale(cancel)));
+        self.dirty = false;
+        match result {
+            Ok(frame) => {
+                self.last_good = self.hands.clone();
+                let solution = deliver(job, &model, frame, started, None, false)?;
+                self.last_frame = Some(solution.frame.clone());
+                Ok(solution)
+            }
+            Err(SimError::Cancelled) => {
+                self.hands = self.last_good.clone();
+                Err(Failure::Cancelled)
+            }
+            Err(e) => {
+                self.hands = self.last_good.clone();
+                Err(error(e))
+            }
+        }
+    }
+
     fn timeline(
         &mut self,
         job: &Job,
@@ -194,6 +240,10 @@ impl Solve for Physics {
         match &job.target {
             Target::Pose { pose, start } => {
                 let solved = self.pose(job, pose, start.as_ref(), cancel, emit);
+                emit(solved);
+            }
+            Target::Grasp { body, grasp, start } => {
+                let solved = self.grasp(job, *body, grasp, start.as_ref(), cancel);
                 emit(solved);
             }
             Target::Timeline {

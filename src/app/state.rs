@@ -68,6 +68,50 @@ pub struct Status {
     pub cancelled: usize,
     /// A short message (saved, exported, ...).
     pub message: Option<String>,
+    /// What the last grasp found (the gentlest grip), in words.
+    pub grasp: Option<String>,
+}
+
+/// The Grasp row of the Joints panel: what the hand closes on, from which preshape, how firmly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraspParams {
+    /// The body grasped (a body that is not a hand).
+    pub object: String,
+    /// `"power"`, `"pinch"` or `"tripod"`.
+    pub preshape: String,
+    /// `None`: hold against gravity with `margin`; `Some(N)`: press with that grip force.
+    pub force: Option<f64>,
+    /// Safety factor on the friction a gravity hold needs.
+    pub margin: f64,
+}
+
+impl GraspParams {
+    /// The first object of `scene`, the power preshape, a gravity hold with the default margin.
+    pub fn from_scene(scene: &Scene) -> Self {
+        let object = scene
+            .body
+            .iter()
+            .find(|b| !matches!(b.shape, crate::scene::Shape::Hand { .. }))
+            .map(|b| b.name.clone())
+            .unwrap_or_default();
+        GraspParams {
+            object,
+            preshape: "power".into(),
+            force: None,
+            margin: crate::model::DEFAULT_MARGIN,
+        }
+    }
+
+    /// As a scene's grasp.
+    pub fn def(&self) -> crate::scene::GraspDef {
+        crate::scene::GraspDef {
+            object: self.object.clone(),
+            preshape: Some(crate::scene::PreshapeDef::Named(self.preshape.clone())),
+            hold: None,
+            force: self.force,
+            margin: self.force.is_none().then_some(self.margin),
+        }
+    }
 }
 
 /// Everything the window shows and edits.
@@ -86,6 +130,8 @@ pub struct ViewerState {
     pub pose: Pose,
     /// The ball of the Object panel, if the scene has one.
     pub ball: Option<BallParams>,
+    /// The Grasp row of the Joints panel.
+    pub grasp: GraspParams,
     /// The Solver panel.
     pub solver: SolverParams,
     /// The Display panel.
@@ -118,6 +164,8 @@ pub struct ViewerState {
     redraw_asked: Option<(u64, VisualOptions)>,
     /// Set by the panels during a frame, acted on at its end.
     pub(crate) pose_changed: bool,
+    /// The Grasp button was pressed: a grasp job goes out at the end of the frame.
+    pub(crate) grasp_asked: bool,
     pub(crate) scene_changed: bool,
     pub(crate) range_changed: bool,
 }
@@ -131,6 +179,7 @@ impl ViewerState {
         let pose = timeline.keys[0].pose.clone();
         Ok(ViewerState {
             ball: BallParams::from_scene(&scene),
+            grasp: GraspParams::from_scene(&scene),
             solver: SolverParams::from_scene(&scene),
             display: DisplayParams::default(),
             scene_name: name.to_string(),
@@ -158,6 +207,7 @@ impl ViewerState {
             timeline_failed: false,
             redraw_asked: None,
             pose_changed: true,
+            grasp_asked: false,
             scene_changed: false,
             range_changed: false,
         })
@@ -171,6 +221,7 @@ impl ViewerState {
         self.timeline = timeline;
         self.hands = hands;
         self.ball = BallParams::from_scene(&scene);
+        self.grasp = GraspParams::from_scene(&scene);
         self.solver = SolverParams::from_scene(&scene);
         self.scene = scene;
         self.scene_name = name.to_string();
@@ -195,7 +246,9 @@ impl ViewerState {
 
     /// `true` while a job whose result would replace the shown frame is outstanding.
     pub fn computing(&self) -> bool {
-        self.pose_changed || self.pose_version.is_some_and(|v| self.in_flight == Some(v))
+        self.pose_changed
+            || self.grasp_asked
+            || self.pose_version.is_some_and(|v| self.in_flight == Some(v))
     }
 
     /// The version of the newest job submitted (0 before any).
@@ -243,6 +296,20 @@ impl ViewerState {
             let range = self.current_range();
             if let Some(view) = &mut self.view {
                 view.set_range(range);
+            }
+        }
+        if self.grasp_asked && !self.pose_changed {
+            self.grasp_asked = false;
+            if let Some(hand) = self.hands.first() {
+                let start = self.start_frame();
+                let v = self.submit(Target::Grasp {
+                    body: hand.body,
+                    grasp: self.grasp.def(),
+                    start,
+                });
+                self.pose_version = Some(v);
+                self.status.grasp = Some(CLOSING.into());
+                return;
             }
         }
         if self.pose_changed {
@@ -346,6 +413,9 @@ impl ViewerState {
         let newest_pose = self.pose_version == Some(r.version);
         let timeline = self.timeline_job == Some(r.version);
         let failed = matches!(r.outcome, Err(Failure::Error(_) | Failure::Panic(_)));
+        if newest_pose && r.outcome.is_err() && self.status.grasp.as_deref() == Some(CLOSING) {
+            self.status.grasp = None;
+        }
         if failed && newest_pose && self.showing_preview() {
             // The pose a preview showed failed: the last solved frame goes back on screen.
             self.shown = self.last_solved.clone();
@@ -368,6 +438,17 @@ impl ViewerState {
                     }
                 } else if newest_pose {
                     self.status.error = None;
+                    // A grasp found its pose: the sliders go there.
+                    for h in &solution.frame.hands {
+                        if let Some(g) = &h.grasp {
+                            if let Some((_, angles)) =
+                                self.pose.iter_mut().find(|(b, _)| *b == h.body)
+                            {
+                                angles.clone_from(&h.angles);
+                            }
+                            self.status.grasp = Some(grasp_summary(g));
+                        }
+                    }
                     self.show(r.version, solution, Source::Interactive);
                 } else {
                     self.status.discarded += 1;
@@ -450,4 +531,29 @@ impl ViewerState {
     pub fn scene_file(&self) -> PathBuf {
         PathBuf::from(&self.scene_path)
     }
+}
+
+/// The status line while a grasp is solved.
+const CLOSING: &str = "closing the hand…";
+
+/// What a grasp found, in a line of the status panel.
+fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
+    let how = match (g.force_target, g.margin_target) {
+        (Some(f), _) => format!("grip {:.2} N of {f} N asked", g.grip),
+        (None, Some(m)) => format!(
+            "grip {:.2} N, friction margin {:.2} of {m}",
+            g.grip, g.margin
+        ),
+        (None, None) => format!("grip {:.2} N", g.grip),
+    };
+    let head = if g.held { "held" } else { "not held" };
+    let mut line = format!(
+        "{head} \"{}\" ({}): {how}, {:.1}° past first contact, {} poses solved",
+        g.object, g.preshape, g.closing_deg, g.trials
+    );
+    if let Some(r) = &g.reason {
+        line.push_str(" — ");
+        line.push_str(r);
+    }
+    line
 }

@@ -18,6 +18,7 @@ use crate::fem::assembly::StiffnessPattern;
 use crate::fem::ElementKind;
 use crate::fem::{DofPartition, Material};
 use crate::scene::{Scene, SceneError};
+use nalgebra::Vector3;
 use std::sync::Arc;
 
 impl Model {
@@ -114,6 +115,7 @@ impl Model {
             loads,
             gas,
             gravity_total,
+            gravity: scene.world.gravity.map(Vector3::from),
             probes,
             partition: DofPartition::new(mask),
             prescribed,

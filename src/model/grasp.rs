@@ -194,3 +194,35 @@ pub fn grasp(
         margin,
     })
 }
+
+/// A grasp asked for at run time (the viewer's Grasp button): the keyframe that closes hand
+/// body `body` of `model`, from its angles `from`, as `def` asks. Errors name the field of
+/// `def` at fault.
+pub fn grasp_keyframe(
+    model: &super::Model,
+    body: usize,
+    from: &[f64],
+    def: &GraspDef,
+) -> Result<super::KeyframeModel, String> {
+    let hand = model.bodies[body]
+        .hand
+        .as_deref()
+        .ok_or_else(|| format!("body \"{}\" is not a hand", model.bodies[body].name))?;
+    let mut angles = from.to_vec();
+    let grasp = grasp(
+        def,
+        &crate::hand::Pose::new(),
+        "grasp",
+        &model.bodies,
+        model.gravity.map(|g| [g.x, g.y, g.z]),
+        &hand.skeleton,
+        &mut angles,
+    )
+    .map_err(|(field, message)| format!("{field}: {message}"))?;
+    Ok(super::KeyframeModel {
+        time: 0.0,
+        body,
+        angles,
+        grasp: Some(Box::new(grasp)),
+    })
+}

@@ -28,7 +28,7 @@ mod tier;
 
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 pub use gas::{GasCavity, STANDARD_AMBIENT};
-pub use grasp::{ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};
+pub use grasp::{grasp_keyframe, ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};
 pub use refinement::DEFAULT_SIZE_OF_RADIUS;
 pub use tier::{Tier, STEP_WARNING_DEG};
 
@@ -169,6 +169,8 @@ pub struct Model {
     pub gas: Option<GasCavity>,
     /// Total gravity force, N.
     pub gravity_total: Vector3<f64>,
+    /// The gravitational acceleration (`[world] gravity`), m/s².
+    pub gravity: Option<Vector3<f64>>,
     /// Probes.
     pub probes: Vec<ProbeModel>,
     /// Which dofs are prescribed.

@@ -23,6 +23,9 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     if let Some(e) = &state.status.error {
         ui.label(RichText::new(format!("solver failed: {e}")).color(Color32::LIGHT_RED));
     }
+    if let Some(g) = &state.status.grasp {
+        ui.label(format!("grasp: {g}"));
+    }
     let Some(shown) = &state.shown else {
         ui.label("no frame yet");
         return;
