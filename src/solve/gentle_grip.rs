@@ -443,7 +443,9 @@ fn first_contact(
     let skeleton = &hand.skeleton;
     let skin = &hand.contact_skin;
     let rest = &hand.flesh.mesh.nodes;
-    // The digit's skin points: those whose heaviest node follows a bone of the digit most.
+    // The digit's skin points: those whose heaviest node follows a phalanx of the digit most
+    // (not its metacarpal: a finger's is in the palm, the thumb's under the thenar eminence,
+    // which lie on the object before the digit closes at all).
     let bone_of = |n: usize| {
         hand.weights.weights[n]
             .iter()
@@ -458,7 +460,10 @@ fn first_contact(
                 .map(|t| t.0);
             heaviest
                 .and_then(bone_of)
-                .is_some_and(|b| skeleton.bones[b].digit == Some(digit))
+                .is_some_and(|b| {
+                    let bone = &skeleton.bones[b];
+                    bone.digit == Some(digit) && !bone.name.ends_with(".metacarpal")
+                })
         })
         .collect();
     if points.is_empty() {
