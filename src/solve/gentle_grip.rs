@@ -458,12 +458,10 @@ fn first_contact(
                 .terms(v)
                 .max_by(|a, b| a.1.total_cmp(&b.1))
                 .map(|t| t.0);
-            heaviest
-                .and_then(bone_of)
-                .is_some_and(|b| {
-                    let bone = &skeleton.bones[b];
-                    bone.digit == Some(digit) && !bone.name.ends_with(".metacarpal")
-                })
+            heaviest.and_then(bone_of).is_some_and(|b| {
+                let bone = &skeleton.bones[b];
+                bone.digit == Some(digit) && !bone.name.ends_with(".metacarpal")
+            })
         })
         .collect();
     if points.is_empty() {
