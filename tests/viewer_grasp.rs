@@ -62,10 +62,6 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     // whole degrees (which re-solved the hand at another pose and lost the grasp).
     assert_eq!(s.pose[0].1, frame.hands[0].angles);
     assert!(s.pose[0].1.iter().any(|a| a.fract() != 0.0));
-    assert_eq!(
-        g.pose.values().copied().collect::<Vec<_>>().len(),
-        frame.hands[0].angles.len()
-    );
     let status = s.status.grasp.clone().unwrap();
     assert!(status.starts_with("held \"ball\" (power)"), "{status}");
 

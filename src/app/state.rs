@@ -314,6 +314,8 @@ impl ViewerState {
         }
         if self.pose_changed {
             self.pose_changed = false;
+            // A pose moved by hand is no longer the grasp's.
+            self.status.grasp = None;
             let start = self.start_frame();
             let v = self.submit(Target::Pose {
                 pose: self.pose.clone(),

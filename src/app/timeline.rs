@@ -13,8 +13,12 @@ use std::collections::BTreeMap;
 pub struct Key {
     /// Time, s.
     pub time: f64,
-    /// Joint angles of every hand.
+    /// Joint angles of every hand (for a grasp keyframe, its preshape: the timeline shows it
+    /// there; the grasp itself runs from the Joints panel's Grasp row or `prehensile solve`).
     pub pose: Pose,
+    /// The scene's grasp keyframes at this time, kept as written so that saving the scene
+    /// keeps them.
+    pub grasps: Vec<KeyframeDef>,
 }
 
 /// Keys, cached frames and playback.
@@ -47,7 +51,11 @@ impl Timeline {
                 .map_err(|e| format!("body \"{}\": {e}", h.name))?;
             pose.push((h.body, angles));
         }
-        let mut keys = vec![Key { time: 0.0, pose }];
+        let mut keys = vec![Key {
+            time: 0.0,
+            pose,
+            grasps: Vec::new(),
+        }];
         for (i, k) in scene.keyframe.iter().enumerate() {
             let hand = match &k.body {
                 Some(name) => hands.iter().position(|h| &h.name == name),
@@ -55,16 +63,38 @@ impl Timeline {
             }
             .ok_or_else(|| format!("keyframe[{i}]: no such hand"))?;
             let mut pose = keys.last().expect("key 0").pose.clone();
-            let angles = hands[hand]
-                .skeleton
-                .apply_pose(&pose[hand].1, &k.pose)
+            let skeleton = &hands[hand].skeleton;
+            let mut angles = pose[hand].1.clone();
+            // A grasp keyframe shows its preshape.
+            if let Some(g) = &k.grasp {
+                let preshape = match &g.preshape {
+                    Some(crate::scene::PreshapeDef::Pose(p)) => p.clone(),
+                    Some(crate::scene::PreshapeDef::Named(n)) => {
+                        crate::hand::synergy::Preshape::from_name(n)
+                            .map(|p| p.pose())
+                            .unwrap_or_default()
+                    }
+                    None => crate::hand::synergy::Preshape::Power.pose(),
+                };
+                angles = skeleton
+                    .apply_pose(&angles, &preshape)
+                    .map_err(|e| format!("keyframe[{i}].grasp.preshape: {e}"))?;
+            }
+            pose[hand].1 = skeleton
+                .apply_pose(&angles, &k.pose)
                 .map_err(|e| format!("keyframe[{i}]: {e}"))?;
-            pose[hand].1 = angles;
+            let grasps: Vec<KeyframeDef> =
+                k.grasp.is_some().then(|| k.clone()).into_iter().collect();
             let last = keys.last_mut().expect("key 0");
             if k.time == last.time {
                 last.pose = pose;
+                last.grasps.extend(grasps);
             } else {
-                keys.push(Key { time: k.time, pose });
+                keys.push(Key {
+                    time: k.time,
+                    pose,
+                    grasps,
+                });
             }
         }
         let frames = vec![None; keys.len()];
@@ -89,7 +119,17 @@ impl Timeline {
         scene.keyframe.clear();
         for (k, key) in self.keys.iter().enumerate() {
             for (h, (_, angles)) in hands.iter().zip(&key.pose) {
-                if k == 0 {
+                let grasp = key
+                    .grasps
+                    .iter()
+                    .find(|g| g.body.as_ref().is_none_or(|b| *b == h.name));
+                if let (Some(g), true) = (grasp, k > 0) {
+                    // A grasp keyframe as the scene wrote it, at the key's time.
+                    scene.keyframe.push(KeyframeDef {
+                        time: key.time,
+                        ..g.clone()
+                    });
+                } else if k == 0 {
                     scene.body[h.body].pose = Some(named(h, angles));
                 } else {
                     scene.keyframe.push(KeyframeDef {
@@ -121,7 +161,14 @@ impl Timeline {
             _ => 0.0,
         };
         let at = (i + 1).min(self.keys.len());
-        self.keys.insert(at, Key { time, pose });
+        self.keys.insert(
+            at,
+            Key {
+                time,
+                pose,
+                grasps: Vec::new(),
+            },
+        );
         self.frames.insert(at, None);
         self.invalidate_from(at);
         self.current = at;

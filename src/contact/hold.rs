@@ -173,6 +173,9 @@ pub fn hold_margin(
         _ => return none(),
     }
     let x = &solver.solution.x;
+    if !x.iter().all(|v| v.is_finite()) {
+        return none();
+    }
     let share = x[0].max(0.0);
     let mut friction = vec![Vector3::zeros(); contacts.len()];
     for (k, &i) in active.iter().enumerate() {

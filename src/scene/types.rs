@@ -126,7 +126,7 @@ fn default_fov() -> f64 {
 }
 
 /// `[[keyframe]]`: a hand's pose at a time. Joints not named keep their previous angle.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct KeyframeDef {
     /// Time, s (keyframes in increasing time).
@@ -145,7 +145,7 @@ pub struct KeyframeDef {
 }
 
 /// `grasp = { object = "ball", preshape = "power" }` in a keyframe.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GraspDef {
     /// The body grasped.
@@ -167,7 +167,7 @@ pub struct GraspDef {
 }
 
 /// A grasp's preshape: a name or a pose table.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum PreshapeDef {
     /// `"power"`, `"pinch"` or `"tripod"`.

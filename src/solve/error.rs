@@ -418,9 +418,6 @@ pub(crate) fn stiffer_materials(model: &Model, b: usize, factor: f64) -> String 
         .join(", ")
 }
 
-/// What a contact step of the paper's iteration met, without the advice its own message gives
-/// (raise the iterations): for the paper's iteration the advice that
-/// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
 /// What went wrong in `cause`, without the advice it gives for a cause of its own: where the
 /// static frame's strain is the cause to mend, a runaway body is not one to "give supports"
 /// (it has them: the strain tore it off them).
@@ -447,6 +444,9 @@ fn brief(cause: &SimError) -> String {
     }
 }
 
+/// What a contact step of the paper's iteration met, without the advice its own message gives
+/// (raise the iterations): for the paper's iteration the advice that
+/// works is the exact method, which [`SimError::PaperCannotFollow`] gives.
 pub(crate) fn what_failed(cause: &ContactError) -> String {
     match cause {
         ContactError::NotConverged {

@@ -20,8 +20,9 @@
 
 use super::driver::{Posed, Workspace};
 use super::error::SimError;
-use crate::hand::synergy::{span, DIGITS};
+use crate::hand::synergy::DIGITS;
 use crate::model::{GraspModel, HoldTarget, KeyframeModel, Model};
+use crate::state::outcome::Overload;
 use crate::state::{grip, Frame, GraspOutcome, GripTrial};
 use nalgebra::Vector3;
 use parry3d_f64::math::Vec3;
@@ -77,12 +78,24 @@ impl Workspace {
             .iter()
             .map(|(d, joints)| first_contact(model, body, hand, &key.angles, *d, joints, &object))
             .collect();
+        // Each digit's synergy in degrees of its largest joint turn (from the angles it starts
+        // at: a preshape adjusted by the keyframe's pose turns less or more).
+        let spans: Vec<f64> = grasp
+            .digits
+            .iter()
+            .map(|(_, joints)| {
+                joints
+                    .iter()
+                    .map(|j| (j.closed - j.open).abs())
+                    .fold(0.0, f64::max)
+            })
+            .collect();
         let angles_at = |theta: f64| -> Vec<f64> {
             let mut angles = key.angles.clone();
-            for ((d, joints), s) in grasp.digits.iter().zip(&first) {
+            for (((_, joints), s), span) in grasp.digits.iter().zip(&first).zip(&spans) {
                 let s = match s {
-                    Some(s) => (s + theta / span(DIGITS[*d])).min(1.0),
-                    None => 1.0,
+                    Some(s) if *span > 0.0 => (s + theta / span).min(1.0),
+                    _ => 1.0,
                 };
                 for j in joints {
                     angles[j.dof] = j.open + s * (j.closed - j.open);
@@ -98,11 +111,10 @@ impl Workspace {
             .map(|((d, _), _)| DIGITS[*d].to_string())
             .collect();
         // The largest closing any touching digit can take.
-        let theta_max = grasp
-            .digits
+        let theta_max = first
             .iter()
-            .zip(&first)
-            .filter_map(|((d, _), s)| s.map(|s| (1.0 - s) * span(DIGITS[*d])))
+            .zip(&spans)
+            .filter_map(|(s, span)| s.map(|s| (1.0 - s) * span))
             .fold(0.0, f64::max);
 
         let count = std::cell::Cell::new(0);
@@ -165,7 +177,7 @@ impl Workspace {
                     return Ok(self.finish(
                         model,
                         posed,
-                        grasp,
+                        (body, grasp),
                         start,
                         &touching,
                         (count.get(), search.take()),
@@ -177,26 +189,18 @@ impl Workspace {
             }
         };
         if touching.is_empty() {
-            return Ok(self.finish(model, posed, grasp, lo, &touching, (count.get(), search.take()), Some(
+            return Ok(self.finish(model, posed, (body, grasp), lo, &touching, (count.get(), search.take()), Some(
                 "no digit reaches the object along its synergy: move the object into the hand, \
                  or the hand to it".into(),
             )));
         }
         // No friction, no hold against gravity (whatever the grip).
         if let HoldTarget::Gravity { .. } = grasp.hold {
-            let material =
-                |b: usize| model.material_name(model.cell_material[model.bodies[b].cells.start]);
-            let (a, b) = (material(body), material(grasp.object));
-            if model.friction_between(a, b) == 0.0 {
-                let reason = format!(
-                    "there is no friction between \"{a}\" and \"{b}\" (μ = 0): no grip holds \
-                     an object against gravity without it; set [[friction]] between = [\"{a}\", \
-                     \"{b}\"] (skin on rubber: μ ≈ 0.8), or give force = N for a target grip"
-                );
+            if let Some(reason) = frictionless(model, body, grasp.object) {
                 return Ok(self.finish(
                     model,
                     posed,
-                    grasp,
+                    (body, grasp),
                     lo,
                     &touching,
                     (count.get(), search.take()),
@@ -204,19 +208,38 @@ impl Workspace {
                 ));
             }
         }
-        // Bracket: double θ until the grip holds.
         let measure = |t: &Trial| match grasp.hold {
             HoldTarget::Gravity { .. } => t.margin,
             HoldTarget::Force(_) => t.grip,
         };
+        // The firmest grip within the bones' thresholds that does not hold; the least closing
+        // that holds within them; the least closing past a bone's threshold.
         let mut best = lo.clone();
         let mut hi: Option<Trial> = None;
+        let mut ceiling: Option<(Overload, Trial)> = None;
         let mut stop: Option<String> = None;
-        let mut theta = FIRST_THETA;
+        // Sorts a pose solved into lo, hi or the ceiling.
+        let mut sort = |t: Trial,
+                        lo: &mut Trial,
+                        hi: &mut Option<Trial>,
+                        ceiling: &mut Option<(Overload, Trial)>| {
+            if let Some(o) = overloaded(&t) {
+                *ceiling = Some((o, t));
+            } else if holds(&t) {
+                *hi = Some(t);
+            } else {
+                if measure(&t) > measure(&best) {
+                    best = t.clone();
+                }
+                *lo = t;
+            }
+        };
         if holds(&lo) {
             hi = Some(lo.clone());
         }
-        while hi.is_none() && stop.is_none() {
+        // Bracket: double θ until the grip holds or a bone gives out.
+        let mut theta = FIRST_THETA;
+        while hi.is_none() && ceiling.is_none() && stop.is_none() {
             if lo.theta >= theta_max {
                 stop = Some(format!(
                     "the digits closed to the end of their synergies ({:.1}° past first contact) \
@@ -231,19 +254,7 @@ impl Workspace {
             }
             let next = theta.min(theta_max);
             match solve(self, &lo.posed, next) {
-                Ok(t) => {
-                    if let Some(o) = overloaded(&t) {
-                        // Past a bone's threshold: the grip shown is the last within them.
-                        stop = Some(overload_reason(&o, grasp, &t));
-                    } else if holds(&t) {
-                        hi = Some(t);
-                    } else {
-                        if measure(&t) > measure(&best) {
-                            best = t.clone();
-                        }
-                        lo = t;
-                    }
-                }
+                Ok(t) => sort(t, &mut lo, &mut hi, &mut ceiling),
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
                 Err(e) => {
                     stop = Some(format!(
@@ -253,41 +264,52 @@ impl Workspace {
             }
             theta *= 2.0;
         }
-        let Some(mut hi) = hi else {
-            // Not held: the firmest grip found within the bones' thresholds, and why.
-            let stop = stop.map(|s| format!("{s}; {}", firmest(model, grasp, body, &best)));
-            return Ok(self.finish(
-                model,
-                posed,
-                grasp,
-                best,
-                &touching,
-                (count.get(), search.take()),
-                stop,
-            ));
-        };
-        // Bisect: the least closing that holds.
-        while hi.theta - lo.theta > THETA_TOLERANCE
-            && !close_enough(&hi)
-            && count.get() < MAX_TRIALS
-        {
-            let mid = 0.5 * (lo.theta + hi.theta);
+        // Bisect: the least closing that holds, below the least that overloads a bone.
+        loop {
+            let upper = match (&hi, &ceiling) {
+                (Some(h), _) if close_enough(h) => break,
+                (Some(h), _) => h.theta,
+                (None, Some((_, c))) => c.theta,
+                (None, None) => break,
+            };
+            if upper - lo.theta <= THETA_TOLERANCE || count.get() >= MAX_TRIALS {
+                break;
+            }
+            let mid = 0.5 * (lo.theta + upper);
             match solve(self, &lo.posed, mid) {
-                Ok(t) if holds(&t) && overloaded(&t).is_none() => hi = t,
-                Ok(t) => lo = t,
+                Ok(t) => sort(t, &mut lo, &mut hi, &mut ceiling),
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
                 Err(_) => break,
             }
         }
-        let reason = overloaded(&hi).map(|o| overload_reason(&o, grasp, &hi));
+        if let Some(hi) = hi {
+            return Ok(self.finish(
+                model,
+                posed,
+                (body, grasp),
+                hi,
+                &touching,
+                (count.get(), search.take()),
+                None,
+            ));
+        }
+        // Not held: the firmest grip found within the bones' thresholds, and why.
+        let reason = match ceiling {
+            Some((o, _)) => overload_reason(&o, grasp, &best),
+            None => format!(
+                "{}; {}",
+                stop.unwrap_or_else(|| "the search ended without a hold".into()),
+                firmest(model, grasp, body, &best)
+            ),
+        };
         Ok(self.finish(
             model,
             posed,
-            grasp,
-            hi,
+            (body, grasp),
+            best,
             &touching,
             (count.get(), search.take()),
-            reason,
+            Some(reason),
         ))
     }
 
@@ -297,7 +319,7 @@ impl Workspace {
         &mut self,
         model: &Model,
         posed: &mut Posed,
-        grasp: &GraspModel,
+        (hand, grasp): (usize, &GraspModel),
         trial: Trial,
         touching: &[String],
         (trials, search): (usize, Vec<GripTrial>),
@@ -322,11 +344,7 @@ impl Workspace {
             (false, None) => Some("the search ended without a hold".into()),
         };
         let body = model.bodies[grasp.object].name.clone();
-        if let Some(h) = frame
-            .hands
-            .iter_mut()
-            .find(|h| model.bodies[h.body].hand.is_some())
-        {
+        if let Some(h) = frame.hands.iter_mut().find(|h| h.body == hand) {
             let skeleton = &model.bodies[h.body]
                 .hand
                 .as_deref()
@@ -362,8 +380,8 @@ impl Workspace {
 }
 
 /// Why a bone's overload stops the grip: the bone, its reaction and threshold, and the force
-/// the hold still misses.
-fn overload_reason(o: &crate::state::outcome::Overload, grasp: &GraspModel, t: &Trial) -> String {
+/// the hold still misses from `t`, the firmest grip within the thresholds.
+fn overload_reason(o: &Overload, grasp: &GraspModel, t: &Trial) -> String {
     let missing = match grasp.hold {
         HoldTarget::Force(f) => (f - t.grip).max(0.0),
         // The grip needed grows about as the margin asked over the margin achieved.
@@ -378,9 +396,10 @@ fn overload_reason(o: &crate::state::outcome::Overload, grasp: &GraspModel, t: &
         "a grip its contacts cannot give".into()
     };
     format!(
-        "bone {} would bear {:.1} N, past its threshold of {:.1} N, with {:.2} N of grip \
-         (margin {:.2}); holding needs {missing}",
-        o.bone, o.reaction, o.threshold, t.grip, t.margin
+        "closing further, bone {} would bear {:.1} N, past its threshold of {:.1} N; the firmest \
+         grip within the thresholds (shown), {:.2} N at {:.1}° past first contact (margin \
+         {:.2}), misses {missing}",
+        o.bone, o.reaction, o.threshold, t.grip, t.theta, t.margin
     )
 }
 
@@ -551,4 +570,32 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
     } else {
         found
     }
+}
+
+/// Why no grip holds body `object` against gravity in the hand `hand`'s contacts, if no pair of
+/// their materials has friction (`[[region]]`s may give either body several).
+fn frictionless(model: &Model, hand: usize, object: usize) -> Option<String> {
+    let materials = |b: usize| {
+        let mut m: Vec<&str> = model.bodies[b]
+            .cells
+            .clone()
+            .map(|c| model.material_name(model.cell_material[c]))
+            .collect();
+        m.sort_unstable();
+        m.dedup();
+        m
+    };
+    let (ours, theirs) = (materials(hand), materials(object));
+    let any = ours
+        .iter()
+        .any(|a| theirs.iter().any(|b| model.friction_between(a, b) > 0.0));
+    if any {
+        return None;
+    }
+    let (a, b) = (ours[0], theirs[0]);
+    Some(format!(
+        "there is no friction between \"{a}\" and \"{b}\" (μ = 0): no grip holds an object \
+         against gravity without it; set [[friction]] between = [\"{a}\", \"{b}\"] (skin on \
+         rubber: μ ≈ 0.8), or give force = N for a target grip"
+    ))
 }
