@@ -24,15 +24,23 @@ fn with_grasp(extra: &str, grasp: &str) -> String {
     )
 }
 
-/// The grasp outcome of the last frame of `text`, solved as the command line does.
-fn outcome(text: &str) -> GraspOutcome {
+/// `text` solved as the command line does.
+fn solved(text: &str) -> prehensile::headless::Solved {
     let scene = Scene::parse(text, "grasp.toml").unwrap();
-    let solved = solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"));
-    let last = solved.frames.last().unwrap();
-    last.hands[0]
+    solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The grasp outcome of the last frame of `solved`.
+fn outcome_of(solved: &prehensile::headless::Solved) -> GraspOutcome {
+    solved.frames.last().unwrap().hands[0]
         .grasp
         .clone()
         .expect("the grasp keyframe's frame carries its outcome")
+}
+
+/// The grasp outcome of the last frame of `text`.
+fn outcome(text: &str) -> GraspOutcome {
+    outcome_of(&solved(text))
 }
 
 /// A target grip of 5 N: the search brackets it by doubling the closing past first contact,
@@ -41,11 +49,29 @@ fn outcome(text: &str) -> GraspOutcome {
 #[test]
 fn a_target_grip_is_reached_by_the_least_closing() {
     let target = 5.0;
-    let g = outcome(&with_grasp(
+    let run = solved(&with_grasp(
         "",
         &format!("object = \"ball\", preshape = \"power\", force = {target}"),
     ));
+    let g = outcome_of(&run);
     assert!(g.held, "{g:?}");
+    // The grip as the ball feels it: its normal forces sum to the grip reported, and (the
+    // contact frictionless) to minus the contact force the flesh feels — action and reaction,
+    // which checks the contacts' sides and normals.
+    let (model, frame) = (&run.model, run.frames.last().unwrap());
+    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+    let grip = prehensile::state::grip(model, frame, frame.hands[0].body, ball);
+    let on_ball: nalgebra::Vector3<f64> = grip
+        .contacts
+        .iter()
+        .map(|c| c.inward * c.normal_force)
+        .sum();
+    let on_hand: nalgebra::Vector3<f64> = frame.hands[0].contact_force.iter().sum();
+    assert!((grip.normal_force - g.grip).abs() < 1e-12 * g.grip);
+    assert!(
+        (on_ball + on_hand).norm() < 1e-6 * g.grip,
+        "on the ball {on_ball}, on the hand {on_hand}"
+    );
     assert_eq!(g.reason, None);
     assert!(
         g.grip >= target && g.grip <= 1.1 * target,

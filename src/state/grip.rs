@@ -78,8 +78,8 @@ pub fn grip(model: &Model, frame: &Frame, hand: usize, object: usize) -> Grip {
     let u = &frame.solution.displacement;
     let at = |n: usize| model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
     let (hands, objects) = (&model.bodies[hand].nodes, &model.bodies[object].nodes);
-    let material = |b: usize| model.material_name(model.cell_material[model.bodies[b].cells.start]);
-    let friction = model.friction_between(material(hand), material(object));
+    // μ of a contact between the materials of its nodes' cells, as the contact solve takes it.
+    let material = |n: usize| model.material_name(model.cell_material[model.node_cell[n]]);
     let mut contacts = Vec::new();
     if let Some(result) = &frame.contact {
         for c in &result.contacts {
@@ -100,12 +100,17 @@ pub fn grip(model: &Model, frame: &Frame, hand: usize, object: usize) -> Grip {
                     weight += w.abs();
                 }
             }
-            if weight > 0.0 && c.force > 0.0 {
+            let node_of = |on: &dyn Fn(usize) -> bool| c.terms.iter().map(|t| t.0).find(|&n| on(n));
+            let (ours, theirs) = (
+                node_of(&|n| hands.contains(&n)),
+                node_of(&|n| objects.contains(&n)),
+            );
+            if let (true, true, Some(a), Some(b)) = (weight > 0.0, c.force > 0.0, ours, theirs) {
                 contacts.push(GripContact {
                     point: point / weight,
                     inward,
                     normal_force: c.force,
-                    friction,
+                    friction: model.friction_between(material(a), material(b)),
                 });
             }
         }
