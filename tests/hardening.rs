@@ -406,7 +406,6 @@ fn a_job_above_max_memory_is_refused_before_it_allocates() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_job_too_big_for_the_address_space_is_refused_not_aborted() {
-    use std::os::unix::process::CommandExt;
     let dir = fresh("address_space");
     let text = Bar {
         thickness: 1.0,
@@ -417,26 +416,7 @@ fn a_job_too_big_for_the_address_space_is_refused_not_aborted() {
     .scene();
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
-    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
-    command
-        .arg("solve")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"));
-    // SAFETY: only setrlimit between fork and exec.
-    unsafe {
-        command.pre_exec(|| {
-            let limit = libc::rlimit {
-                rlim_cur: 4 << 30,
-                rlim_max: 4 << 30,
-            };
-            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            Ok(())
-        });
-    }
-    let output = command.output().unwrap();
+    let output = solve_in_address_space(&scene, &dir.join("out"), 4 << 30);
     let stderr = String::from_utf8_lossy(&output.stderr);
     println!("{stderr}");
     assert_eq!(output.status.code(), Some(1), "{stderr}");
@@ -1151,7 +1131,6 @@ fn the_grasp_under_a_small_address_space_is_refused_not_aborted() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_hand_too_fine_for_the_memory_is_refused_before_it_is_meshed() {
-    use std::os::unix::process::CommandExt;
     let dir = fresh("hand_lattice");
     let fixture =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/blender-mixamo-right.glb");
@@ -1171,26 +1150,7 @@ fn a_hand_too_fine_for_the_memory_is_refused_before_it_is_meshed() {
     );
     let scene = dir.join("imported.toml");
     std::fs::write(&scene, imported).unwrap();
-    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
-    command
-        .arg("solve")
-        .arg(&scene)
-        .arg("--out")
-        .arg(dir.join("out"));
-    // SAFETY: only setrlimit between fork and exec.
-    unsafe {
-        command.pre_exec(|| {
-            let limit = libc::rlimit {
-                rlim_cur: 5_700_000 << 10,
-                rlim_max: 5_700_000 << 10,
-            };
-            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            Ok(())
-        });
-    }
-    let output = command.output().unwrap();
+    let output = solve_in_address_space(&scene, &dir.join("out"), 5_700_000 << 10);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     for text in [
@@ -1232,4 +1192,26 @@ fn a_hand_too_fine_for_the_memory_is_refused_before_it_is_meshed() {
     if let Err(e) = prehensile::model::Model::build(&scene, "builtin.toml") {
         assert!(!e.to_string().contains("meshing the hand"), "{e}");
     }
+}
+
+/// `prehensile solve SCENE --out OUT` in a child process limited to `bytes` of address space.
+#[cfg(target_os = "linux")]
+fn solve_in_address_space(scene: &Path, out: &Path, bytes: u64) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"));
+    command.arg("solve").arg(scene).arg("--out").arg(out);
+    // SAFETY: only setrlimit between fork and exec.
+    unsafe {
+        command.pre_exec(move || {
+            let limit = libc::rlimit {
+                rlim_cur: bytes,
+                rlim_max: bytes,
+            };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    command.output().unwrap()
 }

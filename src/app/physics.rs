@@ -84,15 +84,35 @@ impl Physics {
         self.dirty = true;
         let result = workspace.move_hands(&model, &mut self.hands, pose, Some(&stale(cancel)));
         self.dirty = false;
+        // Cancelled, the hands stopped at a completed increment: the next job goes on from
+        // there.
+        self.delivered(job, &model, result, started, false)
+    }
+
+    /// The frame a pose or grasp job solved, delivered (the hands kept as the last good ones),
+    /// or why not (the hands back at the last good ones; kept where a cancelled job left them
+    /// when `restore_cancelled` is false).
+    fn delivered(
+        &mut self,
+        job: &Job,
+        model: &Arc<Model>,
+        result: Result<Frame, SimError>,
+        started: Instant,
+        restore_cancelled: bool,
+    ) -> Result<Solution, Failure> {
         match result {
             Ok(frame) => {
                 self.last_good = self.hands.clone();
-                let solution = deliver(job, &model, frame, started, None, false)?;
+                let solution = deliver(job, model, frame, started, None, false)?;
                 self.last_frame = Some(solution.frame.clone());
                 Ok(solution)
             }
-            // The hands stopped at a completed increment: the next job goes on from there.
-            Err(SimError::Cancelled) => Err(Failure::Cancelled),
+            Err(SimError::Cancelled) => {
+                if restore_cancelled {
+                    self.hands = self.last_good.clone();
+                }
+                Err(Failure::Cancelled)
+            }
             Err(e) => {
                 self.hands = self.last_good.clone();
                 Err(error(e))
@@ -128,22 +148,8 @@ impl Physics {
         self.dirty = true;
         let result = workspace.close_grip(&model, &mut self.hands, &key, Some(&stale(cancel)));
         self.dirty = false;
-        match result {
-            Ok(frame) => {
-                self.last_good = self.hands.clone();
-                let solution = deliver(job, &model, frame, started, None, false)?;
-                self.last_frame = Some(solution.frame.clone());
-                Ok(solution)
-            }
-            Err(SimError::Cancelled) => {
-                self.hands = self.last_good.clone();
-                Err(Failure::Cancelled)
-            }
-            Err(e) => {
-                self.hands = self.last_good.clone();
-                Err(error(e))
-            }
-        }
+        // A grasp cancelled half-way leaves the hands at its preshape: back to the last good.
+        self.delivered(job, &model, result, started, true)
     }
 
     fn timeline(

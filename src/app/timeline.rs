@@ -108,14 +108,8 @@ impl Timeline {
     /// Writes the keys into `scene`: key 0 as the hands' initial `pose`, the others as
     /// keyframes naming every joint.
     pub fn write_to(&self, scene: &mut Scene, hands: &[HandInfo]) {
-        let named = |h: &HandInfo, angles: &[f64]| -> BTreeMap<String, f64> {
-            h.skeleton
-                .dofs
-                .iter()
-                .zip(angles)
-                .map(|(d, a)| (d.name.clone(), *a))
-                .collect()
-        };
+        let named =
+            |h: &HandInfo, angles: &[f64]| -> BTreeMap<String, f64> { h.skeleton.pose_of(angles) };
         scene.keyframe.clear();
         for (k, key) in self.keys.iter().enumerate() {
             for (h, (_, angles)) in hands.iter().zip(&key.pose) {

@@ -384,12 +384,7 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
             (
                 body.name.clone(),
                 HandReport {
-                    pose: skeleton
-                        .dofs
-                        .iter()
-                        .zip(&h.angles)
-                        .map(|(d, a)| (d.name.clone(), *a))
-                        .collect(),
+                    pose: skeleton.pose_of(&h.angles),
                     bones,
                     bone_reaction_sum: arr(h.bone_reactions.iter().sum()),
                     part_reactions: per_part(hand, &h.bone_reactions, true),

@@ -426,6 +426,15 @@ impl Skeleton {
         vec![0.0; self.dofs.len()]
     }
 
+    /// `angles` (one per dof, degrees) by joint name.
+    pub fn pose_of(&self, angles: &[f64]) -> Pose {
+        self.dofs
+            .iter()
+            .zip(angles)
+            .map(|(d, a)| (d.name.clone(), *a))
+            .collect()
+    }
+
     /// `base` with the angles named in `pose` replaced; unknown names and angles outside their
     /// limits are errors.
     pub fn apply_pose(&self, base: &[f64], pose: &Pose) -> Result<Vec<f64>, PoseError> {

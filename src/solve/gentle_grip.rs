@@ -354,12 +354,7 @@ impl Workspace {
                 object: body,
                 preshape: grasp.preshape.clone(),
                 held,
-                pose: skeleton
-                    .dofs
-                    .iter()
-                    .zip(&h.angles)
-                    .map(|(d, a)| (d.name.clone(), *a))
-                    .collect(),
+                pose: skeleton.pose_of(&h.angles),
                 margin,
                 margin_target: matches!(grasp.hold, HoldTarget::Gravity { .. })
                     .then_some(grasp.margin),
