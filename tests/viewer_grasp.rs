@@ -4,14 +4,12 @@
 //! found and the status says what was found. "hold against gravity" then Grasp, on a scene with
 //! no friction, is a result too: not held, and why.
 
+mod common;
+
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
-use prehensile::app::physics::Physics;
-use prehensile::app::worker::ThreadSolver;
 use prehensile::app::ViewerState;
-use prehensile::scene::{Scene, DEFAULT_SCENE};
 use prehensile::state::GraspOutcome;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Steps the UI until nothing is being computed; returns the grasp outcome of the shown frame.
@@ -39,13 +37,7 @@ fn settle(h: &mut Harness<'static, ViewerState>) -> Option<GraspOutcome> {
 
 #[test]
 fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
-    let scene = Scene::parse(DEFAULT_SCENE, "default").unwrap();
-    let port = ThreadSolver::spawn(Physics::new(), Arc::new(|| {}));
-    let mut state = ViewerState::new(scene, "default", Box::new(port)).unwrap();
-    state.timeline_solving = false;
-    let mut h = Harness::builder()
-        .with_size([1600.0, 900.0])
-        .build_ui_state(|ui, state: &mut ViewerState| state.ui(ui), state);
+    let mut h = common::viewer::default_viewer();
     assert!(settle(&mut h).is_none(), "the scene's own pose is no grasp");
     assert_eq!(h.state().grasp.object, "ball");
 

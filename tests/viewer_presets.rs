@@ -14,7 +14,7 @@ use prehensile::app::physics::Physics;
 use prehensile::app::pose::Preset;
 use prehensile::app::worker::ThreadSolver;
 use prehensile::app::ViewerState;
-use prehensile::scene::{Scene, DEFAULT_SCENE};
+use prehensile::scene::Scene;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -160,13 +160,7 @@ fn ball_displacement(state: &ViewerState) -> Vec<f64> {
 
 #[test]
 fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
-    let scene = Scene::parse(DEFAULT_SCENE, "default").unwrap();
-    let port = ThreadSolver::spawn(Physics::new(), Arc::new(|| {}));
-    let mut state = ViewerState::new(scene, "default", Box::new(port)).unwrap();
-    state.timeline_solving = false;
-    let mut h = Harness::builder()
-        .with_size([1600.0, 900.0])
-        .build_ui_state(|ui, state: &mut ViewerState| state.ui(ui), state);
+    let mut h = common::viewer::default_viewer();
     wait_for_pose(&mut h);
     // The scene's own pose: the fingers clear of the ball, which sits in its static frame.
     assert!(h

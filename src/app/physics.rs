@@ -58,6 +58,21 @@ impl Physics {
         Ok(self.model.clone().expect("built above"))
     }
 
+    /// The model of `job`, and the hands set to `start`'s when it is a frame of that model
+    /// (returned then).
+    fn prepare<'a>(
+        &mut self,
+        job: &Job,
+        start: Option<&'a Arc<Frame>>,
+    ) -> Result<(Arc<Model>, Option<&'a Arc<Frame>>), Failure> {
+        let model = self.ensure_model(job)?;
+        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
+        if let Some(start) = start {
+            self.hands = Posed::of_frame(&model, start);
+        }
+        Ok((model, start))
+    }
+
     fn pose(
         &mut self,
         job: &Job,
@@ -67,11 +82,7 @@ impl Physics {
         emit: &mut dyn FnMut(Result<Solution, Failure>),
     ) -> Result<Solution, Failure> {
         let started = Instant::now();
-        let model = self.ensure_model(job)?;
-        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
-        if let Some(start) = start {
-            self.hands = Posed::of_frame(&model, start);
-        }
+        let (model, start) = self.prepare(job, start)?;
         if let Some(from) = start
             .or(self.last_frame.as_ref())
             .filter(|_| !cancel.is_stale())
@@ -131,11 +142,7 @@ impl Physics {
         cancel: &Cancel,
     ) -> Result<Solution, Failure> {
         let started = Instant::now();
-        let model = self.ensure_model(job)?;
-        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
-        if let Some(start) = start {
-            self.hands = Posed::of_frame(&model, start);
-        }
+        let (model, _) = self.prepare(job, start)?;
         let from = self
             .hands
             .hands

@@ -3,6 +3,7 @@
 
 pub mod gltf_validator;
 pub mod limited;
+pub mod viewer;
 pub mod vtu;
 
 use nalgebra::Vector3;
