@@ -124,14 +124,14 @@ pub fn grip(model: &Model, frame: &Frame, hand: usize, object: usize) -> Grip {
 }
 
 /// The centre of mass of body `b` where `frame` leaves it, m: its cells' centres where they are
-/// now, weighted by their mass at rest (a cell's volume from its eight corners' hexahedron).
+/// now, weighted by their mass at rest.
 pub fn mass_centre(model: &Model, frame: &Frame, b: usize) -> Vector3<f64> {
     let u = &frame.solution.displacement;
     let (mut sum, mut mass) = (Vector3::zeros(), 0.0);
     for c in model.bodies[b].cells.clone() {
         let nodes = &model.mesh.cells[c];
-        let rest: Vec<Vector3<f64>> = nodes.iter().map(|&n| model.mesh.nodes[n]).collect();
-        let m = model.cell_materials[c].density * hexahedron_volume(&rest).abs();
+        let m = model.cell_materials[c].density
+            * crate::fem::hex8::cell_volume(&model.mesh.cell_coords(c)).abs();
         let now = nodes
             .iter()
             .map(|&n| model.mesh.nodes[n] + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]))
@@ -149,37 +149,5 @@ pub fn mass_centre(model: &Model, frame: &Frame, b: usize) -> Vector3<f64> {
             .map(|n| model.mesh.nodes[n])
             .sum::<Vector3<f64>>()
             / model.bodies[b].nodes.len().max(1) as f64
-    }
-}
-
-/// The volume of a hexahedron with corners `p` (VTK order), m³: six tetrahedra about the
-/// diagonal 0–6 (exact for planar faces, within a few per cent for warped ones).
-fn hexahedron_volume(p: &[Vector3<f64>]) -> f64 {
-    let tet =
-        |a: usize, b: usize, c: usize| (p[a] - p[0]).dot(&(p[b] - p[0]).cross(&(p[c] - p[0])));
-    let d = 6;
-    (tet(1, 2, d) + tet(2, 3, d) + tet(3, 7, d) + tet(7, 4, d) + tet(4, 5, d) + tet(5, 1, d)) / 6.0
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_unit_cube_has_unit_volume() {
-        let p: Vec<Vector3<f64>> = [
-            [0., 0., 0.],
-            [1., 0., 0.],
-            [1., 1., 0.],
-            [0., 1., 0.],
-            [0., 0., 1.],
-            [1., 0., 1.],
-            [1., 1., 1.],
-            [0., 1., 1.],
-        ]
-        .iter()
-        .map(|a| Vector3::from(*a) * 2.0)
-        .collect();
-        assert!((hexahedron_volume(&p) - 8.0).abs() < 1e-12);
     }
 }
