@@ -610,4 +610,51 @@ fn the_command_line_writes_the_file_whole_and_refuses_a_bad_resolution() {
     assert!(!dir.join("bad.glb").exists());
     let unknown = run(&["--out", "x.glb", "--convention", "blender"]);
     assert_eq!(unknown.status.code(), Some(2), "clap's usage error");
+    // A hand of the 50th-percentile woman: her hand length from the wrist's cut to the middle
+    // finger's tip (the smooth skin follows the skin's shape to a fraction of a millimetre).
+    let sized = dir.join("female.glb");
+    let ok = run(&[
+        "--out",
+        sized.to_str().unwrap(),
+        "--size",
+        "female-50",
+        "--resolution",
+        "0.75",
+        "--contact-skin",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let back = read_back(&sized);
+    let (lo, hi) = back
+        .positions
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.x), hi.max(p.x))
+        });
+    assert!(
+        ((hi - lo) - 0.180).abs() < 1.5e-3,
+        "hand length {} m",
+        hi - lo
+    );
+    for (size, says) in [
+        (
+            "male-40",
+            "is neither a length in metres nor an ANSUR II percentile",
+        ),
+        ("1.9", "the hand's length must be between 0.1 and 0.3 m"),
+    ] {
+        let bad = run(&[
+            "--out",
+            dir.join("bad.glb").to_str().unwrap(),
+            "--size",
+            size,
+        ]);
+        let error = String::from_utf8_lossy(&bad.stderr).to_string();
+        assert_eq!(bad.status.code(), Some(1), "{error}");
+        assert!(error.contains("--size") && error.contains(says), "{error}");
+        assert!(!dir.join("bad.glb").exists());
+    }
 }

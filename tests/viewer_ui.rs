@@ -398,3 +398,43 @@ fn the_gltf_button_exports_the_solved_timeline() {
     assert_eq!(times, keys);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Solver panel's hand size menu writes the hand's `size` into the scene sent to the
+/// solver, and the hand built from it is that size: the 50th-percentile woman's is 180 mm
+/// from the wrist's cut to the middle finger's tip.
+#[test]
+fn the_hand_size_menu_rebuilds_the_hand_at_that_size() {
+    use prehensile::scene::{HandSizeDef, Shape};
+    let (port, mut h) = answered();
+    let before = port.jobs().last().unwrap().scene_revision;
+    h.get_by_role_and_label(egui::Role::ComboBox, "hand size")
+        .click();
+    h.run_steps(2);
+    h.get_by_label("ANSUR II women 50th: 180 × 78 mm").click();
+    h.run_steps(2);
+    let job = port.jobs().last().unwrap().clone();
+    assert!(job.scene_revision > before, "a new model");
+    let size = job.scene.body.iter().find_map(|b| match &b.shape {
+        Shape::Hand { size, .. } => Some(size.clone()),
+        _ => None,
+    });
+    assert_eq!(
+        size,
+        Some(Some(HandSizeDef::Percentile("female-50".into())))
+    );
+    let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
+    let hand = model.bodies.iter().find_map(|b| b.hand.clone()).unwrap();
+    let tip = hand
+        .flesh
+        .mesh
+        .nodes
+        .iter()
+        .map(|p| p.x)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let wrist = prehensile::hand::anatomy::PALM.wrist_x;
+    assert!(
+        ((tip - wrist) - 0.180).abs() < 1e-3,
+        "hand length {} m",
+        tip - wrist
+    );
+}

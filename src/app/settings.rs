@@ -3,7 +3,7 @@
 
 pub use crate::model::Tier;
 use crate::present::{Overlay, VisualOptions};
-use crate::scene::{ContactMethodName, FarFromContact, Scene, Shape};
+use crate::scene::{ContactMethodName, FarFromContact, HandSizeDef, Scene, Shape};
 
 /// The label of `tier` in the Solver panel.
 pub fn tier_label(tier: Tier) -> &'static str {
@@ -27,6 +27,8 @@ pub struct SolverParams {
     pub max_step_deg: f64,
     /// Hand mesh resolution (0.5 … 4; 1 is the default 3.2 mm lattice).
     pub resolution: f64,
+    /// The built-in hands' size (`size` of their shape); the built-in hand's own when `None`.
+    pub hand_size: Option<HandSizeDef>,
     /// Contact method between hands and objects.
     pub contact: ContactMethodName,
     /// Fingers far from every object follow their bones by skinning (`[solver]
@@ -47,11 +49,18 @@ impl SolverParams {
                 _ => None,
             })
             .unwrap_or(1.0);
+        let hand_size = scene.body.iter().find_map(|b| match &b.shape {
+            Shape::Hand {
+                gltf: None, size, ..
+            } => Some(size.clone()),
+            _ => None,
+        });
         SolverParams {
             tier,
             tolerance: 1e-8,
             max_step_deg: s.max_step_deg.unwrap_or(10.0),
             resolution,
+            hand_size: hand_size.flatten(),
             contact: s.contact.unwrap_or_default(),
             skin_far_fingers: s.far_from_contact != Some(FarFromContact::Solve),
         }
@@ -70,8 +79,17 @@ impl SolverParams {
         // `tier` is written with `flesh` and `flexion` agreeing with it.
         self.tier.write(s);
         for b in &mut scene.body {
-            if let Shape::Hand { resolution, .. } = &mut b.shape {
+            if let Shape::Hand {
+                resolution,
+                gltf,
+                size,
+                ..
+            } = &mut b.shape
+            {
                 *resolution = self.resolution;
+                if gltf.is_none() {
+                    size.clone_from(&self.hand_size);
+                }
             }
         }
     }

@@ -5,7 +5,7 @@
 use crate::export::hand_rig::{bone_joints, rig_joints, write_hand_rig};
 use crate::export::rig_mesh::{rig_mesh, RigOptions, RigSkin};
 use crate::hand::rig_names::Convention;
-use crate::hand::{HandModel, Side};
+use crate::hand::{HandModel, HandSize, Side};
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -44,6 +44,11 @@ pub struct ExportHandArgs {
     /// The hand's mesh resolution (0.5 … 4; 1 = default), as in a scene.
     #[arg(long, default_value_t = 1.0)]
     pub resolution: f64,
+    /// The hand's size: an ANSUR II percentile (female-5, female-50, female-95, male-5,
+    /// male-50, male-95) or its length in metres (wrist crease to the middle finger's tip);
+    /// the built-in hand's own (0.1975 m) when absent.
+    #[arg(long)]
+    pub size: Option<String>,
     /// The naming convention of the joint nodes.
     #[arg(long, value_enum, default_value = "mixamo")]
     pub convention: ConventionArg,
@@ -77,7 +82,22 @@ pub fn run(args: ExportHandArgs) -> Result<()> {
             RigSkin::Display
         },
     };
-    let hand = HandModel::new(side, args.resolution).context("--resolution")?;
+    let hand = match &args.size {
+        None => HandModel::new(side, args.resolution).context("--resolution")?,
+        Some(text) => {
+            let size = match text.parse::<f64>() {
+                Ok(length) => HandSize::of_length(length),
+                Err(_) => HandSize::percentile(text).with_context(|| {
+                    format!(
+                        "--size: \"{text}\" is neither a length in metres nor an ANSUR II \
+                         percentile ({})",
+                        HandSize::percentile_names()
+                    )
+                })?,
+            };
+            HandModel::sized(side, size, args.resolution, None).context("--size/--resolution")?
+        }
+    };
     write_hand_rig(&args.out, &hand, convention, &options)?;
     let joints = rig_joints(&hand, convention)?;
     let mesh = rig_mesh(&hand, &options, &bone_joints(&hand.skeleton, &joints));

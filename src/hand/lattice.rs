@@ -107,6 +107,9 @@ pub enum MeshingError {
     /// Bad resolution.
     #[error("resolution must be a number between 0.5 and 4, got {0}")]
     Resolution(f64),
+    /// A size that is not a human hand's.
+    #[error("size: {0}")]
+    Size(String),
     /// The lattice would not fit the memory a solve may take.
     #[error(
         "meshing the hand at resolution {resolution} takes a lattice of {points} points, about \
@@ -201,7 +204,21 @@ pub const BASE_SPACING: f64 = 0.0032;
 /// thumb's distal phalanx.
 fn lattice_axes(skeleton: &Skeleton, skin: &SkinShape, resolution: f64) -> [Vec<f64>; 3] {
     let h = BASE_SPACING / resolution;
-    let (lo, hi) = skin.bounds();
+    let (mut lo, mut hi) = skin.bounds();
+    // Lines through the skin's anchor, if it has one (a right hand's: a left hand's lattice
+    // starts from the mirror of its upper bound, below): the start moved down onto them.
+    if let Some(anchor) = skin.lattice_anchor() {
+        let mut start = lo;
+        if skeleton.side == Side::Left {
+            start.y = -hi.y;
+        }
+        let snapped = anchor - ((anchor - start) / h).map(f64::ceil) * h;
+        (lo.x, lo.z) = (snapped.x, snapped.z);
+        match skeleton.side {
+            Side::Right => lo.y = snapped.y,
+            Side::Left => hi.y = -snapped.y,
+        }
+    }
     // Fine windows: the finger-tip pads (distal phalanges) and the thumb's distal phalanx.
     let dip_x = skeleton
         .bones
@@ -772,11 +789,17 @@ fn move_within_quality(
             }
         }
     };
-    for round in 0..8 {
+    // From the seventh round on, the nodes of a spoiled cell stay where they were; a cell whose
+    // nodes all stay is as good as before, so the rounds end (at the latest when every node of
+    // a spoiled cell stays). Until 2026-11-27 they ended after eight rounds unchecked: a node
+    // sent back in the last one could spoil a neighbour it had shared a move with (a cell of
+    // scaled Jacobian 0.21 in the 5th-percentile woman's hand).
+    let mut round = 0;
+    loop {
         place(nodes, &scale);
         let mut bad = false;
         for cell in cells {
-            if cell.iter().any(|&n| target[n].is_some())
+            if cell.iter().any(|&n| target[n].is_some() && scale[n] > 0.0)
                 && scaled_jacobian(&cell.map(|n| nodes[n])) < MIN_QUALITY
             {
                 bad = true;
@@ -788,8 +811,8 @@ fn move_within_quality(
         if !bad {
             break;
         }
+        round += 1;
     }
-    place(nodes, &scale);
 }
 
 /// `p` moved onto the surface of `bone` (Newton steps on its signed distance, whose gradient is

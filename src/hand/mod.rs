@@ -16,6 +16,7 @@ mod poses;
 mod rig;
 pub mod rig_names;
 mod shape;
+pub mod size;
 mod skeleton;
 mod skin;
 mod skinning;
@@ -28,7 +29,8 @@ pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use poses::full_fist;
 pub use rig::RigJoints;
-pub use shape::SkinShape;
+pub use shape::{BuiltinSkin, SkinShape};
+pub use size::{HandSize, Stretch};
 pub use skeleton::{
     cup_radius, long_bone_radius, relative_motion, Bone, BoneShape, JointDof, Pose, PoseError,
     Side, Skeleton,

@@ -2,7 +2,9 @@
 //! pose and the flesh positions are state.
 
 use super::lattice::{mesh_flesh, FleshMesh, MeshingError};
+use super::rig::RigJoints;
 use super::shape::SkinShape;
+use super::size::{HandSize, Stretch};
 use super::skeleton::{Side, Skeleton};
 use super::skin::DisplaySkin;
 use super::skinning::SkinningWeights;
@@ -49,6 +51,24 @@ impl HandModel {
         HandModel::build(
             Skeleton::new(side),
             SkinShape::new(side),
+            resolution,
+            max_memory,
+        )
+    }
+
+    /// [`HandModel::new_within`] for a hand of `size` (the built-in anatomy stretched to it),
+    /// refused, naming the number, for a size that is not a human hand's.
+    pub fn sized(
+        side: Side,
+        size: HandSize,
+        resolution: f64,
+        max_memory: Option<u64>,
+    ) -> Result<HandModel, MeshingError> {
+        size.check().map_err(MeshingError::Size)?;
+        let stretch = Stretch::to(size);
+        HandModel::build(
+            Skeleton::from_joints(side, &RigJoints::builtin_sized(stretch)),
+            SkinShape::sized(side, stretch),
             resolution,
             max_memory,
         )

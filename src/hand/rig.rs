@@ -4,6 +4,7 @@
 //! axes from either alike.
 
 use super::anatomy::{CARPUS, FINGERS, THUMB};
+use super::size::Stretch;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The joints of a right hand in its frame (x from the wrist towards the finger tips, y towards
@@ -56,5 +57,28 @@ impl RigJoints {
             shafts,
             thumb_pronation_deg: THUMB.pronation_deg,
         }
+    }
+
+    /// The built-in hand's joints stretched to another size: joint points and the carpus by
+    /// `stretch`, bone radii by its radial factor.
+    pub fn builtin_sized(stretch: Stretch) -> RigJoints {
+        let mut joints = RigJoints::builtin();
+        let (c, h, axes) = joints.carpus;
+        joints.carpus = (
+            stretch.apply(&c),
+            [0, 1, 2].map(|k| h[k] * stretch.scale[k]),
+            axes,
+        );
+        for points in &mut joints.digits {
+            for p in points.iter_mut() {
+                *p = stretch.apply(p);
+            }
+        }
+        for radii in &mut joints.shafts {
+            for r in radii.iter_mut() {
+                *r *= stretch.radial();
+            }
+        }
+        joints
     }
 }

@@ -5,6 +5,7 @@
 
 use super::anatomy::{FINGERS, PALM, THUMB};
 use super::mesh_skin::MeshSkin;
+use super::size::Stretch;
 use super::skeleton::Side;
 use nalgebra::Vector3;
 
@@ -14,6 +15,13 @@ const PALMAR_OFFSET: f64 = 0.0014;
 const TIP_PAD: f64 = 0.0035;
 /// Blending radius between the palm and each digit, m.
 const BLEND: f64 = 0.008;
+/// The lower corner of the built-in hand's flesh lattice as its meshes were validated (the
+/// fist at resolutions 1, 1.5 and 2, the finger press from 0.75 to 2; 2026-11-25): its lattice
+/// lines pass through this point, wherever its bounds are. Laid from the skin's own lower bound
+/// instead, a change of the skin's shape anywhere moves every lattice line of the fingers: with
+/// a reshaped palm (the branch `issue-18-anatomy`) a PIP crease cell of the full fist was
+/// crushed (index and middle, resolution 1). A stretched hand's passes through its stretch.
+pub(crate) const LATTICE_ANCHOR: [f64; 3] = [-0.006, -0.044, -0.02872];
 
 /// A round cone: a capsule whose radius goes from `r0` at `a` to `r1` at `b`.
 #[derive(Clone, Copy, Debug)]
@@ -70,6 +78,21 @@ impl SkinShape {
         SkinShape::Builtin(BuiltinSkin::new(side))
     }
 
+    /// The built-in hand's skin stretched to another size.
+    pub fn sized(side: Side, stretch: Stretch) -> SkinShape {
+        SkinShape::Builtin(BuiltinSkin::sized(side, stretch))
+    }
+
+    /// A point the flesh lattice's lines pass through (a right hand's frame), if the shape
+    /// has one: the built-in hand's lattice is laid where its meshes were validated under
+    /// refinement, wherever its bounds are.
+    pub fn lattice_anchor(&self) -> Option<Vector3<f64>> {
+        match self {
+            SkinShape::Builtin(s) => Some(s.stretch.apply(&Vector3::from(LATTICE_ANCHOR))),
+            SkinShape::Mesh(_) => None,
+        }
+    }
+
     /// Signed distance from `p` (rest, hand frame) to the skin, m (negative inside).
     pub fn distance(&self, p: &Vector3<f64>) -> f64 {
         match self {
@@ -99,6 +122,7 @@ impl SkinShape {
 #[derive(Clone, Debug)]
 pub struct BuiltinSkin {
     side: Side,
+    stretch: Stretch,
     digits: Vec<Vec<RoundCone>>,
     thenar: (Vector3<f64>, Vector3<f64>),
 }
@@ -106,6 +130,21 @@ pub struct BuiltinSkin {
 impl BuiltinSkin {
     /// The built-in hand's skin.
     pub fn new(side: Side) -> BuiltinSkin {
+        BuiltinSkin::sized(side, Stretch::IDENTITY)
+    }
+
+    /// Which hand it is.
+    pub fn side(&self) -> Side {
+        self.side
+    }
+
+    /// How it is stretched from the anatomy tables' hand.
+    pub fn stretch(&self) -> Stretch {
+        self.stretch
+    }
+
+    /// The built-in hand's skin stretched from the anatomy tables' size by `stretch`.
+    pub fn sized(side: Side, stretch: Stretch) -> BuiltinSkin {
         let mut digits = Vec::new();
         // Thumb: from the thenar base along its three bones.
         let d = Vector3::from(THUMB.direction).normalize();
@@ -133,6 +172,7 @@ impl BuiltinSkin {
         let c = Vector3::from(THUMB.cmc) + d * 0.022 + Vector3::new(0.004, -0.008, -0.006);
         BuiltinSkin {
             side,
+            stretch,
             digits,
             thenar: (c, Vector3::new(0.024, 0.016, 0.010)),
         }
@@ -145,6 +185,12 @@ impl BuiltinSkin {
             Side::Right => *p,
             Side::Left => Vector3::new(p.x, -p.y, p.z),
         };
+        self.reference_distance(&self.stretch.inverse(&p)) * self.stretch.distance()
+    }
+
+    /// Signed distance to the anatomy tables' right hand.
+    fn reference_distance(&self, p: &Vector3<f64>) -> f64 {
+        let p = *p;
         let palm = palm_distance(&p);
         let (c, r) = self.thenar;
         let q = (p - c).component_div(&r);
@@ -208,6 +254,7 @@ impl BuiltinSkin {
         lo = lo.inf(&(c - r));
         hi = hi.sup(&(c + r));
         lo.x = lo.x.max(PALM.wrist_x);
+        let (lo, hi) = (self.stretch.apply(&lo), self.stretch.apply(&hi));
         let pad = Vector3::repeat(0.002);
         let (mut lo, mut hi) = (lo - pad, hi + pad);
         if self.side == Side::Left {

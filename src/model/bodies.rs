@@ -10,9 +10,9 @@ use super::shapes::build_shape;
 use super::BodyModel;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::Material;
-use crate::hand::HandModel;
+use crate::hand::{HandModel, HandSize};
 use crate::mesh::{boundary_facets, Facet, Mesh};
-use crate::scene::{Scene, Shape};
+use crate::scene::{HandSizeDef, Scene, Shape};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -53,17 +53,48 @@ pub fn bodies(
                 side,
                 resolution,
                 gltf: None,
+                bones,
+                placement,
+                size,
+            } => {
+                let field = format!("{field}.shape.hand");
+                if bones.is_some() || placement.is_some() {
+                    return Err((
+                        field,
+                        "`bones` and `placement` are for a hand read from `gltf`; the built-in \
+                         hand's joints are its own and it is sized by `size`"
+                            .into(),
+                    ));
+                }
+                let built = match size {
+                    None => HandModel::new_within((*side).into(), *resolution, memory.0),
+                    Some(size) => HandModel::sized(
+                        (*side).into(),
+                        hand_size(size).map_err(|e| (format!("{field}.size"), e))?,
+                        *resolution,
+                        memory.0,
+                    ),
+                };
+                Some(Arc::new(built.map_err(|e| (field, e.to_string()))?))
+            }
+            Shape::Hand {
+                size: Some(_),
+                gltf: Some(_),
                 ..
-            } => Some(Arc::new(
-                HandModel::new_within((*side).into(), *resolution, memory.0)
-                    .map_err(|e| (format!("{field}.shape.hand"), e.to_string()))?,
-            )),
+            } => {
+                return Err((
+                    format!("{field}.shape.hand.size"),
+                    "a hand read from `gltf` has its own size; scale it with `placement.scale`"
+                        .into(),
+                ))
+            }
             Shape::Hand {
                 side,
                 resolution,
                 gltf: Some(file),
                 bones,
                 placement,
+                ..
             } => {
                 let field = format!("{field}.shape.hand.gltf");
                 let rig = read_rigged_hand(
@@ -250,4 +281,23 @@ fn thresholds(
         out[b] = value;
     }
     Ok(out)
+}
+
+/// The size a scene asks of the built-in hand.
+fn hand_size(size: &HandSizeDef) -> Result<HandSize, String> {
+    match size {
+        HandSizeDef::Percentile(name) => HandSize::percentile(name).ok_or_else(|| {
+            format!(
+                "unknown percentile \"{name}\"; ANSUR II percentiles are {}",
+                HandSize::percentile_names()
+            )
+        }),
+        HandSizeDef::Measured { length, breadth } => Ok(match breadth {
+            Some(breadth) => HandSize {
+                length: *length,
+                breadth: *breadth,
+            },
+            None => HandSize::of_length(*length),
+        }),
+    }
 }

@@ -119,7 +119,12 @@ pub fn guard_range(range: [f32; 2]) -> [f32; 2] {
         std::mem::swap(&mut lo, &mut hi);
     }
     if hi - lo <= f32::EPSILON * lo.abs().max(hi.abs()).max(f32::MIN_POSITIVE) {
-        let pad = if lo == 0.0 { 1.0 } else { lo.abs() * 0.5 };
+        // A field that is zero everywhere (von Mises stress or displacement at rest) is shown
+        // on [0, 1]: a legend never offers a negative magnitude.
+        if lo == 0.0 {
+            return [0.0, 1.0];
+        }
+        let pad = lo.abs() * 0.5;
         return [lo - pad, hi + pad];
     }
     [lo, hi]
@@ -169,7 +174,8 @@ mod tests {
         assert_eq!(guard_range([1.0, 3.0]), [1.0, 3.0]);
         assert_eq!(guard_range([3.0, 1.0]), [1.0, 3.0]);
         assert_eq!(guard_range([2.0, 2.0]), [1.0, 3.0]);
-        assert_eq!(guard_range([0.0, 0.0]), [-1.0, 1.0]);
+        assert_eq!(guard_range([0.0, 0.0]), [0.0, 1.0]);
+        assert_eq!(guard_range([-2.0, -2.0]), [-3.0, -1.0]);
         assert_eq!(guard_range([f32::NAN, f32::INFINITY]), [0.0, 1.0]);
         assert_eq!(guard_range([f32::NAN, 4.0]), [2.0, 6.0]);
         assert_eq!(

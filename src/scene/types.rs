@@ -436,6 +436,10 @@ pub enum Shape {
         /// Where the rig goes in the scene.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         placement: Option<Placement>,
+        /// The built-in hand's size: an ANSUR II percentile (`"male-50"`, …) or
+        /// `{ length, breadth }` in metres; the anatomy tables' own when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        size: Option<HandSizeDef>,
     },
     /// An explicit mesh: node coordinates and 8-node cells (VTK order; repeat nodes for prisms
     /// and tetrahedra).
@@ -444,6 +448,26 @@ pub enum Shape {
         nodes: Vec<[f64; 3]>,
         /// Cells as 0-based node indices.
         cells: Vec<[usize; 8]>,
+    },
+}
+
+/// `size = "female-50"` or `size = { length = 0.18, breadth = 0.078 }`: the built-in hand's size
+/// (`hand::size`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "expected an ANSUR II percentile such as \"male-50\" or { length = …, breadth = … } in metres"
+)]
+pub enum HandSizeDef {
+    /// `"female-5"`, `"female-50"`, `"female-95"`, `"male-5"`, `"male-50"`, `"male-95"`.
+    Percentile(String),
+    /// Measured.
+    Measured {
+        /// Wrist crease to the tip of the middle finger, m.
+        length: f64,
+        /// Across the metacarpal heads, m; in the built-in hand's proportion when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        breadth: Option<f64>,
     },
 }
 

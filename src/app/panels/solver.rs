@@ -1,9 +1,11 @@
-//! Solver: tier, contact method, tolerance, far fingers, increment size, mesh resolution.
+//! Solver: tier, contact method, tolerance, far fingers, increment size, mesh resolution, the
+//! built-in hand's size.
 
 use super::super::settings::{tier_label, Tier};
 use super::super::state::ViewerState;
 use super::committed;
-use crate::scene::ContactMethodName;
+use crate::hand::size::ANSUR_II;
+use crate::scene::{ContactMethodName, HandSizeDef};
 use egui::{DragValue, Slider};
 
 pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
@@ -61,7 +63,51 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         .add(Slider::new(&mut s.resolution, 0.5..=2.0).text("mesh resolution"))
         .on_hover_text("hand lattice: 3.2 mm / resolution (1.6 mm on the finger-tip pads)");
     done |= committed(&r);
+    egui::ComboBox::from_label("hand size")
+        .selected_text(size_label(&s.hand_size))
+        .show_ui(ui, |ui| {
+            done |= ui
+                .selectable_value(&mut s.hand_size, None, size_label(&None))
+                .changed();
+            for (sex, p, _, _) in ANSUR_II {
+                let size = Some(HandSizeDef::Percentile(format!("{sex}-{p}")));
+                let label = size_label(&size);
+                done |= ui.selectable_value(&mut s.hand_size, size, label).changed();
+            }
+        })
+        .response
+        .on_hover_text(
+            "the built-in hand stretched to an ANSUR II percentile of hand length (wrist \
+             crease to the middle finger's tip) and breadth (across the knuckles); the flesh \
+             is meshed again",
+        );
     if done {
         state.scene_changed = true;
+    }
+}
+
+/// How the hand size menu names `size`.
+fn size_label(size: &Option<HandSizeDef>) -> String {
+    match size {
+        None => {
+            let r = crate::hand::HandSize::reference();
+            format!(
+                "built-in ({:.1} × {:.1} mm)",
+                r.length * 1e3,
+                r.breadth * 1e3
+            )
+        }
+        Some(HandSizeDef::Percentile(name)) => ANSUR_II
+            .iter()
+            .find(|(sex, p, _, _)| format!("{sex}-{p}") == *name)
+            .map(|(sex, p, l, b)| {
+                let who = if *sex == "female" { "women" } else { "men" };
+                format!("ANSUR II {who} {p}th: {l:.0} × {b:.0} mm")
+            })
+            .unwrap_or_else(|| name.clone()),
+        Some(HandSizeDef::Measured { length, breadth }) => match breadth {
+            Some(b) => format!("{:.1} × {:.1} mm", length * 1e3, b * 1e3),
+            None => format!("{:.1} mm long", length * 1e3),
+        },
     }
 }
