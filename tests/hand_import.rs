@@ -2,20 +2,12 @@
 //! taken from: the built-in hand's display skin and joint points, moved anywhere in the scene,
 //! give back its skeleton, its flesh and — flexed — its bone reactions.
 
-use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
-use prehensile::fem::solve::FillOrdering;
-use prehensile::fem::Material;
-use prehensile::hand::rig_names::joint_keys;
-use prehensile::hand::{HandModel, Pose, RigError, RiggedHand, Side};
-use prehensile::model::FlexionSettings;
-use prehensile::solve::Flexion;
-use prehensile::state::HandState;
+mod common;
 
-const FLESH: Material = Material {
-    young: 5.0e4,
-    poisson: 0.45,
-    density: 1050.0,
-};
+use common::flexion::bone_reactions;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use prehensile::hand::rig_names::joint_keys;
+use prehensile::hand::{HandModel, RigError, RiggedHand, Side};
 
 /// Somewhere in a scene: turned 40° about (1, 2, 3) and moved.
 fn placement() -> Isometry3<f64> {
@@ -59,27 +51,6 @@ fn volume(hand: &HandModel) -> f64 {
         .sum()
 }
 
-/// The reaction on each bone of `hand` flexed from rest to `pose`, N.
-fn reactions(hand: &HandModel, pose: &[(&str, f64)]) -> Vec<f64> {
-    let materials = vec![FLESH; hand.flesh.mesh.cells.len()];
-    let mut stepper = Flexion::new(
-        hand,
-        "hand",
-        materials,
-        FlexionSettings::default(),
-        FillOrdering::Auto,
-    );
-    let mut state = HandState::rest(hand);
-    let pose: Pose = pose.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    let target = hand.skeleton.apply_pose(&state.angles, &pose).unwrap();
-    stepper.move_to(&mut state, &target).unwrap();
-    state
-        .bone_reactions(hand)
-        .iter()
-        .map(|r| r.norm())
-        .collect()
-}
-
 fn compare(side: Side) {
     let builtin = HandModel::new(side, 1.0).unwrap();
     let motion = placement();
@@ -119,7 +90,10 @@ fn compare(side: Side) {
     // Flexed: every bone's reaction within 5 % of the built-in hand's largest, and the bones
     // that carry the flexion (a quarter of the largest or more) within 5 % of their own.
     let pose = [("index.pip", 90.0)];
-    let (rb, ri) = (reactions(&builtin, &pose), reactions(&imported, &pose));
+    let (rb, ri) = (
+        bone_reactions(&builtin, &pose),
+        bone_reactions(&imported, &pose),
+    );
     let largest = rb.iter().copied().fold(0.0, f64::max);
     for (b, bone) in builtin.skeleton.bones.iter().enumerate() {
         let name = &bone.name;

@@ -4,19 +4,14 @@
 //! as the square of its size (linear elasticity: strains are the same for the same joint angles,
 //! forces go as stress × area).
 
-use prehensile::fem::hex8::{cell_volume, scaled_jacobian};
-use prehensile::fem::solve::FillOrdering;
-use prehensile::fem::Material;
-use prehensile::hand::{HandModel, HandSize, Side, Stretch};
-use prehensile::model::FlexionSettings;
-use prehensile::solve::Flexion;
-use prehensile::state::HandState;
+mod common;
 
-const FLESH: Material = Material {
-    young: 5.0e4,
-    poisson: 0.45,
-    density: 1050.0,
-};
+use common::flexion::bone_reactions;
+use prehensile::fem::hex8::{cell_volume, scaled_jacobian};
+use prehensile::hand::{HandModel, HandSize, Side};
+
+/// The index's PIP flexed 90° from rest.
+const PIP_90: [(&str, f64); 1] = [("index.pip", 90.0)];
 
 fn flesh_volume(hand: &HandModel) -> f64 {
     let mesh = &hand.flesh.mesh;
@@ -34,7 +29,7 @@ fn a_sized_hands_flesh_scales_as_its_length_times_its_breadth_squared() {
         let size = HandSize::percentile(name).unwrap();
         for side in [Side::Right, Side::Left] {
             let hand = HandModel::sized(side, size, 1.0, None).unwrap();
-            let s = Stretch::to(size).scale;
+            let s = size.stretch().scale;
             let expected = s.x * s.y * s.z;
             let ratio = flesh_volume(&hand) / v0;
             println!(
@@ -77,22 +72,6 @@ fn a_sized_hands_flesh_scales_as_its_length_times_its_breadth_squared() {
     }
 }
 
-/// Bone reactions (N) after flexing the index's PIP to 90° from rest.
-fn index_pip_reactions(hand: &HandModel) -> Vec<f64> {
-    let materials = vec![FLESH; hand.flesh.mesh.cells.len()];
-    let settings = FlexionSettings::default();
-    let mut stepper = Flexion::new(hand, "hand", materials, settings, FillOrdering::Auto);
-    let mut state = HandState::rest(hand);
-    let pose = [("index.pip".to_string(), 90.0)].into_iter().collect();
-    let target = hand.skeleton.apply_pose(&state.angles, &pose).unwrap();
-    stepper.move_to(&mut state, &target).unwrap();
-    state
-        .bone_reactions(hand)
-        .iter()
-        .map(|r| r.norm())
-        .collect()
-}
-
 #[test]
 fn a_hand_scaled_alike_in_every_direction_feels_forces_scaled_by_its_size_squared() {
     // Scaled by s with the lattice scaled alike (resolution 1 / s), the mesh is the reference's
@@ -101,7 +80,10 @@ fn a_hand_scaled_alike_in_every_direction_feels_forces_scaled_by_its_size_square
     let size = HandSize::of_length(s * HandSize::reference().length);
     let reference = HandModel::new(Side::Right, 1.0).unwrap();
     let small = HandModel::sized(Side::Right, size, 1.0 / s, None).unwrap();
-    let (r0, r1) = (index_pip_reactions(&reference), index_pip_reactions(&small));
+    let (r0, r1) = (
+        bone_reactions(&reference, &PIP_90),
+        bone_reactions(&small, &PIP_90),
+    );
     // The distal phalanx's reaction (60 times smaller) is set by the DIP's joint space alone,
     // whose width is the same in millimetres at every size: it is not compared.
     for bone in ["index.proximal", "index.middle"] {

@@ -20,6 +20,7 @@ pub mod size;
 mod skeleton;
 mod skin;
 mod skinning;
+mod stretch;
 pub mod synergy;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
@@ -30,10 +31,11 @@ pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use poses::full_fist;
 pub use rig::RigJoints;
 pub use shape::{BuiltinSkin, SkinShape};
-pub use size::{HandSize, Stretch};
+pub use size::HandSize;
 pub use skeleton::{
     cup_radius, long_bone_radius, relative_motion, Bone, BoneShape, JointDof, Pose, PoseError,
     Side, Skeleton,
 };
 pub use skin::DisplaySkin;
 pub use skinning::{Blend, SkinningWeights};
+pub use stretch::Stretch;

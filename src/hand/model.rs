@@ -4,7 +4,7 @@
 use super::lattice::{mesh_flesh, FleshMesh, MeshingError};
 use super::rig::RigJoints;
 use super::shape::SkinShape;
-use super::size::{HandSize, Stretch};
+use super::size::HandSize;
 use super::skeleton::{Side, Skeleton};
 use super::skin::DisplaySkin;
 use super::skinning::SkinningWeights;
@@ -65,7 +65,7 @@ impl HandModel {
         max_memory: Option<u64>,
     ) -> Result<HandModel, MeshingError> {
         size.check().map_err(MeshingError::Size)?;
-        let stretch = Stretch::to(size);
+        let stretch = size.stretch();
         HandModel::build(
             Skeleton::from_joints(side, &RigJoints::builtin_sized(stretch)),
             SkinShape::sized(side, stretch),

@@ -4,7 +4,7 @@
 //! axes from either alike.
 
 use super::anatomy::{CARPUS, FINGERS, THUMB};
-use super::size::Stretch;
+use super::stretch::Stretch;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The joints of a right hand in its frame (x from the wrist towards the finger tips, y towards

@@ -5,8 +5,8 @@
 
 use super::anatomy::{FINGERS, PALM, THUMB};
 use super::mesh_skin::MeshSkin;
-use super::size::Stretch;
 use super::skeleton::Side;
+use super::stretch::Stretch;
 use nalgebra::Vector3;
 
 /// Offset of a finger's skin axis from its bone axis towards the palm, m.
@@ -15,13 +15,6 @@ const PALMAR_OFFSET: f64 = 0.0014;
 const TIP_PAD: f64 = 0.0035;
 /// Blending radius between the palm and each digit, m.
 const BLEND: f64 = 0.008;
-/// The lower corner of the built-in hand's flesh lattice as its meshes were validated (the
-/// fist at resolutions 1, 1.5 and 2, the finger press from 0.75 to 2; 2026-11-25): its lattice
-/// lines pass through this point, wherever its bounds are. Laid from the skin's own lower bound
-/// instead, a change of the skin's shape anywhere moves every lattice line of the fingers: with
-/// a reshaped palm (the branch `issue-18-anatomy`) a PIP crease cell of the full fist was
-/// crushed (index and middle, resolution 1). A stretched hand's passes through its stretch.
-pub(crate) const LATTICE_ANCHOR: [f64; 3] = [-0.006, -0.044, -0.02872];
 
 /// A round cone: a capsule whose radius goes from `r0` at `a` to `r1` at `b`.
 #[derive(Clone, Copy, Debug)]
@@ -84,11 +77,16 @@ impl SkinShape {
     }
 
     /// A point the flesh lattice's lines pass through (a right hand's frame), if the shape
-    /// has one: the built-in hand's lattice is laid where its meshes were validated under
-    /// refinement, wherever its bounds are.
+    /// has one: a stretched built-in hand's lattice passes through the stretched lower corner of
+    /// the anatomy tables' hand, so that with its spacing stretched alike it is that hand's
+    /// lattice stretched (the built-in hand's own: its lower corner, as always). Laid from the
+    /// stretched skin's own padded bounds instead, it would be shifted by the pad's change.
     pub fn lattice_anchor(&self) -> Option<Vector3<f64>> {
         match self {
-            SkinShape::Builtin(s) => Some(s.stretch.apply(&Vector3::from(LATTICE_ANCHOR))),
+            SkinShape::Builtin(s) => {
+                let (lo, _) = BuiltinSkin::new(Side::Right).bounds();
+                Some(s.stretch.apply(&lo))
+            }
             SkinShape::Mesh(_) => None,
         }
     }

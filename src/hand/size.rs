@@ -10,6 +10,7 @@
 use super::anatomy::{FINGERS, PALM};
 use super::shape::BuiltinSkin;
 use super::skeleton::Side;
+use super::stretch::Stretch;
 use nalgebra::Vector3;
 use std::sync::OnceLock;
 
@@ -76,6 +77,12 @@ impl HandSize {
         }
     }
 
+    /// The stretch from the anatomy tables' hand to this size.
+    pub fn stretch(&self) -> Stretch {
+        let r = HandSize::reference();
+        Stretch::new(self.length / r.length, self.breadth / r.breadth)
+    }
+
     /// Refuses a size that is not a human hand's, naming the number.
     pub fn check(&self) -> Result<(), String> {
         let (lo, hi) = LENGTH_RANGE;
@@ -99,55 +106,6 @@ impl HandSize {
             ));
         }
         Ok(())
-    }
-}
-
-/// The map from the reference hand to a hand of another size: p ↦ w + S (p − w), w the middle
-/// of the wrist cut, S = diag(length ratio, breadth ratio, breadth ratio).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stretch {
-    /// S's diagonal.
-    pub scale: Vector3<f64>,
-}
-
-impl Stretch {
-    /// The reference hand's own size.
-    pub const IDENTITY: Stretch = Stretch {
-        scale: Vector3::new(1.0, 1.0, 1.0),
-    };
-
-    /// The stretch from the reference hand to `size`.
-    pub fn to(size: HandSize) -> Stretch {
-        let r = HandSize::reference();
-        let b = size.breadth / r.breadth;
-        Stretch {
-            scale: Vector3::new(size.length / r.length, b, b),
-        }
-    }
-
-    fn origin() -> Vector3<f64> {
-        Vector3::new(PALM.wrist_x, 0.0, 0.0)
-    }
-
-    /// A reference point's place in the stretched hand.
-    pub fn apply(&self, p: &Vector3<f64>) -> Vector3<f64> {
-        Stretch::origin() + (p - Stretch::origin()).component_mul(&self.scale)
-    }
-
-    /// A stretched point's place in the reference hand.
-    pub fn inverse(&self, p: &Vector3<f64>) -> Vector3<f64> {
-        Stretch::origin() + (p - Stretch::origin()).component_div(&self.scale)
-    }
-
-    /// How a radius across a bone or a finger scales.
-    pub fn radial(&self) -> f64 {
-        self.scale.y
-    }
-
-    /// A factor that keeps a reference signed distance a bound of the stretched one near the
-    /// surface (the smallest stretch).
-    pub fn distance(&self) -> f64 {
-        self.scale.min()
     }
 }
 
@@ -239,7 +197,7 @@ mod tests {
             let size = HandSize::percentile(name).unwrap();
             size.check().unwrap();
             for side in [Side::Right, Side::Left] {
-                let got = measure(&BuiltinSkin::sized(side, Stretch::to(size)));
+                let got = measure(&BuiltinSkin::sized(side, size.stretch()));
                 assert!(
                     (got.length - size.length).abs() < 1e-5
                         && (got.breadth - size.breadth).abs() < 1e-5,

@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod flexion;
 pub mod gltf_validator;
 pub mod limited;
 pub mod viewer;
