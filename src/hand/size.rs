@@ -110,8 +110,8 @@ impl HandSize {
 }
 
 /// The length and breadth of a built-in skin, as ANSUR II measures them: from the wrist cut to
-/// the farthest point of the middle finger along x; across the hand (y) in the bone plane z = 0
-/// halfway between the index's and the little finger's knuckles (the metacarpal heads).
+/// the farthest point of the middle finger along x; across the hand (y) at its widest over the
+/// metacarpal heads and through the palm's thickness, as calipers close on it.
 pub fn measure(skin: &BuiltinSkin) -> HandSize {
     // Probed in a right hand's frame (a left hand's skin is its mirror in y).
     let flip = skin.side() == Side::Left;
