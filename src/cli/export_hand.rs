@@ -6,6 +6,8 @@ use crate::export::hand_rig::{bone_joints, rig_joints, write_hand_rig};
 use crate::export::rig_mesh::{rig_mesh, RigOptions, RigSkin};
 use crate::hand::rig_names::Convention;
 use crate::hand::{HandModel, HandSize, Side};
+use crate::model::hand_size;
+use crate::scene::HandSizeDef;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use std::path::PathBuf;
@@ -85,16 +87,21 @@ pub fn run(args: ExportHandArgs) -> Result<()> {
     let hand = match &args.size {
         None => HandModel::new(side, args.resolution).context("--resolution")?,
         Some(text) => {
-            let size = match text.parse::<f64>() {
-                Ok(length) => HandSize::of_length(length),
-                Err(_) => HandSize::percentile(text).with_context(|| {
-                    format!(
-                        "--size: \"{text}\" is neither a length in metres nor an ANSUR II \
-                         percentile ({})",
-                        HandSize::percentile_names()
-                    )
-                })?,
+            // As a scene's `size`: a length (breadth in proportion) or a percentile's name.
+            let def = match text.parse::<f64>() {
+                Ok(length) => HandSizeDef::Measured {
+                    length,
+                    breadth: None,
+                },
+                Err(_) => HandSizeDef::Percentile(text.clone()),
             };
+            let size = hand_size(&def).map_err(|_| {
+                anyhow::anyhow!(
+                    "--size: \"{text}\" is neither a length in metres nor an ANSUR II \
+                     percentile ({})",
+                    HandSize::percentile_names()
+                )
+            })?;
             HandModel::sized(side, size, args.resolution, None).context("--size/--resolution")?
         }
     };

@@ -34,6 +34,14 @@ pub const ANSUR_II: [(&str, u32, f64, f64); 6] = [
     ("male", 95, 210.0, 96.0),
 ];
 
+/// The [`ANSUR_II`] row named `name` (`"female-50"`, …).
+pub fn ansur_ii(name: &str) -> Option<(&'static str, u32, f64, f64)> {
+    ANSUR_II
+        .iter()
+        .find(|(sex, p, _, _)| format!("{sex}-{p}") == name)
+        .copied()
+}
+
 /// Accepted hand lengths, m: from a small child's to beyond the largest adult's.
 pub const LENGTH_RANGE: (f64, f64) = (0.10, 0.30);
 
@@ -50,13 +58,10 @@ impl HandSize {
     /// An ANSUR II percentile by name: `"female-5"`, `"female-50"`, `"female-95"`, `"male-5"`,
     /// `"male-50"`, `"male-95"`.
     pub fn percentile(name: &str) -> Option<HandSize> {
-        ANSUR_II
-            .iter()
-            .find(|(sex, p, _, _)| format!("{sex}-{p}") == name)
-            .map(|&(_, _, length, breadth)| HandSize {
-                length: length * 1e-3,
-                breadth: breadth * 1e-3,
-            })
+        ansur_ii(name).map(|(_, _, length, breadth)| HandSize {
+            length: length * 1e-3,
+            breadth: breadth * 1e-3,
+        })
     }
 
     /// The names [`HandSize::percentile`] knows, for an error message.

@@ -283,8 +283,8 @@ fn thresholds(
     Ok(out)
 }
 
-/// The size a scene asks of the built-in hand.
-fn hand_size(size: &HandSizeDef) -> Result<HandSize, String> {
+/// The size a scene asks of the built-in hand (the scene's `size`, the CLI's `--size`).
+pub fn hand_size(size: &HandSizeDef) -> Result<HandSize, String> {
     match size {
         HandSizeDef::Percentile(name) => HandSize::percentile(name).ok_or_else(|| {
             format!(

@@ -26,6 +26,7 @@ mod shapes;
 mod supports;
 mod tier;
 
+pub use bodies::hand_size;
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 pub use gas::{GasCavity, STANDARD_AMBIENT};
 pub use grasp::{grasp_keyframe, ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};

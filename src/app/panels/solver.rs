@@ -4,7 +4,7 @@
 use super::super::settings::{tier_label, Tier};
 use super::super::state::ViewerState;
 use super::committed;
-use crate::hand::size::ANSUR_II;
+use crate::hand::size::{ansur_ii, ANSUR_II};
 use crate::scene::{ContactMethodName, HandSizeDef};
 use egui::{DragValue, Slider};
 
@@ -97,11 +97,9 @@ fn size_label(size: &Option<HandSizeDef>) -> String {
                 r.breadth * 1e3
             )
         }
-        Some(HandSizeDef::Percentile(name)) => ANSUR_II
-            .iter()
-            .find(|(sex, p, _, _)| format!("{sex}-{p}") == *name)
+        Some(HandSizeDef::Percentile(name)) => ansur_ii(name)
             .map(|(sex, p, l, b)| {
-                let who = if *sex == "female" { "women" } else { "men" };
+                let who = if sex == "female" { "women" } else { "men" };
                 format!("ANSUR II {who} {p}th: {l:.0} × {b:.0} mm")
             })
             .unwrap_or_else(|| name.clone()),
