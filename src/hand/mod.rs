@@ -7,6 +7,7 @@
 
 pub mod anatomy;
 mod bone_mesh;
+mod embed;
 mod imported;
 mod lattice;
 mod mesh_skin;

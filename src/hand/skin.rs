@@ -3,7 +3,7 @@
 //! flesh and follows its displacement field at the cost of one sparse product per frame; the
 //! display resolution never costs simulation time.
 
-use crate::fem::hex8::{local_coordinates, shape};
+use super::embed::{embed, NodeCells};
 use crate::mesh::Mesh;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -205,7 +205,8 @@ impl DisplaySkin {
     /// A control net (`quads` over `vertices`, each quad tied to a cell of `mesh` by
     /// `quad_cells`) subdivided `levels` times, then every display vertex moved onto the true
     /// skin surface (`project` maps a point to its nearest skin point, at rest) and embedded in
-    /// the cell its quad is tied to: its weights become the trilinear shape functions of that
+    /// the cell its quad is tied to, or where that cell cannot reproduce it, in the nearest cell
+    /// around it ([`super::embed`]): its weights become the trilinear shape functions of that
     /// cell at the vertex's local coordinates (extrapolated outside the cell where the skin is).
     /// The skin is then as smooth as the skin shape, whatever the lattice's steps, and follows
     /// the flesh's displacement field.
@@ -228,13 +229,13 @@ impl DisplaySkin {
                 }
             }
         }
+        let around = NodeCells::new(mesh);
         let embedded: Vec<[(u32, f64); 8]> = rest
             .par_iter()
             .enumerate()
             .map(|(v, p)| {
-                let cell = mesh.cells[cell_of[v]];
-                let coords = cell.map(|n| mesh.nodes[n]);
-                let n = shape(&local_coordinates(&coords, &project(p)));
+                let (c, n) = embed(mesh, &around, cell_of[v], &project(p));
+                let cell = mesh.cells[c];
                 std::array::from_fn(|a| (cell[a] as u32, n[a]))
             })
             .collect();

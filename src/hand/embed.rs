@@ -1,0 +1,224 @@
+//! Embedding a point of the skin in the flesh: the cell, and the natural coordinates in it, whose
+//! trilinear map reproduces the point. A skin point belongs to a control quad tied to a boundary
+//! cell, but the smooth skin may pass a cell or more beyond that cell (where its skin nodes stay
+//! inside the skin, attached to a bone flush with it); there the cell's natural coordinates leave
+//! the range Newton's iteration keeps them in (±2) and the point would be pulled in: a dent of
+//! the skin up to 4 mm deep on the backs of the fingers. The cells around it (sharing a node) are
+//! then tried: one holding the point interpolates it; where none does, the nearest extrapolates it
+//! along its tangent map.
+
+use crate::fem::hex8::{jacobian, local_coordinates, shape, shape_derivatives};
+use crate::mesh::Mesh;
+use nalgebra::Vector3;
+
+/// A point is reproduced when its embedded position lies within this of it, m.
+const REPRODUCED: f64 = 1e-9;
+
+/// The cells of every node (compressed rows).
+pub struct NodeCells {
+    offsets: Vec<u32>,
+    cells: Vec<u32>,
+}
+
+impl NodeCells {
+    pub fn new(mesh: &Mesh) -> NodeCells {
+        let mut count = vec![0u32; mesh.node_count() + 1];
+        for cell in &mesh.cells {
+            for &n in cell {
+                count[n + 1] += 1;
+            }
+        }
+        for i in 1..count.len() {
+            count[i] += count[i - 1];
+        }
+        let mut fill = count.clone();
+        let mut cells = vec![0u32; count[mesh.node_count()] as usize];
+        for (c, cell) in mesh.cells.iter().enumerate() {
+            for &n in cell {
+                cells[fill[n] as usize] = c as u32;
+                fill[n] += 1;
+            }
+        }
+        NodeCells {
+            offsets: count,
+            cells,
+        }
+    }
+
+    /// The cells sharing a node with `cell` (itself included), each once.
+    fn around(&self, mesh: &Mesh, cell: usize) -> Vec<usize> {
+        let mut out: Vec<usize> = mesh.cells[cell]
+            .iter()
+            .flat_map(|&n| {
+                let (a, b) = (self.offsets[n] as usize, self.offsets[n + 1] as usize);
+                self.cells[a..b].iter().map(|&c| c as usize)
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+/// How far natural coordinates are from the reference cube (0 on its faces, negative inside).
+fn beyond(xi: &Vector3<f64>) -> f64 {
+    xi.amax() - 1.0
+}
+
+/// Shape-function values at `xi` of cell `c`, and the position they give.
+fn at(mesh: &Mesh, c: usize, xi: &Vector3<f64>) -> ([f64; 8], Vector3<f64>) {
+    let n = shape(xi);
+    let x = (0..8).map(|a| mesh.nodes[mesh.cells[c][a]] * n[a]).sum();
+    (n, x)
+}
+
+/// The weights embedding `p`, over the nodes of the cell returned:
+/// - `cell` itself when its trilinear map reproduces `p` within ±2 natural coordinates (as
+///   before: interpolation inside the cell, mild extrapolation up to a cell's width beyond it);
+/// - otherwise a cell around it that holds `p` (interpolation);
+/// - otherwise the cell around it whose nearest point is nearest `p`, extrapolated along its
+///   tangent map from there: x = x(ξ₀) + J(ξ₀)·δ, weights N_a(ξ₀) + ∇N_a(ξ₀)·δ. They sum to
+///   one and reproduce every affine motion of the cell, like the trilinear map, but grow linearly
+///   with the distance, not as its cube (a trilinear map extrapolated three cells out puts
+///   weights of 30 on nodes and turns a cell's slight distortion into spikes of the skin).
+pub fn embed(mesh: &Mesh, around: &NodeCells, cell: usize, p: &Vector3<f64>) -> (usize, [f64; 8]) {
+    let fit = |c: usize| {
+        let coords = mesh.cells[c].map(|n| mesh.nodes[n]);
+        let xi = local_coordinates(&coords, p);
+        let (n, x) = at(mesh, c, &xi);
+        (xi, n, (x - p).norm())
+    };
+    let (_, n, miss) = fit(cell);
+    if miss <= REPRODUCED {
+        return (cell, n);
+    }
+    let cells = around.around(mesh, cell);
+    let fits: Vec<(usize, Vector3<f64>, [f64; 8], f64)> = cells
+        .iter()
+        .map(|&c| {
+            let (xi, n, miss) = fit(c);
+            (c, xi, n, miss)
+        })
+        .collect();
+    if let Some(&(c, _, n, _)) = fits
+        .iter()
+        .filter(|f| f.3 <= REPRODUCED && beyond(&f.1) <= 1e-9)
+        .min_by(|a, b| beyond(&a.1).total_cmp(&beyond(&b.1)))
+    {
+        return (c, n);
+    }
+    let nearest = fits
+        .iter()
+        .map(|&(c, xi, _, _)| {
+            let xi0 = xi.map(|v| v.clamp(-1.0, 1.0));
+            let (n0, x0) = at(mesh, c, &xi0);
+            (c, xi0, n0, (p - x0).norm(), p - x0)
+        })
+        .min_by(|a, b| a.3.total_cmp(&b.3));
+    let Some((c, xi0, n0, _, d)) = nearest else {
+        return (cell, n);
+    };
+    let dn = shape_derivatives(&xi0);
+    let coords = mesh.cells[c].map(|n| mesh.nodes[n]);
+    let Some(inv) = jacobian(&coords, &dn).try_inverse() else {
+        return (cell, n);
+    };
+    let delta = inv * d;
+    (c, std::array::from_fn(|a| n0[a] + dn[a].dot(&delta)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Hex;
+
+    /// Two unit cubes side by side along x, the second sheared so that its map is not affine.
+    fn two_cells() -> Mesh {
+        let mut nodes = Vec::new();
+        for k in 0..2 {
+            for j in 0..2 {
+                for i in 0..3 {
+                    let shear = if i == 2 && j == 1 && k == 1 { 0.3 } else { 0.0 };
+                    nodes.push(Vector3::new(i as f64 + shear, j as f64, k as f64));
+                }
+            }
+        }
+        let id = |i: usize, j: usize, k: usize| i + 3 * j + 6 * k;
+        let cell = |i: usize| -> Hex {
+            [
+                id(i, 0, 0),
+                id(i + 1, 0, 0),
+                id(i + 1, 1, 0),
+                id(i, 1, 0),
+                id(i, 0, 1),
+                id(i + 1, 0, 1),
+                id(i + 1, 1, 1),
+                id(i, 1, 1),
+            ]
+        };
+        Mesh {
+            nodes,
+            cells: vec![cell(0), cell(1)],
+        }
+    }
+
+    fn place(mesh: &Mesh, cell: usize, n: &[f64; 8]) -> Vector3<f64> {
+        (0..8).map(|a| mesh.nodes[mesh.cells[cell][a]] * n[a]).sum()
+    }
+
+    #[test]
+    fn a_point_its_cell_reproduces_stays_in_that_cell() {
+        let mesh = two_cells();
+        let around = NodeCells::new(&mesh);
+        // Just beyond the first cell, inside the second: the first cell's (affine) map
+        // reproduces it, so it is kept.
+        let p = Vector3::new(1.4, 0.5, 0.5);
+        let (c, n) = embed(&mesh, &around, 0, &p);
+        assert_eq!(c, 0);
+        assert!((place(&mesh, c, &n) - p).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_point_beyond_its_cells_reach_goes_to_the_neighbour_holding_it() {
+        let mesh = two_cells();
+        let around = NodeCells::new(&mesh);
+        // 2.5 cell widths from the first cell's centre: its natural coordinate would be 4,
+        // beyond the ±2 Newton keeps, so the first cell cannot reproduce it; the second holds
+        // it.
+        let p = Vector3::new(2.1, 0.9, 0.9);
+        let coords = mesh.cells[0].map(|n| mesh.nodes[n]);
+        let own: Vector3<f64> = {
+            let n = shape(&local_coordinates(&coords, &p));
+            (0..8).map(|a| coords[a] * n[a]).sum()
+        };
+        assert!((own - p).norm() > 0.1, "the first cell alone misplaces it");
+        let (c, n) = embed(&mesh, &around, 0, &p);
+        assert_eq!(c, 1);
+        assert!((place(&mesh, c, &n) - p).norm() < 1e-9);
+        assert!(
+            n.iter().all(|&w| w > -1e-12),
+            "interpolated, not extrapolated"
+        );
+    }
+
+    #[test]
+    fn a_point_beyond_every_cell_follows_the_nearest_cells_affine_motion_with_tame_weights() {
+        let mesh = two_cells();
+        let around = NodeCells::new(&mesh);
+        // Three cell widths above the first cell: no cell holds it; the trilinear map
+        // extrapolated there would weigh nodes by (1 + 7)²/4 = 16.
+        let p = Vector3::new(0.5, 0.5, 4.0);
+        let (c, n) = embed(&mesh, &around, 0, &p);
+        assert!((place(&mesh, c, &n) - p).norm() < 1e-12);
+        assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        assert!(n.iter().all(|w| w.abs() < 2.0), "{n:?}");
+        // An affine motion x ↦ A x + b of the nodes moves the point to A p + b.
+        let a = nalgebra::Matrix3::new(1.1, 0.2, 0.0, -0.1, 0.9, 0.3, 0.05, 0.0, 1.2);
+        let b = Vector3::new(0.3, -0.2, 0.1);
+        let moved = Mesh {
+            nodes: mesh.nodes.iter().map(|x| a * x + b).collect(),
+            cells: mesh.cells.clone(),
+        };
+        assert!((place(&moved, c, &n) - (a * p + b)).norm() < 1e-12);
+    }
+}
