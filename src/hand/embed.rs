@@ -14,6 +14,18 @@ use nalgebra::Vector3;
 /// A point is reproduced when its embedded position lies within this of it, m.
 const REPRODUCED: f64 = 1e-9;
 
+/// Where a skin point may be embedded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reach {
+    /// In the cell of its control quad only, its natural coordinates kept within ±2: a point
+    /// beyond is pulled in (the contact skin, whose dents the contact solver is tuned with:
+    /// docs/hand.md).
+    OwnCell,
+    /// In its own cell, a neighbour or extrapolated from the nearest ([`embed`]): exactly on
+    /// the skin's shape (the display skin).
+    Nearest,
+}
+
 /// The cells of every node (compressed rows).
 pub struct NodeCells {
     offsets: Vec<u32>,
@@ -72,7 +84,8 @@ fn at(mesh: &Mesh, c: usize, xi: &Vector3<f64>) -> ([f64; 8], Vector3<f64>) {
     (n, x)
 }
 
-/// The weights embedding `p`, over the nodes of the cell returned:
+/// The weights embedding `p`, over the nodes of the cell returned (`reach` [`Reach::OwnCell`]:
+/// the first case only, whatever the result):
 /// - `cell` itself when its trilinear map reproduces `p` within ±2 natural coordinates (as
 ///   before: interpolation inside the cell, mild extrapolation up to a cell's width beyond it);
 /// - otherwise a cell around it that holds `p` (interpolation);
@@ -81,7 +94,13 @@ fn at(mesh: &Mesh, c: usize, xi: &Vector3<f64>) -> ([f64; 8], Vector3<f64>) {
 ///   one and reproduce every affine motion of the cell, like the trilinear map, but grow linearly
 ///   with the distance, not as its cube (a trilinear map extrapolated three cells out puts
 ///   weights of 30 on nodes and turns a cell's slight distortion into spikes of the skin).
-pub fn embed(mesh: &Mesh, around: &NodeCells, cell: usize, p: &Vector3<f64>) -> (usize, [f64; 8]) {
+pub fn embed(
+    mesh: &Mesh,
+    around: &NodeCells,
+    cell: usize,
+    p: &Vector3<f64>,
+    reach: Reach,
+) -> (usize, [f64; 8]) {
     let fit = |c: usize| {
         let coords = mesh.cells[c].map(|n| mesh.nodes[n]);
         let xi = local_coordinates(&coords, p);
@@ -89,7 +108,7 @@ pub fn embed(mesh: &Mesh, around: &NodeCells, cell: usize, p: &Vector3<f64>) -> 
         (xi, n, (x - p).norm())
     };
     let (_, n, miss) = fit(cell);
-    if miss <= REPRODUCED {
+    if miss <= REPRODUCED || reach == Reach::OwnCell {
         return (cell, n);
     }
     let cells = around.around(mesh, cell);
@@ -173,7 +192,7 @@ mod tests {
         // Just beyond the first cell, inside the second: the first cell's (affine) map
         // reproduces it, so it is kept.
         let p = Vector3::new(1.4, 0.5, 0.5);
-        let (c, n) = embed(&mesh, &around, 0, &p);
+        let (c, n) = embed(&mesh, &around, 0, &p, Reach::Nearest);
         assert_eq!(c, 0);
         assert!((place(&mesh, c, &n) - p).norm() < 1e-12);
     }
@@ -192,7 +211,7 @@ mod tests {
             (0..8).map(|a| coords[a] * n[a]).sum()
         };
         assert!((own - p).norm() > 0.1, "the first cell alone misplaces it");
-        let (c, n) = embed(&mesh, &around, 0, &p);
+        let (c, n) = embed(&mesh, &around, 0, &p, Reach::Nearest);
         assert_eq!(c, 1);
         assert!((place(&mesh, c, &n) - p).norm() < 1e-9);
         assert!(
@@ -208,7 +227,7 @@ mod tests {
         // Three cell widths above the first cell: no cell holds it; the trilinear map
         // extrapolated there would weigh nodes by (1 + 7)²/4 = 16.
         let p = Vector3::new(0.5, 0.5, 4.0);
-        let (c, n) = embed(&mesh, &around, 0, &p);
+        let (c, n) = embed(&mesh, &around, 0, &p, Reach::Nearest);
         assert!((place(&mesh, c, &n) - p).norm() < 1e-12);
         assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         assert!(n.iter().all(|w| w.abs() < 2.0), "{n:?}");

@@ -153,7 +153,7 @@ pub fn check_memory(
         return Ok(());
     };
     let points = |r: f64| {
-        let [xs, ys, zs] = lattice_axes(skeleton, skin, r);
+        let [xs, ys, zs] = lattice_axes(skeleton, skin, r, Vector3::zeros());
         (xs.len() as u64)
             .saturating_mul(ys.len() as u64)
             .saturating_mul(zs.len() as u64)
@@ -201,8 +201,14 @@ pub const BASE_SPACING: f64 = 0.0032;
 
 /// The lattice's coordinates along x, y and z for the hand of `skeleton` in `skin` at
 /// `resolution`: spacing `BASE_SPACING / resolution`, halved over the finger-tip pads and the
-/// thumb's distal phalanx.
-fn lattice_axes(skeleton: &Skeleton, skin: &SkinShape, resolution: f64) -> [Vec<f64>; 3] {
+/// thumb's distal phalanx; moved by `offset` (m, each component ≥ 0) towards −x, −z and the
+/// little finger's side (a left hand's lattice stays the mirror of the right one's).
+fn lattice_axes(
+    skeleton: &Skeleton,
+    skin: &SkinShape,
+    resolution: f64,
+    offset: Vector3<f64>,
+) -> [Vec<f64>; 3] {
     let h = BASE_SPACING / resolution;
     let (mut lo, mut hi) = skin.bounds();
     // Lines through the skin's anchor, if it has one (a right hand's: a left hand's lattice
@@ -218,6 +224,12 @@ fn lattice_axes(skeleton: &Skeleton, skin: &SkinShape, resolution: f64) -> [Vec<
             Side::Right => lo.y = snapped.y,
             Side::Left => hi.y = -snapped.y,
         }
+    }
+    let offset = offset.map(|c| c.max(0.0));
+    (lo.x, lo.z) = (lo.x - offset.x, lo.z - offset.z);
+    match skeleton.side {
+        Side::Right => lo.y -= offset.y,
+        Side::Left => hi.y += offset.y,
     }
     // Fine windows: the finger-tip pads (distal phalanges) and the thumb's distal phalanx.
     let dip_x = skeleton
@@ -255,11 +267,23 @@ pub fn mesh_flesh(
     skin: &SkinShape,
     resolution: f64,
 ) -> Result<FleshMesh, MeshingError> {
+    mesh_flesh_offset(skeleton, skin, resolution, Vector3::zeros())
+}
+
+/// [`mesh_flesh`] with the lattice moved by `offset` (m, each component ≥ 0, less than a
+/// cell) towards −x, −z and the little finger's side: where the lattice falls on the hand
+/// changes, nothing else (a study of how much the results depend on it: docs/hand.md).
+pub fn mesh_flesh_offset(
+    skeleton: &Skeleton,
+    skin: &SkinShape,
+    resolution: f64,
+    offset: Vector3<f64>,
+) -> Result<FleshMesh, MeshingError> {
     if !(0.5..=4.0).contains(&resolution) {
         return Err(MeshingError::Resolution(resolution));
     }
     let h = BASE_SPACING / resolution;
-    let [xs, ys, zs] = lattice_axes(skeleton, skin, resolution);
+    let [xs, ys, zs] = lattice_axes(skeleton, skin, resolution, offset);
     let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, zs.len() - 1);
     let cell_id = |i: usize, j: usize, k: usize| i + nx * (j + ny * k);
     let point = |i: usize, j: usize, k: usize| Vector3::new(xs[i], ys[j], zs[k]);

@@ -26,7 +26,7 @@ pub mod synergy;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use imported::{RigError, RiggedHand};
-pub use lattice::{mesh_flesh, FleshMesh, MeshingError, BASE_SPACING};
+pub use lattice::{mesh_flesh, mesh_flesh_offset, FleshMesh, MeshingError, BASE_SPACING};
 pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use poses::full_fist;

@@ -1,13 +1,15 @@
 //! A built hand: skeleton, meshed flesh, display skin, skinning weights. Fixed for a scene; the
 //! pose and the flesh positions are state.
 
-use super::lattice::{mesh_flesh, FleshMesh, MeshingError};
+use super::embed::Reach;
+use super::lattice::{mesh_flesh_offset, FleshMesh, MeshingError};
 use super::rig::RigJoints;
 use super::shape::SkinShape;
 use super::size::HandSize;
 use super::skeleton::{Side, Skeleton};
 use super::skin::DisplaySkin;
 use super::skinning::SkinningWeights;
+use nalgebra::Vector3;
 
 /// Catmull–Clark levels of the display skin.
 pub const SKIN_LEVELS: usize = 2;
@@ -83,20 +85,38 @@ impl HandModel {
         resolution: f64,
         max_memory: Option<u64>,
     ) -> Result<HandModel, MeshingError> {
+        HandModel::build_offset(skeleton, shape, resolution, max_memory, Vector3::zeros())
+    }
+
+    /// [`HandModel::build`] with the flesh lattice moved by `lattice_offset`
+    /// ([`super::lattice::mesh_flesh_offset`]).
+    pub fn build_offset(
+        skeleton: Skeleton,
+        shape: SkinShape,
+        resolution: f64,
+        max_memory: Option<u64>,
+        lattice_offset: Vector3<f64>,
+    ) -> Result<HandModel, MeshingError> {
         super::lattice::check_memory(&skeleton, &shape, resolution, max_memory)?;
-        let flesh = mesh_flesh(&skeleton, &shape, resolution)?;
-        let embedded = |levels| {
+        let flesh = mesh_flesh_offset(&skeleton, &shape, resolution, lattice_offset)?;
+        let embedded = |levels, reach| {
             DisplaySkin::embedded(
                 &flesh.display_quads,
                 &flesh.display_vertices,
                 &flesh.display_cells,
                 &flesh.mesh,
                 levels,
+                reach,
                 |p| shape.project(p),
             )
         };
-        let skin = embedded(SKIN_LEVELS);
-        let contact_skin = embedded(CONTACT_SKIN_LEVELS);
+        let skin = embedded(SKIN_LEVELS, Reach::Nearest);
+        // The contact skin keeps its vertices within reach of their own cells: placed exactly
+        // on the skin, the 106 (of 6 560) it pulls in by up to 4.2 mm on the backs and creases
+        // of the fingers made the fist's self-contact fail to settle (ring PIP 41°), the folded
+        // PIP crease invert a cell at 90.6°, and the pad's press into the soft ball stop at
+        // 71 % of its way (measured 2026-11-27; docs/hand.md).
+        let contact_skin = embedded(CONTACT_SKIN_LEVELS, Reach::OwnCell);
         let weights = SkinningWeights::new(&skeleton, &flesh.mesh.nodes, &flesh.node_bone);
         Ok(HandModel {
             skeleton,

@@ -3,7 +3,7 @@
 //! flesh and follows its displacement field at the cost of one sparse product per frame; the
 //! display resolution never costs simulation time.
 
-use super::embed::{embed, NodeCells};
+use super::embed::{embed, NodeCells, Reach};
 use crate::mesh::Mesh;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -216,6 +216,7 @@ impl DisplaySkin {
         quad_cells: &[usize],
         mesh: &Mesh,
         levels: usize,
+        reach: Reach,
         project: impl Fn(&Vector3<f64>) -> Vector3<f64> + Sync,
     ) -> DisplaySkin {
         let mut skin = DisplaySkin::new(quads, vertices.len(), levels);
@@ -234,7 +235,7 @@ impl DisplaySkin {
             .par_iter()
             .enumerate()
             .map(|(v, p)| {
-                let (c, n) = embed(mesh, &around, cell_of[v], &project(p));
+                let (c, n) = embed(mesh, &around, cell_of[v], &project(p), reach);
                 let cell = mesh.cells[c];
                 std::array::from_fn(|a| (cell[a] as u32, n[a]))
             })

@@ -194,6 +194,27 @@ impl Workspace {
                  or the hand to it".into(),
             )));
         }
+        // A bone past its threshold at first contact: no grip within the thresholds (the
+        // closing only adds to the reactions).
+        if let Some(o) = overloaded(&lo) {
+            let reason = format!(
+                "at first contact, before any grip, bone {} already bears {:.3} N, past its \
+                 threshold of {} N: no grip stays within the thresholds (raise it: \
+                 bone_thresholds on the hand)",
+                o.bone,
+                o.reaction,
+                crate::util::number::readable(o.threshold)
+            );
+            return Ok(self.finish(
+                model,
+                posed,
+                (body, grasp),
+                lo,
+                &touching,
+                (count.get(), search.take()),
+                Some(reason),
+            ));
+        }
         // No friction, no hold against gravity (whatever the grip).
         if let HoldTarget::Gravity { .. } = grasp.hold {
             if let Some(reason) = frictionless(model, body, grasp.object) {
