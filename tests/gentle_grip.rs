@@ -119,6 +119,103 @@ fn an_unreachable_grip_shows_the_firmest_and_names_what_is_missing() {
     assert!(reason.contains(&short), "{short} not in {reason}");
 }
 
+/// The index's distal phalanx given a muscle threshold between the reaction it bears at first
+/// contact and the one it bears in the 5 N grip: the grip stops short of 5 N, a result
+/// (held = false) whose reason names the bone, its threshold, the reaction closing further
+/// would give it, and the grip still missing; the frame shown keeps every bone within its
+/// threshold.
+#[test]
+fn a_bone_past_its_threshold_stops_the_grip_and_is_named() {
+    let target = 5.0;
+    let grasp = format!("object = \"ball\", preshape = \"power\", force = {target}");
+    let distal = |run: &prehensile::headless::Solved, frame: &prehensile::state::Frame| {
+        let hand = &run.model.bodies[frame.hands[0].body];
+        let b = hand
+            .hand
+            .as_ref()
+            .unwrap()
+            .skeleton
+            .bone_index("index.distal")
+            .unwrap();
+        frame.hands[0].bone_reactions[b].norm()
+    };
+    let free = solved(&with_grasp("", &grasp));
+    let held = free.frames.last().unwrap();
+    let at_grip = distal(&free, held);
+    assert!(outcome_of(&free).held);
+    // Below the grip's, above first contact's (measured 0.57 N there, mostly the flesh's
+    // resistance to the preshape's flexion, against 1.06 N in the grip).
+    let threshold = (0.8 * at_grip * 1e3).round() / 1e3;
+    let text = with_grasp("", &grasp).replace(
+        "shape = { hand = { side = \"right\", resolution = 1.0 } }\n",
+        &format!(
+            "shape = {{ hand = {{ side = \"right\", resolution = 1.0 }} }}\n\
+             bone_thresholds = {{ \"index.distal\" = {threshold} }}\n"
+        ),
+    );
+    assert!(text.contains("bone_thresholds"));
+    let run = solved(&text);
+    let frame = run.frames.last().unwrap();
+    let g = outcome_of(&run);
+    println!(
+        "index.distal bears {at_grip:.3} N in the 5 N grip; threshold {threshold:.3} N; \
+         stopped at {:.3} N of grip, index.distal {:.3} N: {:?}",
+        g.grip,
+        distal(&run, frame),
+        g.reason
+    );
+    assert!(!g.held);
+    assert!(g.grip < target);
+    assert!(
+        distal(&run, frame) <= threshold,
+        "the frame shown is within the threshold"
+    );
+    assert!(frame.hands[0].overloads.is_empty());
+    let reason = g.reason.expect("a reason");
+    assert!(!reason.contains("first contact, before"), "{reason}");
+    for text in [
+        "bone index.distal".to_string(),
+        format!(
+            "threshold of {} N",
+            prehensile::util::number::readable(threshold)
+        ),
+        format!("about {:.2} N more grip", target - g.grip),
+    ] {
+        assert!(reason.contains(&text), "{text} not in {reason}");
+    }
+}
+
+/// A threshold the preshape itself overruns (1 mN on the index's distal phalanx): no grip is
+/// within the thresholds, said at first contact; raising it as the reason advises gives the
+/// grip back.
+#[test]
+fn a_bone_overloaded_at_first_contact_is_named_and_raising_it_holds() {
+    let grasp = "object = \"ball\", preshape = \"power\", force = 2.0";
+    let with_threshold = |t: f64| {
+        with_grasp("", grasp).replace(
+            "shape = { hand = { side = \"right\", resolution = 1.0 } }\n",
+            &format!(
+                "shape = {{ hand = {{ side = \"right\", resolution = 1.0 }} }}\n\
+                 bone_thresholds = {{ \"index.distal\" = {t} }}\n"
+            ),
+        )
+    };
+    let g = outcome(&with_threshold(1e-3));
+    assert!(!g.held);
+    assert_eq!(g.trials, 1, "the first contact only");
+    let reason = g.reason.expect("a reason");
+    for text in [
+        "at first contact",
+        "bone index.distal",
+        "threshold of 0.001 N",
+        "bone_thresholds",
+    ] {
+        assert!(reason.contains(text), "{text} not in {reason}");
+    }
+    let g = outcome(&with_threshold(1e3));
+    assert!(g.held, "{:?}", g.reason);
+}
+
 /// Without friction between skin and rubber no grip holds against gravity: held = false after
 /// the first contact, naming both materials and what to set (a result, not an error).
 #[test]

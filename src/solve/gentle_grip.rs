@@ -412,10 +412,15 @@ fn overload_reason(o: &Overload, grasp: &GraspModel, t: &Trial) -> String {
         "a grip its contacts cannot give".into()
     };
     format!(
-        "closing further, bone {} would bear {:.1} N, past its threshold of {:.1} N; the firmest \
+        "closing further, bone {} would bear {:.3} N, past its threshold of {} N; the firmest \
          grip within the thresholds (shown), {:.2} N at {:.1}° past first contact (margin \
          {:.2}), misses {missing}",
-        o.bone, o.reaction, o.threshold, t.grip, t.theta, t.margin
+        o.bone,
+        o.reaction,
+        crate::util::number::readable(o.threshold),
+        t.grip,
+        t.theta,
+        t.margin
     )
 }
 
