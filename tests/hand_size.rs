@@ -148,7 +148,10 @@ fn the_display_skin_lies_on_the_skins_shape_at_every_size() {
                 if what == "contact" {
                     // Kept within reach of its own cells (src/hand/model.rs): measured 106 of
                     // 6 560 vertices more than 0.2 mm inside, the deepest 4.2 mm; not worse.
-                    assert!(farthest < 6e-3 && off < of / 20, "{name} {side:?} contact skin");
+                    assert!(
+                        farthest < 6e-3 && off < of / 20,
+                        "{name} {side:?} contact skin"
+                    );
                     continue;
                 }
                 // Measured: at most 0.020 mm (the shape's own projection), weights ≤ 4.6.
