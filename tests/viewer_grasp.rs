@@ -44,6 +44,7 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     h.get_by_label("grip force").click();
     h.run();
     assert_eq!(h.state().grasp.force, Some(5.0));
+    let keys_before = h.state().timeline.keys.len();
     h.get_by_label("Grasp").click();
     let g = settle(&mut h).expect("the grasp's frame carries its outcome");
     assert!(g.held, "{g:?}");
@@ -56,6 +57,21 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     assert!(s.pose[0].1.iter().any(|a| a.fract() != 0.0));
     let status = s.status.grasp.clone().unwrap();
     assert!(status.starts_with("held \"ball\" (power)"), "{status}");
+    // The closing is on the timeline: the preshape, then the grip found, as two keys after
+    // the one that was current, in time order.
+    let t = &s.timeline;
+    assert_eq!(t.keys.len(), keys_before + 2);
+    let (pre, grip) = (&t.keys[t.current - 1], &t.keys[t.current]);
+    assert_eq!(grip.pose[0].1, frame.hands[0].angles);
+    let skeleton = &s.hands[0].skeleton;
+    assert_eq!(skeleton.pose_of(&pre.pose[0].1), g.preshape_pose);
+    assert!(
+        g.preshape_pose["index.pip"] < g.pose["index.pip"],
+        "the grip closes past the preshape: {} against {}",
+        g.pose["index.pip"],
+        g.preshape_pose["index.pip"]
+    );
+    assert!(t.keys[t.current - 2].time < pre.time && pre.time < grip.time);
 
     // Against gravity, without friction between skin and rubber: not held, and why.
     h.get_by_label("hold against gravity").click();

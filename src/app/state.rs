@@ -440,14 +440,27 @@ impl ViewerState {
                     }
                 } else if newest_pose {
                     self.status.error = None;
-                    // A grasp found its pose: the sliders go there.
+                    // A grasp found its pose: the sliders go there, and the closing (the
+                    // preshape, then the grip) goes on the timeline as two keys after the
+                    // current one.
                     for h in &solution.frame.hands {
                         if let Some(g) = &h.grasp {
-                            if let Some((_, angles)) =
-                                self.pose.iter_mut().find(|(b, _)| *b == h.body)
-                            {
-                                angles.clone_from(&h.angles);
+                            let Some(i) = self.pose.iter().position(|(b, _)| *b == h.body) else {
+                                continue;
+                            };
+                            let preshape =
+                                self.hands.iter().find(|info| info.body == h.body).and_then(
+                                    |info| {
+                                        info.skeleton.apply_pose(&h.angles, &g.preshape_pose).ok()
+                                    },
+                                );
+                            if let Some(preshape) = preshape {
+                                let mut key = self.pose.clone();
+                                key[i].1 = preshape;
+                                self.timeline.add_key(key);
                             }
+                            self.pose[i].1.clone_from(&h.angles);
+                            self.timeline.add_key(self.pose.clone());
                             self.status.grasp = Some(grasp_summary(g));
                         }
                     }

@@ -64,6 +64,27 @@ impl Workspace {
         key: &KeyframeModel,
         cancel: Option<&super::CancelCheck>,
     ) -> Result<Frame, SimError> {
+        let mut frame = self.close_from_preshape(model, posed, key, cancel)?;
+        let hand = frame.hands.iter_mut().find(|h| h.body == key.body);
+        if let Some(g) = hand.and_then(|h| h.grasp.as_mut()) {
+            let skeleton = &model.bodies[key.body]
+                .hand
+                .as_deref()
+                .expect("a grasp keyframe poses a hand")
+                .skeleton;
+            g.preshape_pose = skeleton.pose_of(&key.angles);
+        }
+        Ok(frame)
+    }
+
+    /// [`Workspace::close_grip`] but for the outcome's preshape pose.
+    fn close_from_preshape(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        key: &KeyframeModel,
+        cancel: Option<&super::CancelCheck>,
+    ) -> Result<Frame, SimError> {
         let grasp = key.grasp.as_deref().expect("a grasp keyframe");
         let body = key.body;
         let preshape = self.move_hands(model, posed, &[(body, key.angles.clone())], cancel)?;
@@ -376,6 +397,7 @@ impl Workspace {
                 preshape: grasp.preshape.clone(),
                 held,
                 pose: skeleton.pose_of(&h.angles),
+                preshape_pose: std::collections::BTreeMap::new(),
                 margin,
                 margin_target: matches!(grasp.hold, HoldTarget::Gravity { .. })
                     .then_some(grasp.margin),

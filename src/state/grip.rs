@@ -19,6 +19,9 @@ pub struct GraspOutcome {
     pub held: bool,
     /// The joint angles found, degrees (save them as an ordinary keyframe's `pose`).
     pub pose: BTreeMap<String, f64>,
+    /// The joint angles of the preshape the closing started from, degrees: with `pose`, the
+    /// closing as two ordinary keyframes (the viewer adds them to its timeline).
+    pub preshape_pose: BTreeMap<String, f64>,
     /// The friction margin achieved: the friction the contacts have over what holding the
     /// object against its weight needs (0: no friction holds it; capped at 1e6: the normal
     /// forces alone hold it).
