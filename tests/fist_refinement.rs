@@ -88,9 +88,10 @@ fn the_full_fist_closes_at_resolutions_1_to_2() {
 /// Where the lattice falls (issue 16): the index's PIP flexed 90° with the flesh lattice moved by
 /// six offsets (fractions of a cell, [`HandModel::build_offset`]) at resolutions 1 and 2. At a
 /// given resolution the middle phalanx's reaction depends on which cells bridge the joint; the
-/// spread over the offsets shrinks with refinement (measured, half-range over mean: ±63 % at
-/// 0.75, ±23 % at 1, ±16 % at 1.5, ±10 % at 2, ±8 % at 2.5: about h^1.4) while the mean grows
-/// towards about 4.5 N (1.82 / 3.25 / 3.38 / 4.15 / 4.43 N). docs/hand.md has the table.
+/// spread over the offsets shrinks with refinement, not monotonically (measured, half-range
+/// over mean: ±63 % at 0.75, ±23 % at 1, ±34 % at 1.25, ±16 % at 1.5, ±10 % at 2, ±8 % at
+/// 2.5: about h^1.4) while the mean grows towards about 4.5 N (1.82 / 3.25 / 3.72 / 3.38 /
+/// 4.15 / 4.43 N). docs/hand.md has the table.
 #[test]
 fn where_the_lattice_falls_matters_less_as_it_refines() {
     let offsets = [

@@ -6,6 +6,9 @@ mod common;
 
 use common::flexion::bone_reactions;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use parry3d_f64::math::Vec3;
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::TriMesh;
 use prehensile::hand::rig_names::joint_keys;
 use prehensile::hand::{HandModel, RigError, RiggedHand, Side};
 
@@ -87,6 +90,39 @@ fn compare(side: Side) {
         (vi / vb - 1.0).abs() < 0.03,
         "flesh volume {vi} against {vb}"
     );
+    // The imported hand's display skin lies on the rig's skin (its vertices embedded where the
+    // rig's surface is, src/hand/embed.rs).
+    let rig = rig_of(&builtin, &motion);
+    let surface = TriMesh::new(
+        rig.vertices
+            .iter()
+            .map(|p| Vec3::new(p.x, p.y, p.z))
+            .collect(),
+        rig.triangles.clone(),
+    )
+    .unwrap();
+    let off: Vec<f64> = imported
+        .skin
+        .positions(&imported.flesh.mesh.nodes)
+        .iter()
+        .map(|p| {
+            let q = surface
+                .project_local_point(Vec3::new(p.x, p.y, p.z), false)
+                .point;
+            (Vector3::new(q.x, q.y, q.z) - p).norm()
+        })
+        .collect();
+    let farthest = off.iter().copied().fold(0.0, f64::max);
+    let beyond = off.iter().filter(|&&d| d > 0.2e-3).count();
+    println!(
+        "{side:?}: imported display skin {beyond} of {} vertices more than 0.2 mm off the rig's \
+         skin, the farthest {:.3} mm",
+        off.len(),
+        farthest * 1e3
+    );
+    // Measured 0.000 mm; embedded in their own cells only (as before 2026-11-27), 2 871
+    // vertices lay more than 0.2 mm inside, the deepest 12.7 mm.
+    assert!(farthest < 0.1e-3, "{side:?}: {:.3} mm off", farthest * 1e3);
     // Flexed: every bone's reaction within 5 % of the built-in hand's largest, and the bones
     // that carry the flexion (a quarter of the largest or more) within 5 % of their own.
     let pose = [("index.pip", 90.0)];

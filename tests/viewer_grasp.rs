@@ -72,6 +72,16 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
         g.preshape_pose["index.pip"]
     );
     assert!(t.keys[t.current - 2].time < pre.time && pre.time < grip.time);
+    let keys_after_grasp = t.keys.len();
+
+    // A slider moved after the grasp: its preview and its result are no grasp (the preview
+    // carried the grasp frame's outcome until 2026-11-27 and added the closing again).
+    h.get_by_role_and_label(egui::Role::Slider, "index.pip")
+        .set_value_accesskit(g.pose["index.pip"] + 3.0);
+    h.step();
+    assert!(settle(&mut h).is_none(), "a pose moved by hand is no grasp");
+    assert_eq!(h.state().timeline.keys.len(), keys_after_grasp);
+    assert_eq!(h.state().status.grasp, None);
 
     // Against gravity, without friction between skin and rubber: not held, and why.
     h.get_by_label("hold against gravity").click();
@@ -79,6 +89,9 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     h.get_by_label("Grasp").click();
     let g = settle(&mut h).expect("an outcome");
     assert!(!g.held);
+    // Not held after its first contact alone (closing 0°): no closing to put on the timeline.
+    assert_eq!(g.closing_deg, 0.0);
+    assert_eq!(h.state().timeline.keys.len(), keys_after_grasp);
     let status = h.state().status.grasp.clone().unwrap();
     assert!(
         status.starts_with("not held") && status.contains("μ = 0"),

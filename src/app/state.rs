@@ -166,6 +166,9 @@ pub struct ViewerState {
     pub(crate) pose_changed: bool,
     /// The Grasp button was pressed: a grasp job goes out at the end of the frame.
     pub(crate) grasp_asked: bool,
+    /// The Grasp job in flight (its version) and the timeline key current when it was asked:
+    /// its result, and only its, puts the closing on the timeline after that key.
+    grasp_job: Option<(u64, usize)>,
     pub(crate) scene_changed: bool,
     pub(crate) range_changed: bool,
 }
@@ -208,6 +211,7 @@ impl ViewerState {
             redraw_asked: None,
             pose_changed: true,
             grasp_asked: false,
+            grasp_job: None,
             scene_changed: false,
             range_changed: false,
         })
@@ -308,6 +312,7 @@ impl ViewerState {
                     start,
                 });
                 self.pose_version = Some(v);
+                self.grasp_job = Some((v, self.timeline.current));
                 self.status.grasp = Some(CLOSING.into());
                 return;
             }
@@ -441,28 +446,27 @@ impl ViewerState {
                 } else if newest_pose {
                     self.status.error = None;
                     // A grasp found its pose: the sliders go there, and the closing (the
-                    // preshape, then the grip) goes on the timeline as two keys after the
-                    // current one.
+                    // preshape, then the grip) goes on the timeline as two keys after the key
+                    // that was current when Grasp was pressed. Only the Grasp job's own result
+                    // does (a later pose's preview carries the grasp frame's outcome along).
+                    let grasp_job = self
+                        .grasp_job
+                        .filter(|(v, _)| *v == r.version && !solution.preview);
                     for h in &solution.frame.hands {
-                        if let Some(g) = &h.grasp {
-                            let Some(i) = self.pose.iter().position(|(b, _)| *b == h.body) else {
-                                continue;
-                            };
-                            let preshape =
-                                self.hands.iter().find(|info| info.body == h.body).and_then(
-                                    |info| {
-                                        info.skeleton.apply_pose(&h.angles, &g.preshape_pose).ok()
-                                    },
-                                );
-                            if let Some(preshape) = preshape {
-                                let mut key = self.pose.clone();
-                                key[i].1 = preshape;
-                                self.timeline.add_key(key);
-                            }
-                            self.pose[i].1.clone_from(&h.angles);
-                            self.timeline.add_key(self.pose.clone());
-                            self.status.grasp = Some(grasp_summary(g));
+                        let (Some(g), Some((_, key))) = (&h.grasp, grasp_job) else {
+                            continue;
+                        };
+                        let Some(i) = self.pose.iter().position(|(b, _)| *b == h.body) else {
+                            continue;
+                        };
+                        self.pose[i].1.clone_from(&h.angles);
+                        self.status.grasp = Some(grasp_summary(g));
+                        if g.closing_deg > 0.0 || g.held {
+                            self.add_closing(key, i, g, &h.angles);
                         }
+                    }
+                    if grasp_job.is_some() {
+                        self.grasp_job = None;
                     }
                     self.show(r.version, solution, Source::Interactive);
                 } else {
@@ -491,6 +495,31 @@ impl ViewerState {
     /// `true` while the frame on screen is a preview (its pose is being solved).
     pub fn showing_preview(&self) -> bool {
         self.shown.as_ref().is_some_and(|s| s.solution.preview)
+    }
+
+    /// The closing of a grasp on the timeline: the preshape, then the grip found (`angles`), for
+    /// hand `i` of the sliders' pose, as two keys after key `after` (one when the grip is the
+    /// preshape).
+    fn add_closing(
+        &mut self,
+        after: usize,
+        i: usize,
+        g: &crate::state::GraspOutcome,
+        angles: &[f64],
+    ) {
+        self.timeline.current = after.min(self.timeline.keys.len().saturating_sub(1));
+        let body = self.pose[i].0;
+        let preshape = self
+            .hands
+            .iter()
+            .find(|info| info.body == body)
+            .and_then(|info| info.skeleton.apply_pose(angles, &g.preshape_pose).ok());
+        if let Some(preshape) = preshape.filter(|p| p.as_slice() != angles) {
+            let mut key = self.pose.clone();
+            key[i].1 = preshape;
+            self.timeline.add_key(key);
+        }
+        self.timeline.add_key(self.pose.clone());
     }
 
     /// Shows key `k` of the timeline (its cached frame if solved) and puts the sliders there.

@@ -201,8 +201,9 @@ pub const BASE_SPACING: f64 = 0.0032;
 
 /// The lattice's coordinates along x, y and z for the hand of `skeleton` in `skin` at
 /// `resolution`: spacing `BASE_SPACING / resolution`, halved over the finger-tip pads and the
-/// thumb's distal phalanx; moved by `offset` (m, each component ≥ 0) towards −x, −z and the
-/// little finger's side (a left hand's lattice stays the mirror of the right one's).
+/// thumb's distal phalanx; moved by `offset` (m, each component taken modulo the spacing)
+/// towards −x, −z and the little finger's side (a left hand's lattice stays the mirror of the
+/// right one's).
 fn lattice_axes(
     skeleton: &Skeleton,
     skin: &SkinShape,
@@ -225,7 +226,9 @@ fn lattice_axes(
             Side::Left => hi.y = -snapped.y,
         }
     }
-    let offset = offset.map(|c| c.max(0.0));
+    // Taken modulo a cell: the lattice's lines fall alike, and it grows by one row at most
+    // (the memory check's count holds).
+    let offset = offset.map(|c| if c.is_finite() { c.rem_euclid(h) } else { 0.0 });
     (lo.x, lo.z) = (lo.x - offset.x, lo.z - offset.z);
     match skeleton.side {
         Side::Right => lo.y -= offset.y,
@@ -270,8 +273,8 @@ pub fn mesh_flesh(
     mesh_flesh_offset(skeleton, skin, resolution, Vector3::zeros())
 }
 
-/// [`mesh_flesh`] with the lattice moved by `offset` (m, each component ≥ 0, less than a
-/// cell) towards −x, −z and the little finger's side: where the lattice falls on the hand
+/// [`mesh_flesh`] with the lattice moved by `offset` (m, each component taken modulo the
+/// spacing) towards −x, −z and the little finger's side: where the lattice falls on the hand
 /// changes, nothing else (a study of how much the results depend on it: docs/hand.md).
 pub fn mesh_flesh_offset(
     skeleton: &Skeleton,

@@ -30,6 +30,8 @@ pub fn skinned_preview(
         if shown.angles == *angles {
             continue;
         }
+        // Moved from the frame's pose: no longer the frame's grasp, whatever it found.
+        shown.grasp = None;
         let motion = hand_model.skeleton.motion(&shown.angles, angles);
         let mut moved = vec![Vector3::zeros(); shown.positions.len()];
         hand_model.weights.apply(
