@@ -215,17 +215,16 @@ impl Workspace {
                  or the hand to it".into(),
             )));
         }
-        // A bone past its threshold at first contact: no grip within the thresholds (the
-        // closing only adds to the reactions).
-        if let Some(o) = overloaded(&lo) {
-            let reason = format!(
-                "at first contact, before any grip, bone {} already bears {:.3} N, past its \
-                 threshold of {} N: no grip stays within the thresholds (raise it: \
-                 bone_thresholds on the hand)",
-                o.bone,
-                o.reaction,
-                crate::util::number::readable(o.threshold)
-            );
+        // No grip to search for: a bone past its threshold at first contact (the closing only
+        // adds to the reactions), or no friction for a hold against gravity (whatever the grip).
+        let early = overloaded(&lo)
+            .map(|o| overloaded_at_first_contact(&o))
+            .or_else(|| {
+                matches!(grasp.hold, HoldTarget::Gravity { .. })
+                    .then(|| frictionless(model, body, grasp.object))
+                    .flatten()
+            });
+        if let Some(reason) = early {
             return Ok(self.finish(
                 model,
                 posed,
@@ -235,20 +234,6 @@ impl Workspace {
                 (count.get(), search.take()),
                 Some(reason),
             ));
-        }
-        // No friction, no hold against gravity (whatever the grip).
-        if let HoldTarget::Gravity { .. } = grasp.hold {
-            if let Some(reason) = frictionless(model, body, grasp.object) {
-                return Ok(self.finish(
-                    model,
-                    posed,
-                    (body, grasp),
-                    lo,
-                    &touching,
-                    (count.get(), search.take()),
-                    Some(reason),
-                ));
-            }
         }
         let measure = |t: &Trial| match grasp.hold {
             HoldTarget::Gravity { .. } => t.margin,
@@ -415,6 +400,17 @@ impl Workspace {
         }
         frame
     }
+}
+
+/// Why no grip stays within the thresholds: bone `o` is past its threshold at first contact.
+fn overloaded_at_first_contact(o: &Overload) -> String {
+    format!(
+        "at first contact, before any grip, bone {} already bears {:.3} N, past its threshold of \
+         {} N: no grip stays within the thresholds (raise it: bone_thresholds on the hand)",
+        o.bone,
+        o.reaction,
+        crate::util::number::readable(o.threshold)
+    )
 }
 
 /// Why a bone's overload stops the grip: the bone, its reaction and threshold, and the force
