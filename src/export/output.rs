@@ -43,6 +43,7 @@ impl OutputSet {
     /// Prepares to write into `dir` (created if missing, with its parents).
     pub fn new(dir: &Path) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
+        remove_abandoned_staging(dir);
         let staging = dir.join(format!(".staging-{}", std::process::id()));
         if staging.exists() {
             std::fs::remove_dir_all(&staging)?;
@@ -124,9 +125,66 @@ impl OutputSet {
     }
 }
 
+/// Removes the staging folders a write into `dir` left when its process ended before it
+/// finished (stopped with Ctrl-C, killed: no destructor ran): `.staging-<pid>` of a process that
+/// no longer runs. Where the running processes cannot be listed (no `/proc`), none is removed.
+fn remove_abandoned_staging(dir: &Path) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(".staging-"))
+            .filter(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
+        else {
+            continue;
+        };
+        if entry.file_type().is_ok_and(|t| t.is_dir()) && !proc.join(pid).exists() {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
 impl Drop for OutputSet {
     fn drop(&mut self) {
         // Abandoned before commit (an error): leave no staging folder behind.
         let _ = std::fs::remove_dir_all(&self.staging);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A write stopped by Ctrl-C leaves its staging folder; the next write into the folder
+    /// removes it, and leaves a running process's (pid 1) and other folders alone.
+    #[test]
+    fn a_staging_folder_left_by_a_process_that_ended_is_removed() {
+        let dir = std::env::temp_dir().join(format!("prehensile-staging-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        // pid_max is at most 2²² on Linux: no process has this pid.
+        let dead = dir.join(".staging-999999999");
+        let running = dir.join(".staging-1");
+        let mine = dir.join("results-of-mine");
+        for d in [&dead, &running, &mine] {
+            std::fs::create_dir_all(d).unwrap();
+            std::fs::write(d.join("frame_0000.vtu"), "half").unwrap();
+        }
+        let mut set = OutputSet::new(&dir).unwrap();
+        set.write("report.json", b"{}").unwrap();
+        set.commit().unwrap();
+        assert!(!dead.exists(), "the abandoned staging folder is gone");
+        if Path::new("/proc/1").exists() {
+            assert!(running.exists(), "a running process's staging folder stays");
+        }
+        assert!(mine.join("frame_0000.vtu").exists());
+        assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"{}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
