@@ -134,23 +134,22 @@ pub fn embed(
     // to the reference cube (the cell's point nearest it for a cell not too distorted), the
     // cells tried nearest first; a cell whose Jacobian there is (nearly) singular gives
     // weights beyond the bound and the next is tried.
-    let mut tangents: Vec<(usize, Vector3<f64>, [f64; 8], f64)> = fits
+    let mut tangents: Vec<(usize, Vector3<f64>, [f64; 8], Vector3<f64>)> = fits
         .iter()
         .map(|&(c, xi, _, _)| {
             let xi0 = xi.map(|v| v.clamp(-1.0, 1.0));
             let (n0, x0) = at(mesh, c, &xi0);
-            (c, xi0, n0, (p - x0).norm())
+            (c, xi0, n0, p - x0)
         })
         .collect();
-    tangents.sort_by(|a, b| a.3.total_cmp(&b.3));
-    for (c, xi0, n0, _) in tangents {
+    tangents.sort_by(|a, b| a.3.norm().total_cmp(&b.3.norm()));
+    for (c, xi0, n0, d) in tangents {
         let dn = shape_derivatives(&xi0);
         let coords = mesh.cells[c].map(|n| mesh.nodes[n]);
-        let (_, x0) = at(mesh, c, &xi0);
         let Some(inv) = jacobian(&coords, &dn).try_inverse() else {
             continue;
         };
-        let delta = inv * (p - x0);
+        let delta = inv * d;
         let w: [f64; 8] = std::array::from_fn(|a| n0[a] + dn[a].dot(&delta));
         if w.iter().all(|w| w.is_finite() && w.abs() <= WEIGHT_BOUND) {
             return (c, w);
