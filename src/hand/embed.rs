@@ -134,7 +134,8 @@ pub fn embed(
     // to the reference cube (the cell's point nearest it for a cell not too distorted), the
     // cells tried nearest first; a cell whose Jacobian there is (nearly) singular gives
     // weights beyond the bound and the next is tried.
-    let mut tangents: Vec<(usize, Vector3<f64>, [f64; 8], Vector3<f64>)> = fits
+    // (cell, ξ₀, N(ξ₀), the point's offset from x(ξ₀))
+    let mut tangents: Vec<_> = fits
         .iter()
         .map(|&(c, xi, _, _)| {
             let xi0 = xi.map(|v| v.clamp(-1.0, 1.0));
