@@ -11,3 +11,4 @@ pub mod render;
 pub mod self_contact;
 pub mod solver;
 pub mod viewer;
+pub mod viewer_contact;

@@ -50,7 +50,7 @@ fn ui_frame(ctx: &egui::Context, state: &mut ViewerState) -> f64 {
 }
 
 /// Runs frames every 16 ms until `done`, returning the frame times; fails after `limit`.
-fn frames_until(
+pub(super) fn frames_until(
     ctx: &egui::Context,
     state: &mut ViewerState,
     limit: Duration,
@@ -161,7 +161,7 @@ fn upload_and_draw(renderer: &mut Renderer, list: &crate::render::DrawList) -> R
     Ok(ms(t))
 }
 
-fn stats(v: &[f64]) -> (f64, f64, f64) {
+pub(super) fn stats(v: &[f64]) -> (f64, f64, f64) {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
     if s.is_empty() {

@@ -221,11 +221,18 @@ enum BenchCommand {
         no_write: bool,
     },
     /// Viewer responsiveness: UI frame time while the solver thread works, and the latency from
-    /// a slider change to the new frame on screen (default scene, headless).
+    /// a slider change to the new frame on screen (default scene, headless); then the Power
+    /// grasp preset and a finger in contact dragged by 2° at a time, with where the time goes.
     Viewer {
-        /// Slider changes measured per tier.
+        /// Slider changes measured per tier (free fingers).
         #[arg(long, default_value_t = 5)]
         changes: usize,
+        /// Changes of a finger in contact after the Power grasp preset (0: skip that part).
+        #[arg(long, default_value_t = 8)]
+        drags: usize,
+        /// Only the grasp part (the preset and the drags).
+        #[arg(long)]
+        grasp_only: bool,
     },
     /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
     Render {
@@ -412,12 +419,22 @@ fn run() -> Result<()> {
                 plot,
                 no_write,
             } => accuracy(quick, &only, steps, &doc, &plot, no_write)?,
-            BenchCommand::Viewer { changes } => {
+            BenchCommand::Viewer {
+                changes,
+                drags,
+                grasp_only,
+            } => {
                 println!(
                     "viewer benchmark: default scene, {} threads",
                     rayon::current_num_threads()
                 );
-                print!("{}", crate::bench::viewer::run(changes.max(1))?);
+                if !grasp_only {
+                    print!("{}", crate::bench::viewer::run(changes.max(1))?);
+                }
+                if drags > 0 || grasp_only {
+                    println!();
+                    print!("{}", crate::bench::viewer_contact::run(drags)?);
+                }
             }
             BenchCommand::Render { frames, spheres } => {
                 let frames = frames.max(1);

@@ -180,7 +180,7 @@ pub fn assemble(
     mesh: &Mesh,
     materials: &[Material],
 ) -> Result<Stiffness, AssemblyError> {
-    assemble_with(pattern, mesh, materials, None).map(|(k, _)| k)
+    assemble_with(pattern, mesh, materials, None, None).map(|(k, _)| k)
 }
 
 /// Which linear element stiffness [`assemble_kind`] uses.
@@ -227,14 +227,33 @@ pub fn assemble_warped(
     rotations: &[Matrix3<f64>],
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
-    assemble_with(pattern, mesh, materials, Some(rotations)).map(|(k, b)| (k, b.unwrap()))
+    assemble_with(pattern, mesh, materials, Some(rotations), None).map(|(k, b)| (k, b.unwrap()))
 }
+
+/// [`assemble_warped`] with the stress stiffness of the cells `displaced` gives nodal
+/// displacements for (`geometric::stress_stiffness`: their corotated stress under those
+/// displacements) added to their K̃_e, and K^σ_e·(X_e + u_e) to their b_e, so that K·y − b is
+/// the corotated force at y = X + u as with [`assemble_warped`].
+pub fn assemble_warped_stressed(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+    rotations: &[Matrix3<f64>],
+    displaced: &(dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync),
+) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
+    assert_eq!(rotations.len(), mesh.cell_count());
+    assemble_with(pattern, mesh, materials, Some(rotations), Some(displaced))
+        .map(|(k, b)| (k, b.unwrap()))
+}
+
+type Displaced<'a> = &'a (dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync);
 
 fn assemble_with(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     materials: &[Material],
     rotations: Option<&[Matrix3<f64>]>,
+    displaced: Option<Displaced<'_>>,
 ) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
     scatter(pattern, mesh, rotations.is_some(), &|c| {
@@ -245,6 +264,14 @@ fn assemble_with(
             return Ok((ke, None));
         };
         let r = rot[c];
+        let turn = match displaced.and_then(|d| d(c)) {
+            Some(u) => Some((
+                super::geometric::stress_stiffness(&coords, &ke, &r, &u)
+                    .map_err(|inverted| AssemblyError { cell: c, inverted })?,
+                u,
+            )),
+            None => None,
+        };
         let mut f = [Vector3::zeros(); 8];
         for a in 0..8 {
             for bb in 0..8 {
@@ -255,6 +282,15 @@ fn assemble_with(
         for row in ke.iter_mut() {
             for block in row.iter_mut() {
                 *block = r * *block * r.transpose();
+            }
+        }
+        if let Some((ks, u)) = turn {
+            // b gains K^σ·(X + u), so that K̃·y − b is still the corotated force at y.
+            for (a, (row, srow)) in ke.iter_mut().zip(&ks).enumerate() {
+                for (bb, (block, s)) in row.iter_mut().zip(srow).enumerate() {
+                    *block += s;
+                    f[a] += s * (coords[bb] + u[bb]);
+                }
             }
         }
         Ok((ke, Some(f)))
@@ -362,6 +398,31 @@ impl Stiffness {
 }
 
 impl Stiffness {
+    /// Adds the 3×3 block coupling node `a`'s dofs (rows) to node `b`'s (columns), where the
+    /// pattern holds it (nodes sharing a cell); only its upper-triangle entries are stored, so
+    /// the block of (b, a) is its transpose and need not be added. Returns false, adding
+    /// nothing, when the nodes share no cell.
+    pub fn add_block(&mut self, a: usize, b: usize, block: &Matrix3<f64>) -> bool {
+        let p = &self.pattern;
+        if a != b && p.node_neighbours[b].binary_search(&a).is_err() {
+            return false;
+        }
+        for j in 0..3 {
+            let col = 3 * b + j;
+            for i in 0..3 {
+                let row = 3 * a + i;
+                if row > col {
+                    continue;
+                }
+                let range = p.col_ptr[col]..p.col_ptr[col + 1];
+                if let Ok(k) = p.row_idx[range.clone()].binary_search(&row) {
+                    self.values[range.start + k] += block[(i, j)];
+                }
+            }
+        }
+        true
+    }
+
     /// Adds `value` to the diagonal entry of dof `d`.
     pub fn add_to_diagonal(&mut self, d: usize, value: f64) {
         let p = &self.pattern;

@@ -10,6 +10,7 @@ pub mod assembly;
 pub mod cavity;
 pub mod definite;
 pub mod forward;
+pub mod geometric;
 pub mod hex8;
 pub mod hex8_hyperelastic;
 pub mod hyperelastic;

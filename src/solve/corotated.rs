@@ -7,8 +7,17 @@
 //! solves K̃·ΔU = R(x_c) − f(U_c) + Cᵀλ, with the pressures on the surface where it is now
 //! (a follower load: equation (4)'s surface term on the deformed facets). Without carried
 //! displacements (a keyframe solved in one step) every R_e = I and this is the linear step.
+//!
+//! K̃ alone is not the tangent of that residual: a stressed element's forces turn with it, and
+//! a pressure follows its facets. The step's matrix adds the symmetric part of both
+//! (`fem::geometric`: the turn's stiffness of every corotated cell, −∂(pressure load)/∂x), and
+//! the internal force is written so that f(U_c) is unchanged: the corrections at a pose
+//! converge to the same state, without the overshoot of a pressurised ball's wall whose tension
+//! the step did not see (each correction of a touching finger's 2° move alternated in sign and
+//! took 3–5 to settle; now one settles it, docs/performance.md).
 
-use crate::fem::assembly::{assemble, assemble_warped, AssemblyError, Stiffness};
+use crate::fem::assembly::{assemble, assemble_warped_stressed, AssemblyError, Stiffness};
+use crate::fem::geometric::pressure_load_stiffness;
 use crate::fem::hex8::centre_rotation;
 use crate::fem::loads::add_pressure;
 use crate::mesh::Mesh;
@@ -42,10 +51,39 @@ pub(super) fn linearise(
         let k = assemble(&model.pattern, mesh, &model.cell_materials)?;
         return Ok(Linearised { k, offset: None });
     };
-    let (k, b) = assemble_warped(&model.pattern, mesh, &model.cell_materials, &rotations)?;
+    let u = carried.expect("rotations come from a carried state");
+    let node_u = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+    let object = |c: usize| model.bodies[model.cell_body[c]].hand.is_none();
+    let displaced = |c: usize| object(c).then(|| mesh.cells[c].map(node_u));
+    let (mut k, b) = assemble_warped_stressed(
+        &model.pattern,
+        mesh,
+        &model.cell_materials,
+        &rotations,
+        &displaced,
+    )?;
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let kx = k.mul(&x);
-    let offset = kx.iter().zip(&b).map(|(a, b)| a - b).collect();
+    let mut offset: Vec<f64> = kx.iter().zip(&b).map(|(a, b)| a - b).collect();
+    // The pressures follow the surface (`loads_at`): −∂(loads)/∂x joins the tangent, and the
+    // offset keeps f(U_c) = K·U_c + offset.
+    let now = Mesh {
+        nodes: (0..mesh.node_count())
+            .map(|n| mesh.nodes[n] + node_u(n))
+            .collect(),
+        cells: Vec::new(),
+    };
+    for l in &model.loads {
+        if let Some((p, facets)) = &l.pressure {
+            for (a, bn, block) in pressure_load_stiffness(&now, facets, *p) {
+                k.add_block(a, bn, &(-block));
+                let f = block * node_u(bn);
+                for i in 0..3 {
+                    offset[3 * a + i] += f[i];
+                }
+            }
+        }
+    }
     Ok(Linearised {
         k,
         offset: Some(offset),
@@ -98,7 +136,7 @@ pub(super) fn loads_at(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::assembly::StiffnessPattern;
+    use crate::fem::assembly::{assemble_warped, StiffnessPattern};
     use crate::fem::Material;
     use crate::mesh::box_mesh;
     use nalgebra::Rotation3;
