@@ -38,10 +38,15 @@ pub(super) struct Linearised {
 /// K for a contact step of `model` on `mesh` (the hands posed, the other bodies at rest), with
 /// the other bodies corotated about `carried` when the model's tier turns its elements and
 /// something is carried (the nonlinear tier's are Neo-Hookean: `hyperelastic_objects.rs`).
+///
+/// `geometric`: the turn's and the pressures' stiffness joins K̃ (see the module's notes);
+/// without it K̃ alone, positive definite where the bodies are supported, for a step from a
+/// state where the complete tangent is not (a wall squeezed in compression).
 pub(super) fn linearise(
     model: &Model,
     mesh: &Mesh,
     carried: Option<&[f64]>,
+    geometric: bool,
 ) -> Result<Linearised, AssemblyError> {
     let rotations = match carried {
         Some(u) if model.corotates_objects() => Some(rotations(model, u)?),
@@ -54,7 +59,7 @@ pub(super) fn linearise(
     let u = carried.expect("rotations come from a carried state");
     let node_u = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
     let object = |c: usize| model.bodies[model.cell_body[c]].hand.is_none();
-    let displaced = |c: usize| object(c).then(|| mesh.cells[c].map(node_u));
+    let displaced = |c: usize| (geometric && object(c)).then(|| mesh.cells[c].map(node_u));
     let (mut k, b) = assemble_warped_stressed(
         &model.pattern,
         mesh,
@@ -74,7 +79,7 @@ pub(super) fn linearise(
         cells: Vec::new(),
     };
     for l in &model.loads {
-        if let Some((p, facets)) = &l.pressure {
+        if let Some((p, facets)) = l.pressure.as_ref().filter(|_| geometric) {
             for (a, bn, block) in pressure_load_stiffness(&now, facets, *p) {
                 k.add_block(a, bn, &(-block));
                 let f = block * node_u(bn);

@@ -111,8 +111,9 @@ pub fn solve_grasp(
     match solve_grasp_with(model, hands, start, cache, false) {
         // Neo-Hookean bodies squeezed where their exact tangent is indefinite (compressive
         // stress outweighing the material's stiffness in some mode, which the contact itself
-        // restrains): the step again with each element's tangent made definite; the exact
-        // internal forces stay, so the corrections at the pose still converge to equilibrium.
+        // restrains), or corotated ones whose complete tangent is: the step again with each
+        // element's tangent made definite (the corotated ones' K̃ alone); the exact internal
+        // forces stay, so the corrections at the pose still converge to equilibrium.
         Err(SimError::Contact(ContactError::Unstable { .. })) => {
             solve_grasp_with(model, hands, start, cache, true)
         }
@@ -120,8 +121,8 @@ pub fn solve_grasp(
     }
 }
 
-/// [`solve_grasp`] with the Neo-Hookean bodies' element tangents made positive definite
-/// (`definite`) or exact.
+/// [`solve_grasp`] with the Neo-Hookean bodies' element tangents made positive definite and
+/// the corotated ones' without their turn's and pressures' stiffness (`definite`), or exact.
 fn solve_grasp_with(
     model: &Model,
     hands: &[HandFrame],
@@ -336,10 +337,14 @@ fn solve_grasp_with(
     };
     // (The other bodies corotated about what the motion carries, src/solve/corotated.rs, or
     // Neo-Hookean about it, src/solve/hyperelastic_objects.rs.)
+    let geometric = !definite
+        && !neo_hookean_objects(model)
+        && carried_given.is_some()
+        && model.corotates_objects();
     let linearised = if neo_hookean_objects(model) {
         linearise_neo_hookean(model, &mesh, carried_given, definite)
     } else {
-        linearise(model, &mesh, carried_given)
+        linearise(model, &mesh, carried_given, geometric)
     };
     let linearised = linearised.map_err(|e| {
         let b = model.cell_body[e.cell];
@@ -457,7 +462,7 @@ fn solve_grasp_with(
             ContactMethod::Lagrange => solve_lagrange(solver, problem, settings),
             ContactMethod::Paper => solve_paper(solver, problem, settings, &skin),
         }
-        .map_err(|e| contact_error(model, e))
+        .map_err(|e| contact_error(model, e, geometric))
     };
     let result = match &model.gas {
         None => contact_solve(&problem)?,
@@ -616,12 +621,14 @@ fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
     })
 }
 
-fn contact_error(model: &Model, e: ContactError) -> SimError {
+/// `geometric`: the corotated bodies' tangent had their turn's and pressures' stiffness.
+fn contact_error(model: &Model, e: ContactError, geometric: bool) -> SimError {
     match e {
-        // A Neo-Hookean body whose tangent about the step's start is indefinite: this step's
-        // failure (a smaller one may stay on the stable side), not a support missing.
+        // A Neo-Hookean body whose tangent about the step's start is indefinite, or a
+        // corotated one's complete tangent: this step's failure (a smaller one may stay on the
+        // stable side, or the step again with a definite tangent), not a support missing.
         ContactError::Solve(SolveError::NotPositiveDefinite { node, .. })
-            if neo_hookean_objects(model)
+            if (neo_hookean_objects(model) || geometric)
                 && model.bodies[model.body_of_node(node)].hand.is_none() =>
         {
             let body = &model.bodies[model.body_of_node(node)];
