@@ -337,7 +337,13 @@ fn solve_grasp_with(
     };
     // (The other bodies corotated about what the motion carries, src/solve/corotated.rs, or
     // Neo-Hookean about it, src/solve/hyperelastic_objects.rs.)
+    // The complete tangent where the step has no motion to follow — a correction at a pose,
+    // a keyframe in one step from a frame in contact (a slider nudged) — where it settles the
+    // pose in fewer corrections. Along a motion the step starts away from the pose's
+    // equilibrium, where a soft ball's complete tangent may be nearly singular (a 10 kPa ball
+    // under its air was thrown off the fingers), so K̃ alone.
     let geometric = !definite
+        && previous.is_none()
         && !neo_hookean_objects(model)
         && carried_given.is_some()
         && model.corotates_objects();
