@@ -6,7 +6,6 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
-use super::hyperelastic_objects::neo_hookean_objects;
 use super::path::FlexionPath;
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
@@ -482,13 +481,6 @@ impl Workspace {
         let mut started_from: Option<Vec<f64>> = None;
         let mut last_change: Option<Vec<f64>> = None;
         let mut omega = FIRST_RELAXATION;
-        // Corrections of corotated bodies solve with their complete tangent
-        // (`corotated::linearise`): they converge without the overshoot relaxation damps, and
-        // go plain. The Neo-Hookean bodies' are relaxed, and so are those of a sealed cavity,
-        // whose air's stiffness (the pressure rising as the volume shrinks, a rank-one term)
-        // no step's matrix holds.
-        let relaxed =
-            !model.corotates_objects() || neo_hookean_objects(model) || model.gas.is_some();
         // The relative force changes of the corrections kept: they may go on past
         // CONTACT_CORRECTIONS while these shrink.
         let mut changes: Vec<f64> = Vec::new();
@@ -512,7 +504,7 @@ impl Workspace {
             let mut carried = carried_by(model, &frame);
             // The factor this correction's start is relaxed by (1: not relaxed).
             let mut applied = 1.0;
-            if let (Some(x), Some(from), true) = (carried.as_mut(), &started_from, relaxed) {
+            if let (Some(x), Some(from)) = (carried.as_mut(), &started_from) {
                 // r = S(x) − x, the change the last correction made to where it started.
                 let r: Vec<f64> = x.iter().zip(from).map(|(s, x)| s - x).collect();
                 if let Some(previous) = &last_change {
