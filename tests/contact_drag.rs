@@ -8,24 +8,15 @@
 //! going up again gives the same grip. (Before, each move took 3–5 corrections that alternated
 //! in sign and the grip at the same pose differed by 0.9 % with the way there.)
 
-use prehensile::headless::solve_scene;
-use prehensile::scene::Scene;
+mod common;
+
 use prehensile::solve::{Posed, Workspace, CONTACT_CORRECTION};
 
 #[test]
 fn a_touching_finger_dragged_there_and_back_settles_at_once_and_returns_to_its_grip() {
-    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
-    let scene = Scene::parse(&text, "power.toml").unwrap();
-    let solved = solve_scene(&scene, "power.toml").unwrap();
+    let (solved, ip) = common::power_grasp_and_thumb_ip();
     let (model, shown) = (&solved.model, solved.frames.last().unwrap());
     let h = &shown.hands[0];
-    let hand = model.bodies[h.body].hand.as_deref().unwrap();
-    let ip = hand
-        .skeleton
-        .dofs
-        .iter()
-        .position(|d| d.name == "thumb.ip")
-        .unwrap();
     let grip_of = |f: &prehensile::state::Frame| f.contact.as_ref().unwrap().normal_force();
     let start = grip_of(shown);
     let mut posed = Posed::of_frame(model, shown);

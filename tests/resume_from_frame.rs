@@ -5,6 +5,8 @@
 //! was corrected at its pose until its contact force changed by less than
 //! `CONTACT_CORRECTION` per correction, and the pose again is more such corrections.
 
+mod common;
+
 use nalgebra::Vector3;
 use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;
@@ -172,19 +174,10 @@ fn only_the_hands_contact_is_corrected_at_the_pose() {
 /// steps): the thumb presses a little harder, nothing passes into the ball, the pose is reached.
 #[test]
 fn a_small_move_on_from_a_deep_grasp_is_one_contact_step() {
-    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
-    let scene = Scene::parse(&text, "power.toml").unwrap();
-    let solved = solve_scene(&scene, "power.toml").unwrap();
+    let (solved, ip) = common::power_grasp_and_thumb_ip();
     let (model, shown) = (&solved.model, solved.frames.last().unwrap());
     let grip = shown.contact.as_ref().unwrap().normal_force();
     let h = &shown.hands[0];
-    let hand = model.bodies[h.body].hand.as_deref().unwrap();
-    let ip = hand
-        .skeleton
-        .dofs
-        .iter()
-        .position(|d| d.name == "thumb.ip")
-        .unwrap();
     let mut target = h.angles.clone();
     target[ip] += 2.0;
     let mut posed = Posed::of_frame(model, shown);

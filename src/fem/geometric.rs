@@ -143,11 +143,7 @@ mod tests {
     use nalgebra::Rotation3;
 
     fn rubber() -> Material {
-        Material {
-            young: 2.0e6,
-            poisson: 0.4,
-            density: 1100.0,
-        }
+        Material::rubber()
     }
 
     /// The corotated internal force of one cell at positions y (R from the centre's polar

@@ -14,6 +14,16 @@ pub struct Material {
 }
 
 impl Material {
+    /// The shipped scenes' rubber ball (E = 2 MPa, ν = 0.4, ρ = 1100 kg/m³), for unit tests.
+    #[cfg(test)]
+    pub(crate) fn rubber() -> Material {
+        Material {
+            young: 2.0e6,
+            poisson: 0.4,
+            density: 1100.0,
+        }
+    }
+
     /// Lamé's first parameter λ = Eν / ((1+ν)(1−2ν)).
     pub fn lambda(&self) -> f64 {
         self.young * self.poisson / ((1.0 + self.poisson) * (1.0 - 2.0 * self.poisson))

@@ -9,12 +9,14 @@
 //! displacements (a keyframe solved in one step) every R_e = I and this is the linear step.
 //!
 //! K̃ alone is not the tangent of that residual: a stressed element's forces turn with it, and
-//! a pressure follows its facets. The step's matrix adds the symmetric part of both
-//! (`fem::geometric`: the turn's stiffness of every corotated cell, −∂(pressure load)/∂x), and
-//! the internal force is written so that f(U_c) is unchanged: the corrections at a pose
-//! converge to the same state, without the overshoot of a pressurised ball's wall whose tension
-//! the step did not see (each correction of a touching finger's 2° move alternated in sign and
-//! took 3–5 to settle; now one settles it, docs/performance.md).
+//! a pressure follows its facets. A step without motion to follow (a correction at a pose, a
+//! keyframe in one step from a frame in contact) adds the symmetric part of both to its matrix
+//! (`geometric`; `fem::geometric`: the turn's stiffness of every corotated cell,
+//! −∂(pressure load)/∂x), and the internal force is written so that f(U_c) is unchanged: the
+//! corrections at a pose converge to the same state, without the overshoot of a pressurised
+//! ball's wall whose tension the step did not see (each correction of a touching finger's 2°
+//! move alternated in sign and took 3–5 to settle; now one settles it, docs/performance.md).
+//! Steps along a motion keep K̃ alone (docs/contact.md).
 
 use crate::fem::assembly::{assemble, assemble_warped_stressed, AssemblyError, Stiffness};
 use crate::fem::geometric::pressure_load_stiffness;
@@ -148,11 +150,7 @@ mod tests {
     use std::sync::Arc;
 
     fn rubber() -> Material {
-        Material {
-            young: 2.0e6,
-            poisson: 0.4,
-            density: 1100.0,
-        }
+        Material::rubber()
     }
 
     /// f(y) = K̃·y − b for the block turned by `rotation` per cell.

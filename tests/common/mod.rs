@@ -135,3 +135,20 @@ pub fn solve_cli(scene: &std::path::Path, out: &std::path::Path) -> std::process
         .output()
         .expect("the prehensile binary runs")
 }
+
+/// `assets/scenes/hand-power-grasp.toml` solved (the default scene closed into the Power grasp),
+/// and the index of the thumb's IP among its hand's joint angles (the thumb touches the ball).
+pub fn power_grasp_and_thumb_ip() -> (prehensile::headless::Solved, usize) {
+    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
+    let scene = prehensile::scene::Scene::parse(&text, "power.toml").unwrap();
+    let solved = prehensile::headless::solve_scene(&scene, "power.toml").unwrap();
+    let h = &solved.frames.last().unwrap().hands[0];
+    let hand = solved.model.bodies[h.body].hand.as_deref().unwrap();
+    let ip = hand
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "thumb.ip")
+        .unwrap();
+    (solved, ip)
+}
