@@ -230,23 +230,24 @@ pub fn assemble_warped(
     assemble_with(pattern, mesh, materials, Some(rotations), None).map(|(k, b)| (k, b.unwrap()))
 }
 
-/// [`assemble_warped`] with the stress stiffness of the cells `displaced` gives nodal
-/// displacements for (`geometric::stress_stiffness`: their corotated stress under those
-/// displacements) added to their K̃_e, and K^σ_e·(X_e + u_e) to their b_e, so that K·y − b is
-/// the corotated force at y = X + u as with [`assemble_warped`].
+/// [`assemble_warped`] with the turn's stiffness K^t_e of the cells `displaced` gives nodal
+/// displacements u_e for (`geometric::symmetric_turn_stiffness`: what their stress under those
+/// displacements adds to the tangent) added to their K̃_e, and K^t_e·(X_e + u_e) to their b_e,
+/// so that K·y − b is the corotated force at y = X + u as with [`assemble_warped`].
 pub fn assemble_warped_stressed(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     materials: &[Material],
     rotations: &[Matrix3<f64>],
-    displaced: &(dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync),
+    displaced: Displaced<'_>,
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
     assemble_with(pattern, mesh, materials, Some(rotations), Some(displaced))
         .map(|(k, b)| (k, b.unwrap()))
 }
 
-type Displaced<'a> = &'a (dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync);
+/// Each cell's nodal displacements, where its turn's stiffness is wanted.
+pub type Displaced<'a> = &'a (dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync);
 
 fn assemble_with(
     pattern: &Arc<StiffnessPattern>,
@@ -266,7 +267,7 @@ fn assemble_with(
         let r = rot[c];
         let turn = match displaced.and_then(|d| d(c)) {
             Some(u) => Some((
-                super::geometric::stress_stiffness(&coords, &ke, &r, &u)
+                super::geometric::symmetric_turn_stiffness(&coords, &ke, &r, &u)
                     .map_err(|inverted| AssemblyError { cell: c, inverted })?,
                 u,
             )),
@@ -285,7 +286,7 @@ fn assemble_with(
             }
         }
         if let Some((ks, u)) = turn {
-            // b gains K^σ·(X + u), so that K̃·y − b is still the corotated force at y.
+            // b gains K^t·(X + u), so that K̃·y − b is still the corotated force at y.
             for (a, (row, srow)) in ke.iter_mut().zip(&ks).enumerate() {
                 for (bb, (block, s)) in row.iter_mut().zip(srow).enumerate() {
                     *block += s;

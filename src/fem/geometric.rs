@@ -1,14 +1,13 @@
 //! The geometric part of a corotated body's tangent: what its stress and a pressure on its moving
 //! surface add to the stiffness when the body is displaced further.
 //!
-//! - **Stress stiffness** (initial-stress or geometric stiffness): a stressed element resists
-//!   being turned further in proportion to its stress — a pressurised shell's wall in tension
-//!   stiffens against a dent. Block-wise, with σ̂ the element's corotated (local) stress at a
-//!   Gauss point and ∇N the reference shape-function gradients,
-//!   K^σ_ab = ∫ (∇N_a · σ̂ ∇N_b) dV · I (Bathe, *Finite Element Procedures*, §6.3.2; with
-//!   σ = R σ̂ Rᵀ and ∇ₓN = R ∇N the rotation drops out).
-//! - **Pressure load stiffness**: a pressure following its facets (f_a = −p ∫ N_a (x_,s × x_,t)
-//!   ds dt, `loads::add_pressure`) changes when they move:
+//! - **The turn's stiffness** ([`turn_stiffness`]): a corotated element's forces f = R·K̂·û
+//!   turn with its polar rotation R, and its strain û = Rᵀ(X + u) − X is seen from the turned
+//!   frame; differentiating R gives the blocks K̃ = R·K̂·Rᵀ lacks — the consistent corotational
+//!   tangent's geometric part, the discrete form of the initial-stress stiffness (a pressurised
+//!   shell's wall in tension stiffens against a dent).
+//! - **Pressure load stiffness** ([`pressure_load_stiffness`]): a pressure following its facets
+//!   (f_a = −p ∫ N_a (x_,s × x_,t) ds dt, `loads::add_pressure`) changes when they move:
 //!   ∂f_a/∂x_b = −p ∫ N_a (N_b,t [x_,s]× − N_b,s [x_,t]×) ds dt. Over a closed surface under a
 //!   uniform pressure the assembled matrix is symmetric; its symmetric part is taken.
 //!
@@ -27,7 +26,8 @@ use nalgebra::{Matrix3, Vector3};
 /// Σ_c K̃_ac·[R·û_c]×·ω (its strain seen from the turned frame), with ω = Σ_b G_b·δy_b,
 /// G_b = R·(tr U·I − U)⁻¹·[∇N_b]×·Rᵀ (the polar decomposition F = R·U at the centre, ∇N_b the
 /// reference gradients there). Returns those blocks: the exact tangent's correction to
-/// K̃ = R·K̂·Rᵀ (not symmetric away from equilibrium), zero for an element at rest (Crisfield, *Non-linear Finite Element
+/// K̃ = R·K̂·Rᵀ (not symmetric away from equilibrium), zero for an element at rest
+/// (Crisfield, *Non-linear Finite Element
 /// Analysis of Solids and Structures*, vol. 2, ch. 17; Felippa and Haugen 2005).
 pub fn turn_stiffness(
     coords: &[Vector3<f64>; 8],
@@ -77,7 +77,7 @@ pub fn turn_stiffness(
 }
 
 /// The symmetric part of [`turn_stiffness`]: what the contact step's symmetric solve adds to K̃.
-pub fn stress_stiffness(
+pub fn symmetric_turn_stiffness(
     coords: &[Vector3<f64>; 8],
     local_stiffness: &ElementStiffness,
     rotation: &Matrix3<f64>,

@@ -72,6 +72,12 @@ pub(super) fn linearise(
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let kx = k.mul(&x);
     let mut offset: Vec<f64> = kx.iter().zip(&b).map(|(a, b)| a - b).collect();
+    if !geometric {
+        return Ok(Linearised {
+            k,
+            offset: Some(offset),
+        });
+    }
     // The pressures follow the surface (`loads_at`): −∂(loads)/∂x joins the tangent, and the
     // offset keeps f(U_c) = K·U_c + offset.
     let now = Mesh {
@@ -81,7 +87,7 @@ pub(super) fn linearise(
         cells: Vec::new(),
     };
     for l in &model.loads {
-        if let Some((p, facets)) = l.pressure.as_ref().filter(|_| geometric) {
+        if let Some((p, facets)) = &l.pressure {
             for (a, bn, block) in pressure_load_stiffness(&now, facets, *p) {
                 k.add_block(a, bn, &(-block));
                 let f = block * node_u(bn);
