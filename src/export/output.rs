@@ -1,9 +1,23 @@
-//! Writing an output folder so that nothing is half-written: every file goes first into a
-//! staging folder beside it, and is renamed into place only when all files are complete. The
-//! new set replaces the previous one as a whole: files of an earlier write into the folder
-//! (listed in its manifest, [`MANIFEST`], or named as this program names its outputs) that the
-//! new set does not have are removed, so no frame of an older run is left beside the new ones.
+//! Writing an output folder so that nothing is half-written and no reader ever sees old and new
+//! results mixed. Every file goes first into a staging folder beside the output folder; when all
+//! are complete, the staging folder and the output folder trade places in one atomic rename
+//! (Linux `renameat2(RENAME_EXCHANGE)`), so the folder's path names the old set or the new set,
+//! never a mix. The user's own files in the folder (anything not named as this program names its
+//! outputs nor listed in the folder's manifest, [`MANIFEST`]) are carried over: files as hard
+//! links before the exchange (present throughout), folders moved after it. The old folder is
+//! then removed. A write stopped between the exchange and the end (Ctrl-C, kill) is completed by
+//! the next write into the same folder, which moves back what the user's was and removes the
+//! rest ([`swap::recover`]).
+//!
+//! Where the exchange is not possible (not Linux, a file system without it, an output folder
+//! that is a mount point or the working directory, a parent folder not writable) the files are
+//! renamed into the folder one by one (each atomic), the staging folder inside it.
+//!
+//! Either way the new set replaces the previous one as a whole: files of an earlier write that
+//! the new set does not have are gone, so no frame of an older run is left beside the new ones.
 //! Other files in the folder are left alone.
+
+mod swap;
 
 use std::path::{Path, PathBuf};
 
@@ -34,80 +48,121 @@ pub fn is_output_name(name: &str) -> bool {
 
 /// Files to be written together into one folder.
 pub struct OutputSet {
+    /// The folder as the caller named it (the paths returned).
     dir: PathBuf,
+    /// The folder itself, every link resolved (what is exchanged).
+    real: PathBuf,
     staging: PathBuf,
+    /// The staging folder is beside the output folder: the sets may be exchanged whole.
+    beside: bool,
+    /// The folders were exchanged: the staging folder's path holds the old set.
+    exchanged: bool,
     names: Vec<String>,
 }
 
 impl OutputSet {
-    /// Prepares to write into `dir` (created if missing, with its parents).
+    /// Prepares to write into `dir` (created if missing, with its parents). Completes or removes
+    /// what earlier writes into it left when their process ended before they finished.
     pub fn new(dir: &Path) -> std::io::Result<Self> {
         std::fs::create_dir_all(dir)?;
-        remove_abandoned_staging(dir);
-        let staging = dir.join(format!(".staging-{}", std::process::id()));
-        if staging.exists() {
-            std::fs::remove_dir_all(&staging)?;
-        }
-        std::fs::create_dir(&staging)?;
+        let real = std::fs::canonicalize(dir)?;
+        swap::recover(&real);
+        remove_abandoned_staging(&real);
+        let beside = swap::staging_beside(&real)
+            .filter(|_| swap::may_exchange(&real))
+            .filter(|s| fresh_folder(s).is_ok());
+        let (staging, beside) = match beside {
+            Some(s) => (s, true),
+            None => {
+                let s = real.join(format!(".staging-{}", std::process::id()));
+                fresh_folder(&s)?;
+                (s, false)
+            }
+        };
         Ok(Self {
             dir: dir.to_path_buf(),
+            real,
             staging,
+            beside,
+            exchanged: false,
             names: Vec::new(),
         })
     }
 
-    /// Writes one file into the staging folder.
+    /// Writes one file into the staging folder. `name` must be one this program gives its
+    /// outputs ([`is_output_name`]): a later write recognises its files by their names.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> std::io::Result<()> {
+        if !is_output_name(name) {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("{name} is not a name of this program's outputs"),
+            ));
+        }
         std::fs::write(self.staging.join(name), bytes)?;
         self.names.push(name.to_string());
         Ok(())
     }
 
-    /// Moves every staged file into place (each rename is atomic), removes the files of an
-    /// earlier write that the new set lacks, records the new set in [`MANIFEST`] and removes
-    /// the staging folder.
+    /// Puts the staged set in place of the folder's previous one, as a whole: by exchanging
+    /// the folders where possible, else file by file; records the set in [`MANIFEST`].
+    /// Returns the paths of the files written.
     pub fn commit(self) -> std::io::Result<Vec<PathBuf>> {
+        self.commit_as(true)
+    }
+
+    /// [`Self::commit`], exchanging the folders only when `exchange` (and possible).
+    fn commit_as(mut self, exchange: bool) -> std::io::Result<Vec<PathBuf>> {
         // A name the folder holds as something else than a file (a folder) would stop the
         // renames halfway, old and new files mixed: refused before any is moved.
         for name in &self.names {
-            let target = self.dir.join(name);
+            let target = self.real.join(name);
             if std::fs::symlink_metadata(&target).is_ok_and(|m| m.is_dir()) {
                 return Err(std::io::Error::other(format!(
                     "{} is a folder, where this output's file {name} goes: move it away (nothing \
                      was replaced)",
-                    target.display()
+                    self.dir.join(name).display()
                 )));
-            }
-        }
-        let stale = self.stale()?;
-        let mut written = Vec::new();
-        for name in &self.names {
-            let target = self.dir.join(name);
-            std::fs::rename(self.staging.join(name), &target)?;
-            written.push(target);
-        }
-        for name in stale {
-            match std::fs::remove_file(self.dir.join(&name)) {
-                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
-                _ => {}
             }
         }
         let manifest: String = self.names.iter().map(|n| format!("{n}\n")).collect();
         std::fs::write(self.staging.join(MANIFEST), manifest)?;
-        std::fs::rename(self.staging.join(MANIFEST), self.dir.join(MANIFEST))?;
-        std::fs::remove_dir_all(&self.staging)?;
+        let written = self.names.iter().map(|n| self.dir.join(n)).collect();
+        if exchange && self.beside && swap::exchange(&self.real, &self.staging, &self.names)? {
+            // The staging folder's path now holds the old set (and what of the user's could
+            // not be linked): the user's entries go to the new one, then the old is removed.
+            // What could not be moved stays there for the next write's recovery.
+            self.exchanged = true;
+            if swap::carry_over(&self.staging, &self.real) {
+                std::fs::remove_dir_all(&self.staging)?;
+            }
+            return Ok(written);
+        }
+        self.commit_file_by_file()?;
         Ok(written)
+    }
+
+    /// Moves every staged file into place (each rename is atomic), removes the files of an
+    /// earlier write that the new set lacks, then the manifest and the staging folder.
+    fn commit_file_by_file(&self) -> std::io::Result<()> {
+        let stale = self.stale()?;
+        for name in &self.names {
+            std::fs::rename(self.staging.join(name), self.real.join(name))?;
+        }
+        for name in stale {
+            match std::fs::remove_file(self.real.join(&name)) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
+        std::fs::rename(self.staging.join(MANIFEST), self.real.join(MANIFEST))?;
+        std::fs::remove_dir_all(&self.staging)
     }
 
     /// The files of the folder an earlier write left that the new set does not replace.
     fn stale(&self) -> std::io::Result<Vec<String>> {
-        let listed = std::fs::read_to_string(self.dir.join(MANIFEST)).unwrap_or_default();
-        let mut stale: Vec<String> = listed
-            .lines()
-            .filter(|n| !n.is_empty() && !n.contains(['/', '\\']) && *n != "." && *n != "..")
-            .map(str::to_string)
-            .collect();
-        for entry in std::fs::read_dir(&self.dir)? {
+        let listed = manifest_names(&self.real);
+        let mut stale: Vec<String> = listed.into_iter().collect();
+        for entry in std::fs::read_dir(&self.real)? {
             let entry = entry?;
             if !entry.file_type()?.is_file() {
                 continue;
@@ -123,6 +178,30 @@ impl OutputSet {
         stale.dedup();
         Ok(stale)
     }
+}
+
+/// The names the manifest of folder `dir` lists (those that stay inside the folder).
+fn manifest_names(dir: &Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join(MANIFEST))
+        .unwrap_or_default()
+        .lines()
+        .filter(|n| !n.is_empty() && !n.contains(['/', '\\']) && *n != "." && *n != "..")
+        .map(str::to_string)
+        .collect()
+}
+
+/// Whether the entry `name` of a folder whose manifest lists `listed` was written by this
+/// program (an output, the manifest): the rest is the user's.
+fn is_ours(name: &str, listed: &[String]) -> bool {
+    name == MANIFEST || is_output_name(name) || listed.iter().any(|n| n == name)
+}
+
+/// Creates `path` as an empty folder (emptied if it was there).
+fn fresh_folder(path: &Path) -> std::io::Result<()> {
+    if std::fs::symlink_metadata(path).is_ok() {
+        std::fs::remove_dir_all(path)?;
+    }
+    std::fs::create_dir(path)
 }
 
 /// Removes the staging folders a write into `dir` left when its process ended before it
@@ -153,8 +232,12 @@ fn remove_abandoned_staging(dir: &Path) {
 
 impl Drop for OutputSet {
     fn drop(&mut self) {
-        // Abandoned before commit (an error): leave no staging folder behind.
-        let _ = std::fs::remove_dir_all(&self.staging);
+        // Abandoned before commit (an error): leave no staging folder behind. After the
+        // exchange its path holds the old set, removed by the commit when all of the user's
+        // entries were carried over, else kept for the next write's recovery.
+        if !self.exchanged {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
     }
 }
 
@@ -186,5 +269,169 @@ mod tests {
         assert!(mine.join("frame_0000.vtu").exists());
         assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"{}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A fresh folder under the temporary folder for test `tag`.
+    fn scratch(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("prehensile-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// Writes generation `g` of a set of `frames` frames into `dir`.
+    fn write_set(dir: &Path, g: usize, frames: usize, exchange: bool) {
+        let mut set = OutputSet::new(dir).unwrap();
+        set.write("report.json", format!("{g}").as_bytes()).unwrap();
+        for i in 0..frames {
+            set.write(&format!("frame_{i:04}.vtu"), format!("{g}").as_bytes())
+                .unwrap();
+        }
+        set.commit_as(exchange).unwrap();
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .collect();
+        names.sort();
+        names
+    }
+
+    /// Both ways of committing leave the same folder: the new set, its manifest, the user's
+    /// file, folder and link; no frame of the older, longer run; nothing beside the folder.
+    #[test]
+    fn a_set_replaces_the_last_one_whole_and_keeps_the_users_entries() {
+        for exchange in [true, false] {
+            let root = scratch(&format!("replace-{exchange}"));
+            let dir = root.join("out");
+            write_set(&dir, 1, 5, exchange);
+            std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+            std::fs::create_dir(dir.join("mine")).unwrap();
+            std::fs::write(dir.join("mine").join("frame_0000.vtu"), "mine").unwrap();
+            #[cfg(unix)]
+            std::os::unix::fs::symlink("notes.txt", dir.join("link")).unwrap();
+            write_set(&dir, 2, 2, exchange);
+            let mut expected = vec![
+                MANIFEST,
+                "frame_0000.vtu",
+                "frame_0001.vtu",
+                "mine",
+                "notes.txt",
+                "report.json",
+            ];
+            if cfg!(unix) {
+                expected.push("link");
+            }
+            expected.sort();
+            assert_eq!(listing(&dir), expected, "exchange {exchange}");
+            assert_eq!(std::fs::read(dir.join("frame_0001.vtu")).unwrap(), b"2");
+            assert_eq!(std::fs::read(dir.join("notes.txt")).unwrap(), b"mine");
+            assert_eq!(
+                std::fs::read(dir.join("mine").join("frame_0000.vtu")).unwrap(),
+                b"mine"
+            );
+            #[cfg(unix)]
+            assert_eq!(std::fs::read(dir.join("link")).unwrap(), b"mine");
+            assert_eq!(listing(&root), ["out"], "nothing left beside the folder");
+            let _ = std::fs::remove_dir_all(&root);
+        }
+    }
+
+    /// A reader that opens the folder while sets are committed in turn sees one generation in
+    /// every snapshot, never old and new files mixed (file by file, it does see them mixed).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_reader_never_sees_two_sets_mixed() {
+        let root = scratch("mixed");
+        let dir = root.join("out");
+        write_set(&dir, 0, 8, true);
+        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let reader = {
+            let (dir, done) = (dir.clone(), done.clone());
+            std::thread::spawn(move || {
+                use std::os::fd::AsRawFd;
+                let mut snapshots = 0;
+                while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                    // The folder opened once: its files read through it, whatever its path
+                    // names meanwhile.
+                    let Ok(folder) = std::fs::File::open(&dir) else {
+                        continue;
+                    };
+                    let at = PathBuf::from(format!("/proc/self/fd/{}", folder.as_raw_fd()));
+                    let mut seen = std::collections::BTreeSet::new();
+                    for entry in std::fs::read_dir(&at).into_iter().flatten().flatten() {
+                        let name = entry.file_name().to_string_lossy().to_string();
+                        if is_output_name(&name) {
+                            if let Ok(text) = std::fs::read_to_string(at.join(&name)) {
+                                seen.insert(text);
+                            }
+                        }
+                    }
+                    assert!(seen.len() <= 1, "a snapshot mixes generations {seen:?}");
+                    snapshots += 1;
+                }
+                snapshots
+            })
+        };
+        for g in 1..=60 {
+            write_set(&dir, g, 8, true);
+        }
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        let snapshots = reader.join().unwrap();
+        assert!(snapshots > 0);
+        assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"60");
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    /// A write killed after the exchange left the old set beside the folder with the user's
+    /// folder still in it: the next write moves that folder back and removes the rest. One
+    /// killed before the exchange left the new set there: removed, the folder untouched.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_write_stopped_half_way_is_completed_by_the_next() {
+        let root = scratch("recover");
+        let dir = root.join("out");
+        write_set(&dir, 1, 2, true);
+        std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+        // After the exchange: the old set with the user's folder, beside the new one.
+        let dead = root.join(".out.staging-999999999");
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::write(dead.join("frame_0005.vtu"), "0").unwrap();
+        std::fs::write(dead.join("extra.dat"), "0").unwrap();
+        std::fs::write(dead.join(MANIFEST), "extra.dat\nframe_0005.vtu\n").unwrap();
+        std::fs::hard_link(dir.join("notes.txt"), dead.join("notes.txt")).unwrap();
+        std::fs::create_dir(dead.join("mine")).unwrap();
+        std::fs::write(dead.join("mine").join("a.txt"), "mine").unwrap();
+        let set = OutputSet::new(&dir).unwrap();
+        drop(set);
+        assert!(!dead.exists());
+        assert_eq!(
+            std::fs::read(dir.join("mine").join("a.txt")).unwrap(),
+            b"mine"
+        );
+        assert!(!dir.join("extra.dat").exists() && !dir.join("frame_0005.vtu").exists());
+
+        // Before the exchange: a new set not yet in place.
+        let before = listing(&dir);
+        std::fs::create_dir(&dead).unwrap();
+        std::fs::write(dead.join("frame_0000.vtu"), "9").unwrap();
+        std::fs::hard_link(dir.join("notes.txt"), dead.join("notes.txt")).unwrap();
+        drop(OutputSet::new(&dir).unwrap());
+        assert!(!dead.exists());
+        assert_eq!(listing(&dir), before);
+        assert_eq!(std::fs::read(dir.join("frame_0000.vtu")).unwrap(), b"1");
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn only_output_names_are_written() {
+        let root = scratch("names");
+        let mut set = OutputSet::new(&root.join("out")).unwrap();
+        let e = set.write("notes.txt", b"x").unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        drop(set);
+        let _ = std::fs::remove_dir_all(&root);
     }
 }
