@@ -215,7 +215,8 @@ fn contact_search_advised(run: &Run) -> f64 {
     )
 }
 
-/// Item 10, as a failed correction at the pose (a warning, exit 0): "it went deeper than the
+/// Item 10, as a failed correction at the pose (a warning, and exit 2: the contact could not
+/// be solved at the pose, the frames written): "it went deeper than the
 /// contact searches (0.5 mm): raise solver.contact_search to X mm or more". Solved again with
 /// `contact_search` at the X printed, the correction holds. (The audit's press to MCP 30° did
 /// not serve until 2026-11-26: skin was also met by the ball's cavity wall, which pulled it
@@ -233,7 +234,7 @@ fn a_skin_point_deeper_than_the_search_in_a_correction_is_mended_by_the_search_a
         .scene()
     };
     let trigger = solve("search-warning", &press("0.0005"));
-    assert_eq!(trigger.code, Some(0), "{}", trigger.stderr);
+    assert_eq!(trigger.code, Some(2), "{}", trigger.stderr);
     let failed: Vec<&str> = trigger
         .warnings()
         .into_iter()
