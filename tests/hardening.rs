@@ -141,6 +141,35 @@ fn tip_load(force: [f64; 3]) -> String {
     )
 }
 
+/// A prescribed displacement of 1e200 m overflows the stresses as a huge load does: the error
+/// names the constraint and its displacement beside the scene's size, and nothing is written.
+#[test]
+fn an_overflowing_displacement_is_named_as_the_cause() {
+    let dir = fresh("overflow_displacement");
+    let text = "[[material]]\nname = \"rubber\"\nyoung = 1.0e6\npoisson = 0.3\n\
+                [[body]]\nname = \"block\"\nmaterial = \"rubber\"\n\
+                shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], cells = [2, 2, 2] } }\n\
+                [[constraint]]\nname = \"base\"\nbody = \"block\"\nwhere = { face = \"z-\" }\n\
+                displacement = [0.0, 0.0, 0.0]\n\
+                [[constraint]]\nname = \"top\"\nbody = \"block\"\nwhere = { face = \"z+\" }\n\
+                displacement = [1.0e200, 0.0, 0.0]\n";
+    let (output, stderr, out) = solve_text(&dir, text);
+    println!("{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("constraint \"top\" prescribes a displacement of 1.000e200 m")
+            && stderr.contains("beyond the scene's size (1.732e0 m)"),
+        "{stderr}"
+    );
+    assert!(names(&out).is_empty(), "wrote {:?}", names(&out));
+    // At a physical displacement (1 cm), no constraint is named.
+    let (output, stderr, _) = solve_text(
+        &fresh("overflow_displacement_mended"),
+        &text.replace("1.0e200", "0.01"),
+    );
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
 #[test]
 fn a_value_that_overflows_stops_the_solve_naming_it_and_nothing_is_written() {
     // A load of 1e160 N: the displacements of 1e154 m overflow in the stresses (squares).
@@ -521,6 +550,46 @@ fn warnings_and_tip(text: &str) -> (Vec<String>, Vector3<f64>) {
         d[2].as_f64().unwrap(),
     );
     (solved.report.warnings, tip)
+}
+
+/// A hand whose flesh is nearly incompressible: its flesh is the fully integrated hex8 on the
+/// corotational tier whatever `element` says, so the warning sends it to the nonlinear tier
+/// (mean dilatation), where it is not warned of; a flesh only skinned (no FEM, no contact) is
+/// not warned of either, nor flesh at ν = 0.45.
+#[test]
+fn a_nearly_incompressible_flesh_is_warned_of_where_it_locks() {
+    let hand = |nu: f64, solver: &str| {
+        format!(
+            "[[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = {nu}\n\
+             [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\n\
+             shape = {{ hand = {{ side = \"right\", resolution = 0.5 }} }}\n\
+             [[keyframe]]\ntime = 1.0\npose = {{ \"index.pip\" = 30.0 }}\n\
+             [solver]\n{solver}\n"
+        )
+    };
+    let locking = |text: &str, tag: &str| -> Vec<String> {
+        let (output, stderr, _) = solve_text(&fresh(tag), text);
+        assert_eq!(output.status.code(), Some(0), "{stderr}");
+        stderr
+            .lines()
+            .filter(|l| l.contains("nearly incompressible"))
+            .map(str::to_string)
+            .collect()
+    };
+    let solved = "far_from_contact = \"solve\"";
+    let warned = locking(&hand(0.4999, solved), "flesh_locks");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].contains("body \"hand\"")
+            && warned[0].contains("material \"flesh\"")
+            && warned[0].contains("tier = \"nonlinear\""),
+        "{}",
+        warned[0]
+    );
+    let nonlinear = format!("{solved}\ntier = \"nonlinear\"");
+    assert!(locking(&hand(0.4999, &nonlinear), "flesh_mean_dilatation").is_empty());
+    assert!(locking(&hand(0.4999, ""), "flesh_skinned").is_empty());
+    assert!(locking(&hand(0.45, solved), "flesh_compressible").is_empty());
 }
 
 #[test]

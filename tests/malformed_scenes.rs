@@ -61,6 +61,27 @@ fn fixes(text: &str) -> Vec<Vec<(String, String)>> {
         .collect()
 }
 
+/// A name of the program's own types in an error (`expected struct MaterialDef`, `untagged
+/// enum PreshapeDef`, `Shape::Box`): the file's author never wrote it.
+fn internal_name(stderr: &str) -> Option<String> {
+    for kind in ["struct ", "enum ", "variant "] {
+        if let Some(at) = stderr.find(&format!("expected {kind}")) {
+            return Some(stderr[at..].chars().take(60).collect());
+        }
+        if let Some(at) = stderr.find(&format!("untagged {kind}")) {
+            return Some(stderr[at..].chars().take(60).collect());
+        }
+    }
+    stderr
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+        .find(|w| {
+            w.len() > 3
+                && w.starts_with(|c: char| c.is_ascii_uppercase())
+                && (w.ends_with("Def") || w.contains("::"))
+        })
+        .map(str::to_string)
+}
+
 /// Whether an error's text gives advice (an imperative aimed at the user).
 fn gives_advice(stderr: &str) -> bool {
     [
@@ -187,6 +208,9 @@ fn check(scene: &Path, work: &Path) -> Vec<String> {
     }
     if !stderr.contains(&name) {
         problems.push(format!("stderr does not name the file {name:?}"));
+    }
+    if let Some(internal) = internal_name(&stderr) {
+        problems.push(format!("stderr names the program's own type {internal:?}"));
     }
     for e in &expected {
         if !stderr.contains(e.as_str()) {

@@ -316,8 +316,10 @@ pub fn solve_lagrange(
                 "the active set was still changing at the cap: raise \
                  solver.contact_max_iterations (it is below its default, 50)"
             } else if at_iteration_cap {
-                "the active set was still changing at the cap: raise \
-                 solver.contact_max_iterations"
+                // At its default or above the set cycles (contacts that hardly touch joining
+                // and leaving in turn): a higher cap only cycles longer.
+                "the active set was still changing at the cap, contacts that hardly touch \
+                 joining and leaving in turn"
             } else {
                 "the facets under the contact turned further than the linearised contact step \
                  follows (the iteration cap was not reached, so raising it does not help)"

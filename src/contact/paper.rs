@@ -213,8 +213,8 @@ pub fn solve_paper(
             penetration: problem.max_penetration(&u, settings),
             tolerance: settings.tolerance,
             change: Some(change),
-            advice: "raise solver.contact_max_iterations, or solve with [solver] contact = \
-                     \"lagrange\", which resolves the contact exactly",
+            advice: "solve with [solver] contact = \"lagrange\", which resolves the contact \
+                     exactly",
         });
     }
     let contacts: Vec<ContactPoint> = active

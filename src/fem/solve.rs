@@ -66,9 +66,9 @@ pub enum SolveError {
     /// The factor would not fit in the memory the solve may take: refused before allocating.
     #[error(
         "the sparse Cholesky factor of {equations} equations needs about {} ({entries} \
-         entries), but {} is free ({limit}): use fewer elements — at most {:.0} % as many (a \
-         3D mesh's factor grows as its size to the power 4/3) — (a coarser mesh, fewer \
-         `cells`, a lower hand `resolution`), or {}",
+         entries), but {} is free ({limit}): use fewer elements — at most {:.0} % as many, \
+         since a 3D mesh's factor grows as its size to the power 4/3: a coarser mesh, fewer \
+         `cells`, a lower hand `resolution` — or {}",
         super::memory::human(*needed),
         super::memory::human(*available),
         100.0 * super::memory::fewer_share(*available, *needed, 4.0 / 3.0),

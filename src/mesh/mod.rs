@@ -33,6 +33,18 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The diagonal of the nodes' bounding box, m (0 without nodes).
+    pub fn bounding_size(&self) -> f64 {
+        let Some(first) = self.nodes.first() else {
+            return 0.0;
+        };
+        let (lo, hi) = self
+            .nodes
+            .iter()
+            .fold((*first, *first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+        (hi - lo).norm()
+    }
+
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()

@@ -52,8 +52,10 @@ fn obstacle_friction_warning(scene: &Scene, bodies: &[BodyModel]) -> Option<Stri
     ))
 }
 
-/// A body (not a hand: its flesh is the hand model's own) whose cells have ν above
-/// [`LOCKING_POISSON`] on the fully integrated hex8.
+/// A body whose cells have ν above [`LOCKING_POISSON`] on an element that locks: the fully
+/// integrated hex8 of the small-strain and corotational tiers (a hand's flesh is hex8 there
+/// whatever `element` says: its cure is the nonlinear tier), or the nonlinear tier's with
+/// `volumetric = "full"`.
 fn locking_warnings(
     scene: &Scene,
     bodies: &[BodyModel],
@@ -62,22 +64,34 @@ fn locking_warnings(
     nonlinear: bool,
 ) -> Vec<String> {
     let mut out = Vec::new();
-    for body in bodies.iter().filter(|b| b.hand.is_none()) {
-        let Some(nu) = cell_materials[body.cells.clone()]
-            .iter()
-            .map(|m| m.poisson)
-            .max_by(f64::total_cmp)
-        else {
+    for body in bodies {
+        // A hand's flesh is solved by FEM only near contact (another body, an obstacle) or
+        // with `far_from_contact = "solve"`; skinned alone, it has no element to lock.
+        let flesh_solved = scene.solver.far_from_contact
+            == Some(crate::scene::FarFromContact::Solve)
+            || bodies.len() > 1
+            || !scene.obstacle.is_empty();
+        if body.hand.is_some() && !flesh_solved {
+            continue;
+        }
+        let cells = &cell_materials[body.cells.clone()];
+        let Some(nu) = cells.iter().map(|m| m.poisson).max_by(f64::total_cmp) else {
             continue;
         };
         if nu <= LOCKING_POISSON {
             continue;
         }
         let ratio = 1.0 / (1.0 - 2.0 * nu).max(f64::MIN_POSITIVE);
+        // The scene's materials this body's cells are made of, nearly incompressible.
         let names: Vec<&str> = scene
             .material
             .iter()
-            .filter(|m| m.poisson > LOCKING_POISSON)
+            .filter(|m| {
+                m.poisson > LOCKING_POISSON
+                    && cells
+                        .iter()
+                        .any(|c| c.poisson == m.poisson && c.young == m.young)
+            })
             .map(|m| m.name.as_str())
             .collect();
         // The nonlinear tier's Neo-Hookean bodies take the volumetric integration of
@@ -87,15 +101,19 @@ fn locking_warnings(
             "set [solver] volumetric = \"mean_dilatation\" (the default), which does not lock"
         } else if nonlinear {
             continue;
+        } else if body.hand.is_some() {
+            "solve the scene with [solver] tier = \"nonlinear\", whose flesh is integrated with \
+             mean dilatation, which does not lock"
         } else if element == ElementKind::Hex8 {
             "set [solver] element = \"incompatible_modes\", which does not lock"
         } else {
             continue;
         };
+        let what = if body.hand.is_some() { "flesh" } else { "body" };
         out.push(format!(
             "body \"{}\": ν = {nu} (material {}) is nearly incompressible: the fully integrated \
-             hex8 locks, its volumetric stiffness {ratio:.3e}× the shear stiffness, and the body \
-             comes out far too stiff; {cure}",
+             hex8 locks, its volumetric stiffness {ratio:.3e}× the shear stiffness, and the \
+             {what} comes out far too stiff; {cure}",
             body.name,
             names
                 .iter()
@@ -146,9 +164,13 @@ fn far_point_warnings(scene: &Scene, bodies: &[BodyModel], mesh: &Mesh) -> Vec<S
             let q = mesh.nodes[node];
             out.push(format!(
                 "{field}: the point is {distance:.4e} m from body \"{}\", farther than the \
-                 size of its cells there ({cell:.3e} m): it acts at the nearest node, {node} at \
-                 [{:.4}, {:.4}, {:.4}] m",
-                body.name, q.x, q.y, q.z
+                 size of its cells there ({cell:.3e} m): it acts at the nearest node, its node \
+                 {} at [{:.4}, {:.4}, {:.4}] m",
+                body.name,
+                node - body.nodes.start,
+                q.x,
+                q.y,
+                q.z
             ));
         }
     }

@@ -72,7 +72,7 @@ impl SceneError {
             } else {
                 format!("{field}: ")
             },
-            message: e.message().trim().to_string(),
+            message: plain_message(e.message().trim()),
             source_line,
         }
     }
@@ -84,5 +84,73 @@ impl SceneError {
             field: field.into(),
             message: message.into(),
         }
+    }
+}
+
+/// A deserialiser's message told in the scene's terms: the program's own type names (`expected
+/// struct MaterialDef`, `struct variant Shape::Box`, `untagged enum PreshapeDef`) replaced by
+/// what the file is to hold there (a table, an array, one of the names).
+pub fn plain_message(message: &str) -> String {
+    // Longest first: "struct variant" before "struct".
+    const KINDS: [(&str, &str); 8] = [
+        (
+            "data did not match any variant of untagged enum ",
+            "the value has none of the forms this field accepts",
+        ),
+        ("expected struct variant ", "expected a table"),
+        ("expected tuple variant ", "expected an array"),
+        ("expected newtype variant ", "expected a value"),
+        ("expected unit variant ", "expected a name"),
+        ("expected struct ", "expected a table"),
+        ("expected tuple struct ", "expected an array"),
+        (
+            "expected enum ",
+            "expected one of the names or tables this field accepts",
+        ),
+    ];
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    'scan: while !rest.is_empty() {
+        for (kind, plain) in KINDS {
+            if let Some(after) = rest.strip_prefix(kind) {
+                let name = after
+                    .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+                    .unwrap_or(after.len());
+                if name > 0 {
+                    out.push_str(plain);
+                    rest = &after[name..];
+                    continue 'scan;
+                }
+            }
+        }
+        let c = rest.chars().next().expect("not empty");
+        out.push(c);
+        rest = &rest[c.len_utf8()..];
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain_message;
+
+    #[test]
+    fn the_programs_type_names_are_told_as_what_the_file_holds() {
+        assert_eq!(
+            plain_message("invalid type: integer `3`, expected struct MaterialDef"),
+            "invalid type: integer `3`, expected a table"
+        );
+        assert_eq!(
+            plain_message("invalid type: integer `3`, expected struct variant Shape::Box"),
+            "invalid type: integer `3`, expected a table"
+        );
+        assert_eq!(
+            plain_message("data did not match any variant of untagged enum PreshapeDef"),
+            "the value has none of the forms this field accepts"
+        );
+        assert_eq!(
+            plain_message("unknown field `yung`, expected one of `name`, `young`"),
+            "unknown field `yung`, expected one of `name`, `young`"
+        );
     }
 }

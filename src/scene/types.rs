@@ -168,7 +168,10 @@ pub struct GraspDef {
 
 /// A grasp's preshape: a name or a pose table.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected \"power\", \"pinch\", \"tripod\" or a pose table of joint angles in degrees"
+)]
 pub enum PreshapeDef {
     /// `"power"`, `"pinch"` or `"tripod"`.
     Named(String),
@@ -189,7 +192,8 @@ pub struct World {
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSettings {
-    /// Fill-reducing ordering for the sparse Cholesky: `"nested_dissection"` (default) or `"amd"`.
+    /// Fill-reducing ordering for the sparse Cholesky: `"auto"` (default: whichever of the two
+    /// fills less), `"nested_dissection"` or `"amd"`.
     #[serde(default)]
     pub ordering: Option<OrderingName>,
     /// Largest joint rotation per flexion increment, degrees (default 10).

@@ -323,6 +323,22 @@ impl SimError {
                 load.name, t.x, t.y, t.z
             ));
         }
+        // The largest prescribed displacement, when it exceeds the scene's own size (an
+        // overflowing one cannot be told by the loads and moduli).
+        let size = model.mesh.bounding_size();
+        if let Some((c, d)) = model
+            .constraints
+            .iter()
+            .flat_map(|c| c.dofs.iter().map(move |&d| (c, model.prescribed[d].abs())))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .filter(|&(_, d)| d > size || d.is_nan())
+        {
+            advice.push(format!(
+                "constraint \"{}\" prescribes a displacement of {d:.3e} m, beyond the scene's \
+                 size ({size:.3e} m)",
+                c.name
+            ));
+        }
         if let Some((i, m)) = model
             .cell_materials
             .iter()
@@ -337,7 +353,8 @@ impl SimError {
             ));
         }
         let advice = format!(
-            "Check the units (N, Pa, m, kg/m³) and bring the loads and moduli to physical values{}",
+            "Check the units (N, Pa, m, kg/m³) and bring the loads, displacements and moduli to \
+             physical values{}",
             if advice.is_empty() {
                 String::new()
             } else {
