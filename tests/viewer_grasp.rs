@@ -94,7 +94,9 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     assert_eq!(h.state().timeline.keys.len(), keys_after_grasp);
     let status = h.state().status.grasp.clone().unwrap();
     assert!(
-        status.starts_with("not held") && status.contains("μ = 0"),
+        status.starts_with("not held")
+            && status.contains("μ = 0")
+            && status.ends_with("(here: Object → skin friction μ)"),
         "{status}"
     );
 }

@@ -311,6 +311,32 @@ fn object_edits_rebuild_the_scene_ball() {
         .any(|m| m.name == "flesh" && m.young == 5.0e4));
 }
 
+/// The skin's friction on the ball, set in the Object panel, goes to the solver as the scene's
+/// `[[friction]]` pair of the hand's flesh and the ball's material (the default scene has none:
+/// a hold against gravity is not held without it, and its status points here).
+#[test]
+fn the_skin_friction_slider_pairs_flesh_and_ball() {
+    let (port, mut h) = answered();
+    assert!(port.jobs().last().unwrap().scene.friction.is_empty());
+    slider(&h, "skin friction μ").set_value_accesskit(0.8);
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    let ball = &job
+        .scene
+        .body
+        .iter()
+        .find(|b| b.name == "ball")
+        .unwrap()
+        .material;
+    let pair = job
+        .scene
+        .friction
+        .iter()
+        .find(|f| f.between.contains(ball) && f.between.contains(&"flesh".to_string()))
+        .unwrap_or_else(|| panic!("{:?}", job.scene.friction));
+    assert_eq!(pair.mu, 0.8);
+}
+
 #[test]
 fn the_far_fingers_checkbox_writes_the_scene_key() {
     use prehensile::scene::FarFromContact;

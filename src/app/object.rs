@@ -1,9 +1,11 @@
 //! The Object panel's model: the scene's ball (the first shell or sphere body) as a few numbers
-//! — radius, Young's modulus, Poisson ratio, internal pressure, shell or solid, centre — and how
-//! an edit rewrites the scene: the body's shape, its own material, its pressure load, and the
-//! box selections and probe points on it, carried along with the ball's centre and radius.
+//! — radius, Young's modulus, Poisson ratio, internal pressure, shell or solid, centre, the
+//! skin's friction on it — and how an edit rewrites the scene: the body's shape, its own
+//! material (and the friction pairs that named the old one), its pressure load, the skin–ball
+//! friction pair, and the box selections and probe points on it, carried along with the ball's
+//! centre and radius.
 
-use crate::scene::{LoadDef, MaterialDef, Scene, Selection, Shape};
+use crate::scene::{FrictionDef, LoadDef, MaterialDef, Scene, Selection, Shape};
 
 /// Shell wall thickness as a fraction of the outer radius (the default ball's 4 mm of 35 mm).
 const WALL: f64 = 4.0 / 35.0;
@@ -25,6 +27,31 @@ pub struct BallParams {
     pub shell: bool,
     /// Centre, m.
     pub center: [f64; 3],
+    /// Coulomb's μ between the hands' flesh and the ball (0: frictionless, the scene's default
+    /// where no `[[friction]]` pairs them).
+    pub friction: f64,
+}
+
+/// The materials of the scene's hands.
+fn hand_materials(scene: &Scene) -> Vec<String> {
+    scene
+        .body
+        .iter()
+        .filter(|b| matches!(b.shape, Shape::Hand { .. }))
+        .map(|b| b.material.clone())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect()
+}
+
+/// Whether friction pair `f` is between a material of `hands` and material `ball`.
+fn pairs_skin_with(f: &FrictionDef, hands: &[String], ball: &str) -> bool {
+    let names = |a: &str, b: &str| {
+        f.between.len() == 2
+            && ((f.between[0] == a && f.between[1] == b)
+                || (f.between[0] == b && f.between[1] == a))
+    };
+    hands.iter().any(|h| names(h, ball))
 }
 
 impl BallParams {
@@ -51,6 +78,12 @@ impl BallParams {
             .find(|l| l.body == def.name && is_inner(&l.selection))
             .and_then(|l| l.pressure)
             .unwrap_or(0.0);
+        let hands = hand_materials(scene);
+        let friction = scene
+            .friction
+            .iter()
+            .find(|f| pairs_skin_with(f, &hands, &def.material))
+            .map_or(0.0, |f| f.mu);
         Some(BallParams {
             body,
             radius,
@@ -59,6 +92,7 @@ impl BallParams {
             pressure,
             shell,
             center,
+            friction,
         })
     }
 
@@ -75,7 +109,45 @@ impl BallParams {
             .iter()
             .find(|m| m.name == scene.body[self.body].material)
             .map_or(1100.0, |m| m.density);
-        // The ball gets a material of its own, so that editing it changes no other body.
+        // The ball gets a material of its own, so that editing it changes no other body; the
+        // friction pairs that named its old material name the new one too.
+        let before = scene.body[self.body].material.clone();
+        let hands = hand_materials(scene);
+        if before != material {
+            let renamed: Vec<FrictionDef> = scene
+                .friction
+                .iter()
+                .filter(|f| f.between.contains(&before))
+                .map(|f| FrictionDef {
+                    between: f
+                        .between
+                        .iter()
+                        .map(|n| {
+                            if *n == before {
+                                material.clone()
+                            } else {
+                                n.clone()
+                            }
+                        })
+                        .collect(),
+                    mu: f.mu,
+                })
+                .collect();
+            scene.friction.retain(|f| !f.between.contains(&material));
+            scene.friction.extend(renamed);
+        }
+        // The skin on the ball: μ as set (no pair at 0).
+        scene
+            .friction
+            .retain(|f| !pairs_skin_with(f, &hands, &material));
+        if self.friction > 0.0 {
+            for h in &hands {
+                scene.friction.push(FrictionDef {
+                    between: vec![h.clone(), material.clone()],
+                    mu: self.friction,
+                });
+            }
+        }
         scene.material.retain(|m| m.name != material);
         scene.material.push(MaterialDef {
             name: material.clone(),
@@ -263,5 +335,51 @@ mod tests {
         );
         assert!((refine.size.unwrap() - 0.002).abs() < 1e-12);
         crate::model::Model::build(&s, "t").unwrap();
+    }
+
+    /// The skin's friction on the ball: none in the default scene; set, it pairs the hand's
+    /// flesh with the ball's own material in the model; an edit of the ball keeps it and the
+    /// ball's other pairs (with an obstacle) under its new material's name; back to 0 it is
+    /// gone.
+    #[test]
+    fn the_skins_friction_on_the_ball_is_set_and_kept_through_edits() {
+        let text = format!(
+            "{}\n[[obstacle]]\nname = \"table\"\n\
+             shape = {{ plane = {{ point = [0.0, 0.0, -0.2], normal = [0.0, 0.0, 1.0] }} }}\n",
+            include_str!("../../assets/scenes/hand-and-ball.toml")
+        );
+        let mut s = Scene::parse(&text, "t").unwrap();
+        s.friction.push(FrictionDef {
+            between: vec!["rubber".into(), "table".into()],
+            mu: 0.3,
+        });
+        let mut b = BallParams::from_scene(&s).unwrap();
+        assert_eq!(b.friction, 0.0);
+        b.friction = 0.8;
+        b.apply(&mut s);
+        let b = BallParams::from_scene(&s).unwrap();
+        assert_eq!(b.friction, 0.8);
+        let ball = s.body[b.body].material.clone();
+        assert_ne!(ball, "rubber", "the ball's own material");
+        let model = crate::model::Model::build(&s, "t").unwrap();
+        assert_eq!(model.friction_between("flesh", &ball), 0.8);
+        assert_eq!(model.friction_between(&ball, "table"), 0.3);
+        // Edited again (radius): the pairs stay, one each.
+        let mut c = b.clone();
+        c.radius = 0.03;
+        c.apply(&mut s);
+        assert_eq!(BallParams::from_scene(&s).unwrap().friction, 0.8);
+        let skin_pairs = s
+            .friction
+            .iter()
+            .filter(|f| f.between.contains(&ball) && f.between.contains(&"flesh".into()))
+            .count();
+        assert_eq!(skin_pairs, 1, "{:?}", s.friction);
+        c.friction = 0.0;
+        c.apply(&mut s);
+        assert_eq!(BallParams::from_scene(&s).unwrap().friction, 0.0);
+        let model = crate::model::Model::build(&s, "t").unwrap();
+        assert_eq!(model.friction_between("flesh", &ball), 0.0);
+        assert_eq!(model.friction_between(&ball, "table"), 0.3);
     }
 }

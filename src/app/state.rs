@@ -598,6 +598,10 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
     if let Some(r) = &g.reason {
         line.push_str(" — ");
         line.push_str(r);
+        // The scene file's advice, as the viewer sets it.
+        if r.contains("[[friction]]") {
+            line.push_str(" (here: Object → skin friction μ)");
+        }
     }
     line
 }

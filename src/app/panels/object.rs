@@ -1,5 +1,6 @@
 //! Object: the ball's radius, Young's modulus (logarithmic, 100 Pa to 1 TPa), Poisson ratio,
-//! internal pressure, shell or solid, and centre. A completed edit rebuilds the ball body.
+//! internal pressure, shell or solid, the skin's friction on it, and centre. A completed edit
+//! rebuilds the ball body.
 
 use super::super::state::ViewerState;
 use super::committed;
@@ -45,6 +46,13 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             .suffix(" kPa"),
     );
     ball.pressure = kpa * 1e3;
+    done |= committed(&r);
+    let r = ui
+        .add(Slider::new(&mut ball.friction, 0.0..=2.0).text("skin friction μ"))
+        .on_hover_text(
+            "Coulomb's μ between the hand's skin and the ball (skin on rubber ≈ 0.8); a grasp \
+             that holds the ball against gravity needs it",
+        );
     done |= committed(&r);
     ui.horizontal(|ui| {
         ui.label("centre (mm)");
