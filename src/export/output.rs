@@ -64,6 +64,23 @@ impl OutputSet {
     /// Prepares to write into `dir` (created if missing, with its parents). Completes or removes
     /// what earlier writes into it left when their process ended before they finished.
     pub fn new(dir: &Path) -> std::io::Result<Self> {
+        // A name that is already something else than a folder (a file, a link to nothing or to
+        // itself) is told as such, not as the creation's "file exists".
+        if std::fs::symlink_metadata(dir).is_ok() {
+            match std::fs::metadata(dir) {
+                Ok(m) if m.is_dir() => {}
+                Ok(_) => {
+                    return Err(std::io::Error::other(
+                        "it is a file, not a folder: name a folder for the results",
+                    ))
+                }
+                Err(e) => {
+                    return Err(std::io::Error::other(format!(
+                        "it is a link that leads to no folder ({e})"
+                    )))
+                }
+            }
+        }
         std::fs::create_dir_all(dir)?;
         let real = std::fs::canonicalize(dir)?;
         swap::recover(&real);
@@ -422,6 +439,26 @@ mod tests {
         assert!(!dead.exists());
         assert_eq!(listing(&dir), before);
         assert_eq!(std::fs::read(dir.join("frame_0000.vtu")).unwrap(), b"1");
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    /// A file, a link in a loop: refused saying what the name is, nothing created.
+    #[test]
+    fn a_name_that_is_no_folder_is_told_as_such() {
+        let root = scratch("nofolder");
+        std::fs::write(root.join("afile"), "mine").unwrap();
+        let e = OutputSet::new(&root.join("afile")).err().unwrap();
+        assert!(e.to_string().contains("a file, not a folder"), "{e}");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("loop", root.join("loop")).unwrap();
+            let e = OutputSet::new(&root.join("loop")).err().unwrap();
+            assert!(
+                e.to_string().contains("a link that leads to no folder"),
+                "{e}"
+            );
+        }
+        assert_eq!(std::fs::read(root.join("afile")).unwrap(), b"mine");
         let _ = std::fs::remove_dir_all(&root);
     }
 
