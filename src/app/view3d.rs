@@ -2,6 +2,13 @@
 //! draw list into an offscreen texture registered with egui, redrawn only when the frame, the
 //! camera or the size changed. Drag to orbit, right-drag (or shift-drag) to pan, scroll to
 //! zoom, double-click to frame the bodies again.
+//!
+//! A level of detail while the view changes fast: a preview (a pose being dragged, drawn with
+//! the coarse skin) and an orbit, pan or zoom in progress are drawn at
+//! [`INTERACTIVE_SCALE`] of the view's pixels in each direction, shown stretched; the solved
+//! frame, once the camera rests, is drawn again at full size. On a software renderer the draw
+//! is mostly pixels (shadow taps, 4× MSAA, the translucent skin): a quarter of them keeps the
+//! view moving while a slider or the camera is dragged.
 
 use super::jobs::Solution;
 use super::state::SceneView;
@@ -12,6 +19,10 @@ use eframe::egui_wgpu::RenderState;
 use egui::{Color32, Rect, Sense};
 use std::sync::Arc;
 use std::time::Instant;
+
+/// The share of the view's width and height drawn while it changes fast (a preview, the camera
+/// moving).
+pub const INTERACTIVE_SCALE: f32 = 0.5;
 
 /// Offscreen target registered with egui.
 struct Target {
@@ -30,6 +41,10 @@ pub struct View3d {
     bounds: Option<Bounds>,
     target: Option<Target>,
     dirty: bool,
+    /// The frame shown is a preview (drawn at the interactive scale).
+    preview: bool,
+    /// The camera moved in the last UI frame (drawn at the interactive scale).
+    moving: bool,
     /// Milliseconds of the last redraw of the 3D texture (encoding and submission).
     pub last_render_ms: f64,
     /// Last error of the renderer, shown over the view.
@@ -54,6 +69,8 @@ impl View3d {
             bounds: None,
             target: None,
             dirty: true,
+            preview: false,
+            moving: false,
             last_render_ms: 0.0,
             error: None,
         }
@@ -126,9 +143,11 @@ impl View3d {
         self.dirty = false;
     }
 
-    fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
+    /// Moves the camera by the pointer; returns whether it moved.
+    fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response, rect: Rect) -> bool {
+        let mut moving = false;
         let Some(camera) = &mut self.camera else {
-            return;
+            return moving;
         };
         let d = response.drag_delta();
         let height = rect.height().max(1.0);
@@ -141,18 +160,35 @@ impl View3d {
                 camera.orbit(-d.x * 0.008, d.y * 0.008);
             }
             self.dirty = true;
+            moving = true;
         }
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 camera.zoom((-scroll * 0.002).exp());
                 self.dirty = true;
+                moving = true;
             }
         }
         if response.double_clicked() {
             self.frame_camera("three-quarter");
         }
+        moving
     }
+}
+
+/// The pixels drawn for a view of `full` pixels: all of them, or [`INTERACTIVE_SCALE`] of each
+/// side while the view changes fast (at least 16).
+pub fn drawn_size(full: (u32, u32), interactive: bool) -> (u32, u32) {
+    if !interactive {
+        return full;
+    }
+    let scale = |n: u32| {
+        ((n as f32 * INTERACTIVE_SCALE).round() as u32)
+            .max(16)
+            .min(n)
+    };
+    (scale(full.0), scale(full.1))
 }
 
 impl SceneView for View3d {
@@ -173,6 +209,7 @@ impl SceneView for View3d {
             self.camera = None;
         }
         self.list = Some(list);
+        self.preview = solution.preview;
         self.dirty = true;
     }
 
@@ -186,16 +223,21 @@ impl SceneView for View3d {
     fn ui(&mut self, ui: &mut egui::Ui) {
         let rect = ui.available_rect_before_wrap();
         let ppp = ui.ctx().pixels_per_point();
-        let size = (
+        let full = (
             ((rect.width() * ppp).round() as u32).clamp(16, 4096),
             ((rect.height() * ppp).round() as u32).clamp(16, 4096),
         );
-        self.ensure_target(size);
+        let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        // The camera stays framed as at full size: the reduced target has the same aspect.
+        self.ensure_target(drawn_size(full, self.preview || self.moving));
         if self.camera.is_none() {
             self.frame_camera("three-quarter");
         }
-        let response = ui.allocate_rect(rect, Sense::click_and_drag());
-        self.handle_input(ui, &response, rect);
+        let moving = self.handle_input(ui, &response, rect);
+        // Moving, or a preview: reduced; the camera at rest on a solved frame: full size
+        // (a change of size marks the view for a redraw).
+        self.moving = moving || response.dragged();
+        self.ensure_target(drawn_size(full, self.preview || self.moving));
         if self.dirty {
             self.redraw();
         }
@@ -246,5 +288,18 @@ impl SceneView for View3d {
         };
         self.dirty = true;
         out.map_err(|e| e.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::drawn_size;
+
+    #[test]
+    fn the_interactive_size_is_half_of_each_side_never_below_16_pixels() {
+        assert_eq!(drawn_size((780, 700), false), (780, 700));
+        assert_eq!(drawn_size((780, 700), true), (390, 350));
+        assert_eq!(drawn_size((20, 17), true), (16, 16));
+        assert_eq!(drawn_size((16, 16), true), (16, 16));
     }
 }

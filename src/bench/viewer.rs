@@ -28,8 +28,10 @@ struct Row {
     frame_ms: Vec<f64>,
     /// From the slider change to a preview on screen, where one came first.
     preview_ms: Vec<f64>,
-    /// Upload and 3D draw of each preview (its coarse skin).
+    /// Upload and 3D draw of each preview (its coarse skin), at the full view's size and at
+    /// the viewer's interactive size.
     preview_draw_ms: Vec<f64>,
+    preview_draw_reduced_ms: Vec<f64>,
     solve_ms: Vec<f64>,
     upload_ms: Vec<f64>,
     draw_ms: Vec<f64>,
@@ -101,6 +103,7 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         frame_ms: Vec::new(),
         preview_ms: Vec::new(),
         preview_draw_ms: Vec::new(),
+        preview_draw_reduced_ms: Vec::new(),
         solve_ms: Vec::new(),
         upload_ms: Vec::new(),
         draw_ms: Vec::new(),
@@ -126,7 +129,11 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         row.solve_ms.push(ms(t));
         if let Some((at, list)) = preview.into_inner() {
             row.preview_ms.push(at);
-            row.preview_draw_ms.push(upload_and_draw(renderer, &list)?);
+            row.preview_draw_ms
+                .push(upload_and_draw(renderer, &list, VIEW)?);
+            let reduced = crate::app::view3d::drawn_size(VIEW, true);
+            row.preview_draw_reduced_ms
+                .push(upload_and_draw(renderer, &list, reduced)?);
         }
         row.frame_ms.extend(times);
         let shown = state.shown.as_ref().expect("shown");
@@ -134,30 +141,35 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         let mut gpu = renderer.upload(&shown.solution.draw_list)?;
         row.upload_ms.push(ms(t));
         let t = Instant::now();
-        draw(renderer, &mut gpu, &shown.solution.draw_list)?;
+        draw(renderer, &mut gpu, &shown.solution.draw_list, VIEW)?;
         row.draw_ms.push(ms(t));
     }
     Ok(row)
 }
 
-/// One draw of `list`'s uploaded buffers at the central view's size.
+/// One draw of `list`'s uploaded buffers at `size` pixels.
 fn draw(
     renderer: &mut Renderer,
     gpu: &mut crate::render::GpuScene,
     list: &crate::render::DrawList,
+    size: (u32, u32),
 ) -> Result<()> {
     let bounds = list.bounds().ok_or_else(|| anyhow!("empty draw list"))?;
     let camera =
-        Camera::preset("three-quarter", &bounds, VIEW.0 as f32 / VIEW.1 as f32).expect("a preset");
-    renderer.render_scene_to_rgba(gpu, &camera, VIEW.0, VIEW.1)?;
+        Camera::preset("three-quarter", &bounds, size.0 as f32 / size.1 as f32).expect("a preset");
+    renderer.render_scene_to_rgba(gpu, &camera, size.0, size.1)?;
     Ok(())
 }
 
-/// Upload and one draw of `list`, ms.
-fn upload_and_draw(renderer: &mut Renderer, list: &crate::render::DrawList) -> Result<f64> {
+/// Upload and one draw of `list` at `size` pixels, ms.
+fn upload_and_draw(
+    renderer: &mut Renderer,
+    list: &crate::render::DrawList,
+    size: (u32, u32),
+) -> Result<f64> {
     let t = Instant::now();
     let mut gpu = renderer.upload(list)?;
-    draw(renderer, &mut gpu, list)?;
+    draw(renderer, &mut gpu, list, size)?;
     Ok(ms(t))
 }
 
@@ -177,7 +189,7 @@ pub fn run(changes: usize) -> Result<String> {
     let mut renderer = Renderer::new_headless()?;
     eprintln!("adapter: {}", renderer.adapter_summary());
     let mut out = String::from(
-        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | + its upload and 3D draw ms (mean) | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | + its upload and 3D draw ms (mean), full / interactive size | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for tier in Tier::ALL {
         let row = tier_row(tier, changes, &mut renderer)?;
@@ -185,10 +197,11 @@ pub fn run(changes: usize) -> Result<String> {
         let (sm, _, sx) = stats(&row.solve_ms);
         let (pm, _, _) = stats(&row.preview_ms);
         let (pd, _, _) = stats(&row.preview_draw_ms);
+        let (pr, _, _) = stats(&row.preview_draw_reduced_ms);
         let (um, _, _) = stats(&row.upload_ms);
         let (dm, _, _) = stats(&row.draw_ms);
         out.push_str(&format!(
-            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {pd:.0} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
+            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {pd:.0} / {pr:.0} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
             crate::app::settings::tier_label(row.tier),
             row.first_ms,
             row.frame_ms.len(),
