@@ -96,7 +96,7 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     assert!(
         status.starts_with("not held")
             && status.contains("μ = 0")
-            && status.ends_with("(here: Object → skin friction μ)"),
+            && status.ends_with("(here: the Object panel's skin friction μ)"),
         "{status}"
     );
 }

@@ -600,7 +600,7 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
         line.push_str(r);
         // The scene file's advice, as the viewer sets it.
         if r.contains("[[friction]]") {
-            line.push_str(" (here: Object → skin friction μ)");
+            line.push_str(" (here: the Object panel's skin friction μ)");
         }
     }
     line

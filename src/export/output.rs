@@ -144,14 +144,20 @@ impl OutputSet {
         let manifest: String = self.names.iter().map(|n| format!("{n}\n")).collect();
         std::fs::write(self.staging.join(MANIFEST), manifest)?;
         let written = self.names.iter().map(|n| self.dir.join(n)).collect();
-        if exchange && self.beside && swap::exchange(&self.real, &self.staging, &self.names)? {
+        let exchanged = match exchange && self.beside {
+            true => swap::exchange(&self.real, &self.staging, &self.names)?,
+            false => None,
+        };
+        if let Some(permissions) = exchanged {
             // The staging folder's path now holds the old set (and what of the user's could
             // not be linked): the user's entries go to the new one, then the old is removed.
-            // What could not be moved stays there for the next write's recovery.
+            // What could not be moved stays there for the next write's recovery. The new
+            // folder then takes the old one's permissions.
             self.exchanged = true;
             if swap::carry_over(&self.staging, &self.real) {
                 std::fs::remove_dir_all(&self.staging)?;
             }
+            std::fs::set_permissions(&self.real, permissions)?;
             return Ok(written);
         }
         self.commit_file_by_file()?;
@@ -328,8 +334,18 @@ mod tests {
             std::fs::create_dir(dir.join("mine")).unwrap();
             std::fs::write(dir.join("mine").join("frame_0000.vtu"), "mine").unwrap();
             #[cfg(unix)]
-            std::os::unix::fs::symlink("notes.txt", dir.join("link")).unwrap();
+            {
+                use std::os::unix::fs::PermissionsExt;
+                std::os::unix::fs::symlink("notes.txt", dir.join("link")).unwrap();
+                std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o750)).unwrap();
+            }
             write_set(&dir, 2, 2, exchange);
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                let mode = std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777;
+                assert_eq!(mode, 0o750, "the folder keeps its permissions");
+            }
             let mut expected = vec![
                 MANIFEST,
                 "frame_0000.vtu",

@@ -50,7 +50,7 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     let r = ui
         .add(Slider::new(&mut ball.friction, 0.0..=2.0).text("skin friction μ"))
         .on_hover_text(
-            "Coulomb's μ between the hand's skin and the ball (skin on rubber ≈ 0.8); a grasp \
+            "Coulomb's μ between the hand's skin and the ball (skin on rubber: about 0.8); a grasp \
              that holds the ball against gravity needs it",
         );
     done |= committed(&r);

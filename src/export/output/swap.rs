@@ -44,10 +44,17 @@ fn same_device(_: &Path, _: &Path) -> bool {
     false
 }
 
-/// Links the user's files of `real` (not the program's, not named in `names`) into `staging`,
-/// gives `staging` the permissions of `real`, and exchanges the two folders. `Ok(false)` when
-/// the exchange is not possible here (nothing was moved; the caller renames file by file).
-pub(super) fn exchange(real: &Path, staging: &Path, names: &[String]) -> std::io::Result<bool> {
+/// Links the user's files of `real` (not the program's, not named in `names`) into `staging`
+/// and exchanges the two folders. Returns the permissions `real` had (for the caller to give
+/// the new folder once the user's entries are carried over: a read-only folder would refuse
+/// them), or `None` when the exchange is not possible here (nothing was moved; the caller
+/// renames file by file).
+pub(super) fn exchange(
+    real: &Path,
+    staging: &Path,
+    names: &[String],
+) -> std::io::Result<Option<std::fs::Permissions>> {
+    let permissions = std::fs::metadata(real)?.permissions();
     let listed = manifest_names(real);
     for entry in std::fs::read_dir(real)? {
         let entry = entry?;
@@ -66,8 +73,7 @@ pub(super) fn exchange(real: &Path, staging: &Path, names: &[String]) -> std::io
             copy_link(&entry.path(), &staging.join(&name));
         }
     }
-    std::fs::set_permissions(staging, std::fs::metadata(real)?.permissions())?;
-    Ok(rename_exchange(staging, real))
+    Ok(rename_exchange(staging, real).then_some(permissions))
 }
 
 #[cfg(unix)]
