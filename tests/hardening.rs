@@ -141,6 +141,35 @@ fn tip_load(force: [f64; 3]) -> String {
     )
 }
 
+/// An operating system's error is told once, after the file it concerns: a scene that does
+/// not exist, an output that is a file (the audit of 2026-11-23 found the text printed twice).
+#[test]
+fn an_operating_system_error_is_told_once_naming_the_file() {
+    let dir = fresh("os_error_once");
+    let missing = dir.join("no-such-scene.toml");
+    let output = solve_cli(&missing, &dir.join("out"));
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.matches("os error 2").count(), 1, "{stderr}");
+    assert!(stderr.contains("no-such-scene.toml"), "{stderr}");
+    assert!(!dir.join("out").exists());
+
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, Bar::default().scene()).unwrap();
+    let file = dir.join("a-file");
+    std::fs::write(&file, "mine").unwrap();
+    let output = solve_cli(&scene, &file);
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        stderr.matches("it is a file, not a folder").count(),
+        1,
+        "{stderr}"
+    );
+    assert!(stderr.contains("a-file"), "{stderr}");
+    assert_eq!(std::fs::read(&file).unwrap(), b"mine");
+}
+
 /// A prescribed displacement of 1e200 m overflows the stresses as a huge load does: the error
 /// names the constraint and its displacement beside the scene's size, and nothing is written.
 #[test]
