@@ -45,8 +45,6 @@ use std::time::Instant;
 pub struct ContactCache {
     solver: PartitionedSolver,
     held: Vec<usize>,
-    /// The facet each contact point of the last step was held on (src/solve/pairing.rs).
-    paired: Vec<crate::contact::Crossing>,
 }
 
 impl ContactCache {
@@ -55,7 +53,6 @@ impl ContactCache {
         ContactCache {
             solver: PartitionedSolver::new(ordering),
             held: Vec::new(),
-            paired: Vec::new(),
         }
     }
 }
@@ -276,9 +273,6 @@ fn solve_grasp_with(
                 settings.search_depth,
             )
         }
-        // No motion to follow, from a frame in contact: the points stay on the facets the
-        // last step held them on while they project within them (src/solve/pairing.rs).
-        None if carried_given.is_some() => super::pairing::kept_pairs(&cache.paired, &x_now),
         None => Vec::new(),
     };
 
@@ -508,10 +502,6 @@ fn solve_grasp_with(
     }
     // The nodes held: the next step's warm start (also a step that fails from here on: it is
     // redone from the same state, where the same nodes will be held).
-    cache.paired = super::pairing::held_pairs(
-        result.summary.contacts.iter().map(|c| (c.node, &c.master)),
-        |body| surfaces.iter().position(|s| s.body == body),
-    );
     cache.held = result.summary.contacts.iter().map(|c| c.node).collect();
     cache.held.sort_unstable();
     cache.held.dedup();

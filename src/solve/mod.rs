@@ -13,7 +13,6 @@ mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
 mod linear_factor;
-mod pairing;
 mod path;
 mod preview;
 pub mod proximity;
