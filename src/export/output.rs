@@ -229,28 +229,38 @@ fn fresh_folder(path: &Path) -> std::io::Result<()> {
 
 /// Removes the staging folders a write into `dir` left when its process ended before it
 /// finished (stopped with Ctrl-C, killed: no destructor ran): `.staging-<pid>` of a process that
-/// no longer runs. Where the running processes cannot be listed (no `/proc`), none is removed.
+/// no longer runs.
 fn remove_abandoned_staging(dir: &Path) {
+    for folder in abandoned_staging(dir, b".staging-") {
+        let _ = std::fs::remove_dir_all(folder);
+    }
+}
+
+/// The folders of `dir` named `prefix` followed by the id of a process that no longer runs
+/// (staging folders whose write was stopped); empty where the running processes cannot be
+/// listed (no `/proc`).
+fn abandoned_staging(dir: &Path, prefix: &[u8]) -> Vec<PathBuf> {
     let proc = Path::new("/proc");
     if !proc.join("self").exists() {
-        return;
+        return Vec::new();
     }
     let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
+        return Vec::new();
     };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name
-            .to_str()
-            .and_then(|n| n.strip_prefix(".staging-"))
-            .filter(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
-        else {
-            continue;
-        };
-        if entry.file_type().is_ok_and(|t| t.is_dir()) && !proc.join(pid).exists() {
-            let _ = std::fs::remove_dir_all(entry.path());
-        }
-    }
+    entries
+        .flatten()
+        .filter(|entry| {
+            let name = entry.file_name();
+            let ended = name
+                .as_encoded_bytes()
+                .strip_prefix(prefix)
+                .and_then(|pid| std::str::from_utf8(pid).ok())
+                .filter(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+                .is_some_and(|pid| !proc.join(pid).exists());
+            ended && entry.file_type().is_ok_and(|t| t.is_dir())
+        })
+        .map(|entry| entry.path())
+        .collect()
 }
 
 impl Drop for OutputSet {

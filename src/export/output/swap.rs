@@ -2,7 +2,7 @@
 //! `renameat2(RENAME_EXCHANGE)`), the user's entries carried from the old folder to the new, and
 //! the recovery of a write stopped half-way.
 
-use super::{is_ours, manifest_names};
+use super::{abandoned_staging, is_ours, manifest_names};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -160,30 +160,15 @@ fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
 /// entries go to `real` and the folder is removed. Where the running processes cannot be
 /// listed (no `/proc`), nothing is done.
 pub(super) fn recover(real: &Path) {
-    let proc = Path::new("/proc");
-    if !proc.join("self").exists() {
-        return;
-    }
     let (Some(parent), Some(name)) = (real.parent(), real.file_name()) else {
         return;
     };
     let mut prefix = OsString::from(".");
     prefix.push(name);
     prefix.push(".staging-");
-    let prefix = prefix.as_encoded_bytes();
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let file_name = entry.file_name();
-        let Some(pid) = file_name.as_encoded_bytes().strip_prefix(prefix) else {
-            continue;
-        };
-        let ended = !pid.is_empty()
-            && pid.iter().all(u8::is_ascii_digit)
-            && !proc.join(String::from_utf8_lossy(pid).as_ref()).exists();
-        if ended && entry.file_type().is_ok_and(|t| t.is_dir()) && carry_over(&entry.path(), real) {
-            let _ = std::fs::remove_dir_all(entry.path());
+    for folder in abandoned_staging(parent, prefix.as_encoded_bytes()) {
+        if carry_over(&folder, real) {
+            let _ = std::fs::remove_dir_all(folder);
         }
     }
 }
