@@ -580,28 +580,37 @@ fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
 }
 
 /// The keyframes where a correction at the pose failed (its contact solve could not be done:
-/// a skin point deeper than the contact searches, an active set that did not settle): told as
-/// the error the command exits with (code 2: the frames are written, each the last settled
-/// state). Corrections that ended still changing the force are a warning only: in ordinary
-/// presses at resolution 0.5 they end 2–12 % apart (issue 15).
+/// a skin point deeper than the contact searches, an active set that did not settle) or the
+/// corrections ended with the contact force still changing by more than
+/// `KeyframeStats::UNSETTLED_WARNING`: told as the error the command exits with (code 2: the
+/// frames are written, each the last settled state).
 fn failed_at_a_pose(solved: &Solved) -> Option<String> {
     let mut causes = Vec::new();
     for (i, f) in solved.frames.iter().enumerate() {
         for h in &f.hands {
+            let at = format!(
+                "frame {i} (t = {} s), hand \"{}\"",
+                solved.report.frames[i].time, solved.model.bodies[h.body].name
+            );
             if h.stats.correction_failed.is_some() {
+                causes.push(format!("{at}: a correction at the pose failed"));
+            } else if let Some(c) = h
+                .stats
+                .unsettled_at_pose
+                .filter(|&c| c > crate::state::KeyframeStats::UNSETTLED_WARNING)
+            {
                 causes.push(format!(
-                    "frame {i} (t = {} s), hand \"{}\"",
-                    solved.report.frames[i].time, solved.model.bodies[h.body].name
+                    "{at}: the corrections at the pose did not settle ({:.2} % in the last)",
+                    c * 100.0
                 ));
             }
         }
     }
     (!causes.is_empty()).then(|| {
         format!(
-            "{}: the contact could not be solved again at every pose ({}: a correction at the \
-             pose failed; the warnings above say why and what to change). The frames are \
-             written, each the last settled state; report.json gives each hand's \
-             `motion.correction_failed`",
+            "{}: the contact could not be solved again at every pose ({}; the warnings above say \
+             why). The frames are written, each the last settled state; report.json gives each \
+             hand's `motion.correction_failed` and `motion.unsettled_at_pose`",
             solved.report.scene,
             causes.join("; "),
         )

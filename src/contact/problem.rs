@@ -264,18 +264,31 @@ impl ContactProblem<'_> {
                         .then_some(proj)
                 };
                 // The node met by facet `nodes` of this pair's surface at `weights`.
-                let on_facet = |nodes: [usize; 3], weights: [f64; 3], normal, gap| Penetration {
-                    node,
-                    master: Master::Facet {
-                        body: surface.body,
-                        nodes,
-                        weights,
-                    },
-                    source: self.obstacles.len() + p,
-                    normal,
-                    gap,
-                    anchor: Vector3::zeros(),
-                };
+                let on_facet =
+                    |nodes: [usize; 3], weights: [f64; 3], normal: Vector3<f64>, gap: f64| {
+                        // Along the surface's smoothed normal, the gap measured along it.
+                        let (normal, gap) =
+                            match surface.smoothed_normal(&nodes, &weights, &current) {
+                                Some(n) => {
+                                    let point: Vector3<f64> =
+                                        (0..3).map(|i| current[nodes[i]] * weights[i]).sum();
+                                    (n, n.dot(&(current[node] - point)))
+                                }
+                                None => (normal, gap),
+                            };
+                        Penetration {
+                            node,
+                            master: Master::Facet {
+                                body: surface.body,
+                                nodes,
+                                weights,
+                            },
+                            source: self.obstacles.len() + p,
+                            normal,
+                            gap,
+                            anchor: Vector3::zeros(),
+                        }
+                    };
                 // A node that crossed this surface: against the facet it went through.
                 if let Some(c) = self
                     .crossings

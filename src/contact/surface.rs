@@ -11,6 +11,11 @@ use parry3d_f64::math::Vec3;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use std::collections::HashMap;
 
+/// Facets around a corner whose normals turn from a facet's by less than this, degrees, are
+/// smoothed over in its contact normal ([`ContactSurface::smoothed_normal`]); an edge sharper
+/// than it is a crease of the body and stays sharp.
+pub const FEATURE_ANGLE_DEG: f64 = 30.0;
+
 /// Triangles over global node indices, outward normals.
 #[derive(Clone, Debug)]
 pub struct ContactSurface {
@@ -21,6 +26,8 @@ pub struct ContactSurface {
     /// Unit normal at every node at the positions the surface was made from (see
     /// [`ContactSurface::node_normals`]).
     reference_normals: HashMap<usize, Vector3<f64>>,
+    /// The triangles (indices into `triangles`) around each node.
+    around: HashMap<usize, Vec<usize>>,
 }
 
 /// The projection of a point onto a surface.
@@ -84,10 +91,17 @@ impl ContactSurface {
 
     /// The surface of `triangles` (counter-clockwise seen from outside) at `positions`.
     pub fn new(body: usize, triangles: Vec<[usize; 3]>, positions: &[Vector3<f64>]) -> Self {
+        let mut around: HashMap<usize, Vec<usize>> = HashMap::new();
+        for (i, t) in triangles.iter().enumerate() {
+            for &v in t {
+                around.entry(v).or_default().push(i);
+            }
+        }
         let mut s = ContactSurface {
             body,
             triangles,
             reference_normals: HashMap::new(),
+            around,
         };
         s.reference_normals = s.node_normals(positions);
         s
@@ -123,6 +137,43 @@ impl ContactSurface {
             }
         }
         out
+    }
+
+    /// The surface's smoothed outward normal at the point of facet `nodes` with barycentric
+    /// weights `weights`, at `positions`: the weights' blend of the facet's corner normals,
+    /// each the area-weighted mean of the normals of the triangles around the corner that
+    /// turn from this facet's by less than [`FEATURE_ANGLE_DEG`] (a crease or an edge of the
+    /// body stays sharp). Across an edge between two facets that meet at a smaller angle the
+    /// normal is continuous — the two facets give the same normal on their shared edge — so a
+    /// contact point sliding over it is not pushed along a normal that jumps by the angle
+    /// between the facets (a faceted ball's 7.5°): the contact's fixed point at a pose then
+    /// exists (Puso and Laursen 2002 smooth the master surface for the same reason). The
+    /// facet's own normal where it is flat or alone.
+    pub fn smoothed_normal(
+        &self,
+        nodes: &[usize; 3],
+        weights: &[f64; 3],
+        positions: &[Vector3<f64>],
+    ) -> Option<Vector3<f64>> {
+        let area_normal = |t: &[usize; 3]| {
+            (positions[t[1]] - positions[t[0]]).cross(&(positions[t[2]] - positions[t[0]]))
+        };
+        let own = area_normal(nodes).try_normalize(0.0)?;
+        let cos_feature = FEATURE_ANGLE_DEG.to_radians().cos();
+        let mut blend = Vector3::zeros();
+        for (corner, w) in nodes.iter().zip(weights) {
+            let mut n = Vector3::zeros();
+            for &t in self.around.get(corner).into_iter().flatten() {
+                let a = area_normal(&self.triangles[t]);
+                let l = a.norm();
+                if l > 0.0 && a.dot(&own) >= cos_feature * l {
+                    n += a;
+                }
+            }
+            let n = n.try_normalize(0.0).unwrap_or(own);
+            blend += n * *w;
+        }
+        Some(blend.try_normalize(0.0).unwrap_or(own))
     }
 
     /// A hierarchy over the triangles at `positions`, each box grown by `margin` (m).
@@ -383,6 +434,59 @@ pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two triangles sharing the edge 0–1 along x, the second folded down by `fold` degrees
+    /// about it: nodes 0, 1 on the edge, 2 on the flat side (y < 0), 3 on the folded side.
+    fn folded(fold: f64) -> (ContactSurface, Vec<Vector3<f64>>) {
+        let a = fold.to_radians();
+        let positions = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.5, -1.0, 0.0),
+            Vector3::new(0.5, a.cos(), -a.sin()),
+        ];
+        let s = ContactSurface::new(0, vec![[0, 2, 1], [0, 1, 3]], &positions);
+        (s, positions)
+    }
+
+    /// Across an edge folded by less than the feature angle the contact normal is continuous:
+    /// at a point of the shared edge both facets give the same normal, the bisector of theirs;
+    /// at their far corners each gives its own. An edge folded by more (a body's crease) stays
+    /// sharp: each facet gives its own normal everywhere.
+    #[test]
+    fn the_contact_normal_is_smooth_across_a_gentle_edge_and_sharp_at_a_crease() {
+        let (s, x) = folded(10.0);
+        let on_edge = |t: [usize; 3]| {
+            let w = t.map(|n| match n {
+                0 => 0.3,
+                1 => 0.7,
+                _ => 0.0,
+            });
+            s.smoothed_normal(&t, &w, &x).unwrap()
+        };
+        let (flat, bent) = (on_edge([0, 2, 1]), on_edge([0, 1, 3]));
+        assert!((flat - bent).norm() < 1e-12, "{flat} against {bent}");
+        let bisector = Vector3::new(0.0, 5f64.to_radians().sin(), 5f64.to_radians().cos());
+        assert!((flat - bisector).norm() < 1e-12, "{flat}");
+        let far = s.smoothed_normal(&[0, 2, 1], &[0.0, 1.0, 0.0], &x).unwrap();
+        assert!((far - Vector3::z()).norm() < 1e-12, "{far}");
+        // Against the facet normals it replaces, the jump across the edge: 10°.
+        let own = |t: [usize; 3]| {
+            project_on_triangle(&Vector3::new(0.5, 0.0, 1.0), &t.map(|n| x[n]))
+                .unwrap()
+                .normal
+        };
+        assert!((own([0, 2, 1]).angle(&own([0, 1, 3])).to_degrees() - 10.0).abs() < 1e-9);
+
+        let (s, x) = folded(60.0);
+        for t in [[0, 2, 1], [0, 1, 3]] {
+            let own = project_on_triangle(&Vector3::zeros(), &t.map(|n| x[n]))
+                .unwrap()
+                .normal;
+            let n = s.smoothed_normal(&t, &[0.5, 0.5, 0.0], &x).unwrap();
+            assert!((n - own).norm() < 1e-12, "{n} against {own}");
+        }
+    }
 
     #[test]
     fn projection_inside_edge_and_vertex() {

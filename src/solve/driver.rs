@@ -15,7 +15,8 @@ use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
 use crate::model::Model;
 use crate::state::{
-    largest_strains, Frame, HandFrame, HandState, KeyframeStats, StoppedShort, STRAIN_WARNING,
+    largest_strains, Frame, HandFrame, HandState, KeyframeStats, StoppedShort, UnsettledMotion,
+    STRAIN_WARNING,
 };
 use nalgebra::{Matrix3, Vector3};
 
@@ -484,6 +485,9 @@ impl Workspace {
         // The relative force changes of the corrections kept: they may go on past
         // CONTACT_CORRECTIONS while these shrink.
         let mut changes: Vec<f64> = Vec::new();
+        // The size of the change each correction made to the carried state it started from,
+        // |S(x) − x|: while these shrink the corrections converge, also where the force swings.
+        let mut moves: Vec<f64> = Vec::new();
         let mut done = 0;
         // (A frame without contact is already the bodies' static frame.)
         if pressed && frame.contact.is_some() && hand_contact_force(model, &frame) <= 0.0 {
@@ -493,7 +497,9 @@ impl Workspace {
             kept += released;
         }
         while done < CONTACT_CORRECTIONS
-            || (done < CONTACT_CORRECTIONS_EXTENDED && matches!(changes[..], [.., a, b] if b < a))
+            || (done < CONTACT_CORRECTIONS_EXTENDED
+                && (matches!(changes[..], [.., a, b] if b < a)
+                    || matches!(moves[..], [.., a, b] if b < a)))
         {
             done += 1;
             let force = hand_contact_force(model, &frame);
@@ -507,6 +513,9 @@ impl Workspace {
             if let (Some(x), Some(from)) = (carried.as_mut(), &started_from) {
                 // r = S(x) − x, the change the last correction made to where it started.
                 let r: Vec<f64> = x.iter().zip(from).map(|(s, x)| s - x).collect();
+                moves.push(r.iter().map(|v| v * v).sum::<f64>().sqrt());
+                unsettled.moved = largest_move(model, &r);
+                unsettled.growing = matches!(moves[..], [.., a, b, c] if a < b && b < c);
                 if let Some(previous) = &last_change {
                     omega = aitken(omega, previous, &r);
                 }
@@ -744,6 +753,28 @@ struct Counts {
 struct Unsettled {
     change: Option<f64>,
     failed: Option<String>,
+    /// Where the last correction moved the carried state most: its node and how far.
+    moved: Option<UnsettledMotion>,
+    /// Whether each of the last three corrections moved it more than the one before.
+    growing: bool,
+}
+
+/// The node the change `r` of the carried state moves most, and how far (`None` when nothing
+/// moves).
+fn largest_move(model: &Model, r: &[f64]) -> Option<UnsettledMotion> {
+    let (node, metres) = r
+        .chunks_exact(3)
+        .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+        .enumerate()
+        .filter(|(_, m)| m.is_finite())
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let body = model.bodies.iter().find(|b| b.nodes.contains(&node))?;
+    (metres > 0.0).then(|| UnsettledMotion {
+        body: body.name.clone(),
+        node: node - body.nodes.start,
+        moved: metres,
+        growing: false,
+    })
 }
 
 /// Ends a keyframe at `frame`: each moving hand's cost (its flexion along `path`, the contact
@@ -764,6 +795,14 @@ fn finish(
         total.contact_retries = counts.retries;
         total.pose_corrections = counts.corrections;
         total.unsettled_at_pose = counts.unsettled.change;
+        total.unsettled_motion = counts
+            .unsettled
+            .change
+            .and(counts.unsettled.moved.clone())
+            .map(|m| UnsettledMotion {
+                growing: counts.unsettled.growing,
+                ..m
+            });
         total.correction_failed = counts.unsettled.failed.clone();
         total.stopped_short = short.clone();
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {

@@ -61,6 +61,21 @@ impl HandState {
     }
 }
 
+/// Where the last of a keyframe's corrections at the pose moved the bodies most, when they
+/// ended unsettled: the cause the warning gives.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct UnsettledMotion {
+    /// The body.
+    pub body: String,
+    /// The node within the body.
+    pub node: usize,
+    /// How far the last correction moved it, m.
+    pub moved: f64,
+    /// Whether each of the last three corrections moved the bodies more than the one before
+    /// (they drift away rather than swing).
+    pub growing: bool,
+}
+
 /// What one keyframe cost.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct KeyframeStats {
@@ -110,6 +125,10 @@ pub struct KeyframeStats {
     /// that uncertain); not written when they settled.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unsettled_at_pose: Option<f64>,
+    /// Where the last of unsettled corrections moved the bodies most (with
+    /// `unsettled_at_pose`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsettled_motion: Option<UnsettledMotion>,
     /// A correction at the pose whose contact solve failed, and why: the frame is the last
     /// correction kept (or the motion's last step), its forces uncertain by
     /// `unsettled_at_pose` where a correction was kept; not written when none failed.
@@ -181,6 +200,7 @@ impl KeyframeStats {
         }
         if step.unsettled_at_pose.is_some() {
             self.unsettled_at_pose = step.unsettled_at_pose;
+            self.unsettled_motion = step.unsettled_motion.clone();
         }
         self.contact_retries += step.contact_retries;
         // The flexion's end is the later step's.

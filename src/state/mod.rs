@@ -14,6 +14,6 @@ pub use cavity::{cavity_state, CavityState};
 pub use finite::{first_non_finite, NonFinite};
 pub use frame::{Frame, HandFrame};
 pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};
-pub use hand::{HandState, KeyframeStats, StoppedShort};
+pub use hand::{HandState, KeyframeStats, StoppedShort, UnsettledMotion};
 pub use tactile::{contact_pressure, contact_skin_pressure, skin_pressure};
 pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

@@ -119,6 +119,25 @@ pub fn part_of_bone(hand: &HandModel, b: usize) -> usize {
     hand.skeleton.bones[b].digit.map_or(0, |d| d + 1)
 }
 
+/// Why corrections at a pose ended unsettled, from where the last moved the bodies most `m`.
+fn unsettled_cause(m: &super::UnsettledMotion) -> String {
+    let node = format!(
+        "node {} of body \"{}\" moved {:.3} mm in the last",
+        m.node,
+        m.body,
+        m.moved * 1e3
+    );
+    if m.growing {
+        format!(
+            " (each of the last three corrections moved the bodies more than the one before: \
+             they drift away from the pose's contact rather than settle on it, {node}; a body \
+             held at few nodes or a coarse, very soft body can turn or fold there)"
+        )
+    } else {
+        format!(" (the corrections still swing: {node})")
+    }
+}
+
 /// One warning per hand and frame whose keyframe ended short of its pose
 /// ([`super::StoppedShort`]): how far its motion went and why; and one where the corrections at
 /// the pose ended with its contact force still changing by more than
@@ -146,11 +165,15 @@ pub fn keyframe_warnings(model: &crate::model::Model, frames: &[super::Frame]) -
                 out.push(format!(
                     "frame {i}: the contact force of hand \"{}\" still changed by {:.2} % in the \
                      last of its {} corrections at the pose: its contact and bone forces are \
-                     uncertain by about that much (its contact points still move between facets \
-                     from one correction to the next)",
+                     uncertain by about that much{}",
                     model.bodies[h.body].name,
                     change * 100.0,
-                    h.stats.pose_corrections
+                    h.stats.pose_corrections,
+                    h.stats
+                        .unsettled_motion
+                        .as_ref()
+                        .map(unsettled_cause)
+                        .unwrap_or_default()
                 ));
             }
             if let Some(reason) = &h.stats.correction_failed {
