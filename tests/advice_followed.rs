@@ -468,13 +468,18 @@ fn a_contact_capped_below_its_default_solves_with_the_cap_raised() {
         .lines()
         .find(|l| l.starts_with("error: "))
         .unwrap_or_else(|| panic!("no error: {}", trigger.stderr));
-    assert!(
-        error.contains("the scene was not solved to its poses")
-            && error.contains("hand \"hand\" stopped at ")
-            && error.contains("raise solver.contact_max_iterations (it is below its default, 50)")
-            && error.ends_with("report.json gives the pose reached"),
-        "{error}"
-    );
+    let advice = "raise solver.contact_max_iterations (it is below its default, 50)";
+    // The cap stops the motion short of its pose, or (since the contact normal is smoothed,
+    // 2026-11-27: the motion reaches its pose) a correction at the pose; either says why.
+    let stopped = error.contains("the scene was not solved to its poses")
+        && error.contains("hand \"hand\" stopped at ")
+        && error.contains(advice)
+        && error.ends_with("report.json gives the pose reached");
+    let corrected = error.contains("a correction at the pose failed")
+        && trigger.warnings().iter().any(|w| {
+            w.contains("a correction at the pose of hand \"hand\" failed") && w.contains(advice)
+        });
+    assert!(stopped || corrected, "{}", trigger.stderr);
 
     let followed = solve(&format!("capped-{resolution}-followed"), &press(""));
     assert_eq!(followed.code, Some(0), "{}", followed.stderr);

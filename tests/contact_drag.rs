@@ -49,7 +49,14 @@ fn a_touching_finger_dragged_there_and_back_settles_at_once_and_returns_to_its_g
         );
         assert_eq!(stats.contact_retries, 0);
         let contact = frame.contact.as_ref().unwrap();
-        assert!(contact.max_penetration <= model.contact.tolerance);
+        // Held on the linearised constraint, a skin point lies a second-order amount off the
+        // surface on the moved geometry (its smoothed normal turns with the facets around):
+        // 0.23 nm here, where the contact accepts up to its penetration limit (0.5 mm).
+        assert!(
+            contact.max_penetration <= 1e-3 * model.contact.penetration_limit(),
+            "{} m left",
+            contact.max_penetration
+        );
         grips.push((angles[ip], grip));
     }
     // Pressing harder closes the thumb further: the grip grows on the way up.

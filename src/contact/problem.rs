@@ -266,16 +266,22 @@ impl ContactProblem<'_> {
                 // The node met by facet `nodes` of this pair's surface at `weights`.
                 let on_facet =
                     |nodes: [usize; 3], weights: [f64; 3], normal: Vector3<f64>, gap: f64| {
-                        // Along the surface's smoothed normal, the gap measured along it.
-                        let (normal, gap) =
-                            match surface.smoothed_normal(&nodes, &weights, &current) {
-                                Some(n) => {
-                                    let point: Vector3<f64> =
-                                        (0..3).map(|i| current[nodes[i]] * weights[i]).sum();
-                                    (n, n.dot(&(current[node] - point)))
-                                }
-                                None => (normal, gap),
-                            };
+                        // Along the surface's smoothed normal, the gap measured along it (not
+                        // on a body's own skin: self-contact keeps its facets' normals, its
+                        // folds being creases).
+                        let smoothed = pair
+                            .own
+                            .is_none()
+                            .then(|| surface.smoothed_normal(&nodes, &weights, &current))
+                            .flatten();
+                        let (normal, gap) = match smoothed {
+                            Some(n) => {
+                                let point: Vector3<f64> =
+                                    (0..3).map(|i| current[nodes[i]] * weights[i]).sum();
+                                (n, n.dot(&(current[node] - point)))
+                            }
+                            None => (normal, gap),
+                        };
                         Penetration {
                             node,
                             master: Master::Facet {

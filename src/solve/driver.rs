@@ -548,6 +548,15 @@ impl Workspace {
                     *posed = before;
                     break;
                 }
+                // Started beyond the last correction's end (ω > 1, extrapolated): a state
+                // no correction reached, which can lie past what the bodies bear (a tangent
+                // that is no longer positive definite). Redone plainly from the last frame.
+                Err(_) if applied > 1.0 => {
+                    *posed = before;
+                    started_from = None;
+                    last_change = None;
+                    omega = 1.0;
+                }
                 // Not settled: the last frame stands, and the report says why.
                 Err(e) => {
                     *posed = before;
