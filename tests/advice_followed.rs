@@ -540,8 +540,8 @@ fn each_overlay_advised_for_a_scene_without_contact_renders() {
 }
 
 /// Item 43: the finger pressed to MCP 30° strains the ball beyond 20 %, "… (the hands press it
-/// that far …: solve the scene with [solver] tier = \"nonlinear\" …, or pose the grasp less
-/// deep)"; posed less deep, to MCP 23°, the strain warning is gone while the finger still
+/// that far …: pose the grasp less deep …)" (the nonlinear tier is no longer advised for a
+/// pressurised ball, whose contact it does not settle); posed less deep, to MCP 23°, the strain warning is gone while the finger still
 /// presses the ball.
 #[test]
 fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
@@ -569,8 +569,10 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
         "{}",
         warned[0]
     );
+    // The ball is pressurised: the nonlinear tier's contact would not settle on it, so only
+    // the pose is advised.
     assert!(
-        warned[0].ends_with("or pose the grasp less deep)"),
+        warned[0].contains(": pose the grasp less deep") && !warned[0].contains("tier = "),
         "{}",
         warned[0]
     );

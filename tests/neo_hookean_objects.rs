@@ -168,7 +168,8 @@ fn power_grasp(tier: Option<prehensile::scene::TierName>) -> Solved {
 
 /// The Power grasp squeezes the pressurised ball to a principal strain of 0.3: the
 /// corotational tier's ball (a small-strain law) is warned of, naming the hands' press as the
-/// cause and the nonlinear tier as the remedy; on the nonlinear tier the ball is Neo-Hookean,
+/// cause and a less deep pose as the remedy (until 2026-11-27 also the nonlinear tier); on the
+/// nonlinear tier the ball is Neo-Hookean,
 /// no such warning, and the corrections at the pose — slow under the air's follower load
 /// (−15 %, −13 %, −11 %, −9 %, −7 %, −6 % when plain: 21.4 → 11.2 N, still 6 % off) —
 /// are relaxed by Aitken's Δ² on the carried state and go past the plain six while they
@@ -181,15 +182,20 @@ fn power_grasp(tier: Option<prehensile::scene::TierName>) -> Solved {
 /// normal smoothed and a correction started past the last one's end redone plainly where it
 /// fails, 9.19 → 9.06 → 8.89 → 8.73 → 8.48 → 9.14 N, 7.8 % at the ninth.)
 #[test]
-fn the_power_grasps_squeezed_ball_is_told_to_the_nonlinear_tier_which_settles_it() {
+fn the_power_grasps_squeezed_ball_is_warned_of_and_the_nonlinear_tier_tells_its_contact_unsettled()
+{
     let corotational = power_grasp(None);
     let warnings = &corotational.report.warnings;
     let strain = warnings
         .iter()
         .find(|w| w.contains("body \"ball\": principal strain"))
         .unwrap_or_else(|| panic!("{warnings:?}"));
+    // A pressurised ball: the pose is advised, not the nonlinear tier, whose corrections do
+    // not settle on it (below).
     assert!(
-        strain.contains("the hands press it that far") && strain.contains("tier = \"nonlinear\""),
+        strain.contains("the hands press it that far")
+            && strain.contains("pose the grasp less deep")
+            && !strain.contains("tier = \"nonlinear\""),
         "{strain}"
     );
     let nonlinear = power_grasp(Some(prehensile::scene::TierName::Nonlinear));
