@@ -182,8 +182,8 @@ fn power_grasp(tier: Option<prehensile::scene::TierName>) -> Solved {
 /// normal smoothed and a correction started past the last one's end redone plainly where it
 /// fails, 9.19 → 9.06 → 8.89 → 8.73 → 8.48 → 9.14 N, 7.8 % at the ninth.)
 #[test]
-fn the_power_grasps_squeezed_ball_is_warned_of_and_the_nonlinear_tier_tells_its_contact_unsettled()
-{
+fn the_power_grasps_squeezed_ball_is_warned_of_and_the_nonlinear_tier_tells_how_settled_its_contact_is(
+) {
     let corotational = power_grasp(None);
     let warnings = &corotational.report.warnings;
     let strain = warnings

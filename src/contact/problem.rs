@@ -264,37 +264,41 @@ impl ContactProblem<'_> {
                         .then_some(proj)
                 };
                 // The node met by facet `nodes` of this pair's surface at `weights`.
-                let on_facet =
-                    |nodes: [usize; 3], weights: [f64; 3], normal: Vector3<f64>, gap: f64| {
-                        // Along the surface's smoothed normal, the gap measured along it (not
-                        // on a body's own skin: self-contact keeps its facets' normals, its
-                        // folds being creases).
-                        let smoothed = pair
-                            .own
-                            .is_none()
-                            .then(|| surface.smoothed_normal(&nodes, &weights, &current))
-                            .flatten();
-                        let (normal, gap) = match smoothed {
-                            Some(n) => {
-                                let point: Vector3<f64> =
-                                    (0..3).map(|i| current[nodes[i]] * weights[i]).sum();
-                                (n, n.dot(&(current[node] - point)))
-                            }
-                            None => (normal, gap),
-                        };
-                        Penetration {
-                            node,
-                            master: Master::Facet {
-                                body: surface.body,
-                                nodes,
-                                weights,
-                            },
-                            source: self.obstacles.len() + p,
-                            normal,
-                            gap,
-                            anchor: Vector3::zeros(),
-                        }
-                    };
+                // `smooth`: along the surface's smoothed normal, the gap measured along it,
+                // where that gap is on the same side as the facet's own (with the closest point
+                // clamped to an edge or a corner, the point can lie behind the facet's plane
+                // yet in front along the smoothed normal: that row would not hold it, and the
+                // facet's normal is kept). Not on a body's own skin (self-contact keeps its
+                // facets' normals, its folds being creases), nor at a crossing point (the
+                // point held where its path went through the facet).
+                let on_facet = |nodes: [usize; 3],
+                                weights: [f64; 3],
+                                normal: Vector3<f64>,
+                                gap: f64,
+                                smooth: bool| {
+                    let smoothed = (smooth && pair.own.is_none())
+                        .then(|| surface.smoothed_normal(&nodes, &weights, &current))
+                        .flatten()
+                        .map(|n| {
+                            let point: Vector3<f64> =
+                                (0..3).map(|i| current[nodes[i]] * weights[i]).sum();
+                            (n, n.dot(&(current[node] - point)))
+                        })
+                        .filter(|(_, g)| (*g < 0.0) == (gap < 0.0));
+                    let (normal, gap) = smoothed.unwrap_or((normal, gap));
+                    Penetration {
+                        node,
+                        master: Master::Facet {
+                            body: surface.body,
+                            nodes,
+                            weights,
+                        },
+                        source: self.obstacles.len() + p,
+                        normal,
+                        gap,
+                        anchor: Vector3::zeros(),
+                    }
+                };
                 // A node that crossed this surface: against the facet it went through.
                 if let Some(c) = self
                     .crossings
@@ -310,7 +314,7 @@ impl ContactProblem<'_> {
                     let gap = normal.dot(&(current[node] - point));
                     let movable = free(node) || c.nodes.iter().any(|&n| free(n));
                     if gap < threshold && gap > -settings.search_depth && movable {
-                        out.push(on_facet(c.nodes, c.weights, normal, gap));
+                        out.push(on_facet(c.nodes, c.weights, normal, gap, false));
                     }
                     // The facets around the one it went through: where the other body
                     // folds there (a soft body dented into a valley across its facet), the
@@ -322,12 +326,18 @@ impl ContactProblem<'_> {
                     let next = met(&|t: &[usize; 3]| apart(t) || !around(t))
                         .filter(|q| !q.nodes.iter().all(|m| c.nodes.contains(m)));
                     if let Some(q) = next {
-                        out.push(on_facet(q.nodes, q.weights, q.normal, q.gap));
+                        out.push(on_facet(q.nodes, q.weights, q.normal, q.gap, true));
                     }
                     continue;
                 }
                 if let Some(proj) = met(&apart) {
-                    out.push(on_facet(proj.nodes, proj.weights, proj.normal, proj.gap));
+                    out.push(on_facet(
+                        proj.nodes,
+                        proj.weights,
+                        proj.normal,
+                        proj.gap,
+                        true,
+                    ));
                 }
             }
         }

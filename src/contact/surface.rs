@@ -143,7 +143,8 @@ impl ContactSurface {
     /// weights `weights`, at `positions`: the weights' blend of the facet's corner normals,
     /// each the area-weighted mean of the normals of the triangles around the corner that
     /// turn from this facet's by less than [`FEATURE_ANGLE_DEG`] (a crease or an edge of the
-    /// body stays sharp). Across an edge between two facets that meet at a smaller angle the
+    /// body stays sharp). Across an edge between two facets that meet at a smaller angle, with
+    /// every triangle around its two ends within that angle of both (the ball: everywhere), the
     /// normal is continuous — the two facets give the same normal on their shared edge — so a
     /// contact point sliding over it is not pushed along a normal that jumps by the angle
     /// between the facets (a faceted ball's 7.5°): the contact's fixed point at a pose then

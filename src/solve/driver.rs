@@ -121,7 +121,8 @@ pub const CONTACT_CORRECTION: f64 = 1e-3;
 /// … or this many corrections were made.
 const CONTACT_CORRECTIONS: usize = 6;
 
-/// …or, while each correction changes the force less than the one before, this many.
+/// …or, while each correction changes the force, or the carried state, less than the one
+/// before, this many.
 const CONTACT_CORRECTIONS_EXTENDED: usize = 12;
 
 /// The relaxation factor of the second correction at the pose, before two changes give
@@ -454,18 +455,20 @@ impl Workspace {
     /// `frame`, reached by the motion's last contact step and in contact, corrected at its pose:
     /// contact steps without motion, each from the state the last left, until the hands' normal
     /// contact force changes by less than [`CONTACT_CORRECTION`] of itself (at most
-    /// [`CONTACT_CORRECTIONS`], or [`CONTACT_CORRECTIONS_EXTENDED`] while each changes it less
-    /// than the one before). From the second on, a correction starts from the last one's start
+    /// [`CONTACT_CORRECTIONS`], or [`CONTACT_CORRECTIONS_EXTENDED`] while each changes it, or
+    /// the carried state, less than the one before). From the second on, a correction starts from the last one's start
     /// moved by ω times the change it made, ω by Aitken's Δ² on the carried state ([`aitken`]):
     /// the corotated ball's corrections alternate in sign and are damped, the Neo-Hookean ball's
     /// shrink in one sign and are extended. A step linearises the contact (gaps, normals) about
     /// where it starts; at the pose it converges to the frame whose contact is in equilibrium on
     /// its own geometry, so that the pose solved again from the frame gives the frame again. A
     /// frame whose hands touch nothing (an object only on its table) needs no correction: the
-    /// obstacles' contact is solved with the bodies at rest. A correction that does not settle
-    /// leaves the last frame; cancelling stops it. Returns the frame, the corrections kept and,
-    /// when the last one still changed the force by more than [`CONTACT_CORRECTION`], that
-    /// relative change; when a correction failed, its error.
+    /// obstacles' contact is solved with the bodies at rest. A correction started past the last
+    /// one's end (ω > 1) that fails or loses the contact is redone plainly from the last frame;
+    /// another that does not settle leaves the last frame; cancelling stops it. Returns the
+    /// frame, the corrections kept and, when the last one still changed the force by more than
+    /// [`CONTACT_CORRECTION`], that relative change with where it moved the bodies most; when a
+    /// correction failed, its error.
     fn correct(
         &mut self,
         model: &Model,
@@ -488,6 +491,9 @@ impl Workspace {
         // The size of the change each correction made to the carried state it started from,
         // |S(x) − x|: while these shrink the corrections converge, also where the force swings.
         let mut moves: Vec<f64> = Vec::new();
+        // The error of a correction started past the last one's end, until one redone plainly
+        // succeeds (reported if none is left to).
+        let mut retry_failed: Option<String> = None;
         let mut done = 0;
         // (A frame without contact is already the bodies' static frame.)
         if pressed && frame.contact.is_some() && hand_contact_force(model, &frame) <= 0.0 {
@@ -513,9 +519,6 @@ impl Workspace {
             if let (Some(x), Some(from)) = (carried.as_mut(), &started_from) {
                 // r = S(x) − x, the change the last correction made to where it started.
                 let r: Vec<f64> = x.iter().zip(from).map(|(s, x)| s - x).collect();
-                moves.push(r.iter().map(|v| v * v).sum::<f64>().sqrt());
-                unsettled.moved = largest_move(model, &r);
-                unsettled.growing = matches!(moves[..], [.., a, b, c] if a < b && b < c);
                 if let Some(previous) = &last_change {
                     omega = aitken(omega, previous, &r);
                 }
@@ -532,6 +535,14 @@ impl Workspace {
                 Ok((now, next)) if now > 0.0 => {
                     let change = (now - force).abs() / force;
                     changes.push(change);
+                    retry_failed = None;
+                    // How far this correction moved the carried state from where it started.
+                    if let (Some(end), Some(from)) = (carried_by(model, &next), &started_from) {
+                        let r: Vec<f64> = end.iter().zip(from).map(|(s, x)| s - x).collect();
+                        moves.push(r.iter().map(|v| v * v).sum::<f64>().sqrt());
+                        unsettled.moved = largest_move(model, &r);
+                        unsettled.growing = matches!(moves[..], [.., a, b, c] if a < b && b < c);
+                    }
                     frame = next;
                     kept += 1;
                     // A damped start changes the force less by itself: the change is measured
@@ -543,19 +554,23 @@ impl Workspace {
                     unsettled.change = Some(change);
                 }
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
-                // Out of contact: the last frame stands.
-                Ok(_) => {
-                    *posed = before;
-                    break;
-                }
                 // Started beyond the last correction's end (ω > 1, extrapolated): a state
                 // no correction reached, which can lie past what the bodies bear (a tangent
-                // that is no longer positive definite). Redone plainly from the last frame.
-                Err(_) if applied > 1.0 => {
+                // that is no longer positive definite), or out of contact. Redone plainly from the
+                // last frame; its error is reported if no correction is left to redo it.
+                ended @ (Ok(_) | Err(_)) if applied > 1.0 => {
+                    if let Err(e) = ended {
+                        retry_failed = Some(e.to_string());
+                    }
                     *posed = before;
                     started_from = None;
                     last_change = None;
                     omega = 1.0;
+                }
+                // Out of contact: the last frame stands.
+                Ok(_) => {
+                    *posed = before;
+                    break;
                 }
                 // Not settled: the last frame stands, and the report says why.
                 Err(e) => {
@@ -564,6 +579,9 @@ impl Workspace {
                     break;
                 }
             }
+        }
+        if unsettled.failed.is_none() {
+            unsettled.failed = retry_failed;
         }
         Ok((frame, kept, unsettled))
     }
@@ -764,7 +782,7 @@ struct Unsettled {
     failed: Option<String>,
     /// Where the last correction moved the carried state most: its node and how far.
     moved: Option<UnsettledMotion>,
-    /// Whether each of the last three corrections moved it more than the one before.
+    /// Whether the last three corrections moved it ever more, each more than the one before.
     growing: bool,
 }
 

@@ -71,7 +71,8 @@ pub struct UnsettledMotion {
     pub node: usize,
     /// How far the last correction moved it, m.
     pub moved: f64,
-    /// Whether each of the last three corrections moved the bodies more than the one before
+    /// Whether the last three corrections moved the bodies ever more (the second more than the
+    /// first, the third more than the second)
     /// (they drift away rather than swing).
     pub growing: bool,
 }

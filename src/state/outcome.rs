@@ -129,7 +129,7 @@ fn unsettled_cause(m: &super::UnsettledMotion) -> String {
     );
     if m.growing {
         format!(
-            " (each of the last three corrections moved the bodies more than the one before: \
+            " (the last three corrections moved the bodies ever more, each more than the one before: \
              they drift away from the pose's contact rather than settle on it, {node}; a body \
              held at few nodes or a coarse, very soft body can turn or fold there)"
         )

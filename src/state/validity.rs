@@ -130,7 +130,8 @@ fn pressed_by_a_hand(model: &Model, frame: &Frame, b: usize) -> bool {
 /// One warning per body, for the frame where its strain is largest, when that strain exceeds
 /// [`STRAIN_WARNING`] — with the cause: the hands pressing it there beyond what its static
 /// frame strains it (the grasp: its advice is the nonlinear tier, whose Neo-Hookean bodies
-/// hold at finite strain), or its loads and material. None in the nonlinear tier: its bodies
+/// hold at finite strain, or a less deep pose; for a pressurised body only the pose, the
+/// nonlinear tier's contact not settling on it), or its loads and material. None in the nonlinear tier: its bodies
 /// are Neo-Hookean, valid at finite strain.
 pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
     if model.nonlinear_statics {
