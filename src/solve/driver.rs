@@ -456,8 +456,9 @@ impl Workspace {
     /// contact steps without motion, each from the state the last left, until the hands' normal
     /// contact force changes by less than [`CONTACT_CORRECTION`] of itself (at most
     /// [`CONTACT_CORRECTIONS`], or [`CONTACT_CORRECTIONS_EXTENDED`] while each changes it, or
-    /// the carried state, less than the one before). From the second on, a correction starts from the last one's start
-    /// moved by ω times the change it made, ω by Aitken's Δ² on the carried state ([`aitken`]):
+    /// the carried state, less than the one before). From the second on, a correction starts
+    /// from the last one's start moved by ω times the change it made, ω by Aitken's Δ² on the
+    /// carried state ([`aitken`]):
     /// the corotated ball's corrections alternate in sign and are damped, the Neo-Hookean ball's
     /// shrink in one sign and are extended. A step linearises the contact (gaps, normals) about
     /// where it starts; at the pose it converges to the frame whose contact is in equilibrium on
@@ -494,6 +495,8 @@ impl Workspace {
         // The error of a correction started past the last one's end, until one redone plainly
         // succeeds (reported if none is left to).
         let mut retry_failed: Option<String> = None;
+        // The change the last correction kept made to the carried state it started from.
+        let mut made: Option<Vec<f64>> = None;
         let mut done = 0;
         // (A frame without contact is already the bodies' static frame.)
         if pressed && frame.contact.is_some() && hand_contact_force(model, &frame) <= 0.0 {
@@ -516,9 +519,8 @@ impl Workspace {
             let mut carried = carried_by(model, &frame);
             // The factor this correction's start is relaxed by (1: not relaxed).
             let mut applied = 1.0;
-            if let (Some(x), Some(from)) = (carried.as_mut(), &started_from) {
+            if let (Some(x), Some(from), Some(r)) = (carried.as_mut(), &started_from, made.take()) {
                 // r = S(x) − x, the change the last correction made to where it started.
-                let r: Vec<f64> = x.iter().zip(from).map(|(s, x)| s - x).collect();
                 if let Some(previous) = &last_change {
                     omega = aitken(omega, previous, &r);
                 }
@@ -540,8 +542,9 @@ impl Workspace {
                     if let (Some(end), Some(from)) = (carried_by(model, &next), &started_from) {
                         let r: Vec<f64> = end.iter().zip(from).map(|(s, x)| s - x).collect();
                         moves.push(r.iter().map(|v| v * v).sum::<f64>().sqrt());
-                        unsettled.moved = largest_move(model, &r);
-                        unsettled.growing = matches!(moves[..], [.., a, b, c] if a < b && b < c);
+                        let growing = matches!(moves[..], [.., a, b, c] if a < b && b < c);
+                        unsettled.moved = largest_move(model, &r, growing);
+                        made = Some(r);
                     }
                     frame = next;
                     kept += 1;
@@ -780,15 +783,14 @@ struct Counts {
 struct Unsettled {
     change: Option<f64>,
     failed: Option<String>,
-    /// Where the last correction moved the carried state most: its node and how far.
+    /// Where the last correction moved the carried state most: its node, how far, and whether
+    /// the corrections moved it ever more.
     moved: Option<UnsettledMotion>,
-    /// Whether the last three corrections moved it ever more, each more than the one before.
-    growing: bool,
 }
 
 /// The node the change `r` of the carried state moves most, and how far (`None` when nothing
-/// moves).
-fn largest_move(model: &Model, r: &[f64]) -> Option<UnsettledMotion> {
+/// moves); `growing`: the last three corrections moved it ever more.
+fn largest_move(model: &Model, r: &[f64], growing: bool) -> Option<UnsettledMotion> {
     let (node, metres) = r
         .chunks_exact(3)
         .map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
@@ -800,7 +802,7 @@ fn largest_move(model: &Model, r: &[f64]) -> Option<UnsettledMotion> {
         body: body.name.clone(),
         node: node - body.nodes.start,
         moved: metres,
-        growing: false,
+        growing,
     })
 }
 
@@ -822,14 +824,7 @@ fn finish(
         total.contact_retries = counts.retries;
         total.pose_corrections = counts.corrections;
         total.unsettled_at_pose = counts.unsettled.change;
-        total.unsettled_motion = counts
-            .unsettled
-            .change
-            .and(counts.unsettled.moved.clone())
-            .map(|m| UnsettledMotion {
-                growing: counts.unsettled.growing,
-                ..m
-            });
+        total.unsettled_motion = counts.unsettled.change.and(counts.unsettled.moved.clone());
         total.correction_failed = counts.unsettled.failed.clone();
         total.stopped_short = short.clone();
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {

@@ -71,9 +71,8 @@ pub struct UnsettledMotion {
     pub node: usize,
     /// How far the last correction moved it, m.
     pub moved: f64,
-    /// Whether the last three corrections moved the bodies ever more (the second more than the
-    /// first, the third more than the second)
-    /// (they drift away rather than swing).
+    /// Whether the last three corrections moved the bodies ever more, the second more than the
+    /// first and the third more than the second (they drift away rather than swing).
     pub growing: bool,
 }
 

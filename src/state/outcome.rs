@@ -129,8 +129,8 @@ fn unsettled_cause(m: &super::UnsettledMotion) -> String {
     );
     if m.growing {
         format!(
-            " (the last three corrections moved the bodies ever more, each more than the one before: \
-             they drift away from the pose's contact rather than settle on it, {node}; a body \
+            " (the last three corrections moved the bodies ever more, each more than the one \
+             before: they drift away from the pose's contact rather than settle on it, {node}; a body \
              held at few nodes or a coarse, very soft body can turn or fold there)"
         )
     } else {

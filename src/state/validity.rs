@@ -131,8 +131,8 @@ fn pressed_by_a_hand(model: &Model, frame: &Frame, b: usize) -> bool {
 /// [`STRAIN_WARNING`] — with the cause: the hands pressing it there beyond what its static
 /// frame strains it (the grasp: its advice is the nonlinear tier, whose Neo-Hookean bodies
 /// hold at finite strain, or a less deep pose; for a pressurised body only the pose, the
-/// nonlinear tier's contact not settling on it), or its loads and material. None in the nonlinear tier: its bodies
-/// are Neo-Hookean, valid at finite strain.
+/// nonlinear tier's contact not settling on it), or its loads and material. None in the
+/// nonlinear tier: its bodies are Neo-Hookean, valid at finite strain.
 pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
     if model.nonlinear_statics {
         return Vec::new();
@@ -165,7 +165,8 @@ pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
                     .loads
                     .iter()
                     .any(|l| l.body == b && l.pressure.is_some());
-                let cause = if unloaded && pressed_by_a_hand(model, &frames[i], b) && pressurised {
+                let pressed = unloaded && pressed_by_a_hand(model, &frames[i], b);
+                let cause = if pressed && pressurised {
                     // The nonlinear tier's corrections at a pose do not settle on a body its
                     // air presses (its tangent lacks the air's load stiffness, docs/contact.md):
                     // that advice would end unsettled, exit 2.
@@ -174,7 +175,7 @@ pub fn small_strain_warnings(model: &Model, frames: &[Frame]) -> Vec<String> {
                      settle its contact with a pressurised body: its forces would be uncertain \
                      by several per cent)"
                         .to_string()
-                } else if unloaded && pressed_by_a_hand(model, &frames[i], b) {
+                } else if pressed {
                     "the hands press it that far (its loads alone strain it less): solve the \
                      scene with [solver] tier = \"nonlinear\", whose bodies are Neo-Hookean, \
                      valid at finite strain, or pose the grasp less deep"
