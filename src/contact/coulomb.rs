@@ -16,7 +16,7 @@
 //! sweep crawls). A step that does not reduce the residual is halved.
 
 use super::point::{Adhesion, ContactError};
-use super::row::{coupling, slot_of, slot_offsets, Couplings, Row};
+use super::row::{coupling, fill_couplings, slot_of, slot_offsets, Couplings, Row};
 use crate::fem::DofPartition;
 use faer::linalg::solvers::Solve;
 use nalgebra::{DMatrix, DVector, Vector2};
@@ -90,6 +90,7 @@ pub(super) fn settle_coulomb(
 ) -> Result<DVector<f64>, ContactError> {
     let offset = slot_offsets(rows);
     let n = *offset.last().unwrap_or(&0);
+    fill_couplings(cache, rows, partition);
     let mut g = DMatrix::zeros(n, n);
     for i in 0..n {
         let (r, a) = slot_of(&offset, i);

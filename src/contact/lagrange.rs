@@ -28,7 +28,7 @@ use super::point::{
     ContactSummary, ContactTimes, Master, DEFAULT_MAX_ITERATIONS,
 };
 use super::problem::ContactProblem;
-use super::row::{coupling, Couplings, Row, Solved};
+use super::row::{coupling, fill_couplings, Couplings, Row, Solved};
 use crate::fem::assembly::Stiffness;
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
@@ -195,7 +195,7 @@ pub fn solve_lagrange(
             let mut any = false;
             for axis in 0..axes {
                 let mut col = vec![0.0; neq];
-                any |= row.scatter(axis, &mut col, partition);
+                any |= row.scatter(axis, 1.0, &mut col, partition);
                 block.extend(col);
                 wanted.push((r, axis));
             }
@@ -400,6 +400,7 @@ fn settle(
 /// G = C·K11⁻¹·Cᵀ over the normal axes of `rows` (frictionless), from the coupling cache.
 fn normal_couplings(rows: &[Row], partition: &DofPartition, cache: &mut Couplings) -> DMatrix<f64> {
     let m = rows.len();
+    fill_couplings(cache, rows, partition);
     let mut g = DMatrix::zeros(m, m);
     for i in 0..m {
         for j in i..m {
@@ -545,14 +546,9 @@ fn displace(
         return Ok(0);
     }
     let mut rhs = vec![0.0; partition.free_count()];
-    let mut scratch = vec![0.0; partition.free_count()];
     for &(r, a, l) in &terms {
         if l != 0.0 {
-            scratch.iter_mut().for_each(|v| *v = 0.0);
-            rows[r].scatter(a, &mut scratch, partition);
-            for (x, s) in rhs.iter_mut().zip(&scratch) {
-                *x += l * s;
-            }
+            rows[r].scatter(a, l, &mut rhs, partition);
         }
     }
     solver.solve_factored(&mut rhs, 1)?;

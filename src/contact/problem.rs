@@ -10,6 +10,7 @@ use super::surface::{ContactSurface, Projection, SurfaceBvh};
 use crate::fem::assembly::Stiffness;
 use crate::fem::DofPartition;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// The nodes `slaves` may not enter the surface `surface`.
@@ -155,6 +156,7 @@ impl ContactProblem<'_> {
         sides: PairSides,
     ) -> Vec<Penetration> {
         let current: Vec<Vector3<f64>> = (0..self.positions.len())
+            .into_par_iter()
             .map(|n| self.position(u, n))
             .collect();
         let mut out = Vec::new();
@@ -198,7 +200,9 @@ impl ContactProblem<'_> {
             let normals = pair
                 .slave_surface
                 .map(|s| self.surfaces[s].reference_normals());
-            for &node in &pair.slaves {
+            // Each slave on its own (in parallel; in the slaves' order).
+            let of_node = |node: usize| -> Vec<Penetration> {
+                let mut out = Vec::new();
                 let facing = |t: &[usize; 3]| -> bool {
                     let Some(normals) = &normals else { return true };
                     let Some(m) = normals.get(&node) else {
@@ -308,7 +312,7 @@ impl ContactProblem<'_> {
                     let corners = c.nodes.map(|m| current[m]);
                     let normal = (corners[1] - corners[0]).cross(&(corners[2] - corners[0]));
                     let Some(normal) = normal.try_normalize(0.0) else {
-                        continue;
+                        return out;
                     };
                     let point: Vector3<f64> = (0..3).map(|i| corners[i] * c.weights[i]).sum();
                     let gap = normal.dot(&(current[node] - point));
@@ -328,7 +332,7 @@ impl ContactProblem<'_> {
                     if let Some(q) = next {
                         out.push(on_facet(q.nodes, q.weights, q.normal, q.gap, true));
                     }
-                    continue;
+                    return out;
                 }
                 if let Some(proj) = met(&apart) {
                     out.push(on_facet(
@@ -339,7 +343,11 @@ impl ContactProblem<'_> {
                         true,
                     ));
                 }
-            }
+                out
+            };
+            let found: Vec<Vec<Penetration>> =
+                pair.slaves.par_iter().map(|&n| of_node(n)).collect();
+            out.extend(found.into_iter().flatten());
         }
         out
     }

@@ -7,6 +7,7 @@ use super::problem::{ContactProblem, Penetration};
 use crate::fem::forward::HalfSolved;
 use crate::fem::DofPartition;
 use nalgebra::{Vector2, Vector3};
+use rayon::prelude::*;
 use std::collections::HashMap;
 /// One active contact, its geometry frozen when it joined.
 pub(super) struct Row {
@@ -66,6 +67,27 @@ pub(super) fn coupling(
             .entry((y.id, x.id))
             .or_insert_with(|| y.block(x, partition))[b][a]
     }
+}
+
+/// Every coupling among `rows` not yet in the cache, computed in parallel (each block is a
+/// sparse dot product of two rows' half substitutions: independent of the others).
+pub(super) fn fill_couplings(cache: &mut Couplings, rows: &[Row], partition: &DofPartition) {
+    let missing: Vec<(usize, usize)> = (0..rows.len())
+        .flat_map(|i| (i..rows.len()).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            if rows[i].id <= rows[j].id {
+                (i, j)
+            } else {
+                (j, i)
+            }
+        })
+        .filter(|&(i, j)| !cache.contains_key(&(rows[i].id, rows[j].id)))
+        .collect();
+    let blocks: Vec<_> = missing
+        .par_iter()
+        .map(|&(i, j)| ((rows[i].id, rows[j].id), rows[i].block(&rows[j], partition)))
+        .collect();
+    cache.extend(blocks);
 }
 
 impl Row {
@@ -168,14 +190,20 @@ impl Row {
         s
     }
 
-    /// C_aᵀ scattered into free equations.
-    pub(super) fn scatter(&self, axis: usize, out: &mut [f64], partition: &DofPartition) -> bool {
+    /// `scale`·C_aᵀ added into free equations; whether any of it is free.
+    pub(super) fn scatter(
+        &self,
+        axis: usize,
+        scale: f64,
+        out: &mut [f64],
+        partition: &DofPartition,
+    ) -> bool {
         let d = &self.basis[axis];
         let mut any = false;
         for &(k, w) in &self.terms {
             for a in 0..3 {
                 if !partition.prescribed[3 * k + a] && w * d[a] != 0.0 {
-                    out[partition.equation[3 * k + a]] += w * d[a];
+                    out[partition.equation[3 * k + a]] += scale * w * d[a];
                     any = true;
                 }
             }

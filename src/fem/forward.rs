@@ -7,7 +7,7 @@
 //! such vectors give b_iᵀ·K11⁻¹·b_j = y_i·y_j, the Schur complement of contact constraints,
 //! without the backward half of the substitution.
 
-use super::solve::{PartitionedSolver, SolveError};
+use super::solve::{PartitionedSolver, SolveError, SupernodalFactor};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
@@ -71,6 +71,9 @@ impl PartitionedSolver {
     /// the partition's free dofs), in consecutive groups of `groups[g]` columns (at most 3),
     /// visiting only the supernodes each column reaches; `None` when the last factorization is
     /// not supernodal (small systems: use [`PartitionedSolver::solve_factored`]).
+    ///
+    /// The groups are independent: they are split into one share per thread, solved in
+    /// parallel.
     pub fn forward_sparse(
         &self,
         b: &[f64],
@@ -83,108 +86,138 @@ impl PartitionedSolver {
         let columns: usize = groups.iter().sum();
         assert_eq!(b.len(), n * columns);
         assert!(groups.iter().all(|&k| (1..=3).contains(&k)));
-        if b.iter().any(|v| !v.is_finite()) {
-            return Err(SolveError::NonFinite("a constraint right-hand side"));
+        let shares = rayon::current_num_threads().clamp(1, groups.len().max(1));
+        let per_share = groups.len().div_ceil(shares).max(1);
+        // (groups, their columns of b) per share.
+        let mut parts: Vec<(&[usize], &[f64])> = Vec::new();
+        let mut at = 0;
+        for chunk in groups.chunks(per_share) {
+            let width: usize = chunk.iter().sum();
+            parts.push((chunk, &b[at * n..(at + width) * n]));
+            at += width;
         }
-        let mut group_of = Vec::with_capacity(columns);
-        for (g, &k) in groups.iter().enumerate() {
-            group_of.extend(std::iter::repeat_n(g, k));
-        }
-        let first: Vec<usize> = groups
-            .iter()
-            .scan(0, |acc, &k| {
-                let f = *acc;
-                *acc += k;
-                Some(f)
-            })
+        use rayon::prelude::*;
+        let solved: Vec<Result<Vec<HalfSolved>, SolveError>> = parts
+            .par_iter()
+            .map(|&(chunk, b)| forward_share(&factor, b, chunk))
             .collect();
-        // x = P·b, column by column.
-        let mut x = vec![0.0; n * columns];
-        for j in 0..columns {
-            let (src, dst) = (&b[j * n..(j + 1) * n], &mut x[j * n..(j + 1) * n]);
-            match factor.forward {
-                Some(fwd) => {
-                    for (i, &f) in fwd.iter().enumerate() {
-                        dst[i] = src[f];
-                    }
-                }
-                None => dst.copy_from_slice(src),
-            }
-        }
-        let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
-        let mut out: Vec<HalfSolved> = groups
-            .iter()
-            .map(|&k| HalfSolved {
-                columns: k,
-                blocks: Vec::new(),
-            })
-            .collect();
-        let mut live: Vec<usize> = Vec::with_capacity(columns);
-        let mut touched: Vec<usize> = Vec::new();
-        for s in 0..factor.symbolic.n_supernodes() {
-            let node = llt.supernode(s);
-            let start = node.start();
-            let ls = node.val();
-            let size = ls.ncols();
-            live.clear();
-            live.extend((0..columns).filter(|&j| {
-                x[j * n + start..j * n + start + size]
-                    .iter()
-                    .any(|&v| v != 0.0)
-            }));
-            if live.is_empty() {
-                continue;
-            }
-            let (top, bottom) = ls.split_at_row(size);
-            let mut xs = Mat::<f64>::from_fn(size, live.len(), |i, c| x[live[c] * n + start + i]);
-            solve_lower_triangular_in_place(top, xs.as_mut(), Par::Seq);
-            let pattern = node.pattern();
-            if !pattern.is_empty() {
-                let mut update = Mat::<f64>::zeros(pattern.len(), live.len());
-                matmul(
-                    update.as_mut(),
-                    Accum::Replace,
-                    bottom,
-                    xs.as_ref(),
-                    1.0,
-                    Par::Seq,
-                );
-                for (c, &j) in live.iter().enumerate() {
-                    let col = &mut x[j * n..(j + 1) * n];
-                    for (idx, &i) in pattern.iter().enumerate() {
-                        col[i] -= update[(idx, c)];
-                    }
-                }
-            }
-            // One block per group reached, with all of the group's columns.
-            touched.clear();
-            touched.extend(live.iter().map(|&j| group_of[j]));
-            touched.dedup();
-            for &g in &touched {
-                let k = groups[g];
-                let mut values = vec![0.0; size * k];
-                for (c, &j) in live.iter().enumerate() {
-                    if group_of[j] == g {
-                        let a = j - first[g];
-                        for i in 0..size {
-                            values[a * size + i] = xs[(i, c)];
-                        }
-                    }
-                }
-                out[g].blocks.push((start, values));
-            }
-        }
-        if out
-            .iter()
-            .flat_map(|h| &h.blocks)
-            .any(|(_, v)| v.iter().any(|x| !x.is_finite()))
-        {
-            return Err(SolveError::NonFinite(
-                "a half substitution with the reused factor",
-            ));
+        let mut out = Vec::with_capacity(groups.len());
+        for s in solved {
+            out.extend(s?);
         }
         Ok(Some(out))
     }
+}
+
+/// [`PartitionedSolver::forward_sparse`] for one share of the groups, on this thread.
+fn forward_share(
+    factor: &SupernodalFactor<'_>,
+    b: &[f64],
+    groups: &[usize],
+) -> Result<Vec<HalfSolved>, SolveError> {
+    let n = factor.symbolic.nrows();
+    let columns: usize = groups.iter().sum();
+    if b.iter().any(|v| !v.is_finite()) {
+        return Err(SolveError::NonFinite("a constraint right-hand side"));
+    }
+    let mut group_of = Vec::with_capacity(columns);
+    for (g, &k) in groups.iter().enumerate() {
+        group_of.extend(std::iter::repeat_n(g, k));
+    }
+    let first: Vec<usize> = groups
+        .iter()
+        .scan(0, |acc, &k| {
+            let f = *acc;
+            *acc += k;
+            Some(f)
+        })
+        .collect();
+    // x = P·b, column by column.
+    let mut x = vec![0.0; n * columns];
+    for j in 0..columns {
+        let (src, dst) = (&b[j * n..(j + 1) * n], &mut x[j * n..(j + 1) * n]);
+        match factor.forward {
+            Some(fwd) => {
+                for (i, &f) in fwd.iter().enumerate() {
+                    dst[i] = src[f];
+                }
+            }
+            None => dst.copy_from_slice(src),
+        }
+    }
+    let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
+    let mut out: Vec<HalfSolved> = groups
+        .iter()
+        .map(|&k| HalfSolved {
+            columns: k,
+            blocks: Vec::new(),
+        })
+        .collect();
+    let mut live: Vec<usize> = Vec::with_capacity(columns);
+    let mut touched: Vec<usize> = Vec::new();
+    for s in 0..factor.symbolic.n_supernodes() {
+        let node = llt.supernode(s);
+        let start = node.start();
+        let ls = node.val();
+        let size = ls.ncols();
+        live.clear();
+        live.extend((0..columns).filter(|&j| {
+            x[j * n + start..j * n + start + size]
+                .iter()
+                .any(|&v| v != 0.0)
+        }));
+        if live.is_empty() {
+            continue;
+        }
+        let (top, bottom) = ls.split_at_row(size);
+        let mut xs = Mat::<f64>::from_fn(size, live.len(), |i, c| x[live[c] * n + start + i]);
+        solve_lower_triangular_in_place(top, xs.as_mut(), Par::Seq);
+        let pattern = node.pattern();
+        if !pattern.is_empty() {
+            let mut update = Mat::<f64>::zeros(pattern.len(), live.len());
+            matmul(
+                update.as_mut(),
+                Accum::Replace,
+                bottom,
+                xs.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            for (c, &j) in live.iter().enumerate() {
+                let col = &mut x[j * n..(j + 1) * n];
+                for (idx, &i) in pattern.iter().enumerate() {
+                    col[i] -= update[(idx, c)];
+                }
+            }
+        }
+        // One block per group reached, with all of the group's columns.
+        touched.clear();
+        touched.extend(live.iter().map(|&j| group_of[j]));
+        touched.dedup();
+        for &g in &touched {
+            let k = groups[g];
+            let mut values = vec![0.0; size * k];
+            for (c, &j) in live.iter().enumerate() {
+                if group_of[j] == g {
+                    let a = j - first[g];
+                    for i in 0..size {
+                        values[a * size + i] = xs[(i, c)];
+                    }
+                }
+            }
+            out[g].blocks.push((start, values));
+        }
+    }
+    if out
+        .iter()
+        .flat_map(|h| &h.blocks)
+        .any(|(_, v)| v.iter().any(|x| !x.is_finite()))
+    {
+        return Err(SolveError::NonFinite(
+            "a half substitution with the reused factor",
+        ));
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

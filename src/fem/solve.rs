@@ -17,7 +17,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
 use nalgebra::Vector3;
 use serde::Serialize;
 use std::mem::MaybeUninit;
@@ -308,10 +308,10 @@ impl PartitionedSolver {
         let t = Instant::now();
         let k11_values: Vec<f64> = analysis.gather.iter().map(|&i| k.values[i]).collect();
         let k11 = SparseColMatRef::new(analysis.k11.as_ref(), &k11_values);
-        let par = faer::get_global_parallelism();
         let len = analysis.cholesky.len_val();
         stats.factor_nnz = len;
         stats.factor_work = factor_work(&analysis.cholesky);
+        let par = factorization_parallelism(stats.factor_work);
         stats.matrix_nnz = k11_values.len();
         let factored = reuse && self.factored == k11_values;
         stats.factor_reused = factored;
@@ -356,13 +356,14 @@ impl PartitionedSolver {
         let rhs: Vec<f64> = partition.free.iter().map(|&d| loads[d] - ku[d]).collect();
         let mut x = rhs.clone();
         {
+            // One column: sequential (a task per supernode costs more than its work).
             let llt = LltRef::new(&analysis.cholesky, &self.factor);
-            let req = analysis.cholesky.solve_in_place_scratch::<f64>(1, par);
+            let req = analysis.cholesky.solve_in_place_scratch::<f64>(1, Par::Seq);
             let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
             llt.solve_in_place_with_conj(
                 Conj::No,
                 MatMut::from_column_major_slice_mut(&mut x, neq, 1),
-                par,
+                Par::Seq,
                 MemStack::new_any(mem),
             );
         }
@@ -402,6 +403,25 @@ impl PartitionedSolver {
     }
 }
 
+/// Right-hand sides from which a substitution with the factor runs in parallel.
+const SOLVE_PARALLEL_COLUMNS: usize = 8;
+
+/// The numeric factorization's multiply-adds ([`factor_work`]) from which it runs in parallel
+/// (faer's global parallelism). Below, sequential: on the 2-core machine of
+/// docs/performance.md a contact step's factorization (9 300 equations) took 36 ms alone
+/// against 45–62 ms on both cores, and the 20³ cube of `bench solver` (26 019 equations)
+/// 351 ms against 532 ms.
+const PARALLEL_FACTOR_WORK: f64 = 2.0e10;
+
+/// The parallelism of a numeric factorization of `work` multiply-adds.
+fn factorization_parallelism(work: f64) -> Par {
+    if work < PARALLEL_FACTOR_WORK {
+        Par::Seq
+    } else {
+        faer::get_global_parallelism()
+    }
+}
+
 impl PartitionedSolver {
     /// Solves K11·X = B in place with the factor of the last [`PartitionedSolver::solve`], for
     /// `columns` right-hand sides stored column by column in `b` (each of length NBEQ, ordered as
@@ -416,7 +436,12 @@ impl PartitionedSolver {
         if columns == 0 || neq == 0 {
             return Ok(());
         }
-        let par = faer::get_global_parallelism();
+        // A few columns: sequential (a task per supernode costs more than its work).
+        let par = if columns < SOLVE_PARALLEL_COLUMNS {
+            Par::Seq
+        } else {
+            faer::get_global_parallelism()
+        };
         let llt = LltRef::new(&analysis.cholesky, &self.factor);
         let req = analysis
             .cholesky
