@@ -30,6 +30,7 @@ use super::point::{
 use super::problem::ContactProblem;
 use super::row::{coupling, fill_couplings, Couplings, Row, Solved};
 use crate::fem::assembly::Stiffness;
+use crate::fem::forward::HalfSolved;
 use crate::fem::solve::PartitionedSolver;
 use crate::fem::DofPartition;
 use crate::util::timing::ms;
@@ -544,6 +545,23 @@ fn displace(
             }
         }
         return Ok(0);
+    }
+    // The half substitutions of the rows are known: the backward half only.
+    let halves: Vec<(&HalfSolved, usize, f64)> = terms
+        .iter()
+        .filter(|t| t.2 != 0.0)
+        .filter_map(|&(r, a, l)| match &rows[r].solved {
+            Solved::Half(h) => Some((h, a, l)),
+            _ => None,
+        })
+        .collect();
+    if halves.len() == terms.iter().filter(|t| t.2 != 0.0).count() {
+        if let Some(x) = solver.backward_from_halves(&halves)? {
+            for (e, &d) in partition.free.iter().enumerate() {
+                u[d] += x[e];
+            }
+            return Ok(1);
+        }
     }
     let mut rhs = vec![0.0; partition.free_count()];
     for &(r, a, l) in &terms {

@@ -9,7 +9,9 @@
 
 use super::solve::{PartitionedSolver, SolveError, SupernodalFactor};
 use faer::linalg::matmul::matmul;
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::{Accum, Mat, Par};
 
@@ -106,6 +108,75 @@ impl PartitionedSolver {
             out.extend(s?);
         }
         Ok(Some(out))
+    }
+}
+
+impl PartitionedSolver {
+    /// K11⁻¹·Σ c·b from the half substitutions y = L⁻¹·P·b of the last factor (`terms`: the
+    /// group, its column, the coefficient c): the other half only, x = Pᵀ·L⁻ᵀ·Σ c·y, reading
+    /// the factor once where a whole substitution reads it twice. Ordered as the partition's
+    /// free dofs; `None` when the last factorization is not supernodal.
+    pub fn backward_from_halves(
+        &self,
+        terms: &[(&HalfSolved, usize, f64)],
+    ) -> Result<Option<Vec<f64>>, SolveError> {
+        let Some(factor) = self.supernodal_factor() else {
+            return Ok(None);
+        };
+        let n = factor.symbolic.nrows();
+        let mut z = vec![0.0; n];
+        for &(half, column, c) in terms {
+            assert!(column < half.columns);
+            for (start, values) in &half.blocks {
+                let size = values.len() / half.columns;
+                let y = &values[column * size..(column + 1) * size];
+                for (z, y) in z[*start..*start + size].iter_mut().zip(y) {
+                    *z += c * y;
+                }
+            }
+        }
+        // Lᵀ·x = z, supernode by supernode from the root: L_ssᵀ·x_s = z_s − L_psᵀ·x_p.
+        let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
+        for s in (0..factor.symbolic.n_supernodes()).rev() {
+            let node = llt.supernode(s);
+            let start = node.start();
+            let ls = node.val();
+            let size = ls.ncols();
+            let (top, bottom) = ls.split_at_row(size);
+            let mut xs = Mat::<f64>::from_fn(size, 1, |i, _| z[start + i]);
+            let pattern = node.pattern();
+            if !pattern.is_empty() {
+                let xp = Mat::<f64>::from_fn(pattern.len(), 1, |i, _| z[pattern[i]]);
+                matmul(
+                    xs.as_mut(),
+                    Accum::Add,
+                    bottom.transpose(),
+                    xp.as_ref(),
+                    -1.0,
+                    Par::Seq,
+                );
+            }
+            solve_upper_triangular_in_place(top.transpose(), xs.as_mut(), Par::Seq);
+            for i in 0..size {
+                z[start + i] = xs[(i, 0)];
+            }
+        }
+        let x = match factor.forward {
+            Some(fwd) => {
+                let mut x = vec![0.0; n];
+                for (i, &f) in fwd.iter().enumerate() {
+                    x[f] = z[i];
+                }
+                x
+            }
+            None => z,
+        };
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite(
+                "a backward substitution with the reused factor",
+            ));
+        }
+        Ok(Some(x))
     }
 }
 
@@ -290,6 +361,29 @@ mod tests {
                     "({i}, {j}): {half} against {exact}"
                 );
             }
+        }
+        // The displacement of multipliers c on the three rows from their halves, the backward
+        // half alone: K11⁻¹·Σ c_j·b_j of the whole substitutions.
+        let c = [0.7, -1.3, 2.1];
+        let from_halves = solver
+            .backward_from_halves(&[
+                (&halves[0], 0, c[0]),
+                (&halves[0], 1, c[1]),
+                (&halves[1], 0, c[2]),
+            ])
+            .unwrap()
+            .expect("a supernodal factor");
+        let scale = (0..neq)
+            .map(|e| (0..3).map(|j| c[j] * full[j * neq + e]).sum::<f64>().abs())
+            .fold(0.0, f64::max);
+        assert!(scale > 0.0);
+        for e in 0..neq {
+            let exact: f64 = (0..3).map(|j| c[j] * full[j * neq + e]).sum();
+            assert!(
+                (from_halves[e] - exact).abs() <= 1e-10 * scale,
+                "equation {e}: {} against {exact}",
+                from_halves[e]
+            );
         }
     }
 }

@@ -25,6 +25,7 @@ use crate::hand::HandModel;
 use crate::mesh::Mesh;
 use crate::model::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 use crate::state::{HandState, KeyframeStats};
+use crate::util::near::NearPoints;
 use crate::util::timing::ms;
 use nalgebra::{Isometry3, Matrix3, Point3, Quaternion, UnitQuaternion, Vector3};
 use std::sync::Arc;
@@ -410,12 +411,10 @@ impl<'a> Flexion<'a> {
                         .collect()
                 };
                 let region = |seams: &[Vector3<f64>]| -> Vec<bool> {
+                    let seams = NearPoints::new(seams, radius);
                     (0..flesh.mesh.cells.len())
                         .map(|c| {
-                            self.cell_method(c) == FleshMethod::Fem && {
-                                let mid = centre(c);
-                                seams.iter().any(|j| (mid - j).norm() < radius)
-                            }
+                            self.cell_method(c) == FleshMethod::Fem && seams.any_within(&centre(c))
                         })
                         .collect()
                 };
@@ -429,10 +428,10 @@ impl<'a> Flexion<'a> {
                         &state.positions,
                         contact,
                     );
+                    let meeting = NearPoints::new(&meeting, radius);
                     for (c, a) in active.iter_mut().enumerate() {
                         if !*a && self.cell_method(c) == FleshMethod::Fem && !self.far[part(c)] {
-                            let mid = centre(c);
-                            *a = meeting.iter().any(|p| (mid - p).norm() < radius);
+                            *a = meeting.any_within(&centre(c));
                         }
                     }
                 }

@@ -35,8 +35,10 @@ use crate::model::Model;
 use crate::state::outcome::{node_bone, overloads};
 use crate::state::HandState;
 use crate::state::{Frame, HandFrame};
+use crate::util::near::NearPoints;
 use crate::util::timing::ms;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// What the contact steps of a model keep from one to the next: the partitioned solver (its
@@ -293,6 +295,7 @@ fn solve_grasp_with(
         if near.is_empty() {
             continue;
         }
+        let near = NearPoints::new(&near, radius);
         let mut in_region = vec![0usize; flesh.mesh.nodes.len()];
         let mut incident = vec![0usize; flesh.mesh.nodes.len()];
         for (c, cell) in flesh.mesh.cells.iter().enumerate() {
@@ -305,7 +308,7 @@ fn solve_grasp_with(
             }
             let centre: Vector3<f64> =
                 cell.iter().map(|&n| h.positions[n]).sum::<Vector3<f64>>() / 8.0;
-            if near.iter().any(|p| (p - centre).norm() < radius) {
+            if near.any_within(&centre) {
                 region_cells += 1;
                 for &n in cell {
                     in_region[n] += 1;
@@ -808,29 +811,37 @@ pub(super) fn deepest_inside(
             .clone()
             .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
         let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
-        for &n in nodes {
-            let p = positions[n];
-            if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
-                continue;
-            }
-            // Inside a piece of the surface (for a shell: within its outer surface, or in its
-            // cavity, having passed the wall): how far from that piece's surface. Within
-            // `beyond` of it, the contact's (or, when only the object's nodes are checked, the
-            // discretisation's); deeper, never found — also a node deep in a thin wall next to
-            // its far side, which is near a facet but not the piece's it is inside.
-            let depth = pieces
-                .iter()
-                .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
-                .map(|piece| {
-                    piece
-                        .iter()
-                        .filter_map(|t| {
-                            crate::contact::project_on_triangle(&p, &t.map(|m| positions[m]))
-                        })
-                        .map(|q| q.distance)
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .fold(0.0, f64::max);
+        // Each node on its own, in parallel (a winding number sums over the whole piece).
+        let depths: Vec<(usize, f64)> = nodes
+            .par_iter()
+            .filter_map(|&n| {
+                let p = positions[n];
+                if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
+                    return None;
+                }
+                // Inside a piece of the surface (for a shell: within its outer surface, or in its
+                // cavity, having passed the wall): how far from that piece's surface. Within
+                // `beyond` of it, the contact's (or, when only the object's nodes are checked, the
+                // discretisation's); deeper, never found — also a node deep in a thin wall next to
+                // its far side, which is near a facet but not the piece's it is inside.
+                let depth = pieces
+                    .iter()
+                    .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
+                    .map(|piece| {
+                        piece
+                            .iter()
+                            .filter_map(|t| {
+                                crate::contact::project_on_triangle(&p, &t.map(|m| positions[m]))
+                            })
+                            .map(|q| q.distance)
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0, f64::max);
+                Some((n, depth))
+            })
+            .collect();
+        // The deepest, the first of equals in the nodes' order.
+        for (n, depth) in depths {
             if depth > beyond && deepest.is_none_or(|d| depth > d.2) {
                 deepest = Some((n, s.body, depth));
             }

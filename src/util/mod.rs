@@ -2,6 +2,7 @@
 //! Imports nothing of the crate.
 
 pub mod gltf_axes;
+pub mod near;
 pub mod number;
 pub mod timing;
 pub use number::readable;

@@ -1,0 +1,94 @@
+//! Whether a point lies within a distance of any of a set of points, by a uniform grid of
+//! buckets one distance wide: a query visits the 27 buckets around its own instead of every
+//! point (a hand's 8 000 cells against 1 500 joint seams: 12 M distances per keyframe's plan).
+
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// Points bucketed for "is any within `radius` of x" queries.
+pub struct NearPoints {
+    radius: f64,
+    buckets: HashMap<[i64; 3], Vec<Vector3<f64>>>,
+}
+
+impl NearPoints {
+    /// `points` for queries at distance `radius` (m).
+    pub fn new(points: &[Vector3<f64>], radius: f64) -> NearPoints {
+        let mut buckets: HashMap<[i64; 3], Vec<Vector3<f64>>> = HashMap::new();
+        if radius > 0.0 {
+            for p in points {
+                buckets.entry(key(p, radius)).or_default().push(*p);
+            }
+        }
+        NearPoints { radius, buckets }
+    }
+
+    /// Whether some point is strictly closer than the radius to `x` (|x − p| < radius, as the
+    /// plain scan would say).
+    pub fn any_within(&self, x: &Vector3<f64>) -> bool {
+        if self.buckets.is_empty() {
+            return false;
+        }
+        let k = key(x, self.radius);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let at = [
+                        k[0].saturating_add(dx),
+                        k[1].saturating_add(dy),
+                        k[2].saturating_add(dz),
+                    ];
+                    if let Some(points) = self.buckets.get(&at) {
+                        if points.iter().any(|p| (x - p).norm() < self.radius) {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+/// The bucket of `p` (saturating far from the origin: such points share the edge buckets).
+fn key(p: &Vector3<f64>, radius: f64) -> [i64; 3] {
+    [0, 1, 2].map(|i| (p[i] / radius).floor() as i64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The grid answers as the plain scan over every point, at and around the radius.
+    #[test]
+    fn the_grid_answers_as_the_scan_of_every_point() {
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 0.2 - 0.1
+        };
+        let points: Vec<Vector3<f64>> = (0..300)
+            .map(|_| Vector3::new(next(), next(), next()))
+            .collect();
+        for radius in [0.003, 0.01, 0.04] {
+            let grid = NearPoints::new(&points, radius);
+            let mut agree = 0;
+            for _ in 0..3000 {
+                let x = Vector3::new(next(), next(), next());
+                let scan = points.iter().any(|p| (x - p).norm() < radius);
+                assert_eq!(grid.any_within(&x), scan, "{x:?} at {radius}");
+                agree += usize::from(scan);
+            }
+            // Both answers occur.
+            assert!(agree > 0 && agree < 3000, "{agree} within {radius}");
+        }
+        // Exactly at the radius is not within; no points, nothing within.
+        let one = NearPoints::new(&[Vector3::zeros()], 0.5);
+        assert!(!one.any_within(&Vector3::new(0.5, 0.0, 0.0)));
+        assert!(one.any_within(&Vector3::new(-0.4999, 0.0, 0.0)));
+        assert!(!NearPoints::new(&[], 0.5).any_within(&Vector3::zeros()));
+        assert!(!NearPoints::new(&points, 0.0).any_within(&points[0]));
+    }
+}
