@@ -6,7 +6,10 @@
 
 use std::mem::MaybeUninit;
 
-/// Grows `buffer` to at least `len` elements, advising huge pages on the new memory.
+/// Makes `buffer` `len` elements long, advising huge pages on new memory. Elements it already
+/// held keep their values (only new ones are `fill`ed): the caller overwrites them (faer zeroes
+/// a factor's values itself, and writing them here too took a memset of the whole factor per
+/// factorization).
 pub fn grow<T>(buffer: &mut Vec<T>, len: usize, fill: impl FnMut() -> T) {
     if buffer.capacity() < len {
         // A quarter more than asked: a factor that grows by a few columns from one solve to
@@ -18,8 +21,11 @@ pub fn grow<T>(buffer: &mut Vec<T>, len: usize, fill: impl FnMut() -> T) {
             capacity * std::mem::size_of::<T>(),
         );
     }
-    buffer.clear();
-    buffer.resize_with(len, fill);
+    if buffer.len() > len {
+        buffer.truncate(len);
+    } else {
+        buffer.resize_with(len, fill);
+    }
 }
 
 /// Uninitialised scratch of at least `bytes` bytes, 8-byte aligned.
