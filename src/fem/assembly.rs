@@ -180,7 +180,7 @@ pub fn assemble(
     mesh: &Mesh,
     materials: &[Material],
 ) -> Result<Stiffness, AssemblyError> {
-    assemble_with(pattern, mesh, materials, None, None).map(|(k, _)| k)
+    assemble_with(pattern, mesh, materials, None, None, None).map(|(k, _)| k)
 }
 
 /// Which linear element stiffness [`assemble_kind`] uses.
@@ -227,24 +227,49 @@ pub fn assemble_warped(
     rotations: &[Matrix3<f64>],
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
-    assemble_with(pattern, mesh, materials, Some(rotations), None).map(|(k, b)| (k, b.unwrap()))
+    assemble_with(pattern, mesh, materials, Some(rotations), None, None)
+        .map(|(k, b)| (k, b.unwrap()))
 }
 
 /// [`assemble_warped`] with the turn's stiffness K^t_e of the cells `displaced` gives nodal
 /// displacements u_e for (`geometric::symmetric_turn_stiffness`: what their stress under those
 /// displacements adds to the tangent) added to their K̃_e, and K^t_e·(X_e + u_e) to their b_e,
 /// so that K·y − b is the corotated force at y = X + u as with [`assemble_warped`].
+///
+/// Only the cells `only` takes are assembled (all without it): the others add nothing to K
+/// nor to b.
 pub fn assemble_warped_stressed(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     materials: &[Material],
     rotations: &[Matrix3<f64>],
     displaced: Displaced<'_>,
+    only: Option<Cells<'_>>,
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
-    assemble_with(pattern, mesh, materials, Some(rotations), Some(displaced))
-        .map(|(k, b)| (k, b.unwrap()))
+    assemble_with(
+        pattern,
+        mesh,
+        materials,
+        Some(rotations),
+        Some(displaced),
+        only,
+    )
+    .map(|(k, b)| (k, b.unwrap()))
 }
+
+/// [`assemble`] of the cells `only` takes; the others add nothing.
+pub fn assemble_only(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    materials: &[Material],
+    only: Cells<'_>,
+) -> Result<Stiffness, AssemblyError> {
+    assemble_with(pattern, mesh, materials, None, None, Some(only)).map(|(k, _)| k)
+}
+
+/// Which cells an assembly takes.
+pub type Cells<'a> = &'a (dyn Fn(usize) -> bool + Sync);
 
 /// Each cell's nodal displacements, where its turn's stiffness is wanted.
 pub type Displaced<'a> = &'a (dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync);
@@ -255,9 +280,10 @@ fn assemble_with(
     materials: &[Material],
     rotations: Option<&[Matrix3<f64>]>,
     displaced: Option<Displaced<'_>>,
+    only: Option<Cells<'_>>,
 ) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
-    scatter(pattern, mesh, rotations.is_some(), &|c| {
+    scatter_only(pattern, mesh, rotations.is_some(), only, &|c| {
         let coords = mesh.cell_coords(c);
         let mut ke = element_stiffness(&coords, &materials[c])
             .map_err(|inverted| AssemblyError { cell: c, inverted })?;
@@ -320,6 +346,17 @@ fn scatter<E: Send>(
     with_vector: bool,
     element: &(dyn Fn(usize) -> Result<ElementContribution, E> + Sync),
 ) -> Result<(Stiffness, Option<Vec<f64>>), E> {
+    scatter_only(pattern, mesh, with_vector, None, element)
+}
+
+/// [`scatter`] of the cells `only` takes (all without it); the others add nothing.
+fn scatter_only<E: Send>(
+    pattern: &Arc<StiffnessPattern>,
+    mesh: &Mesh,
+    with_vector: bool,
+    only: Option<Cells<'_>>,
+    element: &(dyn Fn(usize) -> Result<ElementContribution, E> + Sync),
+) -> Result<(Stiffness, Option<Vec<f64>>), E> {
     let mut values = vec![0.0; pattern.nnz()];
     let mut rhs = with_vector.then(|| vec![0.0; pattern.dofs]);
     let shared = SharedValues(values.as_mut_ptr());
@@ -330,6 +367,9 @@ fn scatter<E: Send>(
         // Colour 63 collects the cells that found no free colour: they may share nodes.
         let serial = index == 63;
         let add = |&c: &usize| -> Result<(), E> {
+            if only.is_some_and(|take| !take(c)) {
+                return Ok(());
+            }
             let cell = &mesh.cells[c];
             let (ke, fe) = element(c)?;
             if let (Some(f), Some(b)) = (fe, shared_rhs) {

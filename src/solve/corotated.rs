@@ -18,7 +18,9 @@
 //! move alternated in sign and took 3–5 to settle; now one settles it, docs/performance.md).
 //! Steps along a motion keep K̃ alone (docs/contact.md).
 
-use crate::fem::assembly::{assemble, assemble_warped_stressed, AssemblyError, Stiffness};
+use crate::fem::assembly::{
+    assemble_only, assemble_warped_stressed, AssemblyError, Cells, Stiffness,
+};
 use crate::fem::geometric::pressure_load_stiffness;
 use crate::fem::hex8::centre_rotation;
 use crate::fem::loads::add_pressure;
@@ -44,18 +46,23 @@ pub(super) struct Linearised {
 /// `geometric`: the turn's and the pressures' stiffness joins K̃ (see the module's notes);
 /// without it K̃ alone, positive definite where the bodies are supported, for a step from a
 /// state where the complete tangent is not (a wall squeezed in compression).
+///
+/// Only the cells `needed` takes are assembled: the others (a hand's cells away from the step's
+/// free flesh, carrying nothing) would add nothing to the step (zero displacement on every
+/// node: no force, no reaction).
 pub(super) fn linearise(
     model: &Model,
     mesh: &Mesh,
     carried: Option<&[f64]>,
     geometric: bool,
+    needed: Cells<'_>,
 ) -> Result<Linearised, AssemblyError> {
     let rotations = match carried {
         Some(u) if model.corotates_objects() => Some(rotations(model, u)?),
         _ => None,
     };
     let Some(rotations) = rotations else {
-        let k = assemble(&model.pattern, mesh, &model.cell_materials)?;
+        let k = assemble_only(&model.pattern, mesh, &model.cell_materials, needed)?;
         return Ok(Linearised { k, offset: None });
     };
     let u = carried.expect("rotations come from a carried state");
@@ -68,6 +75,7 @@ pub(super) fn linearise(
         &model.cell_materials,
         &rotations,
         &displaced,
+        Some(needed),
     )?;
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let kx = k.mul(&x);

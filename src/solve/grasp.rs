@@ -353,7 +353,14 @@ fn solve_grasp_with(
     let linearised = if neo_hookean_objects(model) {
         linearise_neo_hookean(model, &mesh, carried_given, definite)
     } else {
-        linearise(model, &mesh, carried_given, geometric)
+        // A hand's cell with no free node and nothing carried on its nodes adds nothing.
+        let needed = |c: usize| {
+            model.bodies[model.cell_body[c]].hand.is_none()
+                || model.mesh.cells[c].iter().any(|&n| {
+                    (0..3).any(|a| !partition.prescribed[3 * n + a] || carried[3 * n + a] != 0.0)
+                })
+        };
+        linearise(model, &mesh, carried_given, geometric, &needed)
     };
     let linearised = linearised.map_err(|e| {
         let b = model.cell_body[e.cell];
