@@ -353,9 +353,17 @@ fn solve_grasp_with(
     let linearised = if neo_hookean_objects(model) {
         linearise_neo_hookean(model, &mesh, carried_given, definite)
     } else {
-        // A hand's cell with no free node and nothing carried on its nodes adds nothing.
+        // A hand's cell with no free node and nothing carried on its nodes adds nothing —
+        // unless skinning moves it: assembled, a cell skinning folded over is found (the step
+        // then asks for an FEM tier, below).
         let needed = |c: usize| {
-            model.bodies[model.cell_body[c]].hand.is_none()
+            let b = model.cell_body[c];
+            let Some(hand) = model.bodies[b].hand.as_deref() else {
+                return true;
+            };
+            let element = c - model.bodies[b].cells.start;
+            let part = hand.flesh.cell_digit[element].map_or(0, |d| d + 1);
+            model.flexion.methods[part] == crate::model::FleshMethod::Skinning
                 || model.mesh.cells[c].iter().any(|&n| {
                     (0..3).any(|a| !partition.prescribed[3 * n + a] || carried[3 * n + a] != 0.0)
                 })
