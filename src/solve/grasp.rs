@@ -27,6 +27,8 @@ use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
     ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
+use crate::fem::assembly::AssemblyError;
+use crate::fem::hex8::mapped_points;
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
@@ -368,7 +370,20 @@ fn solve_grasp_with(
                     (0..3).any(|a| !partition.prescribed[3 * n + a] || carried[3 * n + a] != 0.0)
                 })
         };
-        linearise(model, &mesh, carried_given, geometric, &needed)
+        // The cells skipped are still checked for inversion, as their assembly would have:
+        // flesh moved by skinning (outside flexion's region, a far digit) may have folded.
+        let skipped_folded = (0..model.mesh.cell_count())
+            .into_par_iter()
+            .filter(|&c| !needed(c))
+            .find_first(|&c| mapped_points(&mesh.cell_coords(c)).is_err())
+            .map(|c| AssemblyError {
+                cell: c,
+                inverted: mapped_points(&mesh.cell_coords(c)).expect_err("found above"),
+            });
+        match skipped_folded {
+            Some(e) => Err(e),
+            None => linearise(model, &mesh, carried_given, geometric, &needed),
+        }
     };
     let linearised = linearised.map_err(|e| {
         let b = model.cell_body[e.cell];

@@ -8,6 +8,9 @@ use std::collections::HashMap;
 /// Points bucketed for "is any within `radius` of x" queries.
 pub struct NearPoints {
     radius: f64,
+    /// The buckets' width: the radius and a hair more, so that rounding in p / width cannot
+    /// put two points closer than the radius two buckets apart.
+    width: f64,
     buckets: HashMap<[i64; 3], Vec<Vector3<f64>>>,
 }
 
@@ -15,12 +18,17 @@ impl NearPoints {
     /// `points` for queries at distance `radius` (m).
     pub fn new(points: &[Vector3<f64>], radius: f64) -> NearPoints {
         let mut buckets: HashMap<[i64; 3], Vec<Vector3<f64>>> = HashMap::new();
+        let width = radius * (1.0 + 1e-9);
         if radius > 0.0 {
             for p in points {
-                buckets.entry(key(p, radius)).or_default().push(*p);
+                buckets.entry(key(p, width)).or_default().push(*p);
             }
         }
-        NearPoints { radius, buckets }
+        NearPoints {
+            radius,
+            width,
+            buckets,
+        }
     }
 
     /// Whether some point is strictly closer than the radius to `x` (|x − p| < radius, as the
@@ -29,7 +37,7 @@ impl NearPoints {
         if self.buckets.is_empty() {
             return false;
         }
-        let k = key(x, self.radius);
+        let k = key(x, self.width);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
@@ -51,8 +59,8 @@ impl NearPoints {
 }
 
 /// The bucket of `p` (saturating far from the origin: such points share the edge buckets).
-fn key(p: &Vector3<f64>, radius: f64) -> [i64; 3] {
-    [0, 1, 2].map(|i| (p[i] / radius).floor() as i64)
+fn key(p: &Vector3<f64>, width: f64) -> [i64; 3] {
+    [0, 1, 2].map(|i| (p[i] / width).floor() as i64)
 }
 
 #[cfg(test)]
