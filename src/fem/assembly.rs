@@ -5,7 +5,7 @@
 //! cell, where each of its node-pair blocks lands. Cells are coloured so that no two cells of a
 //! colour share a node; a colour is then assembled in parallel without locks.
 
-use super::hex8::{element_stiffness, ElementStiffness, InvertedCell};
+use super::hex8::{element_stiffness, mapped_points, ElementStiffness, InvertedCell};
 use super::incompatible;
 use super::material::Material;
 use crate::mesh::Mesh;
@@ -237,7 +237,7 @@ pub fn assemble_warped(
 /// so that K·y − b is the corotated force at y = X + u as with [`assemble_warped`].
 ///
 /// Only the cells `only` takes are assembled (all without it): the others add nothing to K
-/// nor to b.
+/// nor to b, and are only checked for inversion.
 pub fn assemble_warped_stressed(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
@@ -258,7 +258,8 @@ pub fn assemble_warped_stressed(
     .map(|(k, b)| (k, b.unwrap()))
 }
 
-/// [`assemble`] of the cells `only` takes; the others add nothing.
+/// [`assemble`] of the cells `only` takes; the others add nothing, and are only checked for
+/// inversion.
 pub fn assemble_only(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
@@ -283,6 +284,18 @@ fn assemble_with(
     only: Option<Cells<'_>>,
 ) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
+    // A cell left out is still checked for inversion, as its element stiffness would have.
+    let check = |c: usize| {
+        mapped_points(&mesh.cell_coords(c))
+            .map(|_| ())
+            .map_err(|inverted| AssemblyError { cell: c, inverted })
+    };
+    let only = only.map(|take| {
+        (
+            take,
+            &check as &(dyn Fn(usize) -> Result<(), AssemblyError> + Sync),
+        )
+    });
     scatter_only(pattern, mesh, rotations.is_some(), only, &|c| {
         let coords = mesh.cell_coords(c);
         let mut ke = element_stiffness(&coords, &materials[c])
@@ -349,12 +362,16 @@ fn scatter<E: Send>(
     scatter_only(pattern, mesh, with_vector, None, element)
 }
 
-/// [`scatter`] of the cells `only` takes (all without it); the others add nothing.
+/// What an assembly does with the cells it does not take: nothing but `check` them.
+type Skipped<'a, E> = (Cells<'a>, &'a (dyn Fn(usize) -> Result<(), E> + Sync));
+
+/// [`scatter`] of the cells `only` takes (all without it); the others add nothing and are only
+/// checked.
 fn scatter_only<E: Send>(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     with_vector: bool,
-    only: Option<Cells<'_>>,
+    only: Option<Skipped<'_, E>>,
     element: &(dyn Fn(usize) -> Result<ElementContribution, E> + Sync),
 ) -> Result<(Stiffness, Option<Vec<f64>>), E> {
     let mut values = vec![0.0; pattern.nnz()];
@@ -367,8 +384,10 @@ fn scatter_only<E: Send>(
         // Colour 63 collects the cells that found no free colour: they may share nodes.
         let serial = index == 63;
         let add = |&c: &usize| -> Result<(), E> {
-            if only.is_some_and(|take| !take(c)) {
-                return Ok(());
+            if let Some((take, check)) = only {
+                if !take(c) {
+                    return check(c);
+                }
             }
             let cell = &mesh.cells[c];
             let (ke, fe) = element(c)?;

@@ -14,6 +14,7 @@ use faer::linalg::triangular_solve::{
 };
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::{Accum, Mat, Par};
+use rayon::prelude::*;
 
 /// Y = L⁻¹·P·B for a group of k right-hand sides (the axes of one contact) as its nonzero
 /// blocks: (first row in the factor's order, the block's rows of all k columns, column-major),
@@ -98,7 +99,6 @@ impl PartitionedSolver {
             parts.push((chunk, &b[at * n..(at + width) * n]));
             at += width;
         }
-        use rayon::prelude::*;
         let solved: Vec<Result<Vec<HalfSolved>, SolveError>> = parts
             .par_iter()
             .map(|&(chunk, b)| forward_share(&factor, b, chunk))
@@ -109,9 +109,7 @@ impl PartitionedSolver {
         }
         Ok(Some(out))
     }
-}
 
-impl PartitionedSolver {
     /// K11⁻¹·Σ c·b from the half substitutions y = L⁻¹·P·b of the last factor (`terms`: the
     /// group, its column, the coefficient c): the other half only, x = Pᵀ·L⁻ᵀ·Σ c·y, reading
     /// the factor once where a whole substitution reads it twice. Ordered as the partition's

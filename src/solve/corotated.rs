@@ -49,7 +49,7 @@ pub(super) struct Linearised {
 ///
 /// Only the cells `needed` takes are assembled: the others (a hand's cells away from the step's
 /// free flesh, carrying nothing) would add nothing to the step (zero displacement on every
-/// node: no force, no reaction).
+/// node: no force, no reaction); they are only checked for inversion.
 pub(super) fn linearise(
     model: &Model,
     mesh: &Mesh,

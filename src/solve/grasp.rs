@@ -27,8 +27,6 @@ use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
     ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
 };
-use crate::fem::assembly::AssemblyError;
-use crate::fem::hex8::mapped_points;
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
@@ -355,35 +353,16 @@ fn solve_grasp_with(
     let linearised = if neo_hookean_objects(model) {
         linearise_neo_hookean(model, &mesh, carried_given, definite)
     } else {
-        // A hand's cell with no free node and nothing carried on its nodes adds nothing —
-        // unless skinning moves it: assembled, a cell skinning folded over is found (the step
-        // then asks for an FEM tier, below).
+        // A hand's cell with no free node and nothing carried on its nodes adds nothing: the
+        // assembly leaves it out, only checking it is not folded (skinning, or flexion's
+        // incremental skinning outside its region, may have folded it: reported below).
         let needed = |c: usize| {
-            let b = model.cell_body[c];
-            let Some(hand) = model.bodies[b].hand.as_deref() else {
-                return true;
-            };
-            let element = c - model.bodies[b].cells.start;
-            let part = hand.flesh.cell_digit[element].map_or(0, |d| d + 1);
-            model.flexion.methods[part] == crate::model::FleshMethod::Skinning
+            model.bodies[model.cell_body[c]].hand.is_none()
                 || model.mesh.cells[c].iter().any(|&n| {
                     (0..3).any(|a| !partition.prescribed[3 * n + a] || carried[3 * n + a] != 0.0)
                 })
         };
-        // The cells skipped are still checked for inversion, as their assembly would have:
-        // flesh moved by skinning (outside flexion's region, a far digit) may have folded.
-        let skipped_folded = (0..model.mesh.cell_count())
-            .into_par_iter()
-            .filter(|&c| !needed(c))
-            .find_first(|&c| mapped_points(&mesh.cell_coords(c)).is_err())
-            .map(|c| AssemblyError {
-                cell: c,
-                inverted: mapped_points(&mesh.cell_coords(c)).expect_err("found above"),
-            });
-        match skipped_folded {
-            Some(e) => Err(e),
-            None => linearise(model, &mesh, carried_given, geometric, &needed),
-        }
+        linearise(model, &mesh, carried_given, geometric, &needed)
     };
     let linearised = linearised.map_err(|e| {
         let b = model.cell_body[e.cell];
