@@ -410,7 +410,7 @@ const SOLVE_PARALLEL_COLUMNS: usize = 8;
 /// (faer's global parallelism). Below, sequential: on the 2-core machine of
 /// docs/performance.md a contact step's factorization (9 300 equations) took 36 ms alone
 /// against 45–62 ms on both cores, and the 20³ cube of `bench solver` (26 019 equations)
-/// 351 ms against 532 ms.
+/// 361–371 ms against 532 ms.
 const PARALLEL_FACTOR_WORK: f64 = 2.0e10;
 
 /// The parallelism of a numeric factorization of `work` multiply-adds.
