@@ -35,5 +35,5 @@ pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair}
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{
     connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
-    Projection,
+    Projection, SurfaceBvh,
 };

@@ -19,7 +19,7 @@ pub fn contact_settings(
     smallest: Option<(&str, f64)>,
 ) -> Result<ContactSettings, (String, String)> {
     let mut out = ContactSettings {
-        tolerance: s.contact_tolerance.unwrap_or(1e-9 * largest),
+        tolerance: s.contact_tolerance.unwrap_or(1e-7 * largest),
         max_iterations: s
             .contact_max_iterations
             .unwrap_or(crate::contact::DEFAULT_MAX_ITERATIONS),

@@ -25,7 +25,7 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
-    ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfacePair,
+    ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
@@ -76,7 +76,15 @@ pub fn frame_with_hands(
     (carried, previous): StepStart<'_>,
     cache: &mut ContactCache,
 ) -> Result<Frame, SimError> {
-    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), cache)? {
+    // Along a motion that has not touched yet (nothing carried), skin that has come within
+    // the search of a body without touching it leaves the bodies in their static frame: the
+    // step is not solved. Judged with the bodies where they stand in that frame (moved by their
+    // loads by at most this much from where detection sees them).
+    let clearance = match (still, carried, previous) {
+        (Some(s), None, Some(_)) => Some(objects_moved(model, s)),
+        _ => None,
+    };
+    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), clearance, cache)? {
         return Ok(frame);
     }
     match still {
@@ -108,16 +116,17 @@ pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
     start: StepStart<'_>,
+    clearance: Option<f64>,
     cache: &mut ContactCache,
 ) -> Result<Option<Frame>, SimError> {
-    match solve_grasp_with(model, hands, start, cache, false) {
+    match solve_grasp_with(model, hands, start, clearance, cache, false) {
         // Neo-Hookean bodies squeezed where their exact tangent is indefinite (compressive
         // stress outweighing the material's stiffness in some mode, which the contact itself
         // restrains), or corotated ones whose complete tangent is: the step again with each
         // element's tangent made definite (the corotated ones' K̃ alone); the exact internal
         // forces stay, so the corrections at the pose still converge to equilibrium.
         Err(SimError::Contact(ContactError::Unstable { .. })) => {
-            solve_grasp_with(model, hands, start, cache, true)
+            solve_grasp_with(model, hands, start, clearance, cache, true)
         }
         other => other,
     }
@@ -129,6 +138,7 @@ fn solve_grasp_with(
     model: &Model,
     hands: &[HandFrame],
     (carried, previous): StepStart<'_>,
+    clearance: Option<f64>,
     cache: &mut ContactCache,
     definite: bool,
 ) -> Result<Option<Frame>, SimError> {
@@ -199,6 +209,8 @@ fn solve_grasp_with(
     let mut pairs: Vec<SurfacePair> = Vec::new();
     let mut near_skin: Vec<usize> = Vec::new();
     let mut seeds: Vec<usize> = Vec::new();
+    // The smallest gap between skin and an object within the search, either way.
+    let mut closest = f64::INFINITY;
     for (i, _) in hands.iter().enumerate() {
         let skin_nodes = surfaces[i].nodes();
         let skin_bvh = surfaces[i].hierarchy(&x_now, margin);
@@ -206,12 +218,23 @@ fn solve_grasp_with(
             let s = hands.len() + j;
             let object_nodes = surfaces[s].nodes();
             let object_bvh = surfaces[s].hierarchy(&x_now, margin);
+            // (The gap to the nearest facet; where it is in front of that facet's plane but
+            // in a pit at its edge or corner, the gap behind the facet around it.)
+            let signed = |bvh: &SurfaceBvh, x: &Vector3<f64>| {
+                bvh.project(x, &x_now, None, |_| false).map(|p| {
+                    let behind = (p.gap >= 0.0)
+                        .then(|| bvh.behind_feature(x, &x_now, &p, |_| false))
+                        .flatten();
+                    (p.gap, behind.map_or(p.gap, |b| b.gap.min(p.gap)))
+                })
+            };
             let gaps: Vec<(usize, f64)> = skin_nodes
                 .iter()
                 .filter_map(|&n| {
-                    object_bvh
-                        .project(&x_now[n], &x_now, None, |_| false)
-                        .map(|p| (n, p.gap))
+                    signed(&object_bvh, &x_now[n]).map(|(gap, inside)| {
+                        closest = closest.min(inside);
+                        (n, gap)
+                    })
                 })
                 .collect();
             let skin_near: Vec<usize> = gaps.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
@@ -221,9 +244,10 @@ fn solve_grasp_with(
                 .iter()
                 .copied()
                 .filter(|&n| {
-                    skin_bvh
-                        .project(&x_now[n], &x_now, None, |_| false)
-                        .is_some_and(|p| p.gap < margin)
+                    signed(&skin_bvh, &x_now[n]).is_some_and(|(gap, inside)| {
+                        closest = closest.min(inside);
+                        gap < margin
+                    })
                 })
                 .collect();
             if skin_near.is_empty() && object_near.is_empty() {
@@ -277,6 +301,10 @@ fn solve_grasp_with(
         }
         None => Vec::new(),
     };
+    // Nothing touches, nor can the bodies' loads bring them into touch: the static frame.
+    if clearance.is_some_and(|c| crossed.is_empty() && closest > c + settings.tolerance) {
+        return Ok(None);
+    }
 
     // The flesh solved with the contact: cells within `contact_region` of a near skin node,
     // of digits solved by FEM; free nodes are those of such cells only, not on a bone.
@@ -621,6 +649,18 @@ fn solve_grasp_with(
         hands: hand_frames,
         contact: Some(summary),
     }))
+}
+
+/// The farthest any node of a body other than the hands is moved in the static frame `still`, m.
+fn objects_moved(model: &Model, still: &Frame) -> f64 {
+    let u = &still.solution.displacement;
+    model
+        .bodies
+        .iter()
+        .filter(|b| b.hand.is_none())
+        .flat_map(|b| b.nodes.clone())
+        .map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm())
+        .fold(0.0, f64::max)
 }
 
 /// A cell the contact step's displacements turn inside out: an object's is this step's failure
