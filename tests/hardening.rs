@@ -1169,8 +1169,9 @@ fn a_point_at_a_huge_distance_acts_at_the_node_nearest_to_it() {
 /// lower half out of it, straining it 775 %, and the grasp then fails. The error names the
 /// obstacle and how deep it cuts the ball at rest (it blamed the ball's stiffness, whose
 /// advice, 77× stiffer, did not address the cut). With the plane moved clear, as it advises,
-/// the coarse ball (6 cells, one layer) no longer cuts it but its contact at the pose does not
-/// settle (exit 2, said so); the ball meshed as shipped, with the plane moved clear, solves.
+/// the coarse ball (6 cells, one layer) no longer cuts it and its contact at the pose
+/// settles (it drifted, exit 2, before the second correction was plain); the ball meshed as
+/// shipped, with the plane moved clear, solves.
 #[test]
 fn an_obstacle_cutting_a_body_at_rest_is_named_as_the_cause() {
     let asset = std::fs::read_to_string("assets/scenes/hand-grasp-ball.toml").unwrap();
@@ -1194,18 +1195,15 @@ fn an_obstacle_cutting_a_body_at_rest_is_named_as_the_cause() {
             && stderr.contains("up to 37.0 mm behind its surface"),
         "{stderr}"
     );
-    // Moved clear, the coarse ball balloons 72 mm under its air, and the corrections at the
-    // pose drift: each moves the ball more than the one before. Not settled is not a result:
-    // exit 2, the warning naming where the bodies drift.
+    // Moved clear, the coarse ball balloons 72 mm under its air. Its corrections at the pose
+    // drifted while the second one was damped (ω 0.7: each moved the ball more than the one
+    // before, the force creeping 1.56 → 2.36 N over twelve, exit 2); plain, they settle: seven
+    // corrections, 3.096 N, the last changing it by 5·10⁻⁶ (2026-11-28). Settled is a result:
+    // exit 0, no warning of unsettled corrections.
     let dir = fresh("obstacle_clear_coarse");
     let (output, stderr, _) = solve_text(&dir, &plane(-0.0975));
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("the corrections at the pose did not settle")
-            && stderr.contains("drift away from the pose's contact")
-            && stderr.contains("of body \"ball\" moved"),
-        "{stderr}"
-    );
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("did not settle"), "{stderr}");
     // Moved clear, with the ball meshed as shipped (12 cells, 2 layers): it settles.
     let dir = fresh("obstacle_clear");
     let shipped_ball = plane(-0.0975).replace("cells = 6, layers = 1", "cells = 12, layers = 2");

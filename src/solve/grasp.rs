@@ -25,7 +25,8 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
-    ContactProblem, ContactResult, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
+    ContactProblem, ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master,
+    SurfaceBvh, SurfacePair,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
@@ -76,15 +77,14 @@ pub fn frame_with_hands(
     (carried, previous): StepStart<'_>,
     cache: &mut ContactCache,
 ) -> Result<Frame, SimError> {
-    // Along a motion that has not touched yet (nothing carried), skin that has come within
-    // the search of a body without touching it leaves the bodies in their static frame: the
-    // step is not solved. Judged with the bodies where they stand in that frame (moved by their
-    // loads by at most this much from where detection sees them).
-    let clearance = match (still, carried, previous) {
-        (Some(s), None, Some(_)) => Some(objects_moved(model, s)),
+    // Along a motion that has not touched yet (nothing carried but the static frame), skin
+    // that has come within the search of a body without touching it leaves the bodies in
+    // their static frame: the step is not solved.
+    let untouched = match (still, previous) {
+        (Some(s), Some(_)) if carried.is_none_or(|c| is_static(model, s, c)) => Some(s),
         _ => None,
     };
-    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), clearance, cache)? {
+    if let Some(frame) = solve_grasp(model, &hands, (carried, previous), untouched, cache)? {
         return Ok(frame);
     }
     match still {
@@ -116,17 +116,17 @@ pub fn solve_grasp(
     model: &Model,
     hands: &[HandFrame],
     start: StepStart<'_>,
-    clearance: Option<f64>,
+    untouched: Option<&Frame>,
     cache: &mut ContactCache,
 ) -> Result<Option<Frame>, SimError> {
-    match solve_grasp_with(model, hands, start, clearance, cache, false) {
+    match solve_grasp_with(model, hands, start, untouched, cache, false) {
         // Neo-Hookean bodies squeezed where their exact tangent is indefinite (compressive
         // stress outweighing the material's stiffness in some mode, which the contact itself
         // restrains), or corotated ones whose complete tangent is: the step again with each
         // element's tangent made definite (the corotated ones' K̃ alone); the exact internal
         // forces stay, so the corrections at the pose still converge to equilibrium.
         Err(SimError::Contact(ContactError::Unstable { .. })) => {
-            solve_grasp_with(model, hands, start, clearance, cache, true)
+            solve_grasp_with(model, hands, start, untouched, cache, true)
         }
         other => other,
     }
@@ -138,7 +138,7 @@ fn solve_grasp_with(
     model: &Model,
     hands: &[HandFrame],
     (carried, previous): StepStart<'_>,
-    clearance: Option<f64>,
+    untouched: Option<&Frame>,
     cache: &mut ContactCache,
     definite: bool,
 ) -> Result<Option<Frame>, SimError> {
@@ -301,9 +301,36 @@ fn solve_grasp_with(
         }
         None => Vec::new(),
     };
-    // Nothing touches, nor can the bodies' loads bring them into touch: the static frame.
-    if clearance.is_some_and(|c| crossed.is_empty() && closest > c + settings.tolerance) {
-        return Ok(None);
+    // Nothing touches, nor can the bodies' loads bring them into touch (every gap wider than
+    // the farthest they move an object's node from where detection sees it): the static
+    // frame, a contact frame without contacts.
+    if let Some(still) = untouched {
+        if crossed.is_empty() && closest > objects_moved(model, still) + settings.tolerance {
+            let mut frame = compose(model, still, hands.to_vec())?;
+            frame.contact = Some(ContactSummary {
+                contacts: Vec::new(),
+                method: settings.method,
+                iterations: 0,
+                factorizations: 0,
+                substitutions: 0,
+                max_penetration: 0.0,
+                contact_ms: ms(t_all),
+                last_change: 0.0,
+                stopped_by_threshold: false,
+                at_iteration_cap: false,
+                region_cells: 0,
+                times: crate::contact::ContactTimes {
+                    detection: ms(t_all),
+                    ..times
+                },
+                skin_points: hands
+                    .iter()
+                    .zip(&skin_points)
+                    .map(|(h, r)| (h.body, r.start))
+                    .collect(),
+            });
+            return Ok(Some(frame));
+        }
     }
 
     // The flesh solved with the contact: cells within `contact_region` of a near skin node,
@@ -649,6 +676,21 @@ fn solve_grasp_with(
         hands: hand_frames,
         contact: Some(summary),
     }))
+}
+
+/// Whether `carried` is what a frame composed of the static frame `still` carries: the other
+/// bodies' static displacements, nothing on the hands.
+fn is_static(model: &Model, still: &Frame, carried: &[f64]) -> bool {
+    let u = &still.solution.displacement;
+    u.len() == carried.len()
+        && model.bodies.iter().all(|b| {
+            let dofs = 3 * b.nodes.start..3 * b.nodes.end;
+            if b.hand.is_some() {
+                carried[dofs].iter().all(|v| *v == 0.0)
+            } else {
+                carried[dofs.clone()] == u[dofs]
+            }
+        })
 }
 
 /// The farthest any node of a body other than the hands is moved in the static frame `still`, m.
