@@ -9,6 +9,9 @@
 
 use crate::contact::{connected_pieces, winding_number_of, ContactSurface, Crossing};
 use nalgebra::Vector3;
+use rayon::prelude::*;
+use std::collections::HashSet;
+use std::sync::OnceLock;
 
 /// The nodes of `nodes` whose straight path from `from` to `to` (positions over every node; the
 /// other bodies where they are, the same in both) entered a closed piece of one of the surfaces
@@ -34,29 +37,23 @@ pub(super) fn crossings(
                 .fold(Vector3::repeat(f64::INFINITY), |m, p| m.inf(&p));
             let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
             let within = |p: &Vector3<f64>| (p - lo).min() >= 0.0 && (hi - p).min() >= 0.0;
-            let mut in_piece: Option<std::collections::HashSet<[usize; 3]>> = None;
-            for &n in nodes {
-                if out.iter().any(|c: &Crossing| c.node == n) || !within(&to[n]) {
-                    continue;
-                }
-                if winding_number_of(&to[n], &piece, to).abs() <= 0.5 {
-                    continue;
+            let in_piece: OnceLock<HashSet<[usize; 3]>> = OnceLock::new();
+            // Each node on its own (in parallel, kept in the nodes' order).
+            let of_node = |n: usize| -> Option<Crossing> {
+                if !within(&to[n]) || winding_number_of(&to[n], &piece, to).abs() <= 0.5 {
+                    return None;
                 }
                 // A node already inside where the step started (the contact held it there,
                 // within its tolerance) went deeper: the facet nearest to where it was is the
                 // one that held it. Otherwise, the facet its path went through.
-                let hit = if winding_number_of(&from[n], &piece, to).abs() > 0.5 {
-                    in_piece.get_or_insert_with(|| piece.iter().copied().collect());
-                    let set = in_piece.as_ref().expect("set above");
+                let (nodes, weights) = if winding_number_of(&from[n], &piece, to).abs() > 0.5 {
+                    let set = in_piece.get_or_init(|| piece.iter().copied().collect());
                     bvh.project(&from[n], to, None, |t| !set.contains(t))
                         .filter(|p| p.gap <= 0.0)
                         .map(|p| (p.nodes, p.weights))
                 } else {
                     first_hit(&from[n], &to[n], &piece, to)
-                };
-                let Some((nodes, weights)) = hit else {
-                    continue;
-                };
+                }?;
                 // Where the nearest facet faces the way the node came in and sees it inside,
                 // it holds it as well (a shallow entry): no crossing needed. Past the middle
                 // of a thin wall or body, the nearest facet is the far side's.
@@ -65,15 +62,20 @@ pub(super) fn crossings(
                 let held = bvh
                     .project(&to[n], to, None, |_| false)
                     .is_some_and(|p| p.gap < -tolerance && p.normal.dot(&crossed) > 0.8);
-                if !held {
-                    out.push(Crossing {
-                        node: n,
-                        surface: s,
-                        nodes,
-                        weights,
-                    });
-                }
-            }
+                (!held).then_some(Crossing {
+                    node: n,
+                    surface: s,
+                    nodes,
+                    weights,
+                })
+            };
+            let left: Vec<usize> = nodes
+                .iter()
+                .copied()
+                .filter(|&n| out.iter().all(|c: &Crossing| c.node != n))
+                .collect();
+            let found: Vec<Option<Crossing>> = left.par_iter().map(|&n| of_node(n)).collect();
+            out.extend(found.into_iter().flatten());
         }
     }
     out
