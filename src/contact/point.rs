@@ -239,6 +239,33 @@ pub struct ContactSummary {
 }
 
 impl ContactSummary {
+    /// A contact frame in which nothing touches (no contact solved): `skin_points` as in
+    /// [`ContactSummary::skin_points`], the detection's time in ms.
+    pub fn without_contacts(
+        method: ContactMethod,
+        skin_points: Vec<(usize, usize)>,
+        detection_ms: f64,
+    ) -> ContactSummary {
+        ContactSummary {
+            contacts: Vec::new(),
+            method,
+            iterations: 0,
+            factorizations: 0,
+            substitutions: 0,
+            max_penetration: 0.0,
+            contact_ms: detection_ms,
+            last_change: 0.0,
+            stopped_by_threshold: false,
+            at_iteration_cap: false,
+            region_cells: 0,
+            times: ContactTimes {
+                detection: detection_ms,
+                ..ContactTimes::default()
+            },
+            skin_points,
+        }
+    }
+
     /// The sum of the normal contact forces, N (a node held against two facets counts twice).
     pub fn normal_force(&self) -> f64 {
         self.contacts.iter().map(|c| c.force).sum()

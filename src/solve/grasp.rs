@@ -219,10 +219,11 @@ fn solve_grasp_with(
             let object_nodes = surfaces[s].nodes();
             let object_bvh = surfaces[s].hierarchy(&x_now, margin);
             // (The gap to the nearest facet; where it is in front of that facet's plane but
-            // in a pit at its edge or corner, the gap behind the facet around it.)
+            // in a pit at its edge or corner, the gap behind the facet around it — looked
+            // for only where a step that touches nothing may be left unsolved.)
             let signed = |bvh: &SurfaceBvh, x: &Vector3<f64>| {
                 bvh.project(x, &x_now, None, |_| false).map(|p| {
-                    let behind = (p.gap >= 0.0)
+                    let behind = (untouched.is_some() && p.gap >= 0.0)
                         .then(|| bvh.behind_feature(x, &x_now, &p, |_| false))
                         .flatten();
                     (p.gap, behind.map_or(p.gap, |b| b.gap.min(p.gap)))
@@ -307,28 +308,16 @@ fn solve_grasp_with(
     if let Some(still) = untouched {
         if crossed.is_empty() && closest > objects_moved(model, still) + settings.tolerance {
             let mut frame = compose(model, still, hands.to_vec())?;
-            frame.contact = Some(ContactSummary {
-                contacts: Vec::new(),
-                method: settings.method,
-                iterations: 0,
-                factorizations: 0,
-                substitutions: 0,
-                max_penetration: 0.0,
-                contact_ms: ms(t_all),
-                last_change: 0.0,
-                stopped_by_threshold: false,
-                at_iteration_cap: false,
-                region_cells: 0,
-                times: crate::contact::ContactTimes {
-                    detection: ms(t_all),
-                    ..times
-                },
-                skin_points: hands
-                    .iter()
-                    .zip(&skin_points)
-                    .map(|(h, r)| (h.body, r.start))
-                    .collect(),
-            });
+            let skin_points = hands
+                .iter()
+                .zip(&skin_points)
+                .map(|(h, r)| (h.body, r.start))
+                .collect();
+            frame.contact = Some(ContactSummary::without_contacts(
+                settings.method,
+                skin_points,
+                ms(t_all),
+            ));
             return Ok(Some(frame));
         }
     }
