@@ -6,7 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
-use super::path::FlexionPath;
+use super::path::{flex_ahead, FlexionPath};
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
@@ -19,6 +19,8 @@ use crate::state::{
     STRAIN_WARNING,
 };
 use nalgebra::{Matrix3, Vector3};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// What changes while a model is solved, besides the hands' states (the `mjData` of this
 /// project, with [`PosedHand`]): the static frame of the bodies that no hand moves, and the caches
@@ -255,14 +257,6 @@ impl Workspace {
             })
             .collect();
         let has_objects = model.bodies.iter().any(|b| b.hand.is_none());
-        let largest = moving
-            .iter()
-            .flat_map(|(_, from, to)| from.iter().zip(to).map(|(a, b)| (b - a).abs()))
-            .fold(0.0, f64::max);
-        let steps = (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize;
-        // Retried along the motion in at least two steps: a keyframe shorter than one step
-        // (a degree of flexion against a thin wall) may need halving too.
-        let along = steps.max(2);
         // The keyframe in one step first (its contact linearised about the flexed pose and what
         // the last frame carried): exact where the pose brings the skin just onto the bodies. Where that
         // contact does not settle, the keyframe again in contact steps along the motion.
@@ -296,15 +290,106 @@ impl Workspace {
                 (hand.body, hand.state.clone(), to.clone(), far)
             }),
         );
-        let path = &mut path;
+        let Some(plan) = path.ahead_plan() else {
+            return self.move_along(
+                model,
+                posed,
+                (&moving, &mut path),
+                (too_deep, start),
+                cancel,
+            );
+        };
+        // The knots flexed ahead on another thread while the contact steps solve (the caches of
+        // the moving hands go with it, and come back).
+        let bodies: Vec<usize> = moving
+            .iter()
+            .map(|(h, _, _)| posed.hands[*h].body)
+            .collect();
+        let mut ahead_caches = Vec::new();
+        self.caches.retain_mut(|c| {
+            let going = bodies.contains(&c.0);
+            if going {
+                ahead_caches.push((
+                    c.0,
+                    std::mem::replace(&mut c.1, FlexionCaches::new(model.ordering)),
+                ));
+            }
+            !going
+        });
+        let stop = Arc::new(AtomicBool::new(false));
+        let check: CancelCheck = {
+            let (stop, asked) = (stop.clone(), cancel.cloned());
+            Arc::new(move || stop.load(Ordering::Relaxed) || asked.as_ref().is_some_and(|c| c()))
+        };
+        std::thread::scope(|scope| {
+            let (to_path, from_ahead) = std::sync::mpsc::channel();
+            let worker = scope.spawn(move || {
+                let mut caches = ahead_caches;
+                let mut flex = |body: usize, mut state: HandState, angles: &[f64], far| {
+                    let stats = flex_hand(
+                        model,
+                        &mut caches,
+                        (body, &mut state),
+                        angles,
+                        far,
+                        Some(&check),
+                    )?;
+                    Ok((state, stats))
+                };
+                flex_ahead(plan, &mut flex, to_path);
+                caches
+            });
+            path.take_ahead(from_ahead);
+            let result = self.move_along(
+                model,
+                posed,
+                (&moving, &mut path),
+                (too_deep, start),
+                cancel,
+            );
+            // A knot still flexing stops at its next increment; none is flexed after it.
+            stop.store(true, Ordering::Relaxed);
+            path.end_ahead();
+            match worker.join() {
+                Ok(caches) => {
+                    for (b, c) in caches {
+                        self.caches.retain(|(cb, _)| *cb != b);
+                        self.caches.push((b, c));
+                    }
+                }
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+            result
+        })
+    }
+
+    /// The keyframe's motion once its flexion path is planned: in one contact step, then along
+    /// the motion where that does not settle (`too_deep`: along the motion at once; `start`:
+    /// the hands where the keyframe starts, when there are bodies to touch).
+    fn move_along(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        (moving, path): Motion<'_, '_>,
+        (too_deep, start): (bool, Option<Posed>),
+        cancel: Option<&CancelCheck>,
+    ) -> Result<Frame, SimError> {
+        let largest = moving
+            .iter()
+            .flat_map(|(_, from, to)| from.iter().zip(to).map(|(a, b)| (b - a).abs()))
+            .fold(0.0, f64::max);
+        let steps = (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize;
+        // Retried along the motion in at least two steps: a keyframe shorter than one step
+        // (a degree of flexion against a thin wall) may need halving too.
+        let along = steps.max(2);
         if too_deep {
             let carried = posed.contact.clone();
-            return self.move_in_steps(model, posed, (&moving, path), along, carried, cancel);
+            return self.move_in_steps(model, posed, (moving, path), along, carried, cancel);
         }
         // Going on from a frame in contact, from the state it carries (the same formulation
         // as its own steps: the pose again gives the frame again).
         let carried = posed.contact.clone();
-        match self.move_in_steps(model, posed, (&moving, path), 1, carried, cancel) {
+        match self.move_in_steps(model, posed, (moving, path), 1, carried, cancel) {
             // The one-step attempt did not settle: the keyframe in steps along the motion. If
             // that fails too, its error is the one returned (it failed at its first contact, in
             // its smallest step: the cause); the one-step error only says that the whole motion
@@ -312,10 +397,10 @@ impl Workspace {
             Err(SimError::Contact(_)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
-                self.move_in_steps(model, posed, (&moving, path), along, carried, cancel)
+                self.move_in_steps(model, posed, (moving, path), along, carried, cancel)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
-                        for h in &moving {
+                        for h in moving {
                             let body = posed.hands[h.0].body;
                             posed.hands[h.0].frame.stats.contact_retries += 1;
                             if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
@@ -720,31 +805,52 @@ impl Workspace {
         cancel: Option<&CancelCheck>,
     ) -> Result<(), SimError> {
         let b = posed.body;
-        let body = &model.bodies[b];
-        let hand = body.hand.as_deref().expect("a hand body");
-        let caches = match self.caches.iter().position(|(cb, _)| *cb == b) {
-            Some(i) => self.caches.swap_remove(i).1,
-            None => FlexionCaches::new(model.ordering),
-        };
-        let mut stepper = Flexion::new(
-            hand,
-            &body.name,
-            model.cell_materials[body.cells.clone()].to_vec(),
-            model.flexion.clone(),
-            model.ordering,
-        )
-        .with_caches(caches);
-        if let Some(cancel) = cancel {
-            stepper = stepper.with_cancel(cancel.clone());
-        }
-        stepper.set_far_parts(far);
-        let result = stepper.move_to(&mut posed.state, target);
-        self.caches.push((b, stepper.into_caches()));
+        let result = flex_hand(
+            model,
+            &mut self.caches,
+            (b, &mut posed.state),
+            target,
+            far,
+            cancel,
+        );
         // The hand's frame follows its state, also where a failed or cancelled keyframe left it.
         let stats = result.as_ref().cloned().unwrap_or_default();
         posed.frame = hand_frame(model, b, &posed.state, stats);
         result.map(|_| ())
     }
+}
+
+/// Flexes hand body `b` from `state` to `target` with the parts `far` left to skinning, with
+/// the flexion caches of `caches` (taken for the hand and put back).
+fn flex_hand(
+    model: &Model,
+    caches: &mut Vec<(usize, FlexionCaches)>,
+    (b, state): (usize, &mut HandState),
+    target: &[f64],
+    far: [bool; PARTS],
+    cancel: Option<&CancelCheck>,
+) -> Result<KeyframeStats, SimError> {
+    let body = &model.bodies[b];
+    let hand = body.hand.as_deref().expect("a hand body");
+    let kept = match caches.iter().position(|(cb, _)| *cb == b) {
+        Some(i) => caches.swap_remove(i).1,
+        None => FlexionCaches::new(model.ordering),
+    };
+    let mut stepper = Flexion::new(
+        hand,
+        &body.name,
+        model.cell_materials[body.cells.clone()].to_vec(),
+        model.flexion.clone(),
+        model.ordering,
+    )
+    .with_caches(kept);
+    if let Some(cancel) = cancel {
+        stepper = stepper.with_cancel(cancel.clone());
+    }
+    stepper.set_far_parts(far);
+    let result = stepper.move_to(state, target);
+    caches.push((b, stepper.into_caches()));
+    result
 }
 
 /// The relaxation factor of the next correction at the pose by Aitken's Δ² on vectors (Irons

@@ -14,6 +14,12 @@
 //! knots and for flesh that moves rigidly with its bones); the reactions are interpolated
 //! linearly. The contact steps along a motion (≤ 5° each) then cost no flexion of their own,
 //! and a keyframe tried in one contact step and again in several flexes the hand once.
+//!
+//! The knots depend on the contact steps in nothing: while the contact steps solve, the knots
+//! they will need next are flexed ahead on another thread ([`flex_ahead`]), one knot after the
+//! other in the order of their fractions, and taken in that order as the steps ask for them.
+//! The states are those flexed in turn (the same increments from the same states with the same
+//! caches); only the waiting goes.
 
 use super::error::SimError;
 use super::proximity::PARTS;
@@ -21,6 +27,8 @@ use crate::hand::HandModel;
 use crate::model::Model;
 use crate::state::{HandState, KeyframeStats};
 use nalgebra::{Point3, Vector3};
+use std::collections::VecDeque;
+use std::sync::mpsc::{Receiver, Sender};
 
 /// Flexes a hand body from a state to joint angles with some parts left to skinning: the
 /// state reached, and what it cost.
@@ -45,9 +53,58 @@ struct HandPath {
     stats: Option<KeyframeStats>,
 }
 
+/// A knot flexed: its state and what it cost, or why it failed.
+type Flexed = Result<(HandState, KeyframeStats), SimError>;
+
 /// The flexion of a keyframe's moving hands, solved knot by knot as its contact steps need it.
 pub(super) struct FlexionPath {
     hands: Vec<HandPath>,
+    /// Knots flexed ahead on another thread (hand, knot), each hand's in its order; `None`
+    /// without, or once that thread has ended and every knot it sent is taken.
+    ahead: Option<Receiver<(usize, Flexed)>>,
+    /// Knots received ahead of a hand's turn, by hand.
+    waiting: Vec<VecDeque<Flexed>>,
+}
+
+/// What flexing one hand's knots ahead needs: the hand's index in the path, its body, its
+/// start, the joint angles of each knot after it, and the parts left to skinning.
+pub(super) struct AheadHand {
+    k: usize,
+    body: usize,
+    start: HandState,
+    angles: Vec<Vec<f64>>,
+    far: [bool; PARTS],
+}
+
+/// Flexes the knots of `hands` one after the other by `flex`, in the order of their fractions
+/// of the keyframe (a hand's in its own order), each from the last of its hand, and sends each
+/// to the path as it is flexed. Stops at the first that fails, or when the path is gone.
+pub(super) fn flex_ahead(
+    hands: Vec<AheadHand>,
+    flex: &mut Flex<'_>,
+    to_path: Sender<(usize, Flexed)>,
+) {
+    let mut order: Vec<(f64, usize, usize)> = hands
+        .iter()
+        .enumerate()
+        .flat_map(|(i, h)| {
+            let count = h.angles.len();
+            (0..count).map(move |j| ((j + 1) as f64 / count as f64, i, j))
+        })
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut last: Vec<HandState> = hands.iter().map(|h| h.start.clone()).collect();
+    for (_, i, j) in order {
+        let h = &hands[i];
+        let flexed = flex(h.body, last[i].clone(), &h.angles[j], h.far);
+        let failed = flexed.is_err();
+        if let Ok((state, _)) = &flexed {
+            last[i] = state.clone();
+        }
+        if to_path.send((h.k, flexed)).is_err() || failed {
+            return;
+        }
+    }
 }
 
 impl FlexionPath {
@@ -79,8 +136,64 @@ impl FlexionPath {
                     stats: None,
                 }
             })
-            .collect();
-        FlexionPath { hands }
+            .collect::<Vec<_>>();
+        FlexionPath {
+            waiting: hands.iter().map(|_| VecDeque::new()).collect(),
+            hands,
+            ahead: None,
+        }
+    }
+
+    /// The knots still to flex, for [`flex_ahead`]; `None` where flexing them ahead gains
+    /// nothing (no hand has more than one).
+    pub(super) fn ahead_plan(&self) -> Option<Vec<AheadHand>> {
+        if self.hands.iter().all(|h| h.count - (h.knots.len() - 1) < 2) {
+            return None;
+        }
+        Some(
+            self.hands
+                .iter()
+                .enumerate()
+                .map(|(k, h)| AheadHand {
+                    k,
+                    body: h.body,
+                    start: h.knots.last().expect("the start").clone(),
+                    angles: (h.knots.len()..=h.count)
+                        .map(|j| h.angles_at(j as f64 / h.count as f64))
+                        .collect(),
+                    far: h.far,
+                })
+                .collect(),
+        )
+    }
+
+    /// Takes the knots [`flex_ahead`] sends on `from` (planned by
+    /// [`FlexionPath::ahead_plan`] on this path as it is now).
+    pub(super) fn take_ahead(&mut self, from: Receiver<(usize, Flexed)>) {
+        self.ahead = Some(from);
+    }
+
+    /// Stops taking knots flexed ahead (their thread is to end).
+    pub(super) fn end_ahead(&mut self) {
+        self.ahead = None;
+    }
+
+    /// Hand `k`'s next knot flexed ahead, if any is still to come.
+    fn next_ahead(&mut self, k: usize) -> Option<Flexed> {
+        if let Some(knot) = self.waiting[k].pop_front() {
+            return Some(knot);
+        }
+        loop {
+            match self.ahead.as_ref()?.recv() {
+                Ok((i, knot)) if i == k => return Some(knot),
+                Ok((i, knot)) => self.waiting[i].push_back(knot),
+                // The thread ended (a knot failed, or none is left): on here in turn.
+                Err(_) => {
+                    self.ahead = None;
+                    return None;
+                }
+            }
+        }
     }
 
     /// What the flexion of hand `k` (in the order given to [`FlexionPath::new`]) cost so far.
@@ -99,22 +212,29 @@ impl FlexionPath {
         f: f64,
         flex: &mut Flex<'_>,
     ) -> Result<HandState, SimError> {
-        let path = &mut self.hands[k];
-        let count = path.count as f64;
+        let count = self.hands[k].count as f64;
         let position = (f * count).clamp(0.0, count);
         // The knot at or after f (round-off of the steps' fractions falls on the knot).
-        let j = ((position - 1e-9).ceil().max(0.0) as usize).min(path.count);
-        while path.knots.len() <= j {
-            let next = path.knots.len();
-            let angles = path.angles_at(next as f64 / count);
-            let start = path.knots[next - 1].clone();
-            let (state, stats) = flex(path.body, start, &angles, path.far)?;
+        let j = ((position - 1e-9).ceil().max(0.0) as usize).min(self.hands[k].count);
+        while self.hands[k].knots.len() <= j {
+            let (state, stats) = match self.next_ahead(k) {
+                Some(flexed) => flexed?,
+                None => {
+                    let path = &self.hands[k];
+                    let next = path.knots.len();
+                    let angles = path.angles_at(next as f64 / count);
+                    let start = path.knots[next - 1].clone();
+                    flex(path.body, start, &angles, path.far)?
+                }
+            };
+            let path = &mut self.hands[k];
             match &mut path.stats {
                 Some(total) => total.absorb(&stats),
                 None => path.stats = Some(stats),
             }
             path.knots.push(state);
         }
+        let path = &self.hands[k];
         if (position - j as f64).abs() < 1e-9 || j == 0 {
             return Ok(path.knots[j].clone());
         }
@@ -237,6 +357,84 @@ mod tests {
             for (n, p) in there.positions.iter().enumerate() {
                 assert!((p - moved(&knot.positions[n])).norm() < 1e-12, "node {n}");
             }
+        }
+    }
+
+    /// A state standing for a flexed knot: its angles, and how many flexions led to it.
+    fn knot(angles: &[f64], flexions: f64) -> HandState {
+        HandState {
+            angles: angles.to_vec(),
+            transforms: Vec::new(),
+            positions: vec![Vector3::new(flexions, 0.0, 0.0)],
+            reaction: Vec::new(),
+        }
+    }
+
+    /// A stand-in flexion: the state at `angles` one flexion after `start`, failing at the
+    /// angle `fail_at` of hand body 1.
+    fn flex_counting(
+        fail_at: Option<f64>,
+    ) -> impl FnMut(usize, HandState, &[f64], [bool; PARTS]) -> Flexed {
+        move |body, start, angles, _| {
+            if body == 1 && fail_at == Some(angles[0]) {
+                return Err(SimError::Cancelled);
+            }
+            let stats = KeyframeStats {
+                increments_taken: 1,
+                ..Default::default()
+            };
+            Ok((knot(angles, start.positions[0].x + 1.0), stats))
+        }
+    }
+
+    /// Knots flexed ahead on another thread are the knots flexed in turn, each hand's in its
+    /// order (two hands of three and two knots, asked for out of the order they were flexed);
+    /// a knot that failed ahead is that knot's error, and the path flexes on in turn after it.
+    #[test]
+    fn knots_flexed_ahead_are_those_flexed_in_turn() {
+        let scene = crate::scene::Scene::parse(
+            include_str!("../../assets/scenes/block-press.toml"),
+            "block-press.toml",
+        )
+        .unwrap();
+        let model = Model::build(&scene, "block-press.toml").unwrap();
+        // 30° and 20° of motion: three and two knots of 10°.
+        let hands = || {
+            [(0, 30.0), (1, 20.0)]
+                .map(|(body, to)| (body, knot(&[0.0], 0.0), vec![to], [false; PARTS]))
+        };
+        let asked = [(1, 1.0), (0, 1.0 / 3.0), (0, 1.0), (1, 0.5)];
+        for fail_at in [None, Some(20.0)] {
+            let mut in_turn = FlexionPath::new(&model, hands());
+            let mut ahead = FlexionPath::new(&model, hands());
+            let plan = ahead.ahead_plan().expect("more than one knot to flex");
+            let (to_path, from_ahead) = std::sync::mpsc::channel();
+            let worker = std::thread::spawn(move || {
+                flex_ahead(plan, &mut flex_counting(fail_at), to_path);
+            });
+            ahead.take_ahead(from_ahead);
+            for (k, f) in asked {
+                let a = in_turn.state_at(&model, k, f, &mut flex_counting(fail_at));
+                // In turn only after a failure ahead.
+                let b = ahead.state_at(&model, k, f, &mut flex_counting(None));
+                match (a, b) {
+                    (Ok(a), Ok(b)) => {
+                        assert_eq!((a.angles, a.positions), (b.angles, b.positions));
+                    }
+                    (Err(_), Err(_)) => {
+                        // Asked again, the path flexes it in turn (here without failing).
+                        let again = ahead
+                            .state_at(&model, k, f, &mut flex_counting(None))
+                            .unwrap();
+                        assert_eq!(again.angles, vec![20.0]);
+                        assert_eq!(again.positions[0].x, 2.0);
+                    }
+                    (a, b) => panic!("hand {k} at {f}: {:?} against {:?}", a.is_ok(), b.is_ok()),
+                }
+            }
+            worker.join().unwrap();
+            assert_eq!(in_turn.stats(0).increments_taken, 3);
+            assert_eq!(ahead.stats(0).increments_taken, 3);
         }
     }
 }
