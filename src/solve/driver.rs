@@ -6,7 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
-use super::path::{flex_ahead, FlexionPath};
+use super::path::{flex_ahead, FlexionPath, Parts};
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
@@ -55,17 +55,6 @@ pub struct Posed {
     /// The displacements the last contact step left, over every dof: the other bodies' from
     /// rest, the flesh's over its flexed pose. `None` when nothing touched.
     pub contact: Option<Vec<f64>>,
-}
-
-impl PosedHand {
-    /// Hand `body` of `model` in `state`, its frame as flexed.
-    fn of_state(model: &Model, body: usize, state: HandState) -> PosedHand {
-        PosedHand {
-            body,
-            frame: hand_frame(model, body, &state, KeyframeStats::default()),
-            state,
-        }
-    }
 }
 
 impl Posed {
@@ -325,13 +314,14 @@ impl Workspace {
             let (to_path, from_ahead) = std::sync::mpsc::channel();
             let worker = scope.spawn(move || {
                 let mut caches = ahead_caches;
-                let mut flex = |body: usize, mut state: HandState, angles: &[f64], far| {
+                let mut flex = |body: usize, mut state: HandState, angles: &[f64], parts: Parts| {
+                    let (far, region_at) = parts;
                     let stats = flex_hand(
                         model,
                         &mut caches,
                         (body, &mut state),
                         angles,
-                        far,
+                        (far, Some(region_at)),
                         Some(&check),
                     )?;
                     Ok((state, stats))
@@ -773,10 +763,17 @@ impl Workspace {
             .map(|h| h.frame.positions.clone())
             .collect();
         for (k, (h, _, _)) in moving.iter().enumerate() {
-            let mut flex = |body: usize, start: HandState, angles: &[f64], far| {
-                let mut hand = PosedHand::of_state(model, body, start);
-                self.move_hand(model, &mut hand, angles, far, cancel)?;
-                Ok((hand.state, hand.frame.stats))
+            let mut flex = |body: usize, mut state: HandState, angles: &[f64], parts: Parts| {
+                let (far, region_at) = parts;
+                let stats = flex_hand(
+                    model,
+                    &mut self.caches,
+                    (body, &mut state),
+                    angles,
+                    (far, Some(region_at)),
+                    cancel,
+                )?;
+                Ok((state, stats))
             };
             let state = path.state_at(model, k, f, &mut flex)?;
             let hand = &mut posed.hands[*h];
@@ -794,40 +791,17 @@ impl Workspace {
             &mut self.contact,
         )
     }
-
-    /// Moves one hand to `target` (see [`Workspace::move_hands`]).
-    fn move_hand(
-        &mut self,
-        model: &Model,
-        posed: &mut PosedHand,
-        target: &[f64],
-        far: [bool; PARTS],
-        cancel: Option<&CancelCheck>,
-    ) -> Result<(), SimError> {
-        let b = posed.body;
-        let result = flex_hand(
-            model,
-            &mut self.caches,
-            (b, &mut posed.state),
-            target,
-            far,
-            cancel,
-        );
-        // The hand's frame follows its state, also where a failed or cancelled keyframe left it.
-        let stats = result.as_ref().cloned().unwrap_or_default();
-        posed.frame = hand_frame(model, b, &posed.state, stats);
-        result.map(|_| ())
-    }
 }
 
-/// Flexes hand body `b` from `state` to `target` with the parts `far` left to skinning, with
-/// the flexion caches of `caches` (taken for the hand and put back).
+/// Flexes hand body `b` from `state` to `target` with the parts `far` left to skinning and its
+/// FEM region chosen on the flesh at `region_at` (`None`: where it starts), with the flexion
+/// caches of `caches` (taken for the hand and put back).
 fn flex_hand(
     model: &Model,
     caches: &mut Vec<(usize, FlexionCaches)>,
     (b, state): (usize, &mut HandState),
     target: &[f64],
-    far: [bool; PARTS],
+    (far, region_at): ([bool; PARTS], Option<&[Vector3<f64>]>),
     cancel: Option<&CancelCheck>,
 ) -> Result<KeyframeStats, SimError> {
     let body = &model.bodies[b];
@@ -848,6 +822,7 @@ fn flex_hand(
         stepper = stepper.with_cancel(cancel.clone());
     }
     stepper.set_far_parts(far);
+    stepper.set_region_geometry(region_at.map(<[_]>::to_vec));
     let result = stepper.move_to(state, target);
     caches.push((b, stepper.into_caches()));
     result

@@ -105,6 +105,9 @@ pub struct Flexion<'a> {
     /// Parts of the hand (0 palm, 1 thumb … 5 little) whose flesh follows skinning in the next
     /// keyframe because they stay far from contact.
     far: [bool; 6],
+    /// The flesh positions the next keyframe's FEM region is chosen on (`None`: where the
+    /// keyframe starts).
+    region_at: Option<Vec<Vector3<f64>>>,
 }
 
 impl<'a> Flexion<'a> {
@@ -125,6 +128,7 @@ impl<'a> Flexion<'a> {
             cancel: None,
             caches: FlexionCaches::new(ordering),
             far: [false; 6],
+            region_at: None,
         }
     }
 
@@ -134,6 +138,15 @@ impl<'a> Flexion<'a> {
     /// stiffness is the cheap path already, ignores it.
     pub fn set_far_parts(&mut self, far: [bool; 6]) {
         self.far = far;
+    }
+
+    /// Chooses the next keyframe's FEM region on the flesh at `positions` instead of where the
+    /// keyframe starts: a motion flexed one knot at a time (`solve::path`) chooses it where
+    /// the motion starts, so that every knot solves the same cells (the flesh moving by a few
+    /// millimetres moved two cells of the full hand's 7 813 in or out of the 12 mm around the
+    /// joints, and each knot's symbolic analysis was made again).
+    pub fn set_region_geometry(&mut self, positions: Option<Vec<Vector3<f64>>>) {
+        self.region_at = positions;
     }
 
     /// Checks `cancel` before every increment: when it answers `true`, [`Flexion::move_to`]
@@ -332,10 +345,11 @@ impl<'a> Flexion<'a> {
         // cell whose nodes do not all move by one and the same bone motion over the keyframe
         // (a joint's blend zone, or the seam between flesh following different bones, like
         // the thumb's web). Everywhere else skinning moves the flesh rigidly, as FEM would.
+        let at = self.region_at.as_deref().unwrap_or(&state.positions);
         let centre = |c: usize| {
             flesh.mesh.cells[c]
                 .iter()
-                .map(|&n| state.positions[n])
+                .map(|&n| at[n])
                 .sum::<Vector3<f64>>()
                 / 8.0
         };

@@ -30,10 +30,14 @@ use nalgebra::{Point3, Vector3};
 use std::collections::VecDeque;
 use std::sync::mpsc::{Receiver, Sender};
 
-/// Flexes a hand body from a state to joint angles with some parts left to skinning: the
-/// state reached, and what it cost.
-pub(super) type Flex<'a> = dyn FnMut(usize, HandState, &[f64], [bool; PARTS]) -> Result<(HandState, KeyframeStats), SimError>
+/// Flexes a hand body from a state to joint angles with some parts left to skinning (its FEM
+/// region chosen on given flesh positions): the state reached, and what it cost.
+pub(super) type Flex<'a> = dyn FnMut(usize, HandState, &[f64], Parts<'_>) -> Result<(HandState, KeyframeStats), SimError>
     + 'a;
+
+/// Which parts a knot leaves to skinning, and the flesh its FEM region is chosen on (where the
+/// keyframe starts: every knot of a keyframe solves the same cells).
+pub(super) type Parts<'a> = ([bool; PARTS], &'a [Vector3<f64>]);
 
 /// One moving hand's flexion over a keyframe.
 struct HandPath {
@@ -67,13 +71,15 @@ pub(super) struct FlexionPath {
 }
 
 /// What flexing one hand's knots ahead needs: the hand's index in the path, its body, its
-/// start, the joint angles of each knot after it, and the parts left to skinning.
+/// start, the joint angles of each knot after it, the parts left to skinning and the flesh the
+/// FEM region is chosen on.
 pub(super) struct AheadHand {
     k: usize,
     body: usize,
     start: HandState,
     angles: Vec<Vec<f64>>,
     far: [bool; PARTS],
+    region_at: Vec<Vector3<f64>>,
 }
 
 /// Flexes the knots of `hands` one after the other by `flex`, in the order of their fractions
@@ -96,7 +102,7 @@ pub(super) fn flex_ahead(
     let mut last: Vec<HandState> = hands.iter().map(|h| h.start.clone()).collect();
     for (_, i, j) in order {
         let h = &hands[i];
-        let flexed = flex(h.body, last[i].clone(), &h.angles[j], h.far);
+        let flexed = flex(h.body, last[i].clone(), &h.angles[j], (h.far, &h.region_at));
         let failed = flexed.is_err();
         if let Ok((state, _)) = &flexed {
             last[i] = state.clone();
@@ -162,6 +168,7 @@ impl FlexionPath {
                         .map(|j| h.angles_at(j as f64 / h.count as f64))
                         .collect(),
                     far: h.far,
+                    region_at: h.knots[0].positions.clone(),
                 })
                 .collect(),
         )
@@ -224,7 +231,12 @@ impl FlexionPath {
                     let next = path.knots.len();
                     let angles = path.angles_at(next as f64 / count);
                     let start = path.knots[next - 1].clone();
-                    flex(path.body, start, &angles, path.far)?
+                    flex(
+                        path.body,
+                        start,
+                        &angles,
+                        (path.far, &path.knots[0].positions),
+                    )?
                 }
             };
             let path = &mut self.hands[k];
@@ -374,7 +386,7 @@ mod tests {
     /// angle `fail_at` of hand body 1.
     fn flex_counting(
         fail_at: Option<f64>,
-    ) -> impl FnMut(usize, HandState, &[f64], [bool; PARTS]) -> Flexed {
+    ) -> impl FnMut(usize, HandState, &[f64], Parts<'_>) -> Flexed {
         move |body, start, angles, _| {
             if body == 1 && fail_at == Some(angles[0]) {
                 return Err(SimError::Cancelled);
