@@ -19,6 +19,7 @@ mod problem;
 mod row;
 mod self_contact;
 mod surface;
+mod winding;
 
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
@@ -37,3 +38,4 @@ pub use surface::{
     connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
     Projection, SurfaceBvh,
 };
+pub use winding::WindingTree;

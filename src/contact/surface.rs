@@ -384,16 +384,10 @@ pub fn winding_number_of(
     triangles: &[[usize; 3]],
     positions: &[Vector3<f64>],
 ) -> f64 {
-    let mut total = 0.0;
-    for t in triangles {
-        let a = positions[t[0]] - x;
-        let b = positions[t[1]] - x;
-        let c = positions[t[2]] - x;
-        let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
-        let num = a.dot(&b.cross(&c));
-        let den = la * lb * lc + a.dot(&b) * lc + b.dot(&c) * la + c.dot(&a) * lb;
-        total += 2.0 * num.atan2(den);
-    }
+    let total: f64 = triangles
+        .iter()
+        .map(|t| super::winding::solid_angle(x, &t.map(|n| positions[n])))
+        .sum();
     total / (4.0 * std::f64::consts::PI)
 }
 

@@ -6,7 +6,7 @@
 //! prescribed and on the mesh, so it is computed once and reused while both stay the same.
 
 use super::assembly::{Stiffness, StiffnessPattern};
-use super::memory::{grow, scratch};
+use super::memory::{grow_zeroed, scratch};
 use super::ordering::nested_dissection;
 use super::partition::DofPartition;
 use crate::util::timing::ms;
@@ -317,7 +317,7 @@ impl PartitionedSolver {
         stats.factor_reused = factored;
         if !factored {
             self.factored.clear();
-            grow(&mut self.factor, len, || 0.0);
+            grow_zeroed(&mut self.factor, len);
             let req = analysis
                 .cholesky
                 .factorize_numeric_llt_scratch::<f64>(par, Default::default());

@@ -7,7 +7,7 @@
 //! A node that was already just inside (held by the contact within its tolerance) and went
 //! deeper is held against the facet nearest to where it was.
 
-use crate::contact::{connected_pieces, winding_number_of, ContactSurface, Crossing};
+use crate::contact::{connected_pieces, ContactSurface, Crossing, WindingTree};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::collections::HashSet;
@@ -38,15 +38,16 @@ pub(super) fn crossings(
             let hi = corners.fold(Vector3::repeat(f64::NEG_INFINITY), |m, p| m.sup(&p));
             let within = |p: &Vector3<f64>| (p - lo).min() >= 0.0 && (hi - p).min() >= 0.0;
             let in_piece: OnceLock<HashSet<[usize; 3]>> = OnceLock::new();
+            let winding = WindingTree::new(&piece, to);
             // Each node on its own (in parallel, kept in the nodes' order).
             let of_node = |n: usize| -> Option<Crossing> {
-                if !within(&to[n]) || winding_number_of(&to[n], &piece, to).abs() <= 0.5 {
+                if !within(&to[n]) || !winding.inside(&to[n]) {
                     return None;
                 }
                 // A node already inside where the step started (the contact held it there,
                 // within its tolerance) went deeper: the facet nearest to where it was is the
                 // one that held it. Otherwise, the facet its path went through.
-                let (nodes, weights) = if winding_number_of(&from[n], &piece, to).abs() > 0.5 {
+                let (nodes, weights) = if winding.inside(&from[n]) {
                     let set = in_piece.get_or_init(|| piece.iter().copied().collect());
                     bvh.project(&from[n], to, None, |t| !set.contains(t))
                         .filter(|p| p.gap <= 0.0)

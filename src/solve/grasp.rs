@@ -24,9 +24,9 @@ use super::hyperelastic_objects::{
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
-    connected_pieces, solve_lagrange, solve_paper, winding_number_of, ContactError, ContactMethod,
-    ContactProblem, ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master,
-    SurfaceBvh, SurfacePair,
+    connected_pieces, solve_lagrange, solve_paper, ContactError, ContactMethod, ContactProblem,
+    ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
+    WindingTree,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::stress_field_except;
@@ -885,7 +885,13 @@ pub(super) fn deepest_inside(
 ) -> Option<(usize, usize, f64)> {
     let mut deepest: Option<(usize, usize, f64)> = None;
     for s in objects {
-        let pieces = connected_pieces(&s.triangles);
+        let pieces: Vec<(Vec<[usize; 3]>, WindingTree)> = connected_pieces(&s.triangles)
+            .into_iter()
+            .map(|piece| {
+                let tree = WindingTree::new(&piece, positions);
+                (piece, tree)
+            })
+            .collect();
         let corners = s.triangles.iter().flatten().map(|&n| positions[n]);
         let lo = corners
             .clone()
@@ -906,8 +912,8 @@ pub(super) fn deepest_inside(
                 // its far side, which is near a facet but not the piece's it is inside.
                 let depth = pieces
                     .iter()
-                    .filter(|piece| winding_number_of(&p, piece, positions).abs() > 0.5)
-                    .map(|piece| {
+                    .filter(|(_, tree)| tree.inside(&p))
+                    .map(|(piece, _)| {
                         piece
                             .iter()
                             .filter_map(|t| {

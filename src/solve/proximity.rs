@@ -14,7 +14,7 @@
 //! palmar crease of a deep flexion) is solved by FEM all the same.
 
 use super::grasp::deepest_inside;
-use crate::contact::{connected_pieces, winding_number_of, ContactSurface};
+use crate::contact::{connected_pieces, ContactSurface, WindingTree};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::model::FleshMethod;
 use crate::model::Model;
@@ -54,9 +54,14 @@ pub fn far_parts(
         .iter()
         .map(|&b| ContactSurface::from_quads(b, &model.bodies[b].exterior, rest))
         .collect();
-    let pieces: Vec<Vec<Vec<[usize; 3]>>> = surfaces
+    let pieces: Vec<Vec<WindingTree>> = surfaces
         .iter()
-        .map(|s| connected_pieces(&s.triangles))
+        .map(|s| {
+            connected_pieces(&s.triangles)
+                .iter()
+                .map(|piece| WindingTree::new(piece, rest))
+                .collect()
+        })
         .collect();
     let hierarchies: Vec<_> = surfaces
         .iter()
@@ -88,12 +93,8 @@ pub fn far_parts(
     // Inside a body (in a closed piece of its surface: a shell's cavity too, behind its
     // wall), by winding numbers.
     let inside = |x: &Vector3<f64>| {
-        (0..objects.len()).any(|j| {
-            within(x, j, 0.0)
-                && pieces[j]
-                    .iter()
-                    .any(|piece| winding_number_of(x, piece, rest).abs() > 0.5)
-        })
+        (0..objects.len())
+            .any(|j| within(x, j, 0.0) && pieces[j].iter().any(|piece| piece.inside(x)))
     };
 
     // The outer skin quads, each with its part, and their nodes.
