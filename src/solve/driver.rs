@@ -252,8 +252,11 @@ impl Workspace {
         let start = has_objects.then(|| posed.clone());
         // A pose that skinning already puts deeper into a body than contact searches cannot be
         // solved in one step (that contact never finds the deepest skin): straight to steps.
-        let too_deep = start.is_some()
-            && moving.iter().any(|(h, _, to)| {
+        // (Judged once the flexion ahead has started: it is 24 ms of skinning and inside tests
+        // at the Power grasp's start.)
+        let deep = start.is_some();
+        let too_deep = |posed: &Posed| {
+            deep && moving.iter().any(|(h, _, to)| {
                 let hand = &posed.hands[*h];
                 posed_deeper_than(
                     model,
@@ -263,7 +266,8 @@ impl Workspace {
                     model.contact.search_depth,
                     posed.contact.as_deref(),
                 )
-            });
+            })
+        };
         // The hands' flexion over the keyframe, shared by both ways of solving its contact. A
         // part that skinning would crush over the whole keyframe is solved in each of its
         // increments, although no increment alone would crush it.
@@ -280,6 +284,7 @@ impl Workspace {
             }),
         );
         let Some(plan) = path.ahead_plan() else {
+            let too_deep = too_deep(posed);
             return self.move_along(
                 model,
                 posed,
@@ -330,6 +335,7 @@ impl Workspace {
                 caches
             });
             path.take_ahead(from_ahead);
+            let too_deep = too_deep(posed);
             let result = self.move_along(
                 model,
                 posed,
