@@ -9,6 +9,7 @@ use crate::mesh::Mesh;
 use std::sync::Arc;
 
 /// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
+#[derive(Clone)]
 pub(crate) struct SubProblem {
     /// Hand node of each local node.
     pub(crate) nodes: Vec<usize>,
