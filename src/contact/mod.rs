@@ -34,8 +34,5 @@ pub use point::{
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
 pub use self_contact::OwnNeighbourhood;
-pub use surface::{
-    connected_pieces, project_on_triangle, winding_number, winding_number_of, ContactSurface,
-    Projection, SurfaceBvh,
-};
-pub use winding::WindingTree;
+pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};
+pub use winding::{winding_number_of, WindingTree};

@@ -368,29 +368,6 @@ pub fn project_on_triangle(x: &Vector3<f64>, p: &[Vector3<f64>; 3]) -> Option<Pr
     })
 }
 
-/// Generalised winding number of the closed surface around `x` (≈ 1 inside, ≈ 0 outside), from
-/// the solid angles of its triangles (Van Oosterom–Strackee).
-pub fn winding_number(
-    x: &Vector3<f64>,
-    surface: &ContactSurface,
-    positions: &[Vector3<f64>],
-) -> f64 {
-    winding_number_of(x, &surface.triangles, positions)
-}
-
-/// [`winding_number`] of the closed surface made of `triangles`.
-pub fn winding_number_of(
-    x: &Vector3<f64>,
-    triangles: &[[usize; 3]],
-    positions: &[Vector3<f64>],
-) -> f64 {
-    let total: f64 = triangles
-        .iter()
-        .map(|t| super::winding::solid_angle(x, &t.map(|n| positions[n])))
-        .sum();
-    total / (4.0 * std::f64::consts::PI)
-}
-
 /// The closed pieces of a surface (a shell's outer and inner surfaces): its triangles grouped
 /// by the nodes they share.
 pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
@@ -497,20 +474,5 @@ mod tests {
         assert_eq!(e.weights, [0.5, 0.5, 0.0]);
         let v = project_on_triangle(&Vector3::new(2.0, -1.0, 0.3), &p).unwrap();
         assert_eq!(v.weights, [0.0, 1.0, 0.0]);
-    }
-
-    #[test]
-    fn winding_number_of_a_tetrahedron() {
-        let pos = vec![
-            Vector3::new(0.0, 0.0, 0.0),
-            Vector3::new(1.0, 0.0, 0.0),
-            Vector3::new(0.0, 1.0, 0.0),
-            Vector3::new(0.0, 0.0, 1.0),
-        ];
-        let s = ContactSurface::new(0, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], &pos);
-        let inside = winding_number(&Vector3::new(0.1, 0.1, 0.1), &s, &pos);
-        let outside = winding_number(&Vector3::new(1.0, 1.0, 1.0), &s, &pos);
-        assert!((inside - 1.0).abs() < 1e-12, "{inside}");
-        assert!(outside.abs() < 1e-12, "{outside}");
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! The winding number of a closed, outward-oriented surface at a point x is the sum of the solid
 //! angles its triangles subtend there over 4π: 1 inside, 0 outside, whatever the surface's pits
-//! and folds ([`super::winding_number_of`], exact, sums over every triangle). Summed over a
+//! and folds ([`winding_number_of`], exact, sums over every triangle). Summed over a
 //! hierarchy of the triangles instead (Barill, Dickson, Schmidt, Levin and Jacobson 2018, "Fast
 //! winding numbers for soups and clouds", to first order): a cluster of triangles whose
 //! bounding sphere (centre c, radius r) is seen from farther than [`FAR`]·r subtends about
@@ -142,8 +142,22 @@ impl WindingTree {
     }
 }
 
+/// The winding number at `x` of the closed surface made of `triangles` (indices into
+/// `positions`, oriented outward), summed exactly over every triangle: ≈ 1 inside, ≈ 0 outside.
+pub fn winding_number_of(
+    x: &Vector3<f64>,
+    triangles: &[[usize; 3]],
+    positions: &[Vector3<f64>],
+) -> f64 {
+    let total: f64 = triangles
+        .iter()
+        .map(|t| solid_angle(x, &t.map(|n| positions[n])))
+        .sum();
+    total / (4.0 * std::f64::consts::PI)
+}
+
 /// The signed solid angle the triangle `t` subtends at `x` (Van Oosterom and Strackee 1983).
-pub fn solid_angle(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> f64 {
+fn solid_angle(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> f64 {
     let a = t[0] - x;
     let b = t[1] - x;
     let c = t[2] - x;
@@ -156,7 +170,21 @@ pub fn solid_angle(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::winding_number_of;
+
+    #[test]
+    fn winding_number_of_a_tetrahedron() {
+        let pos = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(0.0, 0.0, 1.0),
+        ];
+        let t = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+        let inside = winding_number_of(&Vector3::new(0.1, 0.1, 0.1), &t, &pos);
+        let outside = winding_number_of(&Vector3::new(1.0, 1.0, 1.0), &t, &pos);
+        assert!((inside - 1.0).abs() < 1e-12, "{inside}");
+        assert!(outside.abs() < 1e-12, "{outside}");
+    }
 
     /// A UV sphere of radius 1 (`rings` × `segments`), outward, with its surface pushed in by
     /// `dent` around the +x pole (a pit).

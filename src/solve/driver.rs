@@ -299,17 +299,10 @@ impl Workspace {
             .iter()
             .map(|(h, _, _)| posed.hands[*h].body)
             .collect();
-        let mut ahead_caches = Vec::new();
-        self.caches.retain_mut(|c| {
-            let going = bodies.contains(&c.0);
-            if going {
-                ahead_caches.push((
-                    c.0,
-                    std::mem::replace(&mut c.1, FlexionCaches::new(model.ordering)),
-                ));
-            }
-            !going
-        });
+        let (ahead_caches, kept): (Vec<_>, Vec<_>) = std::mem::take(&mut self.caches)
+            .into_iter()
+            .partition(|(b, _)| bodies.contains(b));
+        self.caches = kept;
         let stop = Arc::new(AtomicBool::new(false));
         let check: CancelCheck = {
             let (stop, asked) = (stop.clone(), cancel.cloned());
@@ -319,17 +312,14 @@ impl Workspace {
             let (to_path, from_ahead) = std::sync::mpsc::channel();
             let worker = scope.spawn(move || {
                 let mut caches = ahead_caches;
-                let mut flex = |body: usize, mut state: HandState, angles: &[f64], parts: Parts| {
-                    let (far, region_at) = parts;
-                    let stats = flex_hand(
-                        model,
-                        &mut caches,
-                        (body, &mut state),
+                let mut flex = |body: usize, state: HandState, angles: &[f64], parts: Parts| {
+                    flex_hand(
+                        (model, &mut caches, Some(&check)),
+                        body,
+                        state,
                         angles,
-                        (far, Some(region_at)),
-                        Some(&check),
-                    )?;
-                    Ok((state, stats))
+                        parts,
+                    )
                 };
                 flex_ahead(plan, &mut flex, to_path);
                 caches
@@ -769,17 +759,14 @@ impl Workspace {
             .map(|h| h.frame.positions.clone())
             .collect();
         for (k, (h, _, _)) in moving.iter().enumerate() {
-            let mut flex = |body: usize, mut state: HandState, angles: &[f64], parts: Parts| {
-                let (far, region_at) = parts;
-                let stats = flex_hand(
-                    model,
-                    &mut self.caches,
-                    (body, &mut state),
+            let mut flex = |body: usize, state: HandState, angles: &[f64], parts: Parts| {
+                flex_hand(
+                    (model, &mut self.caches, cancel),
+                    body,
+                    state,
                     angles,
-                    (far, Some(region_at)),
-                    cancel,
-                )?;
-                Ok((state, stats))
+                    parts,
+                )
             };
             let state = path.state_at(model, k, f, &mut flex)?;
             let hand = &mut posed.hands[*h];
@@ -799,17 +786,20 @@ impl Workspace {
     }
 }
 
-/// Flexes hand body `b` from `state` to `target` with the parts `far` left to skinning and its
-/// FEM region chosen on the flesh at `region_at` (`None`: where it starts), with the flexion
-/// caches of `caches` (taken for the hand and put back).
+/// Flexes hand body `b` from `state` to `target` (a knot of [`FlexionPath`]: the parts `far`
+/// left to skinning, its FEM region chosen on the flesh at `region_at`), with the flexion caches
+/// of `caches` (taken for the hand and put back): the state reached and what it cost.
 fn flex_hand(
-    model: &Model,
-    caches: &mut Vec<(usize, FlexionCaches)>,
-    (b, state): (usize, &mut HandState),
+    (model, caches, cancel): (
+        &Model,
+        &mut Vec<(usize, FlexionCaches)>,
+        Option<&CancelCheck>,
+    ),
+    b: usize,
+    mut state: HandState,
     target: &[f64],
-    (far, region_at): ([bool; PARTS], Option<&[Vector3<f64>]>),
-    cancel: Option<&CancelCheck>,
-) -> Result<KeyframeStats, SimError> {
+    (far, region_at): Parts<'_>,
+) -> Result<(HandState, KeyframeStats), SimError> {
     let body = &model.bodies[b];
     let hand = body.hand.as_deref().expect("a hand body");
     let kept = match caches.iter().position(|(cb, _)| *cb == b) {
@@ -828,10 +818,10 @@ fn flex_hand(
         stepper = stepper.with_cancel(cancel.clone());
     }
     stepper.set_far_parts(far);
-    stepper.set_region_geometry(region_at.map(<[_]>::to_vec));
-    let result = stepper.move_to(state, target);
+    stepper.set_region_geometry(Some(region_at.to_vec()));
+    let result = stepper.move_to(&mut state, target);
     caches.push((b, stepper.into_caches()));
-    result
+    result.map(|stats| (state, stats))
 }
 
 /// The relaxation factor of the next correction at the pose by Aitken's Δ² on vectors (Irons
