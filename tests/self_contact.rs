@@ -494,6 +494,63 @@ fn an_unsettled_self_contact_says_where_and_its_advice_works() {
         solve_fist(&fist_scene(false, &fist_pose(1.0, None))).unwrap_or_else(|e| panic!("{e}"));
     let hand = &solved.report.frames.last().unwrap().hands["hand"];
     assert!(hand.volume_change.abs() < 0.015);
+    // Without self-contact the fist's skin passes into its own flesh, and the report says where
+    // (858 of 6 560 skin points measured, on every finger), none at rest.
+    let overlap = &hand.skin_overlap;
+    eprintln!("skin overlap {overlap:?}");
+    assert!(overlap.vertices > 300, "{overlap:?}");
+    assert_eq!(overlap.parts.values().sum::<usize>(), overlap.vertices);
+    for finger in ["index", "middle", "ring", "little"] {
+        assert!(
+            overlap.parts.get(finger).is_some_and(|&n| n > 20),
+            "{overlap:?}"
+        );
+    }
+    assert_eq!(
+        solved.report.frames[0].hands["hand"].skin_overlap.vertices,
+        0
+    );
+    let warning = solved
+        .report
+        .warnings
+        .iter()
+        .find(|w| w.contains("inside its own flesh"))
+        .unwrap_or_else(|| panic!("{:?}", solved.report.warnings));
+    assert!(
+        warning.starts_with("frame 1: the skin of hand \"hand\"")
+            && warning.contains(&format!("at {} skin points", overlap.vertices))
+            && warning.contains("self_contact = true"),
+        "{warning}"
+    );
+}
+
+/// The report's skin overlap (skin inside the hand's own flesh, by the closed skin's winding
+/// number, away from the webs where the digits' skins meet at rest): the index PIP flexed to
+/// 110° puts its crease's skin into the flesh, on the index only; the self-contact keeps less
+/// of it there.
+#[test]
+fn the_report_counts_the_skin_inside_its_own_flesh() {
+    let pose = "\"index.pip\" = 110";
+    let count = |self_contact: bool| {
+        let solved = solve_fist(&fist_scene(self_contact, pose)).unwrap_or_else(|e| panic!("{e}"));
+        let overlap = solved.report.frames[1].hands["hand"].skin_overlap.clone();
+        eprintln!("self-contact {self_contact}: {overlap:?}");
+        assert_eq!(
+            solved.report.frames[0].hands["hand"].skin_overlap.vertices,
+            0
+        );
+        assert_eq!(
+            overlap.parts.keys().collect::<Vec<_>>(),
+            ["index"],
+            "{overlap:?}"
+        );
+        overlap.vertices
+    };
+    let (free, held) = (count(false), count(true));
+    assert!(
+        free > 0 && held < free,
+        "{free} without, {held} with self-contact"
+    );
 }
 
 /// Flesh crushed in a crease with the self-contact on (the fist with the little finger's PIP

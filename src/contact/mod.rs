@@ -35,4 +35,4 @@ pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};
-pub use winding::{winding_number_of, WindingTree};
+pub use winding::{vertices_inside_itself, winding_number_of, WindingTree};

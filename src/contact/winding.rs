@@ -167,6 +167,42 @@ fn solid_angle(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> f64 {
     2.0 * num.atan2(den)
 }
 
+/// The vertices of a closed, outward-oriented surface that lie inside it — a surface passing
+/// through itself, as skin pressed into other flesh of the same body. Each vertex is looked at
+/// `off` outside its own side (along its normal, the mean of its triangles'; vertices with the
+/// same `joined` representative — coinciding where the surface is split along a seam — share
+/// one normal): there its own skin does not count, and the winding number is ≈ 1 only if other
+/// parts of the surface enclose it. Vertices on no triangle are never inside.
+pub fn vertices_inside_itself(
+    triangles: &[[usize; 3]],
+    positions: &[Vector3<f64>],
+    joined: &[usize],
+    off: f64,
+) -> Vec<usize> {
+    use rayon::prelude::*;
+    assert_eq!(
+        joined.len(),
+        positions.len(),
+        "one representative per vertex"
+    );
+    let mut normals = vec![Vector3::zeros(); positions.len()];
+    for t in triangles {
+        let n = (positions[t[1]] - positions[t[0]]).cross(&(positions[t[2]] - positions[t[0]]));
+        for &v in t {
+            normals[joined[v]] += n;
+        }
+    }
+    let tree = WindingTree::new(triangles, positions);
+    (0..positions.len())
+        .into_par_iter()
+        .filter(|&v| {
+            normals[joined[v]]
+                .try_normalize(0.0)
+                .is_some_and(|n| tree.inside(&(positions[v] + n * off)))
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -266,5 +302,44 @@ mod tests {
             WindingTree::new(&[], &p).winding_number(&Vector3::zeros()),
             0.0
         );
+    }
+
+    /// Two cubes of one surface: a unit cube and a second one of side `size` at `at` — half
+    /// into the first (one corner of each inside the other), wholly inside it (its eight
+    /// corners), apart (none): exactly those corners are found.
+    #[test]
+    fn the_vertices_of_a_surface_inside_itself() {
+        fn cube(p: &mut Vec<Vector3<f64>>, t: &mut Vec<[usize; 3]>, at: Vector3<f64>, size: f64) {
+            let o = p.len();
+            for i in 0..8 {
+                let corner = Vector3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64);
+                p.push(at + corner * size);
+            }
+            // Outward faces (corner bits x, y, z).
+            for f in [
+                [0, 2, 3, 1],
+                [4, 5, 7, 6],
+                [0, 1, 5, 4],
+                [2, 6, 7, 3],
+                [0, 4, 6, 2],
+                [1, 3, 7, 5],
+            ] {
+                t.push([o + f[0], o + f[1], o + f[2]]);
+                t.push([o + f[0], o + f[2], o + f[3]]);
+            }
+        }
+        for (shift, size, expected) in [
+            (Vector3::new(0.5, 0.25, 0.25), 1.0, vec![7, 8]),
+            (Vector3::new(0.25, 0.3, 0.2), 0.5, (8..16).collect()),
+            (Vector3::new(1.5, 0.25, 0.25), 1.0, vec![]),
+        ] {
+            let (mut p, mut t) = (Vec::new(), Vec::new());
+            cube(&mut p, &mut t, Vector3::zeros(), 1.0);
+            cube(&mut p, &mut t, shift, size);
+            let joined: Vec<usize> = (0..p.len()).collect();
+            let mut inside = vertices_inside_itself(&t, &p, &joined, 1e-3);
+            inside.sort_unstable();
+            assert_eq!(inside, expected, "shift {shift:?}");
+        }
     }
 }

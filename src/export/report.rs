@@ -311,6 +311,50 @@ pub struct HandReport {
     /// achieved, why not (docs/contact.md, "The gentlest grip").
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grasp: Option<crate::state::GraspOutcome>,
+    /// Where the skin has gone into the hand's own flesh (beyond where it already is at rest).
+    pub skin_overlap: SkinOverlap,
+}
+
+/// The contact skin's vertices inside the hand's own flesh in a frame (`model::skin_inside_flesh`),
+/// away from where the skins of neighbouring digits meet at rest (the webs,
+/// `model::skin_met_at_rest`): skin that passed through skin — a crease's two sides, a finger
+/// into its neighbour or the palm — where nothing kept it out (`[solver] self_contact` off, or
+/// the linear and nonlinear tiers, which do not carry it).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SkinOverlap {
+    /// How many vertices.
+    pub vertices: usize,
+    /// How many per part of the hand (the part of the bone leading the vertex's heaviest
+    /// node); parts with none left out.
+    pub parts: BTreeMap<String, usize>,
+}
+
+/// The skin overlap of `hand` with its flesh's nodes at `nodes`, leaving out the vertices
+/// flagged in `met_at_rest`.
+pub fn skin_overlap(
+    hand: &crate::hand::HandModel,
+    nodes: &[Vector3<f64>],
+    met_at_rest: &[bool],
+) -> SkinOverlap {
+    let mut out = SkinOverlap::default();
+    for v in crate::model::skin_inside_flesh(hand, nodes) {
+        if met_at_rest.get(v).copied().unwrap_or(false) {
+            continue;
+        }
+        let node = hand
+            .contact_skin
+            .terms(v)
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |a, (n, w)| if w > a.1 { (n, w) } else { a },
+            )
+            .0;
+        let bone = hand.weights.weights[node][0].0;
+        let part = crate::state::outcome::PARTS[crate::state::outcome::part_of_bone(hand, bone)];
+        *out.parts.entry(part.to_string()).or_default() += 1;
+        out.vertices += 1;
+    }
+    out
 }
 
 /// A force on one part of a hand (its contact, or its bones' reactions).
@@ -395,6 +439,7 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     realisable: h.overloads.is_empty(),
                     overloads: h.overloads.clone(),
                     grasp: h.grasp.clone(),
+                    skin_overlap: skin_overlap(hand, &h.positions, &body.skin_met_at_rest),
                 },
             )
         })

@@ -3,7 +3,7 @@
 use crate::export::gltf_animation::{animated_surfaces, animation_glb};
 use crate::export::hand_geometry::{bones_vtu, frame_obj, skin_vtu};
 use crate::export::output::OutputSet;
-use crate::export::report::{frame_report, model_summary, Report};
+use crate::export::report::{frame_report, model_summary, FrameReport, Report};
 use crate::export::vtu::{collection_pvd, frame_vtu};
 use crate::export::vtu_grid::VtuEncoding;
 use crate::model::Model;
@@ -56,6 +56,12 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
         file: file.to_string(),
         error: Box::new(source),
     })?;
+    let reports: Vec<_> = frames
+        .iter()
+        .zip(&times)
+        .enumerate()
+        .map(|(i, (f, &t))| frame_report(&model, f, i, t))
+        .collect();
     let report = Report {
         scene: file.to_string(),
         model: model_summary(&model),
@@ -64,13 +70,9 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
             .into_iter()
             .chain(small_strain_warnings(&model, &frames))
             .chain(keyframe_warnings(&model, &frames))
+            .chain(skin_overlap_warnings(&model, &reports))
             .collect(),
-        frames: frames
-            .iter()
-            .zip(&times)
-            .enumerate()
-            .map(|(i, (f, &t))| frame_report(&model, f, i, t))
-            .collect(),
+        frames: reports,
     };
     Ok(Solved {
         model,
@@ -134,4 +136,34 @@ pub fn write_solved_as(
     .map_err(|e| io(std::io::Error::other(format!("animation.glb: {e}"))))?;
     out.write("animation.glb", &glb).map_err(io)?;
     out.commit().map_err(io)
+}
+
+/// A warning for every frame whose hand's skin went into its own flesh, naming the parts and
+/// what keeps it out.
+fn skin_overlap_warnings(model: &Model, frames: &[FrameReport]) -> Vec<String> {
+    let held = model.flexion.self_contact.is_some();
+    let mut out = Vec::new();
+    for (i, frame) in frames.iter().enumerate() {
+        for (name, hand) in &frame.hands {
+            let o = &hand.skin_overlap;
+            if o.vertices == 0 {
+                continue;
+            }
+            let parts: Vec<String> = o.parts.iter().map(|(p, n)| format!("{p} {n}")).collect();
+            out.push(format!(
+                "frame {i}: the skin of hand \"{name}\" is inside its own flesh at {} skin \
+                 points ({}): {}; the bones' reactions miss that contact",
+                o.vertices,
+                parts.join(", "),
+                if held {
+                    "the self-contact does not reach it (the contact steps against other \
+                     bodies, and the nonlinear and linear tiers, do not carry it)"
+                } else {
+                    "nothing keeps it out ([solver] self_contact = true keeps the flexion's \
+                     skin out of itself, experimental: docs/hand.md)"
+                }
+            ));
+        }
+    }
+    out
 }

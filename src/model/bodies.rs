@@ -204,6 +204,10 @@ pub fn bodies(
                     Vec::new()
                 }
             },
+            skin_met_at_rest: hand
+                .as_deref()
+                .map(super::skin_met_at_rest)
+                .unwrap_or_default(),
             hand,
             initial_angles,
             floating: false,
