@@ -82,14 +82,7 @@ fn adducted(
 
 /// The digit (1 thumb … 5 little, 0 palm) whose bone leads skin vertex `v`'s heaviest node.
 fn digit_of_vertex(hand: &HandModel, v: usize) -> usize {
-    let node = hand
-        .contact_skin
-        .terms(v)
-        .fold(
-            (0, f64::NEG_INFINITY),
-            |a, (n, w)| if w > a.1 { (n, w) } else { a },
-        )
-        .0;
+    let node = hand.contact_skin.heaviest_node(v);
     let bone = hand.weights.weights[node][0].0;
     hand.skeleton.bones[bone].digit.map_or(0, |d| d + 1)
 }

@@ -341,14 +341,7 @@ pub fn skin_overlap(
         if met_at_rest.get(v).copied().unwrap_or(false) {
             continue;
         }
-        let node = hand
-            .contact_skin
-            .terms(v)
-            .fold(
-                (0, f64::NEG_INFINITY),
-                |a, (n, w)| if w > a.1 { (n, w) } else { a },
-            )
-            .0;
+        let node = hand.contact_skin.heaviest_node(v);
         let bone = hand.weights.weights[node][0].0;
         let part = crate::state::outcome::PARTS[crate::state::outcome::part_of_bone(hand, bone)];
         *out.parts.entry(part.to_string()).or_default() += 1;

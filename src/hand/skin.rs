@@ -268,6 +268,16 @@ impl DisplaySkin {
             .collect()
     }
 
+    /// The node weighing most in display vertex `v` (the first of equal weights).
+    pub fn heaviest_node(&self, v: usize) -> usize {
+        self.terms(v)
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |a, (n, w)| if w > a.1 { (n, w) } else { a },
+            )
+            .0
+    }
+
     /// Number of display vertices.
     pub fn vertex_count(&self) -> usize {
         self.offsets.len() - 1
