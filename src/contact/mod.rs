@@ -6,6 +6,7 @@
 //! an active set of Lagrange multipliers solved through a Schur complement that reuses the
 //! stiffness factorization, with Coulomb friction; the tactile map; and whether a grip's forces hold an object (`hold.rs`).
 
+mod along_surface;
 mod coulomb;
 mod embedded;
 mod exterior;
@@ -21,6 +22,7 @@ mod self_contact;
 mod surface;
 mod winding;
 
+pub use along_surface::SurfaceEdges;
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
 pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};

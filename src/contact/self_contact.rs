@@ -28,6 +28,7 @@
 //! contact problem ([`super::SurfacePair`] with its slaves on the surface they meet), solved by
 //! the same methods as contact between bodies.
 
+use super::along_surface::SurfaceEdges;
 use super::surface::{project_on_triangle, Projection};
 use nalgebra::Vector3;
 
@@ -136,67 +137,20 @@ impl OwnNeighbourhood {
 }
 
 /// For every point of the surface `triangles` at `positions`, the points within `radius` of it
-/// along the surface's edges (Dijkstra; points that coincide joined), sorted; empty for a point
-/// off the surface.
+/// along the surface's edges (points that coincide joined), sorted; empty for a point off the
+/// surface.
 fn geodesic_neighbourhoods(
     positions: &[Vector3<f64>],
     triangles: &[[usize; 3]],
     radius: f64,
 ) -> Vec<Vec<usize>> {
-    use std::cmp::Reverse;
-    use std::collections::{BinaryHeap, HashMap};
-    let mut edges: Vec<Vec<(usize, f64)>> = vec![Vec::new(); positions.len()];
-    for t in triangles {
-        for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            let length = (positions[a] - positions[b]).norm();
-            if !edges[a].iter().any(|e| e.0 == b) {
-                edges[a].push((b, length));
-                edges[b].push((a, length));
-            }
-        }
-    }
-    // Vertices that coincide at rest are one point of the skin (where the lattice splits a node
-    // between two digits, the skin's vertices are split too): joined at no length.
-    const SAME: f64 = 1e-6;
-    let mut on: Vec<usize> = (0..positions.len())
-        .filter(|&n| !edges[n].is_empty())
-        .collect();
-    on.sort_by(|&a, &b| positions[a].x.total_cmp(&positions[b].x));
-    for (i, &a) in on.iter().enumerate() {
-        for &b in &on[i + 1..] {
-            if positions[b].x - positions[a].x > SAME {
-                break;
-            }
-            if (positions[a] - positions[b]).norm() < SAME {
-                edges[a].push((b, 0.0));
-                edges[b].push((a, 0.0));
-            }
-        }
-    }
-    // Lengths as integer nanometres, for the heap's order.
-    let key = |d: f64| Reverse((d * 1e9) as u64);
+    let edges = SurfaceEdges::new(positions, triangles);
     (0..positions.len())
         .map(|start| {
-            if edges[start].is_empty() {
+            if !edges.on_surface(start) {
                 return Vec::new();
             }
-            let mut best: HashMap<usize, f64> = HashMap::from([(start, 0.0)]);
-            let mut heap = BinaryHeap::from([(key(0.0), start)]);
-            while let Some((Reverse(d), n)) = heap.pop() {
-                let d = d as f64 * 1e-9;
-                if d > best[&n] + 1e-12 {
-                    continue;
-                }
-                for &(m, length) in &edges[n] {
-                    let e = d + length;
-                    if e < radius && best.get(&m).is_none_or(|&b| e < b) {
-                        best.insert(m, e);
-                        heap.push((key(e), m));
-                    }
-                }
-            }
-            let mut near: Vec<usize> = best.into_keys().collect();
+            let mut near: Vec<usize> = edges.within(&[start], radius).into_keys().collect();
             near.sort_unstable();
             near
         })

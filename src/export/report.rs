@@ -315,11 +315,11 @@ pub struct HandReport {
     pub skin_overlap: SkinOverlap,
 }
 
-/// The contact skin's vertices inside the hand's own flesh in a frame (`model::skin_inside_flesh`),
-/// away from where the skins of neighbouring digits meet at rest (the webs,
-/// `model::skin_met_at_rest`): skin that passed through skin — a crease's two sides, a finger
-/// into its neighbour or the palm — where nothing kept it out (`[solver] self_contact` off, or
-/// the linear and nonlinear tiers, which do not carry it).
+/// The contact skin's vertices inside the hand's own flesh in a frame, away from where the skins
+/// of neighbouring digits meet at rest (the webs; `model::SkinOverlapCheck`): skin that passed
+/// through skin — a crease's two sides, a finger into its neighbour or the palm — where nothing
+/// kept it out (`[solver] self_contact` off, or the linear and nonlinear tiers, which do not
+/// carry it).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SkinOverlap {
     /// How many vertices.
@@ -329,25 +329,25 @@ pub struct SkinOverlap {
     pub parts: BTreeMap<String, usize>,
 }
 
-/// The skin overlap of `hand` with its flesh's nodes at `nodes`, leaving out the vertices
-/// flagged in `met_at_rest`.
+/// The skin overlap of `hand` with its flesh's nodes at `nodes`, by `check`, counted per part.
 pub fn skin_overlap(
     hand: &crate::hand::HandModel,
     nodes: &[Vector3<f64>],
-    met_at_rest: &[bool],
+    check: &crate::model::SkinOverlapCheck,
 ) -> SkinOverlap {
-    let mut out = SkinOverlap::default();
-    for v in crate::model::skin_inside_flesh(hand, nodes) {
-        if met_at_rest.get(v).copied().unwrap_or(false) {
-            continue;
-        }
-        let node = hand.contact_skin.heaviest_node(v);
-        let bone = hand.weights.weights[node][0].0;
-        let part = crate::state::outcome::PARTS[crate::state::outcome::part_of_bone(hand, bone)];
-        *out.parts.entry(part.to_string()).or_default() += 1;
-        out.vertices += 1;
+    use crate::state::outcome::{node_bone, part_of_bone, PARTS};
+    let inside = check.overlap(hand, nodes);
+    let mut parts = BTreeMap::new();
+    for &v in &inside {
+        let bone = node_bone(hand, hand.contact_skin.heaviest_node(v));
+        *parts
+            .entry(PARTS[part_of_bone(hand, bone)].to_string())
+            .or_default() += 1;
     }
-    out
+    SkinOverlap {
+        vertices: inside.len(),
+        parts,
+    }
 }
 
 /// A force on one part of a hand (its contact, or its bones' reactions).
@@ -432,7 +432,11 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     realisable: h.overloads.is_empty(),
                     overloads: h.overloads.clone(),
                     grasp: h.grasp.clone(),
-                    skin_overlap: skin_overlap(hand, &h.positions, &body.skin_met_at_rest),
+                    skin_overlap: body
+                        .skin_overlap
+                        .as_ref()
+                        .map(|c| skin_overlap(hand, &h.positions, c))
+                        .unwrap_or_default(),
                 },
             )
         })

@@ -204,10 +204,7 @@ pub fn bodies(
                     Vec::new()
                 }
             },
-            skin_met_at_rest: hand
-                .as_deref()
-                .map(super::skin_met_at_rest)
-                .unwrap_or_default(),
+            skin_overlap: hand.as_deref().map(super::SkinOverlapCheck::new),
             hand,
             initial_angles,
             floating: false,

@@ -32,7 +32,7 @@ pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSetti
 pub use gas::{GasCavity, STANDARD_AMBIENT};
 pub use grasp::{grasp_keyframe, ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};
 pub use refinement::DEFAULT_SIZE_OF_RADIUS;
-pub use skin_overlap::{skin_inside_flesh, skin_met_at_rest};
+pub use skin_overlap::SkinOverlapCheck;
 pub use tier::{Tier, STEP_WARNING_DEG};
 
 use crate::contact::{ContactSettings, Obstacle};
@@ -70,11 +70,9 @@ pub struct BodyModel {
     pub mass: f64,
     /// The hand, for a hand body (its flesh is this body's mesh).
     pub hand: Option<Arc<HandModel>>,
-    /// Where a hand's skins of neighbouring digits meet at rest (the webs: the built-in hand's
-    /// contact skin is inside its own flesh there at 43 vertices at resolution 1), a flag per
-    /// contact-skin vertex ([`skin_met_at_rest`]); empty for other bodies. A frame's skin
-    /// overlap counts the others.
-    pub skin_met_at_rest: Vec<bool>,
+    /// A hand's check for its skin inside its own flesh (from its rest geometry); `None` for
+    /// other bodies.
+    pub skin_overlap: Option<SkinOverlapCheck>,
     /// A hand's joint angles at time 0 (its `pose`), degrees; empty for other bodies.
     pub initial_angles: Vec<f64>,
     /// A hand's muscle force threshold of every bone, N; empty for other bodies.

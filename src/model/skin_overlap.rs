@@ -4,54 +4,13 @@
 //! palm, a crease's two sides through each other — and the bones' reactions then miss that
 //! contact; the report counts it per part so the animator sees where.
 
-use crate::contact::vertices_inside_itself;
+use crate::contact::{vertices_inside_itself, SurfaceEdges};
 use crate::hand::HandModel;
 use nalgebra::Vector3;
 
 /// How far outside its own side a skin vertex is looked at, m: far below the flesh's
 /// millimetres, far above rounding.
 const OFF_SIDE: f64 = 5e-5;
-
-/// Skin vertices this near each other at rest are one point of the skin, split where the
-/// lattice splits a node between two digits, m.
-const SAME: f64 = 1e-6;
-
-/// The contact skin's vertices of `hand` inside its flesh with the flesh's nodes at `nodes`,
-/// sorted.
-pub fn skin_inside_flesh(hand: &HandModel, nodes: &[Vector3<f64>]) -> Vec<usize> {
-    let skin = &hand.contact_skin;
-    let rest = skin.positions(&hand.flesh.mesh.nodes);
-    let positions = skin.positions(nodes);
-    let triangles: Vec<[usize; 3]> = skin
-        .triangles()
-        .into_iter()
-        .map(|t| t.map(|v| v as usize))
-        .collect();
-    let mut inside = vertices_inside_itself(&triangles, &positions, &seams(&rest), OFF_SIDE);
-    inside.sort_unstable();
-    inside
-}
-
-/// For each vertex, the first vertex coinciding with it at `rest` (itself if none).
-fn seams(rest: &[Vector3<f64>]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..rest.len()).collect();
-    order.sort_by(|&a, &b| rest[a].x.total_cmp(&rest[b].x).then(a.cmp(&b)));
-    let mut joined: Vec<usize> = (0..rest.len()).collect();
-    for (i, &a) in order.iter().enumerate() {
-        if joined[a] != a {
-            continue;
-        }
-        for &b in &order[i + 1..] {
-            if rest[b].x - rest[a].x > SAME {
-                break;
-            }
-            if (rest[a] - rest[b]).norm() < SAME {
-                joined[b] = a;
-            }
-        }
-    }
-    joined
-}
 
 /// Skin this near, along the skin, to skin inside the flesh at rest is where the skins of
 /// neighbouring digits meet (the webs), m: two base lattice spacings, the self-contact's
@@ -60,68 +19,57 @@ fn seams(rest: &[Vector3<f64>]) -> Vec<usize> {
 /// thumb's web and the fingers pressed together (docs/hand.md).
 const WEB: f64 = 2.0 * crate::hand::BASE_SPACING;
 
-/// Where the skins of `hand`'s neighbouring digits meet at rest: its contact-skin vertices
-/// inside the flesh at rest, and those within [`WEB`] of one along the skin — a flag per
-/// vertex. A frame's skin overlap leaves them out.
-pub fn skin_met_at_rest(hand: &HandModel) -> Vec<bool> {
-    along_skin_within(hand, &skin_inside_flesh(hand, &hand.flesh.mesh.nodes), WEB)
+/// What telling a hand's skin inside its own flesh needs from its rest geometry, built once
+/// with the model.
+#[derive(Clone, Debug)]
+pub struct SkinOverlapCheck {
+    /// The contact skin's triangles.
+    triangles: Vec<[usize; 3]>,
+    /// Each vertex's representative among those coinciding with it at rest (split seams).
+    joined: Vec<usize>,
+    /// Where the skins of neighbouring digits meet at rest: the vertices inside the flesh at
+    /// rest, and those within [`WEB`] of one along the skin (the built-in hand: 43 inside at
+    /// resolution 1, at the webs). Left out of a frame's overlap.
+    met_at_rest: Vec<bool>,
 }
 
-/// The contact skin's vertices of `hand` within `radius` along the skin (over its edges,
-/// coinciding vertices joined) of one in `sources`: a flag per vertex.
-fn along_skin_within(hand: &HandModel, sources: &[usize], radius: f64) -> Vec<bool> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let skin = &hand.contact_skin;
-    let rest = skin.positions(&hand.flesh.mesh.nodes);
-    let joined = seams(&rest);
-    let mut edges: Vec<Vec<(usize, f64)>> = vec![Vec::new(); rest.len()];
-    for t in skin.triangles() {
-        for i in 0..3 {
-            let (a, b) = (joined[t[i] as usize], joined[t[(i + 1) % 3] as usize]);
-            let length = (rest[a] - rest[b]).norm();
-            edges[a].push((b, length));
-            edges[b].push((a, length));
-        }
+impl SkinOverlapCheck {
+    /// The check for `hand`'s contact skin.
+    pub fn new(hand: &HandModel) -> SkinOverlapCheck {
+        let skin = &hand.contact_skin;
+        let rest = skin.positions(&hand.flesh.mesh.nodes);
+        let triangles: Vec<[usize; 3]> = skin
+            .triangles()
+            .into_iter()
+            .map(|t| t.map(|v| v as usize))
+            .collect();
+        let edges = SurfaceEdges::new(&rest, &triangles);
+        let mut check = SkinOverlapCheck {
+            triangles,
+            joined: edges.joined().to_vec(),
+            met_at_rest: Vec::new(),
+        };
+        let at_rest = check.inside_flesh(hand, &hand.flesh.mesh.nodes);
+        let near = edges.within(&at_rest, WEB);
+        // (A vertex coinciding with a near one is near: the seam is crossed at no length.)
+        check.met_at_rest = (0..rest.len()).map(|v| near.contains_key(&v)).collect();
+        check
     }
-    // Lengths as integer nanometres, for the heap's order.
-    let key = |d: f64| Reverse((d * 1e9) as u64);
-    let mut best = vec![f64::INFINITY; rest.len()];
-    let mut heap = BinaryHeap::new();
-    for &s in sources {
-        best[joined[s]] = 0.0;
-        heap.push((key(0.0), joined[s]));
-    }
-    while let Some((Reverse(d), n)) = heap.pop() {
-        let d = d as f64 * 1e-9;
-        if d > best[n] + 1e-12 {
-            continue;
-        }
-        for &(m, length) in &edges[n] {
-            let e = d + length;
-            if e < radius && e < best[m] {
-                best[m] = e;
-                heap.push((key(e), m));
-            }
-        }
-    }
-    (0..rest.len()).map(|v| best[joined[v]] < radius).collect()
-}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+    /// The contact skin's vertices of `hand` inside its flesh with the flesh's nodes at
+    /// `nodes`, sorted.
+    pub fn inside_flesh(&self, hand: &HandModel, nodes: &[Vector3<f64>]) -> Vec<usize> {
+        let positions = hand.contact_skin.positions(nodes);
+        let mut inside =
+            vertices_inside_itself(&self.triangles, &positions, &self.joined, OFF_SIDE);
+        inside.sort_unstable();
+        inside
+    }
 
-    #[test]
-    fn coinciding_vertices_are_joined_to_the_first() {
-        let p = |x: f64, y: f64| Vector3::new(x, y, 0.0);
-        let rest = vec![
-            p(1.0, 0.0),
-            p(0.0, 0.0),
-            p(1.0, 0.0),
-            p(1.0, 5e-7),
-            p(2.0, 0.0),
-        ];
-        assert_eq!(seams(&rest), vec![0, 1, 0, 0, 4]);
+    /// [`Self::inside_flesh`] away from where the digits' skins meet at rest.
+    pub fn overlap(&self, hand: &HandModel, nodes: &[Vector3<f64>]) -> Vec<usize> {
+        let mut inside = self.inside_flesh(hand, nodes);
+        inside.retain(|&v| !self.met_at_rest[v]);
+        inside
     }
 }
