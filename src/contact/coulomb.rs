@@ -23,6 +23,15 @@ use nalgebra::{DMatrix, DVector, Vector2};
 
 /// Newton steps before giving up.
 const MAX_STEPS: usize = 200;
+/// Tresca problems of the fixed point at most; Newton steps on each before it is solved by
+/// interior point instead (where Newton settles them, in 1–18 steps on the hand's grasps), and
+/// interior-point solves at most (≈ 2 s each for 300 contacts).
+const TRESCA_PROBLEMS: usize = 60;
+const TRESCA_STEPS: usize = 30;
+const TRESCA_INTERIOR_POINTS: usize = 2;
+/// Newton steps on Coulomb's law before turning to Tresca's fixed point (where it converges,
+/// Newton takes 2–46 steps on the hand's grasps).
+const FIRST_STEPS: usize = 60;
 /// What [`newton`] ends with.
 struct Newton {
     /// The multipliers λ.
@@ -47,12 +56,37 @@ const SWEEPS: usize = 3000;
 const TOLERANCE: f64 = 1e-11;
 
 /// Per contact, its slots and the scales r_n, r_t.
+#[derive(Clone, Copy)]
 struct Local {
     o: usize,
     k: usize,
     mu: f64,
     rn: f64,
     rt: f64,
+    /// A slip bound of its own (Tresca's law), instead of μ times the normal force.
+    bound: Option<f64>,
+}
+
+impl Local {
+    /// The contact whose rows start at slot `o` (`k`: 1, or 3 with friction μ): its scales are
+    /// the inverse of its normal compliance and of its largest tangential one.
+    fn new(g: &DMatrix<f64>, o: usize, k: usize, mu: f64) -> Local {
+        let rn = 1.0 / g[(o, o)].max(f64::MIN_POSITIVE);
+        let rt = if k == 3 {
+            let (a, b, d) = (g[(o + 1, o + 1)], g[(o + 1, o + 2)], g[(o + 2, o + 2)]);
+            1.0 / (0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt()).max(f64::MIN_POSITIVE)
+        } else {
+            0.0
+        };
+        Local {
+            o,
+            k,
+            mu,
+            rn,
+            rt,
+            bound: None,
+        }
+    }
 }
 
 /// The residual F(λ) of the Alart–Curnier equations, given w = G·λ + c.
@@ -65,7 +99,9 @@ fn residual(locals: &[Local], lambda: &[f64], w: &[f64]) -> Vec<f64> {
         if c.k == 3 {
             let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
             let st = lt - c.rt * Vector2::new(w[o + 1], w[o + 2]);
-            let radius = c.mu * sn.max(0.0);
+            let radius = c
+                .bound
+                .map_or(c.mu * sn.max(0.0), |b| if sn > 0.0 { b } else { 0.0 });
             let p = if st.norm() > radius {
                 st * (radius / st.norm())
             } else {
@@ -117,34 +153,27 @@ pub(super) fn settle_coulomb(
     let locals: Vec<Local> = rows
         .iter()
         .enumerate()
-        .map(|(r, row)| {
-            let o = offset[r];
-            let k = row.axes();
-            let rn = 1.0 / g[(o, o)].max(f64::MIN_POSITIVE);
-            let rt = if k == 3 {
-                let (a, b, d) = (g[(o + 1, o + 1)], g[(o + 1, o + 2)], g[(o + 2, o + 2)]);
-                1.0 / (0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt())
-                    .max(f64::MIN_POSITIVE)
-            } else {
-                0.0
-            };
-            Local {
-                o,
-                k,
-                mu: row.mu,
-                rn,
-                rt,
-            }
-        })
+        .map(|(r, row)| Local::new(&g, offset[r], row.axes(), row.mu))
         .collect();
-    let mut solved = newton(&g, &c, &locals, lambda)?;
+    let mut solved = newton(&g, &c, &locals, lambda, FIRST_STEPS)?;
     // Where Newton stalls (the hand's grasp with μ = 0.8: runs of 1/1024 steps, then a
-    // 2-cycle), block Gauss–Seidel sweeps on the same law, which creep but do not cycle, bring
-    // the multipliers near the solution; Newton then finishes from there.
+    // 2-cycle; the five-digit grasp with μ = 0.5: the stick and slip states of a few contacts
+    // switching back and forth), Coulomb's law as a sequence of Tresca problems, each with the
+    // slip bounds of the last normal forces, which settle in a few Newton steps each; Newton
+    // then finishes from there.
     if !solved.converged {
-        let swept = gauss_seidel(&g, &c, &locals, solved.lambda);
         let steps = solved.steps;
-        solved = newton(&g, &c, &locals, swept)?;
+        if let Some(fixed) = tresca_fixed_point(&g, &c, &locals, solved.lambda.clone()) {
+            solved = newton(&g, &c, &locals, fixed, MAX_STEPS)?;
+            solved.steps += steps;
+        }
+    }
+    // Where that fails too, block Gauss–Seidel sweeps on the same law, which creep but do not
+    // cycle, bring the multipliers near the solution; Newton then finishes from there.
+    if !solved.converged {
+        let swept = gauss_seidel(&g, &c, &locals, solved.lambda.clone());
+        let steps = solved.steps;
+        solved = newton(&g, &c, &locals, swept, MAX_STEPS)?;
         solved.steps += steps;
     }
     let Newton {
@@ -206,6 +235,7 @@ fn newton(
     c: &DVector<f64>,
     locals: &[Local],
     mut lambda: DVector<f64>,
+    max_steps: usize,
 ) -> Result<Newton, ContactError> {
     let n = lambda.len();
     let mut w = g * &lambda + c;
@@ -213,7 +243,7 @@ fn newton(
     let norm = max_abs;
     let mut converged = false;
     let mut steps = 0;
-    while steps < MAX_STEPS {
+    while steps < max_steps {
         let scale = lambda
             .amax()
             .max(c.amax() * locals.iter().map(|l| l.rn).fold(0.0, f64::max));
@@ -239,7 +269,9 @@ fn newton(
             }
             let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
             let st = lt - l.rt * Vector2::new(w[o + 1], w[o + 2]);
-            let radius = l.mu * sn.max(0.0);
+            let radius = l
+                .bound
+                .map_or(l.mu * sn.max(0.0), |b| if sn > 0.0 { b } else { 0.0 });
             if sn <= 0.0 {
                 jac[(o + 1, o + 1)] = 1.0;
                 jac[(o + 2, o + 2)] = 1.0;
@@ -261,7 +293,8 @@ fn newton(
                         if j == o + 1 { 1.0 } else { 0.0 } - l.rt * g[(o + 1, j)],
                         if j == o + 2 { 1.0 } else { 0.0 } - l.rt * g[(o + 2, j)],
                     );
-                    let d = -e * (l.mu * dsn) - m * dst * q;
+                    let dradius = if l.bound.is_some() { 0.0 } else { l.mu * dsn };
+                    let d = -e * dradius - m * dst * q;
                     jac[(o + 1, j)] = d.x + if j == o + 1 { 1.0 } else { 0.0 };
                     jac[(o + 2, j)] = d.y + if j == o + 2 { 1.0 } else { 0.0 };
                 }
@@ -300,6 +333,123 @@ fn newton(
         steps,
         converged,
     })
+}
+
+/// Fixed-point iterations of Tresca problems converging on Coulomb's law (Panagiotopoulos 1975;
+/// Acary and Brogliato 2008, §13): with the slip bound b_i = μ_i·λ_n,i of the last normal
+/// forces, min ½λᵀGλ + cᵀλ over λ_n ≥ 0 and |λ_t| ≤ b_i is convex (G is a compliance, positive
+/// semi-definite), and its optimality conditions are the contact law with that bound — gaps
+/// w_n = (Gλ + c)_n ≥ 0 complementary to λ_n, and slips w_t = −s·λ_t, s ≥ 0, only where
+/// |λ_t| = b_i. Each is solved by the semi-smooth Newton method on its Alart–Curnier equations
+/// (no coupling of the bound to the normal force: far better behaved), or where that fails by
+/// interior point (`clarabel`); the bound is then renewed, until the multipliers change by less
+/// than 10⁻⁸ of the largest (at most 60 problems). Returns the last multipliers, or `None` where
+/// a problem could not be solved.
+fn tresca_fixed_point(
+    g: &DMatrix<f64>,
+    c: &DVector<f64>,
+    locals: &[Local],
+    mut lambda: DVector<f64>,
+) -> Option<DVector<f64>> {
+    let mut bounded = locals.to_vec();
+    // The normal forces the bounds are taken from: the last multipliers, or, where the
+    // iteration stops contracting (a contact's normal force flipping between two values as its
+    // friction bound does), the mean of the last two.
+    let mut from = lambda.clone();
+    let mut last_change = f64::INFINITY;
+    let mut interior_points = 0;
+    for _ in 0..TRESCA_PROBLEMS {
+        for l in bounded.iter_mut().filter(|l| l.k == 3) {
+            l.bound = Some(l.mu * from[l.o].max(0.0));
+        }
+        let next = match newton(g, c, &bounded, lambda.clone(), TRESCA_STEPS) {
+            Ok(solved) if solved.converged => solved.lambda,
+            _ if interior_points < TRESCA_INTERIOR_POINTS => {
+                interior_points += 1;
+                tresca_by_interior_point(g, c, &bounded)?
+            }
+            _ => return None,
+        };
+        let change = (&next - &lambda).amax();
+        from = if change > 0.5 * last_change {
+            (&next + &lambda) * 0.5
+        } else {
+            next.clone()
+        };
+        last_change = change;
+        lambda = next;
+        if change <= 1e-8 * lambda.amax().max(f64::MIN_POSITIVE) {
+            return Some(lambda);
+        }
+    }
+    Some(lambda)
+}
+
+/// The Tresca problem of `locals` (each with its slip bound) as a convex quadratic programme
+/// over second-order cones, solved by interior point: `None` where it is not solved.
+fn tresca_by_interior_point(
+    g: &DMatrix<f64>,
+    c: &DVector<f64>,
+    locals: &[Local],
+) -> Option<DVector<f64>> {
+    use clarabel::algebra::CscMatrix;
+    use clarabel::solver::{
+        DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+    };
+    let n = c.len();
+    // Scaled to order one: the same minimiser.
+    let scale = g.amax().max(f64::MIN_POSITIVE);
+    let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..n {
+        for i in 0..=j {
+            if g[(i, j)] != 0.0 {
+                rows.push(i);
+                cols.push(j);
+                vals.push(g[(i, j)] / scale);
+            }
+        }
+    }
+    let p = CscMatrix::new_from_triplets(n, n, rows, cols, vals);
+    let q: Vec<f64> = c.iter().map(|v| v / scale).collect();
+    // s = b − A·λ: λ_n ≥ 0 for every contact, then (b_i, λ_t) in a Lorentz cone for each
+    // contact with friction.
+    let (mut rows, mut cols, mut vals) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, l) in locals.iter().enumerate() {
+        rows.push(k);
+        cols.push(l.o);
+        vals.push(-1.0);
+    }
+    let mut m = locals.len();
+    let mut b = vec![0.0; m];
+    let mut cones: Vec<SupportedConeT<f64>> = vec![SupportedConeT::NonnegativeConeT(m)];
+    for l in locals.iter().filter(|l| l.k == 3) {
+        b.extend([l.bound.unwrap_or(0.0), 0.0, 0.0]);
+        for a in 1..3 {
+            rows.push(m + a);
+            cols.push(l.o + a);
+            vals.push(-1.0);
+        }
+        cones.push(SupportedConeT::SecondOrderConeT(3));
+        m += 3;
+    }
+    let a = CscMatrix::new_from_triplets(m, n, rows, cols, vals);
+    let settings = DefaultSettings {
+        verbose: false,
+        tol_gap_abs: 1e-12,
+        tol_gap_rel: 1e-12,
+        tol_feas: 1e-12,
+        ..DefaultSettings::default()
+    };
+    let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, settings).ok()?;
+    solver.solve();
+    if !matches!(
+        solver.solution.status,
+        SolverStatus::Solved | SolverStatus::AlmostSolved
+    ) {
+        return None;
+    }
+    let x = DVector::from_column_slice(&solver.solution.x);
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// Block Gauss–Seidel on Coulomb's law from `lambda`: contact by contact, the normal multiplier
@@ -361,4 +511,115 @@ fn gauss_seidel(
         }
     }
     lambda
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Contacts of three rows each (friction μ) over the compliance `g`.
+    fn frictional(g: &DMatrix<f64>, mu: f64) -> Vec<Local> {
+        (0..g.nrows() / 3)
+            .map(|i| Local::new(g, 3 * i, 3, mu))
+            .collect()
+    }
+
+    /// Coulomb's law at λ with gaps and slips w = G·λ + c, to `tol` of the largest multiplier.
+    fn obeys_coulomb(g: &DMatrix<f64>, c: &DVector<f64>, locals: &[Local], lambda: &DVector<f64>) {
+        let w = g * lambda + c;
+        let tol = 1e-7 * lambda.amax();
+        let wtol = 1e-7 * c.amax();
+        for l in locals {
+            let (o, ln) = (l.o, lambda[l.o]);
+            assert!(ln >= -tol, "pull {ln}");
+            assert!(w[o] >= -wtol, "penetration {}", w[o]);
+            assert!(
+                ln.min(w[o] / g[(o, o)]) <= tol,
+                "λ_n {ln} with gap {}",
+                w[o]
+            );
+            let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
+            let wt = Vector2::new(w[o + 1], w[o + 2]);
+            assert!(
+                lt.norm() <= l.mu * ln + tol,
+                "outside the cone: {} > {}",
+                lt.norm(),
+                l.mu * ln
+            );
+            if lt.norm() < l.mu * ln - tol {
+                assert!(wt.norm() <= wtol, "slips {} inside the cone", wt.norm());
+            } else if wt.norm() > wtol && ln > tol {
+                // Slips against its friction force: w_t = −s·λ_t, s ≥ 0.
+                let cos = wt.dot(&lt) / (wt.norm() * lt.norm());
+                assert!(
+                    cos <= -(1.0 - 1e-6),
+                    "slips at cos {cos} to its friction force (|w_t| {}, |λ_t| {}, μλ_n {})",
+                    wt.norm(),
+                    lt.norm(),
+                    l.mu * ln
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn one_contact_sticks_or_slips_as_the_closed_form_says() {
+        // Compliances 2e-4 m/N normal, 5e-4 m/N tangential; 1 mm pressed in, so λ_n = 5 N,
+        // and a tangential offset of s: it sticks (λ_t = s / 5e-4) while that is ≤ μ·λ_n.
+        let g = DMatrix::from_diagonal(&DVector::from_vec(vec![2e-4, 5e-4, 5e-4]));
+        let mu = 0.5;
+        for (s, sticks) in [(0.5e-3, true), (2.0e-3, false)] {
+            let c = DVector::from_vec(vec![-1e-3, s, 0.0]);
+            let locals = frictional(&g, mu);
+            let lambda = tresca_fixed_point(&g, &c, &locals, DVector::zeros(3)).unwrap();
+            assert!((lambda[0] - 5.0).abs() < 1e-6, "λ_n {}", lambda[0]);
+            let expected = if sticks { -s / 5e-4 } else { -mu * 5.0 };
+            assert!(
+                (lambda[1] - expected).abs() < 1e-6,
+                "λ_t {} against {expected}",
+                lambda[1]
+            );
+            assert!(lambda[2].abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn the_tresca_fixed_point_meets_coulombs_law_where_newton_does() {
+        // Twelve coupled contacts (G = A·Aᵀ + small diagonal, positive definite), some pressed
+        // in, some apart, with tangential offsets: both solvers satisfy the law, and agree.
+        let n = 36;
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let a = DMatrix::from_fn(n, n + 6, |_, _| next() * 1e-2);
+        let g = &a * a.transpose() + DMatrix::identity(n, n) * 1e-5;
+        let c = DVector::from_fn(n, |i, _| {
+            if i % 3 == 0 {
+                if i % 9 == 0 {
+                    4e-4
+                } else {
+                    -1e-3 * (1.0 + next())
+                }
+            } else {
+                next() * 2e-3
+            }
+        });
+        for mu in [0.2, 0.5, 1.0] {
+            let locals = frictional(&g, mu);
+            let fixed = tresca_fixed_point(&g, &c, &locals, DVector::zeros(n)).unwrap();
+            obeys_coulomb(&g, &c, &locals, &fixed);
+            let polished = newton(&g, &c, &locals, fixed.clone(), MAX_STEPS).unwrap();
+            assert!(polished.converged, "μ = {mu}: Newton from the fixed point");
+            obeys_coulomb(&g, &c, &locals, &polished.lambda);
+            let diff = (&polished.lambda - &fixed).amax() / fixed.amax();
+            assert!(
+                diff < 1e-6,
+                "μ = {mu}: the fixed point is {diff} off Newton's"
+            );
+        }
+    }
 }

@@ -12,7 +12,9 @@
 //!
 //! K11⁻¹·C_jᵀ is one substitution with the existing factor per constraint row (no
 //! refactorization). Friction adds two tangential rows per contact: sticking contacts hold the
-//! node's tangential position relative to the facet from the moment it touched; a contact whose
+//! node's tangential position relative to the facet — from where the step started for a node
+//! held at the step before (the slip of a step is its increment: incremental Coulomb friction),
+//! from the moment it touched for a node new to the contact; a contact whose
 //! tangential multiplier exceeds μ·λ_n slips, and its tangential force becomes μ·λ_n against the
 //! sliding (the column of its normal multiplier takes the friction along, which makes the
 //! system unsymmetric: it is solved by LU). Nodes that penetrate join the set, contacts whose
@@ -126,7 +128,15 @@ pub fn solve_lagrange(
             if joins(&pool[i], gaps[i]) {
                 gaps.swap_remove(i);
                 let mut row = pool.swap_remove(i);
-                row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
+                // A node held at the step before sticks where the step started (U = 0, as the
+                // row was made); measured from where this iteration's U has it instead — the
+                // bodies already sprung back along the surface without the contact — its
+                // friction did not hold it where it was, and the corrections at a pose swung
+                // by 10 % without settling (the Power grasp with μ = 0.5,
+                // tests/friction_grasp.rs).
+                if problem.held_before.binary_search(&row.node).is_err() {
+                    row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
+                }
                 fresh.push(row);
             } else {
                 i += 1;
@@ -174,7 +184,10 @@ pub fn solve_lagrange(
                     pool.retain(|r| r.key() != key);
                     let mu = (problem.friction)(p.node, &p.master);
                     let mut row = Row::new(&p, problem, &u, mu);
-                    row.reference = Vector2::new(row.apply(1, &u), row.apply(2, &u));
+                    // (Held at the step before: from where the step started, as above.)
+                    if problem.held_before.binary_search(&p.node).is_ok() {
+                        row.reference = Vector2::zeros();
+                    }
                     fresh.push(row);
                 }
             }
