@@ -71,6 +71,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
             .chain(small_strain_warnings(&model, &frames))
             .chain(keyframe_warnings(&model, &frames))
             .chain(skin_overlap_warnings(&model, &reports))
+            .chain(preshape_grip_warnings(&reports))
             .collect(),
         frames: reports,
     };
@@ -136,6 +137,27 @@ pub fn write_solved_as(
     .map_err(|e| io(std::io::Error::other(format!("animation.glb: {e}"))))?;
     out.write("animation.glb", &glb).map_err(io)?;
     out.commit().map_err(io)
+}
+
+/// A warning for every grasp keyframe whose preshape already presses the object: the hand is
+/// posed into it before any digit closes, and no grip along the synergies is gentler.
+fn preshape_grip_warnings(frames: &[FrameReport]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, frame) in frames.iter().enumerate() {
+        for (name, hand) in &frame.hands {
+            let Some(g) = hand.grasp.as_ref().filter(|g| g.preshape_grip > 0.0) else {
+                continue;
+            };
+            out.push(format!(
+                "frame {i}: the preshape \"{}\" of hand \"{name}\" already presses \"{}\" with \
+                 {:.3} N before any digit closes (the open hand is posed into it): no grip along \
+                 the synergies is gentler, and the grip found ({:.3} N) is not the gentlest that \
+                 holds; move the object out of the open hand, or the hand away from it",
+                g.preshape, g.object, g.preshape_grip, g.grip,
+            ));
+        }
+    }
+    out
 }
 
 /// A warning for every frame whose hand's skin went into its own flesh, naming the parts and

@@ -11,7 +11,9 @@
 //!    the last pose solved: the grip tightens monotonically). θ doubles from 1° until the grip
 //!    holds the object as asked, then the last interval is bisected down to a quarter of a
 //!    degree, or until the hold is met within 10 %: the least closing that holds, the least
-//!    effort of the muscles along the synergy.
+//!    effort of the muscles along the synergy. Where the grip at first contact already passes
+//!    what is asked by more than that (the FEM's flesh meets the object before the skin the
+//!    bones carry does), the interval from the preshape (θ < 0) to first contact is bisected.
 //! 4. It holds when the contact forces on the object, taken as a rigid body with nothing else
 //!    holding it, can balance its weight with friction to spare by the margin
 //!    (`contact::hold_margin`), or press it with the grip force asked. A bone past its
@@ -115,7 +117,7 @@ impl Workspace {
             let mut angles = key.angles.clone();
             for (((_, joints), s), span) in grasp.digits.iter().zip(&first).zip(&spans) {
                 let s = match s {
-                    Some(s) if *span > 0.0 => (s + theta / span).min(1.0),
+                    Some(s) if *span > 0.0 => (s + theta / span).clamp(0.0, 1.0),
                     _ => 1.0,
                 };
                 for j in joints {
@@ -136,6 +138,12 @@ impl Workspace {
             .iter()
             .zip(&spans)
             .filter_map(|(s, span)| s.map(|s| (1.0 - s) * span))
+            .fold(0.0, f64::max);
+        // Back to the preshape: the closing at which every touching digit is open again.
+        let theta_open = -first
+            .iter()
+            .zip(&spans)
+            .filter_map(|(s, span)| s.map(|s| s * span))
             .fold(0.0, f64::max);
 
         let count = std::cell::Cell::new(0);
@@ -180,16 +188,26 @@ impl Workspace {
                 .and_then(|h| h.overloads.first().cloned())
         };
 
-        // The grip at first contact.
-        let start = Trial {
-            theta: 0.0,
-            frame: preshape,
-            posed: posed.clone(),
-            grip: 0.0,
-            margin: 0.0,
+        // The preshape (every touching digit open: θ at its most negative) and what it grips.
+        let start = {
+            let g = grip(model, &preshape, body, grasp.object);
+            let margin = match grasp.hold {
+                HoldTarget::Gravity { weight } if g.normal_force > 0.0 => {
+                    g.margin(&weight, model.bodies[grasp.object].size)
+                }
+                _ => 0.0,
+            };
+            Trial {
+                theta: theta_open,
+                frame: preshape,
+                posed: posed.clone(),
+                grip: g.normal_force,
+                margin,
+            }
         };
+        let preshape_grip = start.grip;
         let mut lo = if touching.is_empty() {
-            start
+            start.clone()
         } else {
             match solve(self, &start.posed, 0.0) {
                 Ok(t) => t,
@@ -201,7 +219,7 @@ impl Workspace {
                         (body, grasp),
                         start,
                         &touching,
-                        (count.get(), search.take()),
+                        (count.get(), search.take(), preshape_grip),
                         Some(format!(
                             "the digits could not be closed to their first contact: {e}"
                         )),
@@ -210,7 +228,7 @@ impl Workspace {
             }
         };
         if touching.is_empty() {
-            return Ok(self.finish(model, posed, (body, grasp), lo, &touching, (count.get(), search.take()), Some(
+            return Ok(self.finish(model, posed, (body, grasp), lo, &touching, (count.get(), search.take(), preshape_grip), Some(
                 "no digit reaches the object along its synergy: move the object into the hand, \
                  or the hand to it".into(),
             )));
@@ -231,7 +249,7 @@ impl Workspace {
                 (body, grasp),
                 lo,
                 &touching,
-                (count.get(), search.take()),
+                (count.get(), search.take(), preshape_grip),
                 Some(reason),
             ));
         }
@@ -263,6 +281,18 @@ impl Workspace {
         };
         if holds(&lo) {
             hi = Some(lo.clone());
+            // First contact is found on the skin the bones carry; the flesh's FEM can press
+            // harder there already (the pinch preshape's thumb: 13.5 N where 3 N were asked).
+            // Then the search bisects back towards the preshape (θ < 0), which touches nothing.
+            // Where the preshape itself holds (posed into the object), nothing along the
+            // synergies is gentler: it is the grip.
+            if !close_enough(&lo) && theta_open < 0.0 {
+                if holds(&start) {
+                    hi = Some(start.clone());
+                } else {
+                    lo = start.clone();
+                }
+            }
         }
         // Bracket: double θ until the grip holds or a bone gives out.
         let mut theta = FIRST_THETA;
@@ -316,7 +346,7 @@ impl Workspace {
                 (body, grasp),
                 hi,
                 &touching,
-                (count.get(), search.take()),
+                (count.get(), search.take(), preshape_grip),
                 None,
             ));
         }
@@ -335,7 +365,7 @@ impl Workspace {
             (body, grasp),
             best,
             &touching,
-            (count.get(), search.take()),
+            (count.get(), search.take(), preshape_grip),
             Some(reason),
         ))
     }
@@ -349,7 +379,7 @@ impl Workspace {
         (hand, grasp): (usize, &GraspModel),
         trial: Trial,
         touching: &[String],
-        (trials, search): (usize, Vec<GripTrial>),
+        (trials, search, preshape_grip): (usize, Vec<GripTrial>, f64),
         reason: Option<String>,
     ) -> Frame {
         let Trial {
@@ -392,6 +422,7 @@ impl Workspace {
                     HoldTarget::Gravity { .. } => None,
                 },
                 closing_deg: theta,
+                preshape_grip,
                 digits_touching: touching.to_vec(),
                 trials,
                 search,

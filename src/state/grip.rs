@@ -33,8 +33,11 @@ pub struct GraspOutcome {
     /// The grip force asked for, N (a force hold).
     pub force_target: Option<f64>,
     /// How far the touching digits closed past their first contact, degrees of each synergy's
-    /// largest joint.
+    /// largest joint (negative: short of it, back towards the preshape).
     pub closing_deg: f64,
+    /// The hand's normal force on the object in the preshape, before any closing, N: more than
+    /// zero where the preshape is posed into the object.
+    pub preshape_grip: f64,
     /// The digits that touch the object in the pose found.
     pub digits_touching: Vec<String>,
     /// Poses solved by FEM in the search.
@@ -118,7 +121,8 @@ pub fn grip(model: &Model, frame: &Frame, hand: usize, object: usize) -> Grip {
             }
         }
     }
-    let normal_force = contacts.iter().map(|c| c.normal_force).sum();
+    // (+ 0: an empty sum is −0.)
+    let normal_force = contacts.iter().map(|c| c.normal_force).sum::<f64>() + 0.0;
     Grip {
         contacts,
         normal_force,
