@@ -591,10 +591,22 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
         (None, None) => format!("grip {:.2} N", g.grip),
     };
     let head = if g.held { "held" } else { "not held" };
+    let closing = if g.closing_deg < 0.0 {
+        format!("{:.1}° short of first contact", -g.closing_deg)
+    } else {
+        format!("{:.1}° past first contact", g.closing_deg)
+    };
     let mut line = format!(
-        "{head} \"{}\" ({}): {how}, {:.1}° past first contact, {} poses solved",
-        g.object, g.preshape, g.closing_deg, g.trials
+        "{head} \"{}\" ({}): {how}, {closing}, {} poses solved",
+        g.object, g.preshape, g.trials
     );
+    if g.preshape_grip > 0.0 {
+        line.push_str(&format!(
+            " — the open hand already presses it with {:.2} N in the preshape: nothing gentler \
+             along the synergies; move the object out of the open hand",
+            g.preshape_grip
+        ));
+    }
     if let Some(r) = &g.reason {
         line.push_str(" — ");
         line.push_str(r);
@@ -604,4 +616,43 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
         }
     }
     line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::grasp_summary;
+    use crate::state::GraspOutcome;
+
+    #[test]
+    fn a_grasp_short_of_first_contact_and_a_preshape_into_the_object_are_told() {
+        let mut g = GraspOutcome {
+            object: "ball".into(),
+            preshape: "pinch".into(),
+            held: true,
+            pose: Default::default(),
+            preshape_pose: Default::default(),
+            margin: 0.0,
+            margin_target: None,
+            grip: 13.376,
+            force_target: Some(3.0),
+            closing_deg: -13.78,
+            preshape_grip: 13.376,
+            digits_touching: vec!["thumb".into()],
+            trials: 1,
+            search: Vec::new(),
+            reason: None,
+        };
+        let line = grasp_summary(&g);
+        assert!(line.starts_with("held \"ball\" (pinch): grip 13.38 N of 3 N asked, 13.8° short of first contact, 1 poses solved"), "{line}");
+        assert!(
+            line.contains("already presses it with 13.38 N in the preshape"),
+            "{line}"
+        );
+        (g.closing_deg, g.preshape_grip) = (2.5, 0.0);
+        let line = grasp_summary(&g);
+        assert!(
+            line.contains("2.5° past first contact") && !line.contains("preshape:"),
+            "{line}"
+        );
+    }
 }
