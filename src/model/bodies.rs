@@ -12,9 +12,45 @@ use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::Material;
 use crate::hand::{HandModel, HandSize};
 use crate::mesh::{boundary_facets, Facet, Mesh};
-use crate::scene::{HandSizeDef, Scene, Shape};
+use crate::scene::{HandSizeDef, Placement, Scene, Shape};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::path::Path;
 use std::sync::Arc;
+
+/// Farthest a placement may move a hand, m (a scene is a few metres across; beyond this the
+/// coordinates lose the precision the contact needs).
+const MAX_PLACEMENT: f64 = 1.0e3;
+
+/// The rigid motion `placement` gives the built-in hand (built in its own frame: x from the
+/// wrist to the finger tips, y to the thumb of a right hand, z dorsal): turned (Euler angles in
+/// degrees, about x, then y, then z, as an imported rig's) and moved. Its size is `size`'s.
+fn builtin_placement(placement: &Placement) -> Result<Isometry3<f64>, String> {
+    if placement.scale != 1.0 {
+        return Err(format!(
+            "the built-in hand is sized by `size` (an ANSUR II percentile, or {{ length, breadth }} \
+             in metres), not `placement.scale` ({})",
+            placement.scale
+        ));
+    }
+    let t = placement.translation;
+    if !t.iter().all(|x| x.is_finite() && x.abs() <= MAX_PLACEMENT) {
+        return Err(format!(
+            "`placement.translation` must be finite and within {MAX_PLACEMENT} m of the origin, \
+             got {t:?}"
+        ));
+    }
+    let r = placement.rotation;
+    if !r.iter().all(|x| x.is_finite()) {
+        return Err(format!(
+            "`placement.rotation` must be finite angles in degrees, got {r:?}"
+        ));
+    }
+    let [rx, ry, rz] = r.map(f64::to_radians);
+    Ok(Isometry3::from_parts(
+        Translation3::from(Vector3::from(t)),
+        UnitQuaternion::from_euler_angles(rx, ry, rz),
+    ))
+}
 
 /// All bodies meshed one after the other.
 pub struct Bodies {
@@ -58,14 +94,19 @@ pub fn bodies(
                 size,
             } => {
                 let field = format!("{field}.shape.hand");
-                if bones.is_some() || placement.is_some() {
+                if bones.is_some() {
                     return Err((
                         field,
-                        "`bones` and `placement` are for a hand read from `gltf`; the built-in \
-                         hand's joints are its own and it is sized by `size`"
+                        "`bones` is for a hand read from `gltf`; the built-in hand's joints are \
+                         its own"
                             .into(),
                     ));
                 }
+                let motion = placement
+                    .as_ref()
+                    .map(builtin_placement)
+                    .transpose()
+                    .map_err(|e| (format!("{field}.placement"), e))?;
                 let built = match size {
                     None => HandModel::new_within((*side).into(), *resolution, memory.0),
                     Some(size) => HandModel::sized(
@@ -75,7 +116,11 @@ pub fn bodies(
                         memory.0,
                     ),
                 };
-                Some(Arc::new(built.map_err(|e| (field, e.to_string()))?))
+                let built = built.map_err(|e| (field, e.to_string()))?;
+                Some(Arc::new(match motion {
+                    Some(motion) => built.placed(&motion),
+                    None => built,
+                }))
             }
             Shape::Hand {
                 size: Some(_),

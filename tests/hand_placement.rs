@@ -1,0 +1,81 @@
+//! The built-in hand placed in the scene (`placement = { translation, rotation }`): built in its
+//! own frame, then moved rigidly. Elasticity is objective, so a placed hand flexed as the
+//! unplaced one is the same solution moved: every flesh node at R·p + t, every bone reaction
+//! turned by R, the flesh volume unchanged.
+
+use nalgebra::{Rotation3, Vector3};
+use prehensile::headless::solve_scene;
+use prehensile::scene::Scene;
+
+fn scene(placement: &str) -> String {
+    format!(
+        r#"
+[[material]]
+name = "flesh"
+young = 5.0e4
+poisson = 0.45
+
+[[body]]
+name = "hand"
+material = "flesh"
+shape = {{ hand = {{ side = "left", resolution = 0.75{placement} }} }}
+
+[[keyframe]]
+time = 1.0
+pose = {{ "index.pip" = 60.0, "middle.mcp.flex" = 30.0, "thumb.cmc.abd" = 30.0 }}
+"#
+    )
+}
+
+#[test]
+fn a_placed_hand_is_the_same_solution_moved() {
+    let solve = |text: &str| {
+        let scene = Scene::parse(text, "placed.toml").unwrap();
+        solve_scene(&scene, "placed.toml").unwrap_or_else(|e| panic!("{e}"))
+    };
+    let at_origin = solve(&scene(""));
+    let (t, angles) = ([0.12, -0.3, 0.05], [30.0_f64, -45.0, 120.0]);
+    let placed = solve(&scene(&format!(
+        ", placement = {{ translation = {t:?}, rotation = {angles:?} }}"
+    )));
+    let [rx, ry, rz] = angles.map(f64::to_radians);
+    let r = Rotation3::from_euler_angles(rx, ry, rz);
+    let t = Vector3::from(t);
+    assert_eq!(at_origin.frames.len(), 2);
+    for (i, (a, b)) in at_origin.frames.iter().zip(&placed.frames).enumerate() {
+        let (a, b) = (&a.hands[0], &b.hands[0]);
+        let mut worst: f64 = 0.0;
+        for (p, q) in a.positions.iter().zip(&b.positions) {
+            worst = worst.max((r * p + t - q).norm());
+        }
+        assert!(worst < 1e-9, "a flesh node is {worst} m off R·p + t");
+        let largest = a
+            .bone_reactions
+            .iter()
+            .map(|f| f.norm())
+            .fold(0.0, f64::max);
+        assert!(
+            i == 0 || largest > 0.01,
+            "the flexion loads the bones: {largest} N"
+        );
+        for (f, g) in a.bone_reactions.iter().zip(&b.bone_reactions) {
+            assert!(
+                (r * f - g).norm() <= 1e-6 * largest,
+                "bone reaction {g} against R·{f}"
+            );
+        }
+        assert!((a.volume - b.volume).abs() <= 1e-9 * a.volume);
+    }
+}
+
+#[test]
+fn a_built_in_hand_is_sized_by_size_not_by_a_placements_scale() {
+    let text = scene(", placement = { scale = 2.0 }");
+    let scene = Scene::parse(&text, "placed.toml").unwrap();
+    let e = solve_scene(&scene, "placed.toml").err().expect("refused");
+    let e = format!("{e}");
+    assert!(
+        e.contains("shape.hand.placement") && e.contains("sized by `size`"),
+        "{e}"
+    );
+}
