@@ -79,3 +79,74 @@ fn a_built_in_hand_is_sized_by_size_not_by_a_placements_scale() {
         "{e}"
     );
 }
+
+/// Two hands: the contact is solved between a hand and the other bodies, not between hands, so
+/// the report counts the skin of each inside the other and warns. A hand moved 4 mm dorsally
+/// has its palmar skin inside its twin, which has its dorsal skin inside it (the skin of the
+/// sides runs along the other's and may count or not); one 0.5 m away is in none.
+#[test]
+fn two_hands_inside_each_other_are_counted_and_warned_of() {
+    let text = |at: [f64; 3]| {
+        format!(
+            r#"
+[[material]]
+name = "flesh"
+young = 5.0e4
+poisson = 0.45
+
+[[body]]
+name = "one"
+material = "flesh"
+shape = {{ hand = {{ side = "right", resolution = 0.5 }} }}
+
+[[body]]
+name = "two"
+material = "flesh"
+shape = {{ hand = {{ side = "right", resolution = 0.5, placement = {{ translation = {at:?} }} }} }}
+"#
+        )
+    };
+    let solve = |text: &str| {
+        let scene = Scene::parse(text, "two.toml").unwrap();
+        solve_scene(&scene, "two.toml").unwrap_or_else(|e| panic!("{e}"))
+    };
+    let near = solve(&text([0.0, 0.0, 0.004]));
+    let skin = near.model.bodies[0]
+        .hand
+        .as_deref()
+        .unwrap()
+        .contact_skin
+        .vertex_count();
+    let hands = &near.report.frames[0].hands;
+    let (one, two) = (
+        hands["one"].skin_overlap.other_hands["two"],
+        hands["two"].skin_overlap.other_hands["one"],
+    );
+    println!("{one} and {two} of {skin} skin points");
+    assert!(one > skin / 4 && two > skin / 4, "{one}, {two} of {skin}");
+    assert!(
+        one + two < skin,
+        "{one}, {two} of {skin}: skin inside on both sides"
+    );
+    assert!(!hands["one"].skin_overlap.other_hands.contains_key("one"));
+    let warned = |w: &String| {
+        w.contains(&format!(
+            "hand \"one\" is inside hand \"two\" at {one} skin points"
+        ))
+    };
+    assert!(
+        near.report.warnings.iter().any(warned),
+        "{:?}",
+        near.report.warnings
+    );
+
+    let far = solve(&text([0.0, 0.5, 0.0]));
+    for hand in far.report.frames[0].hands.values() {
+        assert!(hand.skin_overlap.other_hands.is_empty());
+    }
+    assert!(!far
+        .report
+        .warnings
+        .iter()
+        .any(|w| w.contains("is inside hand")));
+}

@@ -327,6 +327,48 @@ pub struct SkinOverlap {
     /// How many per part of the hand (the part of the bone leading the vertex's heaviest
     /// node); parts with none left out.
     pub parts: BTreeMap<String, usize>,
+    /// The contact skin's vertices inside another hand's flesh, by that hand's name (hands
+    /// with none left out): the solver's contact is between a hand and the other bodies, not
+    /// between two hands, so nothing keeps two hands out of each other.
+    pub other_hands: BTreeMap<String, usize>,
+}
+
+/// For each hand of `frame` (by body), how many of its contact skin's vertices lie inside each
+/// other hand's closed contact skin (by winding number; name → count, none left out).
+fn inside_other_hands(model: &Model, frame: &Frame) -> Vec<BTreeMap<String, usize>> {
+    use crate::contact::WindingTree;
+    // Each hand's contact skin where the frame has it, and its triangles.
+    type Skin<'a> = Option<(Vec<Vector3<f64>>, &'a [[usize; 3]])>;
+    let skins: Vec<Skin> = frame
+        .hands
+        .iter()
+        .map(|h| {
+            let body = &model.bodies[h.body];
+            let (hand, check) = (body.hand.as_deref()?, body.skin_overlap.as_ref()?);
+            Some((hand.contact_skin.positions(&h.positions), check.triangles()))
+        })
+        .collect();
+    let mut out = vec![BTreeMap::new(); frame.hands.len()];
+    if frame.hands.len() < 2 {
+        return out;
+    }
+    for (b, skin) in skins.iter().enumerate() {
+        let Some((positions, triangles)) = skin else {
+            continue;
+        };
+        let tree = WindingTree::new(triangles, positions);
+        let name = &model.bodies[frame.hands[b].body].name;
+        for (a, other) in skins.iter().enumerate() {
+            let Some((points, _)) = other.as_ref().filter(|_| a != b) else {
+                continue;
+            };
+            let inside = points.iter().filter(|x| tree.inside(x)).count();
+            if inside > 0 {
+                out[a].insert(name.clone(), inside);
+            }
+        }
+    }
+    out
 }
 
 /// The skin overlap of `hand` with its flesh's nodes at `nodes`, by `check`, counted per part.
@@ -347,6 +389,7 @@ pub fn skin_overlap(
     SkinOverlap {
         vertices: inside.len(),
         parts,
+        other_hands: BTreeMap::new(),
     }
 }
 
@@ -388,10 +431,12 @@ fn per_part(
 
 /// The report entries of the hands of a frame.
 pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport> {
+    let mut other_hands = inside_other_hands(model, frame).into_iter();
     frame
         .hands
         .iter()
         .map(|h| {
+            let other_hands = other_hands.next().unwrap_or_default();
             let body = &model.bodies[h.body];
             let hand = body
                 .hand
@@ -432,11 +477,14 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     realisable: h.overloads.is_empty(),
                     overloads: h.overloads.clone(),
                     grasp: h.grasp.clone(),
-                    skin_overlap: body
-                        .skin_overlap
-                        .as_ref()
-                        .map(|c| skin_overlap(hand, &h.positions, c))
-                        .unwrap_or_default(),
+                    skin_overlap: SkinOverlap {
+                        other_hands,
+                        ..body
+                            .skin_overlap
+                            .as_ref()
+                            .map(|c| skin_overlap(hand, &h.positions, c))
+                            .unwrap_or_default()
+                    },
                 },
             )
         })

@@ -168,6 +168,14 @@ fn skin_overlap_warnings(model: &Model, frames: &[FrameReport]) -> Vec<String> {
     for (i, frame) in frames.iter().enumerate() {
         for (name, hand) in &frame.hands {
             let o = &hand.skin_overlap;
+            for (other, n) in &o.other_hands {
+                out.push(format!(
+                    "frame {i}: the skin of hand \"{name}\" is inside hand \"{other}\" at {n} skin \
+                     points: the contact is solved between a hand and the other bodies, not \
+                     between two hands, so nothing keeps them out of each other and neither \
+                     feels the other; pose or place them apart"
+                ));
+            }
             if o.vertices == 0 {
                 continue;
             }

@@ -66,6 +66,11 @@ impl SkinOverlapCheck {
         inside
     }
 
+    /// The contact skin's triangles (vertex indices of `hand.contact_skin`), a closed surface.
+    pub fn triangles(&self) -> &[[usize; 3]] {
+        &self.triangles
+    }
+
     /// [`Self::inside_flesh`] away from where the digits' skins meet at rest.
     pub fn overlap(&self, hand: &HandModel, nodes: &[Vector3<f64>]) -> Vec<usize> {
         let mut inside = self.inside_flesh(hand, nodes);
