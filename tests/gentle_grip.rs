@@ -24,6 +24,14 @@ fn with_grasp(extra: &str, grasp: &str) -> String {
     )
 }
 
+/// The power preshape's grasp pressing the ball with `target` newtons.
+fn power_grip(target: f64) -> String {
+    with_grasp(
+        "",
+        &format!("object = \"ball\", preshape = \"power\", force = {target}"),
+    )
+}
+
 /// `text` solved as the command line does.
 fn solved(text: &str) -> prehensile::headless::Solved {
     let scene = Scene::parse(text, "grasp.toml").unwrap();
@@ -49,10 +57,7 @@ fn outcome(text: &str) -> GraspOutcome {
 #[test]
 fn a_target_grip_is_reached_by_the_least_closing() {
     let target = 5.0;
-    let run = solved(&with_grasp(
-        "",
-        &format!("object = \"ball\", preshape = \"power\", force = {target}"),
-    ));
+    let run = solved(&power_grip(target));
     let g = outcome_of(&run);
     assert!(g.held, "{g:?}");
     // The grip as the ball feels it: its normal forces sum to the grip reported, and (the
@@ -97,9 +102,6 @@ fn a_target_grip_is_reached_by_the_least_closing() {
     assert!(g.pose["index.pip"] > 10.0 && g.pose["index.pip"] < 100.0);
 }
 
-/// A grip the synergies cannot give (150 N: frictionless, the fingers slide round the ball past
-/// about 18 N) is a result, not an error: held = false, the firmest grip found shown and the
-/// force it misses named.
 /// Where the flesh meets the ball before the skin the bones carry does, the grip at first
 /// contact passes a small target (0.05 N) by more than the hold's 10 %: the search then bisects
 /// back towards the preshape (closings below zero), which touches nothing, to the least closing
@@ -107,10 +109,7 @@ fn a_target_grip_is_reached_by_the_least_closing() {
 #[test]
 fn a_grip_past_the_target_at_first_contact_is_searched_back_towards_the_preshape() {
     let target = 0.05;
-    let g = outcome(&with_grasp(
-        "",
-        &format!("object = \"ball\", preshape = \"power\", force = {target}"),
-    ));
+    let g = outcome(&power_grip(target));
     println!("{:?}", g.search);
     assert!(g.held, "{g:?}");
     assert_eq!(g.preshape_grip, 0.0, "the power preshape touches nothing");
@@ -176,6 +175,9 @@ fn a_preshape_posed_into_the_object_is_the_grip_and_is_warned_of() {
     );
 }
 
+/// A grip the synergies cannot give (150 N: frictionless, the fingers slide round the ball past
+/// about 18 N) is a result, not an error: held = false, the firmest grip found shown and the
+/// force it misses named.
 #[test]
 fn an_unreachable_grip_shows_the_firmest_and_names_what_is_missing() {
     let target = 150.0;

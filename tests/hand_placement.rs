@@ -7,32 +7,33 @@ use nalgebra::{Rotation3, Vector3};
 use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;
 
+/// A scene of flesh and the hands `(name, shape options)` given, then `rest` appended.
+fn hands(hands: &[(&str, String)], rest: &str) -> String {
+    let mut text = "[[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\n".to_string();
+    for (name, options) in hands {
+        text += &format!(
+            "\n[[body]]\nname = \"{name}\"\nmaterial = \"flesh\"\nshape = {{ hand = {{ {options} }} }}\n"
+        );
+    }
+    text + rest
+}
+
+/// One left hand (`placement` appended to its options), flexed in one keyframe.
 fn scene(placement: &str) -> String {
-    format!(
-        r#"
-[[material]]
-name = "flesh"
-young = 5.0e4
-poisson = 0.45
-
-[[body]]
-name = "hand"
-material = "flesh"
-shape = {{ hand = {{ side = "left", resolution = 0.75{placement} }} }}
-
-[[keyframe]]
-time = 1.0
-pose = {{ "index.pip" = 60.0, "middle.mcp.flex" = 30.0, "thumb.cmc.abd" = 30.0 }}
-"#
+    hands(
+        &[("hand", format!("side = \"left\", resolution = 0.75{placement}"))],
+        "\n[[keyframe]]\ntime = 1.0\npose = { \"index.pip\" = 60.0, \"middle.mcp.flex\" = 30.0, \"thumb.cmc.abd\" = 30.0 }\n",
     )
+}
+
+/// `text` solved as the command line does.
+fn solve(text: &str) -> prehensile::headless::Solved {
+    let scene = Scene::parse(text, "placed.toml").unwrap();
+    solve_scene(&scene, "placed.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn a_placed_hand_is_the_same_solution_moved() {
-    let solve = |text: &str| {
-        let scene = Scene::parse(text, "placed.toml").unwrap();
-        solve_scene(&scene, "placed.toml").unwrap_or_else(|e| panic!("{e}"))
-    };
     let at_origin = solve(&scene(""));
     let (t, angles) = ([0.12, -0.3, 0.05], [30.0_f64, -45.0, 120.0]);
     let placed = solve(&scene(&format!(
@@ -87,28 +88,17 @@ fn a_built_in_hand_is_sized_by_size_not_by_a_placements_scale() {
 #[test]
 fn two_hands_inside_each_other_are_counted_and_warned_of() {
     let text = |at: [f64; 3]| {
-        format!(
-            r#"
-[[material]]
-name = "flesh"
-young = 5.0e4
-poisson = 0.45
-
-[[body]]
-name = "one"
-material = "flesh"
-shape = {{ hand = {{ side = "right", resolution = 0.5 }} }}
-
-[[body]]
-name = "two"
-material = "flesh"
-shape = {{ hand = {{ side = "right", resolution = 0.5, placement = {{ translation = {at:?} }} }} }}
-"#
+        let options = "side = \"right\", resolution = 0.5";
+        hands(
+            &[
+                ("one", options.to_string()),
+                (
+                    "two",
+                    format!("{options}, placement = {{ translation = {at:?} }}"),
+                ),
+            ],
+            "",
         )
-    };
-    let solve = |text: &str| {
-        let scene = Scene::parse(text, "two.toml").unwrap();
-        solve_scene(&scene, "two.toml").unwrap_or_else(|e| panic!("{e}"))
     };
     let near = solve(&text([0.0, 0.0, 0.004]));
     let skin = near.model.bodies[0]
