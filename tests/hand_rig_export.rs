@@ -256,12 +256,7 @@ fn the_closed_skin_is_the_display_skin_with_its_volume_and_weights() {
         .fold(0.0, f64::max);
     assert!(gap < 2e-8, "vertices {gap:e} m from the skin's");
     assert!(boundary_edges(&back.triangles).is_empty(), "closed");
-    let direct: Vec<[usize; 3]> = hand
-        .skin
-        .triangles()
-        .iter()
-        .map(|t| t.map(|v| v as usize))
-        .collect();
+    let direct: Vec<[usize; 3]> = hand.skin.triangle_indices();
     let (v_file, v_skin) = (
         volume(&back.positions, &back.triangles),
         volume(&skin, &direct),
@@ -397,12 +392,7 @@ fn the_open_wrist_leaves_one_boundary_loop_on_the_wrist_plane() {
             .map(|t| (p[t[1]] - p[t[0]]).cross(&(p[t[2]] - p[t[0]])).norm() / 2.0)
             .sum()
     };
-    let direct: Vec<[usize; 3]> = hand
-        .skin
-        .triangles()
-        .iter()
-        .map(|t| t.map(|v| v as usize))
-        .collect();
+    let direct: Vec<[usize; 3]> = hand.skin.triangle_indices();
     let taken = area(&skin, &direct) - area(&back.positions, &back.triangles);
     let loop_area = (0..walk.len())
         .map(|i| {

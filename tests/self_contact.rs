@@ -97,9 +97,8 @@ fn middle_inside_ring_mm(hand: &HandModel, state: &HandState) -> f64 {
         .map(|v| digit_of_vertex(hand, v))
         .collect();
     let ring: Vec<[usize; 3]> = skin
-        .triangles()
+        .triangle_indices()
         .into_iter()
-        .map(|t| t.map(|v| v as usize))
         .filter(|t| t.iter().all(|&v| digit[v] == 4))
         .collect();
     let lo = ring
@@ -217,11 +216,7 @@ fn skin_crossings(
     let skin = &hand.contact_skin;
     let now = skin.positions(positions);
     let rest = skin.positions(&hand.flesh.mesh.nodes);
-    let triangles: Vec<[usize; 3]> = skin
-        .triangles()
-        .into_iter()
-        .map(|t| t.map(|v| v as usize))
-        .collect();
+    let triangles: Vec<[usize; 3]> = skin.triangle_indices();
     let corners = |t: &[usize; 3], x: &[Vector3<f64>]| t.map(|v| x[v]);
     let centre = |t: &[usize; 3], x: &[Vector3<f64>]| (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
     let cell = 2.0 * hand.flesh.spacing;

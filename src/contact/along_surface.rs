@@ -2,7 +2,7 @@
 //! at no length: where the hand's lattice splits a node between two digits, its skin's vertices
 //! are split too, and across such a seam the skin is one. The self-contact's neighbourhoods
 //! (`self_contact::OwnNeighbourhood`) and where a hand's digit skins meet at rest
-//! (`model::skin_met_at_rest`) are measured with it.
+//! (`model::SkinOverlapCheck`) are measured with it.
 
 use nalgebra::Vector3;
 use std::cmp::Reverse;

@@ -337,6 +337,10 @@ pub struct SkinOverlap {
 /// other hand's closed contact skin (by winding number; name → count, none left out).
 fn inside_other_hands(model: &Model, frame: &Frame) -> Vec<BTreeMap<String, usize>> {
     use crate::contact::WindingTree;
+    let mut out = vec![BTreeMap::new(); frame.hands.len()];
+    if frame.hands.len() < 2 {
+        return out;
+    }
     // Each hand's contact skin where the frame has it, and its triangles.
     type Skin<'a> = Option<(Vec<Vector3<f64>>, &'a [[usize; 3]])>;
     let skins: Vec<Skin> = frame
@@ -348,10 +352,6 @@ fn inside_other_hands(model: &Model, frame: &Frame) -> Vec<BTreeMap<String, usiz
             Some((hand.contact_skin.positions(&h.positions), check.triangles()))
         })
         .collect();
-    let mut out = vec![BTreeMap::new(); frame.hands.len()];
-    if frame.hands.len() < 2 {
-        return out;
-    }
     for (b, skin) in skins.iter().enumerate() {
         let Some((positions, triangles)) = skin else {
             continue;

@@ -316,6 +316,15 @@ impl DisplaySkin {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect()
     }
+
+    /// [`Self::triangles`] with `usize` vertex indices (for geometry indexing a slice of the
+    /// vertices' positions).
+    pub fn triangle_indices(&self) -> Vec<[usize; 3]> {
+        self.triangles()
+            .into_iter()
+            .map(|t| t.map(|v| v as usize))
+            .collect()
+    }
 }
 
 #[cfg(test)]

@@ -38,11 +38,7 @@ impl SkinOverlapCheck {
     pub fn new(hand: &HandModel) -> SkinOverlapCheck {
         let skin = &hand.contact_skin;
         let rest = skin.positions(&hand.flesh.mesh.nodes);
-        let triangles: Vec<[usize; 3]> = skin
-            .triangles()
-            .into_iter()
-            .map(|t| t.map(|v| v as usize))
-            .collect();
+        let triangles: Vec<[usize; 3]> = skin.triangle_indices();
         let edges = SurfaceEdges::new(&rest, &triangles);
         let mut check = SkinOverlapCheck {
             triangles,

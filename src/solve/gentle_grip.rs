@@ -146,29 +146,34 @@ impl Workspace {
             .filter_map(|(s, span)| s.map(|s| s * span))
             .fold(0.0, f64::max);
 
-        let count = std::cell::Cell::new(0);
-        let search = std::cell::RefCell::new(Vec::new());
-        let solve = |ws: &mut Workspace, from: &Posed, theta: f64| -> Result<Trial, SimError> {
-            count.set(count.get() + 1);
-            let mut p = from.clone();
-            let frame = ws.move_hands(model, &mut p, &[(body, angles_at(theta))], cancel)?;
-            let g = grip(model, &frame, body, grasp.object);
+        // The grip of a frame, and the friction margin it achieves (a gravity hold).
+        let grip_of = |frame: &Frame| {
+            let g = grip(model, frame, body, grasp.object);
             let margin = match grasp.hold {
                 HoldTarget::Gravity { weight } => {
                     g.margin(&weight, model.bodies[grasp.object].size)
                 }
                 HoldTarget::Force(_) => 0.0,
             };
+            (g.normal_force, margin)
+        };
+        let count = std::cell::Cell::new(0);
+        let search = std::cell::RefCell::new(Vec::new());
+        let solve = |ws: &mut Workspace, from: &Posed, theta: f64| -> Result<Trial, SimError> {
+            count.set(count.get() + 1);
+            let mut p = from.clone();
+            let frame = ws.move_hands(model, &mut p, &[(body, angles_at(theta))], cancel)?;
+            let (normal_force, margin) = grip_of(&frame);
             search.borrow_mut().push(GripTrial {
                 closing_deg: theta,
-                grip: g.normal_force,
+                grip: normal_force,
                 margin,
             });
             Ok(Trial {
                 theta,
                 frame,
                 posed: p,
-                grip: g.normal_force,
+                grip: normal_force,
                 margin,
             })
         };
@@ -190,18 +195,12 @@ impl Workspace {
 
         // The preshape (every touching digit open: θ at its most negative) and what it grips.
         let start = {
-            let g = grip(model, &preshape, body, grasp.object);
-            let margin = match grasp.hold {
-                HoldTarget::Gravity { weight } if g.normal_force > 0.0 => {
-                    g.margin(&weight, model.bodies[grasp.object].size)
-                }
-                _ => 0.0,
-            };
+            let (grip, margin) = grip_of(&preshape);
             Trial {
                 theta: theta_open,
                 frame: preshape,
                 posed: posed.clone(),
-                grip: g.normal_force,
+                grip,
                 margin,
             }
         };
@@ -282,10 +281,10 @@ impl Workspace {
         if holds(&lo) {
             hi = Some(lo.clone());
             // First contact is found on the skin the bones carry; the flesh's FEM can press
-            // harder there already (the pinch preshape's thumb: 13.5 N where 3 N were asked).
-            // Then the search bisects back towards the preshape (θ < 0), which touches nothing.
-            // Where the preshape itself holds (posed into the object), nothing along the
-            // synergies is gentler: it is the grip.
+            // harder there already (the power preshape: 0.075 N where 0.05 N were asked). Then
+            // the search bisects back towards the preshape (θ < 0). Where the preshape itself
+            // holds (posed into the object: the pinch preshape's thumb, 13.4 N where 3 N were
+            // asked), nothing along the synergies is gentler: it is the grip.
             if !close_enough(&lo) && theta_open < 0.0 {
                 if holds(&start) {
                     hi = Some(start.clone());
