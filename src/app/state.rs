@@ -637,6 +637,7 @@ mod tests {
             force_target: Some(3.0),
             closing_deg: -13.78,
             preshape_grip: 13.376,
+            drift: None,
             digits_touching: vec!["thumb".into()],
             trials: 1,
             search: Vec::new(),

@@ -20,6 +20,7 @@ mod obstacles;
 mod probes;
 mod refinement;
 mod regions;
+mod release;
 mod select;
 mod settings;
 mod shapes;
@@ -152,7 +153,7 @@ pub struct ProbeModel {
 pub type FrictionTable = (f64, Vec<(String, String, f64)>);
 
 /// The compiled scene.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Model {
     /// All bodies' meshes, one after the other.
     pub mesh: Mesh,

@@ -31,7 +31,7 @@ pub struct Workspace {
     /// The flexion caches by hand body.
     caches: Vec<(usize, FlexionCaches)>,
     /// What the contact steps keep from one to the next (their solver, the nodes held).
-    contact: ContactCache,
+    pub(super) contact: ContactCache,
 }
 
 /// A hand body where the driver left it: its state, and its part of the last frame.

@@ -22,6 +22,7 @@
 
 use super::driver::{Posed, Workspace};
 use super::error::SimError;
+use super::let_go::Release;
 use crate::hand::synergy::DIGITS;
 use crate::model::{GraspModel, HoldTarget, KeyframeModel, Model};
 use crate::state::outcome::Overload;
@@ -53,6 +54,9 @@ struct Trial {
     grip: f64,
     /// The friction margin against the weight (gravity holds; 0 otherwise).
     margin: f64,
+    /// The contacts its last contact step held (they stick where they are when the object is
+    /// let go of).
+    holding: Vec<usize>,
 }
 
 impl Workspace {
@@ -146,16 +150,25 @@ impl Workspace {
             .filter_map(|(s, span)| s.map(|s| s * span))
             .fold(0.0, f64::max);
 
-        // The grip of a frame, and the friction margin it achieves (a gravity hold).
-        let grip_of = |frame: &Frame| {
-            let g = grip(model, frame, body, grasp.object);
+        // A pose solved (`frame`, the hands where `posed` leaves them, the contacts `holding`
+        // held by its last step) as a trial: its grip, and the friction margin it achieves for
+        // a gravity hold (the object taken as held by nothing else: `contact::hold_margin`).
+        let judge = |theta: f64, frame: Frame, posed: Posed, holding: &[usize]| {
+            let g = grip(model, &frame, body, grasp.object);
             let margin = match grasp.hold {
                 HoldTarget::Gravity { weight } => {
                     g.margin(&weight, model.bodies[grasp.object].size)
                 }
                 HoldTarget::Force(_) => 0.0,
             };
-            (g.normal_force, margin)
+            Trial {
+                theta,
+                frame,
+                posed,
+                grip: g.normal_force,
+                margin,
+                holding: holding.to_vec(),
+            }
         };
         let count = std::cell::Cell::new(0);
         let search = std::cell::RefCell::new(Vec::new());
@@ -163,19 +176,13 @@ impl Workspace {
             count.set(count.get() + 1);
             let mut p = from.clone();
             let frame = ws.move_hands(model, &mut p, &[(body, angles_at(theta))], cancel)?;
-            let (normal_force, margin) = grip_of(&frame);
+            let t = judge(theta, frame, p, &ws.contact.held);
             search.borrow_mut().push(GripTrial {
                 closing_deg: theta,
-                grip: normal_force,
-                margin,
+                grip: t.grip,
+                margin: t.margin,
             });
-            Ok(Trial {
-                theta,
-                frame,
-                posed: p,
-                grip: normal_force,
-                margin,
-            })
+            Ok(t)
         };
         let holds = |t: &Trial| match grasp.hold {
             HoldTarget::Gravity { .. } => t.margin >= grasp.margin,
@@ -194,16 +201,12 @@ impl Workspace {
         };
 
         // The preshape (every touching digit open: θ at its most negative) and what it grips.
-        let start = {
-            let (grip, margin) = grip_of(&preshape);
-            Trial {
-                theta: theta_open,
-                frame: preshape,
-                posed: posed.clone(),
-                grip,
-                margin,
-            }
-        };
+        let start = judge(
+            theta_open,
+            preshape,
+            posed.clone(),
+            &self.contact.held.clone(),
+        );
         let preshape_grip = start.grip;
         let mut lo = if touching.is_empty() {
             start.clone()
@@ -212,25 +215,36 @@ impl Workspace {
                 Ok(t) => t,
                 Err(SimError::Cancelled) => return Err(SimError::Cancelled),
                 Err(e) => {
-                    return Ok(self.finish(
+                    return self.finish(
                         model,
                         posed,
                         (body, grasp),
                         start,
                         &touching,
                         (count.get(), search.take(), preshape_grip),
-                        Some(format!(
-                            "the digits could not be closed to their first contact: {e}"
-                        )),
-                    ))
+                        (
+                            Some(format!(
+                                "the digits could not be closed to their first contact: {e}"
+                            )),
+                            false,
+                            cancel,
+                        ),
+                    )
                 }
             }
         };
         if touching.is_empty() {
-            return Ok(self.finish(model, posed, (body, grasp), lo, &touching, (count.get(), search.take(), preshape_grip), Some(
-                "no digit reaches the object along its synergy: move the object into the hand, \
-                 or the hand to it".into(),
-            )));
+            let reason = "no digit reaches the object along its synergy: move the object into the \
+                          hand, or the hand to it";
+            return self.finish(
+                model,
+                posed,
+                (body, grasp),
+                lo,
+                &touching,
+                (count.get(), search.take(), preshape_grip),
+                (Some(reason.into()), false, cancel),
+            );
         }
         // No grip to search for: a bone past its threshold at first contact (the closing only
         // adds to the reactions), or no friction for a hold against gravity (whatever the grip).
@@ -242,15 +256,15 @@ impl Workspace {
                     .flatten()
             });
         if let Some(reason) = early {
-            return Ok(self.finish(
+            return self.finish(
                 model,
                 posed,
                 (body, grasp),
                 lo,
                 &touching,
                 (count.get(), search.take(), preshape_grip),
-                Some(reason),
-            ));
+                (Some(reason), false, cancel),
+            );
         }
         let measure = |t: &Trial| match grasp.hold {
             HoldTarget::Gravity { .. } => t.margin,
@@ -339,17 +353,19 @@ impl Workspace {
             }
         }
         if let Some(hi) = hi {
-            return Ok(self.finish(
+            return self.finish(
                 model,
                 posed,
                 (body, grasp),
                 hi,
                 &touching,
                 (count.get(), search.take(), preshape_grip),
-                None,
-            ));
+                (None, true, cancel),
+            );
         }
-        // Not held: the firmest grip found within the bones' thresholds, and why.
+        // Not held: the firmest grip found within the bones' thresholds, and why (a grip that
+        // does not hold as a rigid body may still hold let go of, its forces rebalanced).
+        let let_go = ceiling.is_none();
         let reason = match ceiling {
             Some((o, _)) => overload_reason(&o, grasp, &best),
             None => format!(
@@ -358,15 +374,15 @@ impl Workspace {
                 firmest(model, grasp, body, &best)
             ),
         };
-        Ok(self.finish(
+        self.finish(
             model,
             posed,
             (body, grasp),
             best,
             &touching,
             (count.get(), search.take(), preshape_grip),
-            Some(reason),
-        ))
+            (Some(reason), let_go, cancel),
+        )
     }
 
     /// The frame of the grip `trial` with its outcome; `posed` left where it is.
@@ -379,25 +395,63 @@ impl Workspace {
         trial: Trial,
         touching: &[String],
         (trials, search, preshape_grip): (usize, Vec<GripTrial>, f64),
-        reason: Option<String>,
-    ) -> Frame {
+        (reason, let_go, cancel): (Option<String>, bool, Option<&super::CancelCheck>),
+    ) -> Result<Frame, SimError> {
         let Trial {
             theta,
             mut frame,
             posed: p,
             grip,
-            margin,
+            mut margin,
+            holding,
         } = trial;
         *posed = p;
-        let held = reason.is_none()
-            && match grasp.hold {
-                HoldTarget::Gravity { .. } => margin >= grasp.margin,
-                HoldTarget::Force(f) => grip >= f,
-            };
+        // A gravity hold is decided with the object let go of (`let_go`): nothing but the
+        // hand holds it, the digits' forces balance among themselves and its weight.
+        let mut drift = None;
+        let mut reason = reason;
+        let held = match grasp.hold {
+            HoldTarget::Force(f) => reason.is_none() && grip >= f,
+            // A bone past its threshold, no friction, nothing touching: nothing to let go of.
+            HoldTarget::Gravity { .. } if grip <= 0.0 || !let_go => false,
+            HoldTarget::Gravity { weight } => {
+                let released = Release::new(model, grasp.object).and_then(|mut r| {
+                    r.let_go((&frame, posed, &holding), (hand, grasp.object), cancel)
+                });
+                match released {
+                    Ok(l) => {
+                        let g = crate::state::grip(model, &l.frame, hand, grasp.object);
+                        margin = g.margin(&weight, model.bodies[grasp.object].size);
+                        drift = Some(l.drift.norm());
+                        frame = l.frame;
+                        let held = margin >= grasp.margin;
+                        if held {
+                            reason = None;
+                        }
+                        held
+                    }
+                    Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                    Err(e) => {
+                        let why = super::let_go::not_held(&e);
+                        reason = Some(match reason {
+                            Some(r) => format!("{r}; {why}"),
+                            None => format!(
+                                "the grip found holds it as a rigid body with a margin of \
+                                 {margin:.2}; {why}"
+                            ),
+                        });
+                        false
+                    }
+                }
+            }
+        };
         let reason = match (held, reason) {
             (true, _) => None,
             (false, Some(r)) => Some(r),
-            (false, None) => Some("the search ended without a hold".into()),
+            (false, None) => Some(format!(
+                "let go of, the grip holds it with a margin of {margin:.2} against the {:.2} asked",
+                grasp.margin
+            )),
         };
         let body = model.bodies[grasp.object].name.clone();
         if let Some(h) = frame.hands.iter_mut().find(|h| h.body == hand) {
@@ -422,13 +476,14 @@ impl Workspace {
                 },
                 closing_deg: theta,
                 preshape_grip,
+                drift,
                 digits_touching: touching.to_vec(),
                 trials,
                 search,
                 reason,
             });
         }
-        frame
+        Ok(frame)
     }
 }
 

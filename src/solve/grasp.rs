@@ -47,7 +47,13 @@ use std::time::Instant;
 /// nodes the last step held (the next one's warm start).
 pub struct ContactCache {
     solver: PartitionedSolver,
-    held: Vec<usize>,
+    pub(super) held: Vec<usize>,
+    /// Where the ground springs of floating bodies rest, over every dof (`None`: at rest): an
+    /// object let go of (`let_go`) is anchored where the last solve left it.
+    pub(super) anchor: Option<Vec<f64>>,
+    /// An object's springs that carried more than they may are kept here instead of failing
+    /// the step (`Some(None)`: nothing to tell; `None`: such a step fails).
+    pub(super) unheld: Option<Option<ContactError>>,
 }
 
 impl ContactCache {
@@ -56,6 +62,8 @@ impl ContactCache {
         ContactCache {
             solver: PartitionedSolver::new(ordering),
             held: Vec::new(),
+            anchor: None,
+            unheld: None,
         }
     }
 }
@@ -479,7 +487,18 @@ fn solve_grasp_with(
         }
     }
     let (loads_now, unit_gas) = loads_at(model, &x_now_nodes, carried_given);
-    let loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
+    let mut loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
+    // Springs resting where the anchor puts them: k·(U − U_a), so K·U less k·U_a.
+    if let Some(anchor) = &cache.anchor {
+        for &(b, spring) in &springs {
+            let nodes = model.bodies[b].nodes.clone();
+            for d in 3 * nodes.start..3 * nodes.end {
+                if !partition.prescribed[d] {
+                    loads[d] += spring * anchor[d];
+                }
+            }
+        }
+    }
     let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
     let prescribed: Vec<f64> = (0..model.prescribed.len())
         .map(|d| {
@@ -561,7 +580,18 @@ fn solve_grasp_with(
     cache.held = result.summary.contacts.iter().map(|c| c.node).collect();
     cache.held.sort_unstable();
     cache.held.dedup();
-    check_held(model, &springs, &result).map_err(SimError::Contact)?;
+    match (
+        check_held(model, &springs, &result, cache.anchor.as_deref()),
+        &mut cache.unheld,
+    ) {
+        (Ok(()), unheld) => {
+            if let Some(u) = unheld {
+                *u = None;
+            }
+        }
+        (Err(e), Some(u)) => *u = Some(e),
+        (Err(e), None) => return Err(SimError::Contact(e)),
+    }
     too_deep(
         model,
         (&surfaces, hands.len()),

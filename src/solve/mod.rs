@@ -12,6 +12,7 @@ mod gas;
 mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
+mod let_go;
 mod linear_factor;
 mod path;
 mod preview;

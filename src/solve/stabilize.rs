@@ -41,11 +41,13 @@ pub fn stabilize(model: &Model, k: &mut Stiffness, partition: &DofPartition) -> 
     out
 }
 
-/// Checks that the springs of `springs` carry a negligible force after `result`.
+/// Checks that the springs of `springs` (resting at `anchor`, or at rest) carry a negligible
+/// force after `result`.
 pub fn check_held(
     model: &Model,
     springs: &[(usize, f64)],
     result: &ContactResult,
+    anchor: Option<&[f64]>,
 ) -> Result<(), ContactError> {
     let u = &result.solution.displacement;
     for &(b, spring) in springs {
@@ -60,11 +62,11 @@ pub fn check_held(
             for a in 0..3 {
                 let d = 3 * n + a;
                 if !model.partition.prescribed[d] {
-                    carried[a] += spring * u[d];
+                    carried[a] += spring * (u[d] - anchor.map_or(0.0, |x| x[d]));
                 }
                 applied[a] += model.load_vector[d];
                 gross += model.load_vector[d].abs();
-                moved[a] += u[d];
+                moved[a] += u[d] - anchor.map_or(0.0, |x| x[d]);
             }
         }
         let moved = moved / body.nodes.len().max(1) as f64;

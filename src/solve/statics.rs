@@ -93,7 +93,7 @@ fn solve_static_with(
                 |r| cavity.volume(&model.mesh.nodes, &r.solution.displacement),
             )?,
         };
-        super::stabilize::check_held(model, &springs, &result).map_err(SimError::Contact)?;
+        super::stabilize::check_held(model, &springs, &result, None).map_err(SimError::Contact)?;
         let ContactResult { solution, summary } = result;
         (solution, Some(summary))
     };

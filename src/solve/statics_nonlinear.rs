@@ -270,7 +270,7 @@ fn newton_at(
         last_change = change / scale.max(f64::MIN_POSITIVE);
         if change <= OBSTACLE_NEWTON_TOLERANCE * scale {
             result.solution.displacement = u.to_vec();
-            check_held(model, &springs, &result).map_err(SimError::Contact)?;
+            check_held(model, &springs, &result, None).map_err(SimError::Contact)?;
             return Ok(result);
         }
     }

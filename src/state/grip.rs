@@ -38,6 +38,10 @@ pub struct GraspOutcome {
     /// The hand's normal force on the object in the preshape, before any closing, N: more than
     /// zero where the preshape is posed into the object.
     pub preshape_grip: f64,
+    /// A gravity hold: how far the object's centre moved when let go of (its supports freed,
+    /// held by the hand alone), m; `None` when that solve found nothing holding it, and for a
+    /// force hold.
+    pub drift: Option<f64>,
     /// The digits that touch the object in the pose found.
     pub digits_touching: Vec<String>,
     /// Poses solved by FEM in the search.
