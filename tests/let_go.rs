@@ -97,3 +97,82 @@ fn a_grip_whose_forces_do_not_balance_lets_the_ball_fall() {
     // contact, the firmest as a rigid body.
     assert!(g.grip > 5.0, "grip {}", g.grip);
 }
+
+/// The hand turned palm up (`placement = { rotation = [180, 0, 0] }`) with the ball on the
+/// cupped fingers, its stand above it: let go of, the ball settles onto the hand, which holds
+/// it. The search finds the least closing that holds it let go of; the frame shown is the ball
+/// held by the hand alone: the contact forces on it (normal and friction) balance its weight
+/// (action = reaction, to what the stabilising springs may carry), every contact in its Coulomb
+/// cone, nothing through the skin, and the drift is its sinking into the soft flesh.
+#[test]
+fn a_ball_let_go_of_in_the_upturned_hand_is_held_by_it_alone() {
+    let text = scene("grasp = { object = \"ball\", preshape = \"power\" }")
+        .replace(
+            "resolution = 1.0 }",
+            "resolution = 1.0, placement = { rotation = [180.0, 0.0, 0.0] } }",
+        )
+        .replace(
+            "center = [0.065, 0.0, -0.065]",
+            "center = [0.065, 0.0, 0.056]",
+        )
+        .replace(
+            "min = [0.055, -0.01, -0.101], max = [0.075, 0.01, -0.098]",
+            "min = [0.055, -0.01, 0.0895], max = [0.075, 0.01, 0.0925]",
+        );
+    assert!(text.contains("rotation = [180.0") && text.contains("0.0925"));
+    let scene = Scene::parse(&text, "grasp.toml").unwrap();
+    let solved = solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"));
+    let frame = solved.frames.last().unwrap();
+    let g = frame.hands[0].grasp.clone().unwrap();
+    assert!(g.held, "{:?}", g.reason);
+    assert!(g.margin >= 1.5, "margin {}", g.margin);
+    // The least closing that holds: every pose closed less did not hold it.
+    for t in &g.search {
+        if t.closing_deg < g.closing_deg {
+            assert!(
+                t.margin < 1.5,
+                "{t:?} holds, closed less than {}",
+                g.closing_deg
+            );
+        }
+    }
+    let drift = g.drift.expect("held: its drift");
+    assert!(drift > 1e-5 && drift < 0.01, "drift {drift} m");
+
+    // The ball held by the hand alone: the forces on it balance.
+    let model = &solved.model;
+    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+    let nodes = model.bodies[ball].nodes.clone();
+    let mut load = nalgebra::Vector3::<f64>::zeros();
+    for n in nodes.clone() {
+        for a in 0..3 {
+            load[a] += model.load_vector[3 * n + a];
+        }
+    }
+    let weight = model.bodies[ball].mass * 9.81;
+    assert!((load.z + weight).abs() < 1e-9 * weight && load.x.abs() < 1e-9);
+    let contact = frame.contact.as_ref().expect("in contact");
+    let mut on_ball = nalgebra::Vector3::<f64>::zeros();
+    let mut gross = 0.0;
+    for c in &contact.contacts {
+        for (n, f) in c.nodal_forces() {
+            if nodes.contains(&n) {
+                on_ball += f;
+                gross += f.norm();
+            }
+        }
+        // Coulomb's cone.
+        assert!(
+            c.tangential.norm() <= 0.8 * c.force * (1.0 + 1e-6) + 1e-12,
+            "friction {} over μλ = {}",
+            c.tangential.norm(),
+            0.8 * c.force
+        );
+    }
+    let unbalanced = (on_ball + load).norm();
+    assert!(
+        unbalanced < 1e-3 * gross.max(weight),
+        "contact on the ball {on_ball:?} against its weight {weight} N: {unbalanced} N left"
+    );
+    assert!(contact.max_penetration <= model.contact.tolerance * 1.01);
+}

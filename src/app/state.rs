@@ -584,10 +584,18 @@ const CLOSING: &str = "closing the hand…";
 fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
     let how = match (g.force_target, g.margin_target) {
         (Some(f), _) => format!("grip {:.2} N of {f} N asked", g.grip),
-        (None, Some(m)) => format!(
-            "grip {:.2} N, friction margin {:.2} of {m}",
-            g.grip, g.margin
-        ),
+        (None, Some(m)) => match g.drift {
+            Some(d) => format!(
+                "grip {:.2} N, friction margin {:.2} of {m}, let go of it moves {:.2} mm",
+                g.grip,
+                g.margin,
+                1e3 * d
+            ),
+            None => format!(
+                "grip {:.2} N, friction margin {:.2} of {m}",
+                g.grip, g.margin
+            ),
+        },
         (None, None) => format!("grip {:.2} N", g.grip),
     };
     let head = if g.held { "held" } else { "not held" };
@@ -653,6 +661,13 @@ mod tests {
         let line = grasp_summary(&g);
         assert!(
             line.contains("2.5° past first contact") && !line.contains("preshape:"),
+            "{line}"
+        );
+        // A gravity hold let go of: how far the object moved.
+        (g.force_target, g.margin_target, g.margin, g.drift) = (None, Some(1.5), 4.0, Some(2.5e-4));
+        let line = grasp_summary(&g);
+        assert!(
+            line.contains("friction margin 4.00 of 1.5, let go of it moves 0.25 mm"),
             "{line}"
         );
     }

@@ -54,9 +54,9 @@ struct Trial {
     grip: f64,
     /// The friction margin against the weight (gravity holds; 0 otherwise).
     margin: f64,
-    /// The contacts its last contact step held (they stick where they are when the object is
-    /// let go of).
-    holding: Vec<usize>,
+    /// A gravity hold: how far the object moved when let go of, m, or why the hand does not
+    /// hold it (`None`: nothing touched it, or a force hold).
+    released: Option<Result<f64, String>>,
 }
 
 impl Workspace {
@@ -150,25 +150,54 @@ impl Workspace {
             .filter_map(|(s, span)| s.map(|s| s * span))
             .fold(0.0, f64::max);
 
+        // A gravity hold is judged with the object let go of (`let_go`): its supports freed,
+        // held by the hand alone, the digits' forces balancing among themselves and its weight.
+        let release = match grasp.hold {
+            HoldTarget::Gravity { .. } => {
+                Some(std::cell::RefCell::new(Release::new(model, grasp.object)?))
+            }
+            HoldTarget::Force(_) => None,
+        };
         // A pose solved (`frame`, the hands where `posed` leaves them, the contacts `holding`
-        // held by its last step) as a trial: its grip, and the friction margin it achieves for
-        // a gravity hold (the object taken as held by nothing else: `contact::hold_margin`).
-        let judge = |theta: f64, frame: Frame, posed: Posed, holding: &[usize]| {
+        // held by its last step) as a trial: its grip, and for a gravity hold the frame let go
+        // of, the friction margin its contacts achieve there (`contact::hold_margin`) and how
+        // far the object moved (0 margin where the hand does not hold it).
+        let judge = |theta: f64,
+                     frame: Frame,
+                     posed: Posed,
+                     holding: &[usize]|
+         -> Result<Trial, SimError> {
+            let touching = grip(model, &frame, body, grasp.object).normal_force > 0.0;
+            let (frame, released) = match (&release, grasp.hold) {
+                (Some(r), HoldTarget::Gravity { .. }) if touching => {
+                    let l = r.borrow_mut().let_go(
+                        (&frame, &posed, holding),
+                        (body, grasp.object),
+                        cancel,
+                    );
+                    match l {
+                        Ok(l) => (l.frame, Some(Ok(l.drift.norm()))),
+                        Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                        Err(e) => (frame, Some(Err(super::let_go::not_held(&e)))),
+                    }
+                }
+                _ => (frame, None),
+            };
             let g = grip(model, &frame, body, grasp.object);
-            let margin = match grasp.hold {
-                HoldTarget::Gravity { weight } => {
+            let margin = match (grasp.hold, &released) {
+                (HoldTarget::Gravity { weight }, Some(Ok(_))) => {
                     g.margin(&weight, model.bodies[grasp.object].size)
                 }
-                HoldTarget::Force(_) => 0.0,
+                _ => 0.0,
             };
-            Trial {
+            Ok(Trial {
                 theta,
                 frame,
                 posed,
                 grip: g.normal_force,
                 margin,
-                holding: holding.to_vec(),
-            }
+                released,
+            })
         };
         let count = std::cell::Cell::new(0);
         let search = std::cell::RefCell::new(Vec::new());
@@ -176,7 +205,7 @@ impl Workspace {
             count.set(count.get() + 1);
             let mut p = from.clone();
             let frame = ws.move_hands(model, &mut p, &[(body, angles_at(theta))], cancel)?;
-            let t = judge(theta, frame, p, &ws.contact.held);
+            let t = judge(theta, frame, p, &ws.contact.held)?;
             search.borrow_mut().push(GripTrial {
                 closing_deg: theta,
                 grip: t.grip,
@@ -206,7 +235,7 @@ impl Workspace {
             preshape,
             posed.clone(),
             &self.contact.held.clone(),
-        );
+        )?;
         let preshape_grip = start.grip;
         let mut lo = if touching.is_empty() {
             start.clone()
@@ -222,13 +251,9 @@ impl Workspace {
                         start,
                         &touching,
                         (count.get(), search.take(), preshape_grip),
-                        (
-                            Some(format!(
-                                "the digits could not be closed to their first contact: {e}"
-                            )),
-                            false,
-                            cancel,
-                        ),
+                        Some(format!(
+                            "the digits could not be closed to their first contact: {e}"
+                        )),
                     )
                 }
             }
@@ -243,7 +268,7 @@ impl Workspace {
                 lo,
                 &touching,
                 (count.get(), search.take(), preshape_grip),
-                (Some(reason.into()), false, cancel),
+                Some(reason.into()),
             );
         }
         // No grip to search for: a bone past its threshold at first contact (the closing only
@@ -263,7 +288,7 @@ impl Workspace {
                 lo,
                 &touching,
                 (count.get(), search.take(), preshape_grip),
-                (Some(reason), false, cancel),
+                Some(reason),
             );
         }
         let measure = |t: &Trial| match grasp.hold {
@@ -286,7 +311,10 @@ impl Workspace {
             } else if holds(&t) {
                 *hi = Some(t);
             } else {
-                if measure(&t) > measure(&best) {
+                // (Equal measures, as where nothing holds the object let go of: the firmest.)
+                if measure(&t) > measure(&best)
+                    || (measure(&t) == measure(&best) && t.grip > best.grip)
+                {
                     best = t.clone();
                 }
                 *lo = t;
@@ -360,12 +388,10 @@ impl Workspace {
                 hi,
                 &touching,
                 (count.get(), search.take(), preshape_grip),
-                (None, true, cancel),
+                None,
             );
         }
-        // Not held: the firmest grip found within the bones' thresholds, and why (a grip that
-        // does not hold as a rigid body may still hold let go of, its forces rebalanced).
-        let let_go = ceiling.is_none();
+        // Not held: the firmest grip found within the bones' thresholds, and why.
         let reason = match ceiling {
             Some((o, _)) => overload_reason(&o, grasp, &best),
             None => format!(
@@ -381,7 +407,7 @@ impl Workspace {
             best,
             &touching,
             (count.get(), search.take(), preshape_grip),
-            (Some(reason), let_go, cancel),
+            Some(reason),
         )
     }
 
@@ -395,63 +421,27 @@ impl Workspace {
         trial: Trial,
         touching: &[String],
         (trials, search, preshape_grip): (usize, Vec<GripTrial>, f64),
-        (reason, let_go, cancel): (Option<String>, bool, Option<&super::CancelCheck>),
+        reason: Option<String>,
     ) -> Result<Frame, SimError> {
         let Trial {
             theta,
             mut frame,
             posed: p,
             grip,
-            mut margin,
-            holding,
+            margin,
+            released,
         } = trial;
         *posed = p;
-        // A gravity hold is decided with the object let go of (`let_go`): nothing but the
-        // hand holds it, the digits' forces balance among themselves and its weight.
-        let mut drift = None;
-        let mut reason = reason;
-        let held = match grasp.hold {
-            HoldTarget::Force(f) => reason.is_none() && grip >= f,
-            // A bone past its threshold, no friction, nothing touching: nothing to let go of.
-            HoldTarget::Gravity { .. } if grip <= 0.0 || !let_go => false,
-            HoldTarget::Gravity { weight } => {
-                let released = Release::new(model, grasp.object).and_then(|mut r| {
-                    r.let_go((&frame, posed, &holding), (hand, grasp.object), cancel)
-                });
-                match released {
-                    Ok(l) => {
-                        let g = crate::state::grip(model, &l.frame, hand, grasp.object);
-                        margin = g.margin(&weight, model.bodies[grasp.object].size);
-                        drift = Some(l.drift.norm());
-                        frame = l.frame;
-                        let held = margin >= grasp.margin;
-                        if held {
-                            reason = None;
-                        }
-                        held
-                    }
-                    Err(SimError::Cancelled) => return Err(SimError::Cancelled),
-                    Err(e) => {
-                        let why = super::let_go::not_held(&e);
-                        reason = Some(match reason {
-                            Some(r) => format!("{r}; {why}"),
-                            None => format!(
-                                "the grip found holds it as a rigid body with a margin of \
-                                 {margin:.2}; {why}"
-                            ),
-                        });
-                        false
-                    }
-                }
-            }
-        };
+        let drift = released.as_ref().and_then(|r| r.as_ref().ok().copied());
+        let held = reason.is_none()
+            && match grasp.hold {
+                HoldTarget::Gravity { .. } => drift.is_some() && margin >= grasp.margin,
+                HoldTarget::Force(f) => grip >= f,
+            };
         let reason = match (held, reason) {
             (true, _) => None,
             (false, Some(r)) => Some(r),
-            (false, None) => Some(format!(
-                "let go of, the grip holds it with a margin of {margin:.2} against the {:.2} asked",
-                grasp.margin
-            )),
+            (false, None) => Some("the search ended without a hold".into()),
         };
         let body = model.bodies[grasp.object].name.clone();
         if let Some(h) = frame.hands.iter_mut().find(|h| h.body == hand) {
@@ -682,7 +672,11 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
          of {:.2} against the {:.2} asked",
         t.grip, t.theta, t.margin, grasp.margin
     );
-    if resultant.norm() > weight.norm() {
+    let why = match &t.released {
+        Some(Err(why)) => format!("; {why}"),
+        _ => String::new(),
+    };
+    let told = if resultant.norm() > weight.norm() {
         format!(
             "{found}: the digits' normal forces leave {:.2} N unbalanced, pushing the object \
              against what supports it, and friction would have to take that as well as its \
@@ -693,7 +687,8 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
         )
     } else {
         found
-    }
+    };
+    format!("{told}{why}")
 }
 
 /// Why no grip holds body `object` against gravity in the hand `hand`'s contacts, if no pair of
