@@ -258,21 +258,6 @@ impl Workspace {
                 }
             }
         };
-        if touching.is_empty() {
-            let reason = "no digit reaches the object along its synergy: move the object into the \
-                          hand, or the hand to it";
-            return self.finish(
-                model,
-                posed,
-                (body, grasp),
-                lo,
-                &touching,
-                (count.get(), search.take(), preshape_grip),
-                Some(reason.into()),
-            );
-        }
-        // No grip to search for: a bone past its threshold at first contact (the closing only
-        // adds to the reactions), or no friction for a hold against gravity (whatever the grip).
         let early = overloaded(&lo)
             .map(|o| overloaded_at_first_contact(&o))
             .or_else(|| {
