@@ -484,10 +484,14 @@ fn overload_reason(o: &Overload, grasp: &GraspModel, t: &Trial) -> String {
         }
         HoldTarget::Gravity { .. } => f64::NAN,
     };
-    let missing = if missing.is_finite() {
-        format!("about {missing:.2} N more grip")
-    } else {
-        "a grip its contacts cannot give".into()
+    let missing = match (&grasp.hold, &t.released) {
+        _ if missing.is_finite() => format!("about {missing:.2} N more grip"),
+        // Let go of, the grip does not hold the object at all: what it would have to take.
+        (HoldTarget::Gravity { weight }, Some(Err(why))) => format!(
+            "a grip that holds its {:.2} N weight ({why})",
+            weight.norm()
+        ),
+        _ => "a grip its contacts cannot give".into(),
     };
     format!(
         "closing further, bone {} would bear {:.3} N, past its threshold of {} N; the firmest \
