@@ -1,11 +1,13 @@
-//! Letting go of the object a grasp closed on (issue 17, `hold = "gravity"`): the grip found
-//! with the object held as the scene holds it (a stand, an obstacle) is solved again with the
-//! object held by nothing but the hand (`Model::released`): its supports freed, its weight on,
+//! Letting go of the object a grasp closed on (issue 17, `hold = "gravity"`): each pose of the
+//! gentlest grip's search, solved with the object held as the scene holds it (a stand, an
+//! obstacle), is solved again with the object held by nothing but the hand
+//! (`Model::released`): its supports freed, its weight on,
 //! friction at every contact, starting from the held state (contacts held there stick where
 //! they were: incremental Coulomb friction). The object settles into the grip — the digits'
 //! normal forces, which the stand balanced, now balance among themselves and the weight — or
 //! the solve finds that nothing holds it (its stabilising springs would carry its load:
-//! `stabilize::check_held`). How far it moves on release, its drift, is measured.
+//! `stabilize::check_held`), settled again from where each solve left it (the springs anchored
+//! there). How far it moves on release, its drift, is measured.
 
 use super::driver::{Posed, Workspace};
 use super::error::SimError;
