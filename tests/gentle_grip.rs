@@ -175,6 +175,32 @@ fn a_preshape_posed_into_the_object_is_the_grip_and_is_warned_of() {
     );
 }
 
+/// An object no digit reaches along its synergy (the ball 23.5 cm below where the scene has
+/// it): nothing to search; held = false, no pose solved past the preshape, and the reason says
+/// to move the object into the hand (a result, not an error).
+#[test]
+fn an_object_out_of_reach_is_not_held_and_says_so() {
+    let text = power_grip(5.0)
+        .replace(
+            "center = [0.065, 0.0, -0.065]",
+            "center = [0.065, 0.0, -0.3]",
+        )
+        .replace(
+            "min = [0.055, -0.01, -0.101], max = [0.075, 0.01, -0.098]",
+            "min = [0.055, -0.01, -0.336], max = [0.075, 0.01, -0.333]",
+        );
+    assert!(text.contains("-0.336"));
+    let g = outcome(&text);
+    assert!(!g.held);
+    assert_eq!((g.trials, g.grip), (0, 0.0));
+    assert!(g.digits_touching.is_empty());
+    let reason = g.reason.expect("a reason");
+    assert!(
+        reason.contains("no digit reaches the object along its synergy"),
+        "{reason}"
+    );
+}
+
 /// A grip the synergies cannot give (150 N: frictionless, the fingers slide round the ball past
 /// about 18 N) is a result, not an error: held = false, the firmest grip found shown and the
 /// force it misses named.

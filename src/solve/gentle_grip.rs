@@ -258,8 +258,17 @@ impl Workspace {
                 }
             }
         };
-        let early = overloaded(&lo)
-            .map(|o| overloaded_at_first_contact(&o))
+        // No grip to search for: no digit touches, a bone past its threshold at first contact
+        // (the closing only adds to the reactions), or no friction for a hold against gravity
+        // (whatever the grip).
+        let early = touching
+            .is_empty()
+            .then(|| {
+                "no digit reaches the object along its synergy: move the object into the hand, \
+                 or the hand to it"
+                    .to_string()
+            })
+            .or_else(|| overloaded(&lo).map(|o| overloaded_at_first_contact(&o)))
             .or_else(|| {
                 matches!(grasp.hold, HoldTarget::Gravity { .. })
                     .then(|| frictionless(model, body, grasp.object))
