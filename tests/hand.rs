@@ -182,7 +182,7 @@ fn joint_limits_and_unknown_joints_are_errors() {
         .unwrap_err();
     assert!(matches!(e, PoseError::UnknownJoint { .. }));
     assert!(e.to_string().contains("index.mcp.flex"), "{e}");
-    assert_eq!(sk.dofs.len(), 20);
+    assert_eq!(sk.dofs.len(), 21);
     assert_eq!(sk.bones.len(), 20);
 }
 

@@ -133,7 +133,7 @@ mod tests {
         let mut seen = Vec::new();
         for p in Preset::ALL {
             let a = p.angles(&s);
-            assert_eq!(a.len(), 20);
+            assert_eq!(a.len(), 21);
             for (d, v) in s.dofs.iter().zip(&a) {
                 assert!(*v >= d.limits.min && *v <= d.limits.max, "{} {v}", d.name);
             }

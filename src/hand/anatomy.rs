@@ -164,6 +164,16 @@ pub mod limits {
         min: -10.0,
         max: 70.0,
     };
+    /// Thumb CMC axial rotation: the metacarpal turned about its own axis, positive pronation
+    /// (the pad turning to face the fingers' pads, as in opposition). The trapeziometacarpal
+    /// joint is a saddle whose axial rotation is conjunct with flexion and abduction (Kapandji);
+    /// it is a joint angle of its own here, so that a rig or a preshape sets it, and it lumps
+    /// the thumb column's axial turn (trapeziometacarpal, about 20°, and the MCP's conjunct
+    /// pronation) in one angle.
+    pub const CMC_ROT: Limits = Limits {
+        min: -10.0,
+        max: 60.0,
+    };
     /// Thumb MCP flexion.
     pub const THUMB_MCP: Limits = Limits {
         min: -10.0,

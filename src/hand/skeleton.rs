@@ -186,7 +186,7 @@ pub enum PoseError {
     },
 }
 
-/// The hand skeleton: 20 bones (the carpus, five metacarpals, fourteen phalanges) and 20 joint
+/// The hand skeleton: 20 bones (the carpus, five metacarpals, fourteen phalanges) and 21 joint
 /// angles.
 #[derive(Clone, Debug)]
 pub struct Skeleton {
@@ -205,11 +205,12 @@ impl Skeleton {
     }
 
     /// The skeleton of the hand whose joints are `joints` (a right hand's; a left hand is
-    /// built as the right one, then mirrored in y): 20 bones, and 20 joint angles whose axes
+    /// built as the right one, then mirrored in y): 20 bones, and 21 joint angles whose axes
     /// come from the bones' directions and the palm's dorsal normal (z): each finger flexes
     /// about z × its bone's direction and abducts about z; the thumb's CMC abducts about the
-    /// axis normal to the thumb and to z and flexes about z's part normal to the thumb; its MCP
-    /// and IP flex about the nail normal (z turned by the pronation about the thumb) × the bone.
+    /// axis normal to the thumb and to z, flexes about z's part normal to the thumb and turns
+    /// about the metacarpal's own axis (opposition's pronation); its MCP and IP flex about the
+    /// nail normal (z turned by the pronation about the thumb) × the bone.
     pub fn from_joints(side: Side, joints: &RigJoints) -> Skeleton {
         let mut bones: Vec<Bone> = Vec::new();
         let mut dofs = Vec::new();
@@ -276,6 +277,18 @@ impl Skeleton {
                         start,
                         -zp,
                         limits::CMC_FLEX,
+                    );
+                    // Applied last, so about the metacarpal's own axis wherever the CMC's
+                    // flexion and abduction have taken it. Positive is pronation: about −d, the
+                    // nail turns from its sideways rest away from the palm and the pad towards
+                    // the fingers' pads (right hand).
+                    add_dof(
+                        &mut dofs,
+                        "thumb.cmc.rot".into(),
+                        bone,
+                        start,
+                        -d,
+                        limits::CMC_ROT,
                     );
                 }
                 1 => add_dof(

@@ -57,27 +57,38 @@ impl Preshape {
         let mut pose = Pose::new();
         for (d, digit) in DIGITS.iter().enumerate() {
             let angles = if grasping[d] {
-                open(digit)
+                open(self, digit)
             } else {
-                tucked(digit)
+                tucked(self, digit)
             };
             for (joint, angle) in angles {
                 pose.insert(joint, angle);
             }
         }
+        if self == Preshape::Pinch {
+            // The index turned a little towards the middle finger, as its pad meets the
+            // thumb's.
+            pose.insert("index.mcp.abd".into(), PINCH_INDEX_ABDUCTION);
+        }
         pose
     }
 }
 
+/// The index's MCP abduction in the pinch, degrees (towards the middle finger).
+const PINCH_INDEX_ABDUCTION: f64 = -15.0;
+
 /// A grasping digit's synergy at rest: its open angles (s = 0).
-pub fn open(digit: &str) -> Vec<(String, f64)> {
-    synergy(digit).into_iter().map(|(j, a, _)| (j, a)).collect()
+pub fn open(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
+    synergy(preshape, digit)
+        .into_iter()
+        .map(|(j, a, _)| (j, a))
+        .collect()
 }
 
 /// A digit folded out of the way of a pinch (a fist's angles, short of the limits).
-fn tucked(digit: &str) -> Vec<(String, f64)> {
+fn tucked(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
     if digit == "thumb" {
-        return open(digit);
+        return open(preshape, digit);
     }
     vec![
         (format!("{digit}.mcp.flex"), 70.0),
@@ -86,12 +97,42 @@ fn tucked(digit: &str) -> Vec<(String, f64)> {
     ]
 }
 
-/// A digit's closing synergy: (joint, open angle, closed angle), degrees. Fingers flex MCP,
-/// PIP and DIP together from slightly bent to near a fist's (88°, 105°, 70° at the limits'
-/// edge: the full fist is reached without a crushed cell, `hand::full_fist`); the thumb
-/// abducts out of the palm and flexes across it, its MCP and IP flexing as it goes.
-pub fn synergy(digit: &str) -> Vec<(String, f64, f64)> {
+/// A digit's closing synergy in a preshape: (joint, open angle, closed angle), degrees.
+///
+/// Wrapping (power, tripod): fingers flex MCP, PIP and DIP together from slightly bent to near
+/// a fist's (88°, 105°, 70° at the limits' edge: the full fist is reached without a crushed
+/// cell, `hand::full_fist`); the thumb abducts out of the palm and flexes across it, its MCP
+/// and IP flexing as it goes.
+///
+/// Pinch (pulp to pulp): the thumb pronated into opposition (`thumb.cmc.rot`) and the index
+/// close their pads on each other, facing: along the whole synergy the pads' normals lie within
+/// 16° of the line between them (13° … 1° as it opens), their distance going from 45 mm open
+/// to 15 mm closed, the point between them moving by less than 16 mm — the line between two
+/// poses found by minimising the pads' angle to that line at 45 and 15 mm apart with a ball's
+/// room between them (the skin's shape on the bones; `tests/pinch.rs` holds a free ball so).
+pub fn synergy(preshape: Preshape, digit: &str) -> Vec<(String, f64, f64)> {
     let j = |name: &str| format!("{digit}.{name}");
+    if preshape == Preshape::Pinch {
+        match digit {
+            "thumb" => {
+                return vec![
+                    (j("cmc.abd"), 54.5, 37.0),
+                    (j("cmc.flex"), 13.0, 30.5),
+                    (j("cmc.rot"), 56.5, 44.5),
+                    (j("mcp"), 5.0, -5.0),
+                    (j("ip"), -15.0, -20.0),
+                ]
+            }
+            "index" => {
+                return vec![
+                    (j("mcp.flex"), 49.0, 34.0),
+                    (j("pip"), 31.0, 72.0),
+                    (j("dip"), 0.0, -10.0),
+                ]
+            }
+            _ => {}
+        }
+    }
     if digit == "thumb" {
         vec![
             (j("cmc.abd"), 35.0, 45.0),
@@ -110,8 +151,8 @@ pub fn synergy(digit: &str) -> Vec<(String, f64, f64)> {
 
 /// The largest joint turn of `digit`'s synergy from open to closed, degrees: one unit of its
 /// parameter s.
-pub fn span(digit: &str) -> f64 {
-    synergy(digit)
+pub fn span(preshape: Preshape, digit: &str) -> f64 {
+    synergy(preshape, digit)
         .iter()
         .map(|(_, a, b)| (b - a).abs())
         .fold(0.0, f64::max)
@@ -130,11 +171,16 @@ mod tests {
             s.apply_pose(&s.rest_angles(), &p.pose())
                 .unwrap_or_else(|e| panic!("{}: {e}", p.name()));
         }
-        for digit in DIGITS {
-            let closed: Pose = synergy(digit).into_iter().map(|(j, _, b)| (j, b)).collect();
-            s.apply_pose(&s.rest_angles(), &closed)
-                .unwrap_or_else(|e| panic!("{digit}: {e}"));
-            assert!(span(digit) > 0.0);
+        for p in Preshape::ALL {
+            for digit in DIGITS {
+                let closed: Pose = synergy(p, digit)
+                    .into_iter()
+                    .map(|(j, _, b)| (j, b))
+                    .collect();
+                s.apply_pose(&s.rest_angles(), &closed)
+                    .unwrap_or_else(|e| panic!("{digit}: {e}"));
+                assert!(span(p, digit) > 0.0);
+            }
         }
         assert_eq!(Preshape::from_name("fist"), None);
     }

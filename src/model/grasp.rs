@@ -91,14 +91,17 @@ pub fn grasp(
             format!("\"{}\" is a hand: a hand grasps an object", def.object),
         ));
     }
-    let (name, grasping, start) = match &def.preshape {
+    // The preshape's name, the digits that grasp, its angles, and the synergies they close
+    // along (a pose table closes every digit as the power grasp does).
+    let (name, grasping, start, closing) = match &def.preshape {
         None => (
             "power".to_string(),
             Preshape::Power.grasping(),
             Preshape::Power.pose(),
+            Preshape::Power,
         ),
         Some(PreshapeDef::Named(n)) => match Preshape::from_name(n) {
-            Some(p) => (n.clone(), p.grasping(), p.pose()),
+            Some(p) => (n.clone(), p.grasping(), p.pose(), p),
             None => {
                 return Err((
                     format!("{field}.preshape"),
@@ -109,7 +112,7 @@ pub fn grasp(
                 ))
             }
         },
-        Some(PreshapeDef::Pose(p)) => ("pose".to_string(), [true; 5], p.clone()),
+        Some(PreshapeDef::Pose(p)) => ("pose".to_string(), [true; 5], p.clone(), Preshape::Power),
     };
     *angles = skeleton
         .apply_pose(angles, &start)
@@ -171,7 +174,7 @@ pub fn grasp(
     let digits = (0..DIGITS.len())
         .filter(|&d| grasping[d])
         .map(|d| {
-            let joints = synergy::synergy(DIGITS[d])
+            let joints = synergy::synergy(closing, DIGITS[d])
                 .into_iter()
                 .filter_map(|(joint, _, closed)| {
                     let i = dof(&joint)?;

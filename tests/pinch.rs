@@ -1,0 +1,153 @@
+//! The gentlest pinch of a free ball (issue 17): the thumb pronated into opposition
+//! (`thumb.cmc.rot`) and the index close their pads on a 38 mm rubber ball along the pinch
+//! synergy; let go of its stand, the ball is held by the two pads' friction alone. Held with the
+//! margin M against its weight W with friction μ, each pad presses with M·W/(2μ): twice the
+//! weight, twice the force; twice μ, half.
+
+use nalgebra::Vector3;
+use prehensile::headless::{solve_scene, Solved};
+use prehensile::scene::Scene;
+use prehensile::state::outcome::node_bone;
+use prehensile::state::GraspOutcome;
+
+/// The ball's centre, m: midway between the pads where the pinch synergy opens them 38 mm.
+const CENTRE: [f64; 3] = [0.0937, 0.0289, -0.0739];
+
+/// Gravity normal to the line between the pads there ((0.941, −0.26, 0.21)), m/s².
+const GRAVITY: [f64; 3] = [1.913, -0.553, -9.604];
+
+/// The scene: the built-in right hand at rest (resolution 1), a solid rubber ball of radius
+/// 19 mm and density `density` on a stand at its lowest point, skin on rubber μ = `mu`, and one
+/// grasp keyframe: the pinch preshape, holding against gravity with the default margin.
+fn pinch(density: f64, mu: f64) -> String {
+    let [x, y, z] = CENTRE;
+    let [gx, gy, gz] = GRAVITY;
+    format!(
+        "[world]\ngravity = [{gx}, {gy}, {gz}]\n\n[solver]\nmax_step_deg = 10.0\n\n\
+         [[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n\
+         [[material]]\nname = \"rubber\"\nyoung = 2.0e6\npoisson = 0.4\ndensity = {density}\n\n\
+         [[friction]]\nbetween = [\"flesh\", \"rubber\"]\nmu = {mu}\n\n\
+         [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\n\
+         shape = {{ hand = {{ side = \"right\", resolution = 1.0 }} }}\n\n\
+         [[body]]\nname = \"ball\"\nmaterial = \"rubber\"\n\
+         shape = {{ sphere = {{ center = [{x}, {y}, {z}], radius = 0.019, cells = 8 }} }}\n\n\
+         [[constraint]]\nname = \"stand\"\nbody = \"ball\"\n\
+         where = {{ box = {{ min = [0.0935, 0.0235, -0.0935], max = [0.1015, 0.0315, -0.0895] }} }}\n\
+         displacement = [0.0, 0.0, 0.0]\n\n\
+         [[keyframe]]\ntime = 1.0\ngrasp = {{ object = \"ball\", preshape = \"pinch\" }}\n"
+    )
+}
+
+/// What a pinch found: its outcome, the ball's weight (N) and each pad's normal force (N:
+/// the contacts' normal forces summed by the digit whose flesh they press).
+struct Pinch {
+    outcome: GraspOutcome,
+    weight: f64,
+    pads: [f64; 2],
+}
+
+fn solve(density: f64, mu: f64) -> Pinch {
+    let text = pinch(density, mu);
+    let scene = Scene::parse(&text, "pinch.toml").unwrap();
+    let run: Solved = solve_scene(&scene, "pinch.toml").unwrap_or_else(|e| panic!("{e}"));
+    let model = &run.model;
+    let frame = run.frames.last().unwrap();
+    let outcome = frame.hands[0].grasp.clone().expect("a grasp keyframe");
+    let hand_body = frame.hands[0].body;
+    let hand = model.bodies[hand_body].hand.as_deref().unwrap();
+    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+    let (hands, balls) = (
+        model.bodies[hand_body].nodes.clone(),
+        model.bodies[ball].nodes.clone(),
+    );
+    let g = Vector3::from(GRAVITY).norm();
+    let weight = model.bodies[ball].mass * g;
+    let mut pads = [0.0; 2];
+    for c in &frame.contact.as_ref().expect("in contact").contacts {
+        if !c.terms.iter().any(|t| balls.contains(&t.0)) {
+            continue;
+        }
+        // The hand's node this contact weighs most: its bone's digit.
+        let Some(&(n, _)) = c
+            .terms
+            .iter()
+            .filter(|t| hands.contains(&t.0))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        else {
+            continue;
+        };
+        let digit = hand.skeleton.bones[node_bone(hand, n - hands.start)].digit;
+        match digit {
+            Some(0) => pads[0] += c.force,
+            Some(1) => pads[1] += c.force,
+            other => panic!("a contact on digit {other:?}: only the pads touch"),
+        }
+    }
+    println!(
+        "density {density}, μ {mu}: W {weight:.4} N, pads {pads:.4?} N, grip {:.4} N at {:.3}°, \
+         margin {:.3}, drift {:?} m, {} poses",
+        outcome.grip, outcome.closing_deg, outcome.margin, outcome.drift, outcome.trials
+    );
+    Pinch {
+        outcome,
+        weight,
+        pads,
+    }
+}
+
+/// Each pad's normal force against margin·W/(2μ), within 10 %, the ball held let go of.
+fn check(p: &Pinch, mu: f64) {
+    let g = &p.outcome;
+    assert!(g.held, "{:?}", g.reason);
+    assert_eq!(g.digits_touching, ["thumb", "index"]);
+    assert!(
+        g.margin >= 1.5 && g.margin <= 1.5 * 1.05 + 1e-9,
+        "margin {}",
+        g.margin
+    );
+    let expected = 1.5 * p.weight / (2.0 * mu);
+    for (pad, f) in ["thumb", "index"].iter().zip(p.pads) {
+        assert!(
+            (f - expected).abs() <= 0.1 * expected,
+            "{pad} pad presses {f} N, margin·W/(2μ) = {expected} N (W = {} N)",
+            p.weight
+        );
+    }
+    // Held: the ball settles by the pads' elastic give under its weight (0.7 mm for the 50 kPa
+    // flesh, 0.4 mm with it twice as stiff), a small part of its radius; it does not slide out.
+    let drift = g.drift.expect("held: its drift");
+    assert!(drift > 0.0 && drift < 0.002, "drift {drift} m");
+}
+
+#[test]
+fn a_free_ball_pinched_is_held_by_pads_pressing_margin_times_its_weight_over_two_mu() {
+    let p = solve(1100.0, 0.8);
+    check(&p, 0.8);
+    // The thumb's pronation is what opposes the pads (the synergy's own angle, past 40°).
+    assert!(
+        p.outcome.pose["thumb.cmc.rot"] > 40.0,
+        "{:?}",
+        p.outcome.pose
+    );
+}
+
+#[test]
+fn twice_the_weight_twice_the_pinch() {
+    let light = solve(1100.0, 0.8);
+    let heavy = solve(2200.0, 0.8);
+    check(&heavy, 0.8);
+    let ratio = (heavy.pads[0] + heavy.pads[1]) / (light.pads[0] + light.pads[1]);
+    assert!(
+        (ratio - 2.0).abs() <= 0.2,
+        "twice the weight: {ratio} × the pinch"
+    );
+}
+
+#[test]
+fn twice_the_friction_half_the_pinch() {
+    let light = solve(1100.0, 0.8);
+    let rough = solve(1100.0, 1.6);
+    check(&rough, 1.6);
+    let ratio = (rough.pads[0] + rough.pads[1]) / (light.pads[0] + light.pads[1]);
+    assert!((ratio - 0.5).abs() <= 0.05, "twice μ: {ratio} × the pinch");
+}
