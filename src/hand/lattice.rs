@@ -36,15 +36,6 @@ const FACE_DIRS: [[i64; 3]; 6] = [
     [0, 0, 1],
 ];
 
-/// Depth of the joint space between the carpus and the thumb's metacarpal, m, at every
-/// resolution (the other joints': `BASE_SPACING − h/2`, never less than h/2). The metacarpal's
-/// base turns in place about its own axis as the thumb pronates into opposition, sweeping its
-/// surface 5 mm along the carpus at 56°: with the other joints' band, the pinch preshape (CMC
-/// abduction 54.5°, flexion 13°, rotation 56.5°) crushed a flesh cell between the two bones at
-/// resolutions 1.25 and 1.5; 2.4 mm still did, 2.8 mm at resolution 2; 3.2 mm reaches it at
-/// 1, 1.25, 1.5 and 2 (at resolution 1, 19 of the 8 087 cells left out).
-const THUMB_BASE_BAND: f64 = BASE_SPACING;
-
 /// Smallest relative Jacobian a cell may be left with after projecting skin nodes.
 const MIN_QUALITY: f64 = 0.3;
 
@@ -423,16 +414,6 @@ pub fn mesh_flesh_offset(
     // the joint flexes: at resolution 2 the index's PIP crease cell turned inside out at 30.6°
     // with a band of half a cell, at 56.9° with 1.6 mm.
     let joint_band = (0.5 * h).max(BASE_SPACING - 0.5 * h);
-    // The thumb's base turns in place about its own axis (opposition's pronation) beside the
-    // carpus: its joint space is deeper (THUMB_BASE_BAND).
-    let thumb_base = skeleton.bone_index("thumb.metacarpal");
-    let band = |b: usize| {
-        if skeleton.bones[b].parent.is_none() || Some(b) == thumb_base {
-            joint_band.max(THUMB_BASE_BAND)
-        } else {
-            joint_band
-        }
-    };
     for (n, p) in nodes.iter().enumerate() {
         if node_bone[n].is_some() {
             continue;
@@ -442,7 +423,7 @@ pub fn mesh_flesh_offset(
             .iter()
             .enumerate()
             .map(|(b, bone)| (bone.distance(p), b))
-            .filter(|(d, b)| *d < band(*b))
+            .filter(|(d, _)| *d < joint_band)
             .collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
         if near.len() >= 2 && near.iter().any(|(_, b)| group[*b] != group[near[0].1]) {
