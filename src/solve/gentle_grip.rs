@@ -36,8 +36,8 @@ use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 /// The first trial's closing past first contact, degrees.
 const FIRST_THETA: f64 = 1.0;
 
-/// The search stops when the interval is this narrow, degrees (a pinch's pads press 0.7 N
-/// more per degree on a 14 mm ball: `tests/pinch.rs`)…
+/// The search stops when the interval is this narrow, degrees (a pinch's pads press ≈ 0.8 N
+/// more per degree on the 38 mm ball of `tests/pinch.rs`)…
 const THETA_TOLERANCE: f64 = 1.0 / 32.0;
 
 /// …or when the hold is met within this share of what is asked.
@@ -215,14 +215,18 @@ impl Workspace {
             });
             Ok(t)
         };
-        let holds = |t: &Trial| match grasp.hold {
-            HoldTarget::Gravity { .. } => t.margin >= grasp.margin,
-            HoldTarget::Force(f) => t.grip >= f,
+        // What a hold is measured by (the friction margin let go of, or the grip), and what
+        // is asked of it.
+        let measure = |t: &Trial| match grasp.hold {
+            HoldTarget::Gravity { .. } => t.margin,
+            HoldTarget::Force(_) => t.grip,
         };
-        let close_enough = |t: &Trial| match grasp.hold {
-            HoldTarget::Gravity { .. } => t.margin <= grasp.margin * (1.0 + HOLD_TOLERANCE),
-            HoldTarget::Force(f) => t.grip <= f * (1.0 + HOLD_TOLERANCE),
+        let target = match grasp.hold {
+            HoldTarget::Gravity { .. } => grasp.margin,
+            HoldTarget::Force(f) => f,
         };
+        let holds = |t: &Trial| measure(t) >= target;
+        let close_enough = |t: &Trial| measure(t) <= target * (1.0 + HOLD_TOLERANCE);
         let overloaded = |t: &Trial| {
             t.frame
                 .hands
@@ -287,14 +291,6 @@ impl Workspace {
                 Some(reason),
             );
         }
-        let measure = |t: &Trial| match grasp.hold {
-            HoldTarget::Gravity { .. } => t.margin,
-            HoldTarget::Force(_) => t.grip,
-        };
-        let target = match grasp.hold {
-            HoldTarget::Gravity { .. } => grasp.margin,
-            HoldTarget::Force(f) => f,
-        };
         // The firmest grip within the bones' thresholds that does not hold; the least closing
         // that holds within them; the least closing past a bone's threshold.
         let mut best = lo.clone();
