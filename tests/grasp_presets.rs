@@ -15,7 +15,19 @@ fn check_converged_grasp(preset: Preset) {
     let scene = preset_scene(preset);
     let solved = solve_scene(&scene, "preset.toml").unwrap_or_else(|e| panic!("{preset:?}: {e}"));
     let model = &solved.model;
+    // The pose is reached, and the corrections at it settle (what the command line exits
+    // non-zero for otherwise).
+    for unsolved in [
+        prehensile::headless::stopped_by_the_solver(&solved),
+        prehensile::headless::failed_at_a_pose(&solved),
+    ] {
+        assert_eq!(unsolved, None, "{preset:?}");
+    }
     let frame = solved.frames.last().unwrap();
+    assert!(
+        frame.hands[0].stats.stopped_short.is_none(),
+        "{preset:?}: stopped short"
+    );
     let contact = frame.contact.as_ref().expect("the grasp touches the ball");
     // No interpenetration left beyond what the contact accepts on the moved geometry (its
     // limit, 0.5 mm here); measured 0.1–0.2 µm (2026-11-24), up to 0.12 mm with skin held on

@@ -104,18 +104,46 @@ fn every_example_scene_solves_in_balance() {
     for entry in std::fs::read_dir("assets/scenes").unwrap() {
         let path = entry.unwrap().path();
         let solved = solve_scene_file(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let f = &solved.report.frames[0];
-        let scale: f64 = f
-            .equilibrium
-            .reactions
-            .iter()
-            .map(|v| v.abs())
-            .sum::<f64>()
-            .max(1.0);
-        for i in 0..3 {
+        // Every keyframe reaches its pose (a bone's threshold may end one: a result, not a
+        // failure) and its contact settles there.
+        for unsolved in [
+            prehensile::headless::stopped_by_the_solver(&solved),
+            prehensile::headless::failed_at_a_pose(&solved),
+        ] {
+            assert_eq!(unsolved, None, "{}", path.display());
+        }
+        // Every frame balances: the loads against the supports, the bones and the obstacles
+        // (the contact between hand and object is internal to the scene). To 1e-9 of the
+        // forces without contact; with it, 1e-6: the contact's multipliers are solved through a
+        // Schur complement, round-off over the stiffness contrast of the bodies (measured
+        // 2026-11-29: 2e-11 … 8e-11 N of 1.17 N on the rubber balls, 1.2e-6 N of 2.56 N with
+        // the ceramic bowl, E = 1e11 Pa against the flesh's 5e4).
+        for (i, f) in solved.report.frames.iter().enumerate() {
+            let tolerance = if solved.frames[i].contact.is_some() {
+                1e-6
+            } else {
+                1e-9
+            };
+            let scale: f64 = f
+                .equilibrium
+                .reactions
+                .iter()
+                .chain(&f.equilibrium.applied)
+                .map(|v| v.abs())
+                .sum::<f64>()
+                .max(1.0);
+            let worst = f
+                .equilibrium
+                .imbalance
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            println!(
+                "{} frame {i}: imbalance {worst:.2e} N of {scale:.3e}",
+                path.display()
+            );
             assert!(
-                f.equilibrium.imbalance[i].abs() < 1e-9 * scale,
-                "{}: {:?}",
+                worst < tolerance * scale,
+                "{} frame {i}: {:?}",
                 path.display(),
                 f.equilibrium
             );

@@ -3,8 +3,10 @@
 
 mod render;
 mod solve;
+mod unsolved;
 
 pub use render::{camera_for, draw_lists, render_frame, scene_camera, HeadlessError};
 pub use solve::{
     solve_scene, solve_scene_file, write_solved, write_solved_as, PipelineError, Solved,
 };
+pub use unsolved::{failed_at_a_pose, stopped_by_the_solver};
