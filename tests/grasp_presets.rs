@@ -104,6 +104,32 @@ fn check_converged_grasp(preset: Preset) {
         "{preset:?}: the skin is {} mm inside the ball",
         skin_depth * 1e3
     );
+    // The tactile map drawn and exported on the display skin integrates to the contact's
+    // normal force (item 4: the map is the contact's, carried from the contact skin's vertices
+    // to the finer display skin).
+    let hand_model = model.bodies[hand].hand.as_deref().unwrap();
+    let pressure = prehensile::state::skin_pressure(model, frame, hand).expect("skin pressure");
+    let at = hand_model.skin.positions(&frame.hands[0].positions);
+    let integral: f64 = hand_model
+        .skin
+        .triangle_indices()
+        .iter()
+        .map(|t| {
+            let area = 0.5 * (at[t[1]] - at[t[0]]).cross(&(at[t[2]] - at[t[0]])).norm();
+            area * t.iter().map(|&v| pressure[v]).sum::<f64>() / 3.0
+        })
+        .sum();
+    let normal = contact.normal_force();
+    println!(
+        "{preset:?}: the skin's tactile map integrates to {integral:.4} N of {normal:.4} N ({:+.2} %)",
+        100.0 * (integral / normal - 1.0)
+    );
+    // (Before 2026-11-29 the map was the force over the contact skin's own areas: 6.8 and
+    // 7.9 % short on the smoother display skin.)
+    assert!(
+        (integral - normal).abs() < 1e-9 * normal,
+        "{preset:?}: {integral} N of {normal} N"
+    );
     // The ball: contact force, its weight and its support's reaction balance (the air pressure
     // on its closed cavity sums to zero).
     let report = &solved.report.frames[solved.frames.len() - 1];

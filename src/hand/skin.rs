@@ -268,6 +268,26 @@ impl DisplaySkin {
             .collect()
     }
 
+    /// The transpose of [`Self::from_control`]: what values at every display vertex
+    /// (`display`) give to each vertex of the control net (`control`, its quads' corners
+    /// numbered over `count` vertices), by the same bilinear weights. With `display` the
+    /// vertices' areas, each control vertex's area on the display skin: a value at the control
+    /// vertices carried by [`Self::from_control`] then integrates over the display skin to the
+    /// sum of value × that area.
+    pub fn to_control(&self, display: &[f64], control: &[[u32; 4]], count: usize) -> Vec<f64> {
+        let mut out = vec![0.0; count];
+        for (&(q, [u, v]), d) in control_coordinates(&self.quads, self.vertex_count(), self.levels)
+            .iter()
+            .zip(display)
+        {
+            let weights = [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v];
+            for (&c, w) in control[q as usize].iter().zip(weights) {
+                out[c as usize] += w * d;
+            }
+        }
+        out
+    }
+
     /// The node weighing most in display vertex `v` (the first of equal weights).
     pub fn heaviest_node(&self, v: usize) -> usize {
         self.terms(v)
@@ -330,6 +350,49 @@ impl DisplaySkin {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn to_control_is_the_transpose_of_from_control() {
+        // Σ_d y_d · (from_control x)_d = Σ_v (to_control y)_v · x_v for any x, y; and the
+        // display vertices' areas carried back sum to the whole area (the weights are a
+        // partition of unity): here two flat quads of area 2 each.
+        let nodes = [
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(1.0, 2.0, 0.0),
+            Vector3::new(0.0, 2.0, 0.0),
+            Vector3::new(2.0, 0.0, 0.0),
+            Vector3::new(2.0, 2.0, 0.0),
+        ];
+        let quads = [[0usize, 1, 2, 3], [1, 4, 5, 2]];
+        let control: Vec<[u32; 4]> = quads.iter().map(|q| q.map(|v| v as u32)).collect();
+        let x = [0.3, -1.2, 2.5, 0.7, 1.9, -0.4];
+        for levels in 0..3 {
+            let skin = DisplaySkin::new(&quads, nodes.len(), levels);
+            let y: Vec<f64> = (0..skin.vertex_count())
+                .map(|d| ((d * 7919) % 13) as f64 - 6.0)
+                .collect();
+            let forward = skin.from_control(|q, i| x[quads[q][i]]);
+            let back = skin.to_control(&y, &control, nodes.len());
+            let lhs: f64 = y.iter().zip(&forward).map(|(a, b)| a * b).sum();
+            let rhs: f64 = back.iter().zip(&x).map(|(a, b)| a * b).sum();
+            assert!(
+                (lhs - rhs).abs() < 1e-12 * lhs.abs().max(1.0),
+                "level {levels}: {lhs} {rhs}"
+            );
+            let at = skin.positions(&nodes);
+            let mut area = vec![0.0; at.len()];
+            for t in skin.triangle_indices() {
+                let a = 0.5 * (at[t[1]] - at[t[0]]).cross(&(at[t[2]] - at[t[0]])).norm();
+                for v in t {
+                    area[v] += a / 3.0;
+                }
+            }
+            let shares = skin.to_control(&area, &control, nodes.len());
+            let total: f64 = shares.iter().sum();
+            assert!((total - 4.0).abs() < 1e-12, "level {levels}: {total}");
+        }
+    }
 
     #[test]
     fn control_coordinates_place_every_vertex_on_its_control_quad() {
