@@ -104,6 +104,18 @@ fn check_converged_grasp(preset: Preset) {
         "{preset:?}: the skin is {} mm inside the ball",
         skin_depth * 1e3
     );
+    // And the other way: no node of the ball inside the skin the user sees beyond the
+    // contact's limit (measured 0.26 mm, Power grasp, and 0.19 mm, Pinch, 2026-11-29).
+    let ball_depth = common::object_depth_inside_skin(model, frame, hand, ball);
+    println!(
+        "{preset:?}: the ball's surface nodes {:.3} mm inside the display skin",
+        ball_depth * 1e3
+    );
+    assert!(
+        ball_depth <= model.contact.penetration_limit(),
+        "{preset:?}: a node of the ball is {} mm inside the skin",
+        ball_depth * 1e3
+    );
     // The tactile map drawn and exported on the display skin integrates to the contact's
     // normal force (item 4: the map is the contact's, carried from the contact skin's vertices
     // to the finer display skin).

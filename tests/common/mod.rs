@@ -125,6 +125,49 @@ pub fn skins_depth_inside(
     (skin, lattice, contact)
 }
 
+/// How deep (m) any boundary node of body `object`, deformed, lies inside hand `hand`'s display
+/// skin (the skin the user sees), by winding numbers: the reverse of [`skin_depth_inside`],
+/// independent of the contact's own detection. The skin is open at the wrist, far from any
+/// object.
+pub fn object_depth_inside_skin(
+    model: &prehensile::model::Model,
+    frame: &prehensile::state::Frame,
+    hand: usize,
+    object: usize,
+) -> f64 {
+    use prehensile::contact::{project_on_triangle, winding_number_of};
+    let h = frame
+        .hands
+        .iter()
+        .find(|h| h.body == hand)
+        .expect("a hand frame");
+    let hand_model = model.bodies[hand].hand.as_deref().expect("a hand body");
+    let skin = hand_model.skin.positions(&h.positions);
+    let triangles = hand_model.skin.triangle_indices();
+    let mut nodes: Vec<usize> = model.bodies[object]
+        .facets
+        .iter()
+        .flat_map(|f| f.nodes)
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    use rayon::prelude::*;
+    nodes
+        .par_iter()
+        .map(|&n| {
+            let p = model.mesh.nodes[n] + frame.solution.node_displacement(n);
+            if winding_number_of(&p, &triangles, &skin).abs() < 0.5 {
+                return 0.0;
+            }
+            triangles
+                .iter()
+                .filter_map(|t| project_on_triangle(&p, &t.map(|m| skin[m])))
+                .map(|q| q.distance)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .reduce(|| 0.0, f64::max)
+}
+
 /// `prehensile solve <scene> --out <out>`, run as a user runs it.
 pub fn solve_cli(scene: &std::path::Path, out: &std::path::Path) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
