@@ -351,11 +351,8 @@ impl DisplaySkin {
 mod tests {
     use super::*;
 
-    #[test]
-    fn to_control_is_the_transpose_of_from_control() {
-        // Σ_d y_d · (from_control x)_d = Σ_v (to_control y)_v · x_v for any x, y; and the
-        // display vertices' areas carried back sum to the whole area (the weights are a
-        // partition of unity): here two flat quads of area 2 each.
+    /// Two equal flat quads side by side, 1 × 2 each, sharing an edge: (nodes, quads).
+    fn two_flat_quads() -> ([Vector3<f64>; 6], [[usize; 4]; 2]) {
         let nodes = [
             Vector3::new(0.0, 0.0, 0.0),
             Vector3::new(1.0, 0.0, 0.0),
@@ -364,7 +361,15 @@ mod tests {
             Vector3::new(2.0, 0.0, 0.0),
             Vector3::new(2.0, 2.0, 0.0),
         ];
-        let quads = [[0usize, 1, 2, 3], [1, 4, 5, 2]];
+        (nodes, [[0, 1, 2, 3], [1, 4, 5, 2]])
+    }
+
+    #[test]
+    fn to_control_is_the_transpose_of_from_control() {
+        // Σ_d y_d · (from_control x)_d = Σ_v (to_control y)_v · x_v for any x, y; and the
+        // display vertices' areas carried back sum to the whole area (the weights are a
+        // partition of unity): here two flat quads of area 2 each.
+        let (nodes, quads) = two_flat_quads();
         let control: Vec<[u32; 4]> = quads.iter().map(|q| q.map(|v| v as u32)).collect();
         let x = [0.3, -1.2, 2.5, 0.7, 1.9, -0.4];
         for levels in 0..3 {
@@ -400,15 +405,7 @@ mod tests {
         // sharp) and the shared one is symmetric, so subdivision is bilinear and a vertex's
         // position is the bilinear interpolation of its control quad's corners at its
         // coordinates.
-        let nodes = [
-            Vector3::new(0.0, 0.0, 0.0),
-            Vector3::new(1.0, 0.0, 0.0),
-            Vector3::new(1.0, 2.0, 0.0),
-            Vector3::new(0.0, 2.0, 0.0),
-            Vector3::new(2.0, 0.0, 0.0),
-            Vector3::new(2.0, 2.0, 0.0),
-        ];
-        let quads = [[0, 1, 2, 3], [1, 4, 5, 2]];
+        let (nodes, quads) = two_flat_quads();
         for levels in 0..3 {
             let skin = DisplaySkin::new(&quads, nodes.len(), levels);
             let at = skin.positions(&nodes);
