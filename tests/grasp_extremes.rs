@@ -6,6 +6,7 @@
 //! - E = 10² Pa cannot carry its own weight (ρ·g·R/E ≈ 3.8): refused before any hand moves, the
 //!   error naming the strain and the modulus that would hold it;
 //! - E = 10⁴ Pa: the grasp solves (the report warns of the ball's strain, far past small strain);
+//! - E = 10⁶ and 10⁸ Pa: the grasp solves, the hand pressing harder the stiffer the ball;
 //! - E = 10⁹ and 10¹² Pa: the fingers cannot dent the ball; the grasp either stops where a
 //!   bone's reaction overruns its muscle threshold or reaches its pose, and the report tells
 //!   whether it is realisable. Measured 2026-11-29: both reach the pose; at 10⁹ Pa the largest
@@ -51,7 +52,9 @@ fn a_ball_too_soft_to_carry_its_weight_is_refused_before_the_grasp() {
 
 #[test]
 fn the_power_grasp_on_soft_to_rigid_balls_holds_or_stops_at_a_bone_threshold() {
-    for young in [1e4, 1e9, 1e12] {
+    // The hand's force at the pose, for each modulus that reaches it.
+    let mut at_pose: Vec<(f64, f64)> = Vec::new();
+    for young in [1e4, 1e6, 1e8, 1e9, 1e12] {
         let solved = solve_scene(&power_grasp(young), "extreme.toml")
             .unwrap_or_else(|e| panic!("E = {young:e} Pa: {e}"));
         let frame = solved.frames.last().unwrap();
@@ -125,6 +128,21 @@ fn the_power_grasp_on_soft_to_rigid_balls_holds_or_stops_at_a_bone_threshold() {
                         .join(", ")
                 )),
             contact.max_penetration
+        );
+        if hand.stats.stopped_short.is_none() {
+            at_pose.push((young, on_hand.norm()));
+        }
+    }
+    // The same pose presses a stiffer ball harder (measured 2026-11-29: 0.016, 4.54, 38.7,
+    // 43.1, 995.6 N from 1e4 to 1e12 Pa).
+    for pair in at_pose.windows(2) {
+        assert!(
+            pair[1].1 > pair[0].1,
+            "E = {:e} Pa: {} N, E = {:e} Pa: {} N",
+            pair[0].0,
+            pair[0].1,
+            pair[1].0,
+            pair[1].1
         );
     }
 }
