@@ -325,11 +325,7 @@ fn run() -> Result<()> {
             for path in written {
                 println!("wrote {}", path.display());
             }
-            if let Some(message) = crate::headless::stopped_by_the_solver(&solved) {
-                eprintln!("error: {message}");
-                std::process::exit(2);
-            }
-            if let Some(message) = crate::headless::failed_at_a_pose(&solved) {
+            if let Some(message) = crate::headless::unsolved(&solved) {
                 eprintln!("error: {message}");
                 std::process::exit(2);
             }

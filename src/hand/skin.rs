@@ -268,6 +268,20 @@ impl DisplaySkin {
             .collect()
     }
 
+    /// Each display vertex's area at positions `at` (m²): a third of every triangle it is a
+    /// corner of ([`Self::triangles`]), so that a value at the vertices integrates over the skin,
+    /// linear on each triangle, to the sum of value × area.
+    pub fn vertex_areas(&self, at: &[Vector3<f64>]) -> Vec<f64> {
+        let mut area = vec![0.0; at.len()];
+        for t in self.triangle_indices() {
+            let a = 0.5 * (at[t[1]] - at[t[0]]).cross(&(at[t[2]] - at[t[0]])).norm();
+            for v in t {
+                area[v] += a / 3.0;
+            }
+        }
+        area
+    }
+
     /// The transpose of [`Self::from_control`]: what values at every display vertex
     /// (`display`) give to each vertex of the control net (`control`, its quads' corners
     /// numbered over `count` vertices), by the same bilinear weights. With `display` the
@@ -385,14 +399,7 @@ mod tests {
                 (lhs - rhs).abs() < 1e-12 * lhs.abs().max(1.0),
                 "level {levels}: {lhs} {rhs}"
             );
-            let at = skin.positions(&nodes);
-            let mut area = vec![0.0; at.len()];
-            for t in skin.triangle_indices() {
-                let a = 0.5 * (at[t[1]] - at[t[0]]).cross(&(at[t[2]] - at[t[0]])).norm();
-                for v in t {
-                    area[v] += a / 3.0;
-                }
-            }
+            let area = skin.vertex_areas(&skin.positions(&nodes));
             let shares = skin.to_control(&area, &control, nodes.len());
             let total: f64 = shares.iter().sum();
             assert!((total - 4.0).abs() < 1e-12, "level {levels}: {total}");

@@ -9,4 +9,4 @@ pub use render::{camera_for, draw_lists, render_frame, scene_camera, HeadlessErr
 pub use solve::{
     solve_scene, solve_scene_file, write_solved, write_solved_as, PipelineError, Solved,
 };
-pub use unsolved::{failed_at_a_pose, stopped_by_the_solver};
+pub use unsolved::unsolved;

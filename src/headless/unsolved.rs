@@ -4,10 +4,16 @@
 
 use super::solve::Solved;
 
+/// Why `solved` did not reach what it asks ([`stopped_by_the_solver`], else
+/// [`failed_at_a_pose`]), or `None`: the error `prehensile solve` exits with (code 2).
+pub fn unsolved(solved: &Solved) -> Option<String> {
+    stopped_by_the_solver(solved).or_else(|| failed_at_a_pose(solved))
+}
+
 /// The keyframes the contact solve could not follow to their pose (not those a bone's
 /// threshold ended: a result), told as the error the command exits with (code 2: the frames are
 /// written, up to where the motion stopped).
-pub fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
+fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
     let stops: Vec<String> = solved
         .frames
         .iter()
@@ -50,7 +56,7 @@ pub fn stopped_by_the_solver(solved: &Solved) -> Option<String> {
 /// corrections ended with the contact force still changing by more than
 /// `KeyframeStats::UNSETTLED_WARNING`: told as the error the command exits with (code 2: the
 /// frames are written, each the last settled state).
-pub fn failed_at_a_pose(solved: &Solved) -> Option<String> {
+fn failed_at_a_pose(solved: &Solved) -> Option<String> {
     let mut causes = Vec::new();
     for (i, f) in solved.frames.iter().enumerate() {
         for h in &f.hands {

@@ -35,14 +35,7 @@ pub fn skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f6
     let hand = model.bodies[body].hand.as_deref()?;
     let force = contact_skin_forces(model, frame, body)?;
     let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
-    let at = hand.skin.positions(positions);
-    let mut area = vec![0.0; at.len()];
-    for t in hand.skin.triangle_indices() {
-        let a = 0.5 * (at[t[1]] - at[t[0]]).cross(&(at[t[2]] - at[t[0]])).norm();
-        for v in t {
-            area[v] += a / 3.0;
-        }
-    }
+    let area = hand.skin.vertex_areas(&hand.skin.positions(positions));
     let quads = &hand.contact_skin.quads;
     let share = hand.skin.to_control(&area, quads, force.len());
     let pressure = per_area(&force, &share);
