@@ -126,6 +126,7 @@ fn blocks_from(
         stop: None,
         crossings: &[],
         held_before,
+        forces_before: &[],
     };
     let mut s = settings(pairs, method);
     if method == ContactMethod::Paper {
@@ -327,6 +328,7 @@ fn slope_solve(
         stop: None,
         crossings: &[],
         held_before: &[],
+        forces_before: &[],
     };
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let s = settings(PairSides::SkinNodes, ContactMethod::Lagrange);

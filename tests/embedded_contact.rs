@@ -116,6 +116,7 @@ fn block_on_plane(z0: f64, below: f64) -> (ContactResult, f64, Vec<Vector3<f64>>
         stop: None,
         crossings: &[],
         held_before: &[],
+        forces_before: &[],
     };
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let r = solve_lagrange(&mut solver, &problem, &settings()).expect("contact solves");
@@ -244,6 +245,7 @@ fn embedded_points_pressing_a_second_block_give_springs_in_series() {
         stop: None,
         crossings: &[],
         held_before: &[],
+        forces_before: &[],
     };
     let mut solver = PartitionedSolver::new(FillOrdering::NestedDissection);
     let r = solve_lagrange(&mut solver, &problem, &settings()).expect("contact solves");

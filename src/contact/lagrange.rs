@@ -667,6 +667,7 @@ pub fn solve_with_obstacles(
         stop: None,
         crossings: &[],
         held_before: &[],
+        forces_before: &[],
     };
     solve_lagrange(solver, &problem, &settings)
 }

@@ -17,6 +17,7 @@ mod paper;
 mod point;
 mod pressure;
 mod problem;
+mod quasi_newton;
 mod row;
 mod self_contact;
 mod surface;
@@ -28,7 +29,7 @@ pub use exterior::exterior_quads;
 pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};
 pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
-pub use paper::solve_paper;
+pub use paper::{solve_paper, transferred as transferred_forces};
 pub use point::{
     Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
     ContactSummary, ContactTimes, Master, PairSides, Relaxation, DEFAULT_MAX_ITERATIONS,

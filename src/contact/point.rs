@@ -49,6 +49,10 @@ pub enum Relaxation {
     Fixed(f64),
     /// Aitken's dynamic factor, recomputed every iteration from the last two force changes.
     Aitken,
+    /// The interface quasi-Newton method (IQN-ILS, `quasi_newton.rs`): the next forces from a
+    /// least-squares secant model of every previous iteration's; converges where the object is
+    /// much stiffer than the flesh, where Aitken's single factor does not.
+    QuasiNewton,
 }
 
 /// Settings of the contact iteration.
@@ -90,8 +94,8 @@ impl Default for ContactSettings {
             tolerance: 1e-9,
             max_iterations: DEFAULT_MAX_ITERATIONS,
             method: ContactMethod::Lagrange,
-            change_tolerance: 1e-7,
-            relaxation: Relaxation::Aitken,
+            change_tolerance: 1e-6,
+            relaxation: Relaxation::QuasiNewton,
             search_depth: 0.01,
             pairs: PairSides::SkinNodes,
         }
@@ -300,6 +304,18 @@ impl ContactTimes {
         self.factorization += stats.factorization_ms;
         self.substitution += stats.solve_ms;
     }
+
+    /// Adds every phase of `other` (a contact solve nested in another).
+    pub fn add(&mut self, other: &ContactTimes) {
+        self.detection += other.detection;
+        self.assembly += other.assembly;
+        self.symbolic += other.symbolic;
+        self.factorization += other.factorization;
+        self.substitution += other.substitution;
+        self.search += other.search;
+        self.settle += other.settle;
+        self.stress += other.stress;
+    }
 }
 
 /// Why contact could not be resolved.
@@ -329,24 +345,6 @@ pub enum ContactError {
         change: Option<f64>,
         /// The cause as the method knows it, and what to do where something is known to help.
         advice: &'static str,
-    },
-    /// The paper's iteration was stopped by a bone's threshold while its displacements were
-    /// still changing: its forces are those of an unconverged iterate, not of a grasp.
-    #[error(
-        "the paper's contact iteration was stopped at iteration {iterations} by a bone's \
-         threshold before it converged (the displacements still changed by {change:.3e} m, \
-         tolerance {tolerance:.1e} m): its forces are those of an unconverged iterate, not a \
-         grasp's. The iteration converges only for objects softer than the flesh under them; \
-         solve this pose with `[solver] contact = \"lagrange\"`, which resolves the contact \
-         exactly and then reports which bones are overloaded"
-    )]
-    StoppedBeforeConvergence {
-        /// Iterations done.
-        iterations: usize,
-        /// Largest displacement change of the last iteration, m.
-        change: f64,
-        /// The change tolerance, m.
-        tolerance: f64,
     },
     /// The constraints are dependent (e.g. a node prescribed and in contact).
     #[error(

@@ -87,6 +87,10 @@ pub struct ContactProblem<'a> {
     /// every candidate of theirs that penetrates, instead of the deepest first (empty: a cold
     /// start). The solution is that of a cold start; it is reached in fewer iterations.
     pub held_before: &'a [usize],
+    /// The contact forces (over every dof) the paper's iteration converged to in the last solve
+    /// of such a sequence: its first iterate, with the nodes of `held_before` kept on their
+    /// facets (empty: a cold start, from no force).
+    pub forces_before: &'a [f64],
 }
 
 /// A penetration found at the current displacements.

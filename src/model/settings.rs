@@ -72,8 +72,9 @@ pub fn contact_settings(
         out.search_depth = d;
     }
     out.relaxation = match &s.contact_relaxation {
-        None => Relaxation::Aitken,
+        None => Relaxation::QuasiNewton,
         Some(RelaxationDef::Name(n)) if n == "aitken" => Relaxation::Aitken,
+        Some(RelaxationDef::Name(n)) if n == "quasi_newton" => Relaxation::QuasiNewton,
         Some(RelaxationDef::Factor(w)) if w.is_finite() && *w > 0.0 && *w <= 1.0 => {
             Relaxation::Fixed(*w)
         }
@@ -84,7 +85,7 @@ pub fn contact_settings(
             };
             return Err((
                 "solver.contact_relaxation".into(),
-                format!("must be \"aitken\" or a factor in (0, 1], got {got}"),
+                format!("must be \"quasi_newton\", \"aitken\" or a factor in (0, 1], got {got}"),
             ));
         }
     };

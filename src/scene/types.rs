@@ -59,13 +59,16 @@ pub struct FrictionDef {
     pub mu: f64,
 }
 
-/// `contact_relaxation`: `"aitken"` or a fixed factor in (0, 1].
+/// `contact_relaxation`: `"quasi_newton"`, `"aitken"` or a fixed factor in (0, 1].
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-#[serde(untagged, expecting = "expected \"aitken\" or a factor in (0, 1]")]
+#[serde(
+    untagged,
+    expecting = "expected \"quasi_newton\", \"aitken\" or a factor in (0, 1]"
+)]
 pub enum RelaxationDef {
     /// A fixed factor ω.
     Factor(f64),
-    /// A name (`"aitken"`).
+    /// A name (`"quasi_newton"`, `"aitken"`).
     Name(String),
 }
 

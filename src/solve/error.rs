@@ -123,10 +123,9 @@ pub enum SimError {
     /// grasp, so no frame is given for it.
     #[error(
         "the paper's contact iteration could not follow the motion beyond {:.0} % of the \
-         keyframe, even in its smallest contact step ({}). Its iteration is one-sided \
-         (object nodes repelled onto the skin's facets) and converges only where the object is \
-         softer than the flesh under it; solve the scene with `[solver] contact = \"lagrange\"`, \
-         which resolves the contact exactly along the motion",
+         keyframe, even in its smallest contact step ({}). Solve the scene with `[solver] \
+         contact = \"lagrange\"`, which resolves the contact exactly along the motion (or give \
+         the paper's iteration more iterations: `[solver] contact_max_iterations`)",
         reached * 100.0,
         what_failed(cause)
     )]
@@ -481,12 +480,6 @@ pub(crate) fn what_failed(cause: &ContactError) -> String {
                  {penetration:.3e} m"
             ),
         },
-        ContactError::StoppedBeforeConvergence {
-            iterations, change, ..
-        } => format!(
-            "a bone's threshold stopped it at iteration {iterations}, before it converged: its \
-             displacements still changed by {change:.3e} m"
-        ),
         ContactError::TooDeep {
             place,
             other,

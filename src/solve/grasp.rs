@@ -48,6 +48,9 @@ use std::time::Instant;
 pub struct ContactCache {
     solver: PartitionedSolver,
     pub(super) held: Vec<usize>,
+    /// The contact forces those nodes transferred (over every dof; the paper's iteration's
+    /// warm start; empty after the exact method).
+    pub(super) transferred: Vec<f64>,
     /// Where the ground springs of floating bodies rest, over every dof (`None`: at rest): an
     /// object let go of (`let_go`) is anchored where the last solve left it.
     pub(super) anchor: Option<Vec<f64>>,
@@ -62,6 +65,7 @@ impl ContactCache {
         ContactCache {
             solver: PartitionedSolver::new(ordering),
             held: Vec::new(),
+            transferred: Vec::new(),
             anchor: None,
             unheld: None,
         }
@@ -532,16 +536,24 @@ fn solve_grasp_with(
         } else {
             &[]
         },
+        forces_before: if carried_given.is_some() {
+            &cache.transferred
+        } else {
+            &[]
+        },
     };
     let solver = &mut cache.solver;
-    let skin: Vec<std::ops::Range<usize>> = hands
-        .iter()
-        .map(|h| model.bodies[h.body].nodes.clone())
-        .collect();
+    let held = match settings.method {
+        ContactMethod::Paper => {
+            let bodies: Vec<usize> = hands.iter().map(|h| h.body).collect();
+            super::paper_roles::held_in_step3(model, &bodies)
+        }
+        ContactMethod::Lagrange => Vec::new(),
+    };
     let mut contact_solve = |problem: &ContactProblem| {
         match settings.method {
             ContactMethod::Lagrange => solve_lagrange(solver, problem, settings),
-            ContactMethod::Paper => solve_paper(solver, problem, settings, &skin),
+            ContactMethod::Paper => solve_paper(solver, problem, settings, &held),
         }
         .map_err(|e| contact_error(model, e, geometric))
     };
@@ -580,6 +592,13 @@ fn solve_grasp_with(
     cache.held = result.summary.contacts.iter().map(|c| c.node).collect();
     cache.held.sort_unstable();
     cache.held.dedup();
+    cache.transferred = match settings.method {
+        ContactMethod::Paper => crate::contact::transferred_forces(
+            &result.summary.contacts,
+            result.solution.displacement.len(),
+        ),
+        ContactMethod::Lagrange => Vec::new(),
+    };
     match (
         check_held(model, &springs, &result, cache.anchor.as_deref()),
         &mut cache.unheld,

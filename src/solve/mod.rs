@@ -14,6 +14,7 @@ mod grasp;
 mod hyperelastic_objects;
 mod let_go;
 mod linear_factor;
+mod paper_roles;
 mod path;
 mod preview;
 pub mod proximity;

@@ -130,6 +130,7 @@ impl OwnSkin {
             stop: None,
             crossings: &[],
             held_before: &[],
+            forces_before: &[],
         };
         solve_lagrange(solver, &problem, &self.settings)
     }
