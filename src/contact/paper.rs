@@ -73,9 +73,9 @@ pub fn solve_paper(
     held: &[Range<usize>],
 ) -> Result<ContactResult, ContactError> {
     let partition = problem.partition;
-    // Step 3's solver: the object with the skin and the repelled nodes prescribed (its factor
-    // kept while the set is).
-    let mut object_solver = PartitionedSolver::new(solver.ordering());
+    // Step 3's solver: the solved side with the held one prescribed (its factor kept from one
+    // iteration to the next).
+    let mut step3_solver = PartitionedSolver::new(solver.ordering());
     let base = solver.solve(
         problem.k,
         partition,
@@ -100,15 +100,15 @@ pub fn solve_paper(
         u = released_solve(solver, partition, &u0, &force, &mut times)?;
         substitutions += 1;
     }
-    // The skin's dofs, prescribed in step 3 where step 6 left them.
-    let mut skin_mask = partition.prescribed.clone();
+    // The held side's dofs, prescribed in step 3 where step 6 left them.
+    let mut held_mask = partition.prescribed.clone();
     for r in held {
         for d in 3 * r.start..3 * r.end {
-            skin_mask[d] = true;
+            held_mask[d] = true;
         }
     }
-    let skin_held = DofPartition::new(skin_mask);
-    // Step 3's contact both ways (the skin held, the object free).
+    let held_dofs = DofPartition::new(held_mask);
+    // Step 3's contact, both ways.
     let step3_settings = ContactSettings {
         pairs: PairSides::Both,
         method: ContactMethod::Lagrange,
@@ -129,7 +129,7 @@ pub fn solve_paper(
     let mut settled = false;
     while iterations < settings.max_iterations {
         iterations += 1;
-        // Step 2: the skin held where step 6 left it.
+        // Step 2: the held side where step 6 left it.
         let mut values = problem.prescribed.to_vec();
         for r in held {
             for d in 3 * r.start..3 * r.end {
@@ -138,12 +138,12 @@ pub fn solve_paper(
                 }
             }
         }
-        // Step 3: the object against the held skin, its penetrating nodes repelled onto the
-        // skin's facets (and the skin's points off the object's facets), exactly.
+        // Step 3: the solved side against the held one, its penetrating nodes repelled onto
+        // the held surface's facets (and the held surface's points off its facets), exactly.
         let s = solve_lagrange(
-            &mut object_solver,
+            &mut step3_solver,
             &ContactProblem {
-                partition: &skin_held,
+                partition: &held_dofs,
                 prescribed: &values,
                 stop: None,
                 held_before: &touching,
