@@ -124,8 +124,7 @@ pub enum SimError {
     #[error(
         "the paper's contact iteration could not follow the motion beyond {:.0} % of the \
          keyframe, even in its smallest contact step ({}). Solve the scene with `[solver] \
-         contact = \"lagrange\"`, which resolves the contact exactly along the motion (or give \
-         the paper's iteration more iterations: `[solver] contact_max_iterations`)",
+         contact = \"lagrange\"`, which resolves the contact exactly along the motion",
         reached * 100.0,
         what_failed(cause)
     )]
