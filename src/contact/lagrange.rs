@@ -26,8 +26,8 @@ use super::coulomb::settle_coulomb;
 use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{
-    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactSummary, ContactTimes, Master, DEFAULT_MAX_ITERATIONS,
+    transferred_forces, Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult,
+    ContactSettings, ContactSummary, ContactTimes, Master, DEFAULT_MAX_ITERATIONS,
 };
 use super::problem::ContactProblem;
 use super::row::{coupling, fill_couplings, Couplings, Row, Solved};
@@ -299,14 +299,7 @@ pub fn solve_lagrange(
     let mut contacts = contact_points(&rows, &lambda, problem, &u);
     // Rows kept without force (friction) are no contact.
     contacts.retain(|c| c.force > 0.0);
-    let mut contact_force = vec![0.0; u.len()];
-    for c in &contacts {
-        for (n, f) in c.nodal_forces() {
-            for a in 0..3 {
-                contact_force[3 * n + a] += f[a];
-            }
-        }
-    }
+    let contact_force = transferred_forces(&contacts, u.len());
     let ku = problem.k.mul(&u);
     let mut solution = base;
     for d in 0..u.len() {

@@ -29,10 +29,11 @@ pub use exterior::exterior_quads;
 pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};
 pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
-pub use paper::{solve_paper, transferred as transferred_forces};
+pub use paper::solve_paper;
 pub use point::{
-    Adhesion, ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings,
-    ContactSummary, ContactTimes, Master, PairSides, Relaxation, DEFAULT_MAX_ITERATIONS,
+    held_nodes, transferred_forces, Adhesion, ContactError, ContactMethod, ContactPoint,
+    ContactResult, ContactSettings, ContactSummary, ContactTimes, Master, PairSides, Relaxation,
+    DEFAULT_MAX_ITERATIONS,
 };
 pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};

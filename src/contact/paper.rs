@@ -43,8 +43,8 @@
 
 use super::lagrange::solve_lagrange;
 use super::point::{
-    ContactError, ContactMethod, ContactPoint, ContactResult, ContactSettings, ContactSummary,
-    ContactTimes, PairSides, Relaxation,
+    held_nodes, transferred_forces, ContactError, ContactMethod, ContactPoint, ContactResult,
+    ContactSettings, ContactSummary, ContactTimes, PairSides, Relaxation,
 };
 use super::problem::ContactProblem;
 use super::quasi_newton::QuasiNewton;
@@ -157,11 +157,9 @@ pub fn solve_paper(
         times.add(&s.summary.times);
         contacts = s.summary.contacts;
         skin_points = s.summary.skin_points;
-        touching = contacts.iter().map(|c| c.node).collect();
-        touching.sort_unstable();
-        touching.dedup();
-        // Step 4: the contact forces on the object, equal and opposite on the skin.
-        let fresh = transferred(&contacts, dofs);
+        touching = held_nodes(&contacts);
+        // Step 4: the contact forces on the solved side, equal and opposite on the held one.
+        let fresh = transferred_forces(&contacts, dofs);
         // Steps 5–6 with these forces as they are (the published, unrelaxed iteration): how far
         // they move the displacements is the iteration's measure of convergence.
         let plain = released_solve(solver, partition, &u0, &fresh, &mut times)?;
@@ -237,21 +235,6 @@ fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
         .zip(b)
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max)
-}
-
-/// Step 4: each contact's force on its slave and, equal and opposite, on its master's nodes
-/// shared as R_i = h_i·R_C, over every dof.
-pub fn transferred(contacts: &[ContactPoint], dofs: usize) -> Vec<f64> {
-    let mut f = vec![0.0; dofs];
-    for c in contacts {
-        let r = c.force_vector();
-        for &(m, w) in &c.terms {
-            for a in 0..3 {
-                f[3 * m + a] += w * r[a];
-            }
-        }
-    }
-    f
 }
 
 /// How the transferred forces move from one iteration to the next.

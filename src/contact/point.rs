@@ -184,6 +184,29 @@ impl ContactPoint {
     }
 }
 
+/// The contacts' forces over every dof (`dofs` long): each contact's force on its slave and,
+/// equal and opposite, on its master's nodes ([`ContactPoint::nodal_forces`]) — the load
+/// vector Cᵀλ of the exact method, the forces the paper's step 4 transfers.
+pub fn transferred_forces(contacts: &[ContactPoint], dofs: usize) -> Vec<f64> {
+    let mut f = vec![0.0; dofs];
+    for c in contacts {
+        for (n, share) in c.nodal_forces() {
+            for a in 0..3 {
+                f[3 * n + a] += share[a];
+            }
+        }
+    }
+    f
+}
+
+/// The slaves of `contacts`, sorted, each once (the next solve's warm start).
+pub fn held_nodes(contacts: &[ContactPoint]) -> Vec<usize> {
+    let mut held: Vec<usize> = contacts.iter().map(|c| c.node).collect();
+    held.sort_unstable();
+    held.dedup();
+    held
+}
+
 /// The solved contact problem: the displacements and what the contact solve found
 /// (its fields are read through the summary: `result.contacts`, `result.iterations`, …).
 #[derive(Clone, Debug)]

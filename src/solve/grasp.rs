@@ -589,9 +589,7 @@ fn solve_grasp_with(
     }
     // The nodes held: the next step's warm start (also a step that fails from here on: it is
     // redone from the same state, where the same nodes will be held).
-    cache.held = result.summary.contacts.iter().map(|c| c.node).collect();
-    cache.held.sort_unstable();
-    cache.held.dedup();
+    cache.held = crate::contact::held_nodes(&result.summary.contacts);
     cache.transferred = match settings.method {
         ContactMethod::Paper => crate::contact::transferred_forces(
             &result.summary.contacts,
