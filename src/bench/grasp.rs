@@ -6,7 +6,7 @@
 use crate::app::pose::Preset;
 use crate::hand::{Side, Skeleton};
 use crate::headless::solve_scene;
-use crate::scene::{Scene, Shape, TierName, DEFAULT_SCENE};
+use crate::scene::{ContactMethodName, Scene, Shape, TierName, DEFAULT_SCENE};
 use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -19,6 +19,8 @@ pub struct GraspRow {
     pub resolution: f64,
     /// Tier.
     pub tier: TierName,
+    /// Contact method: the exact one (Lagrange) or the paper's iteration.
+    pub method: ContactMethodName,
     /// Keyframes solved after the initial pose.
     pub keyframes: usize,
     /// Wall time of the whole scene, s.
@@ -76,19 +78,25 @@ fn cases(presets: &[String], scenes: &[String]) -> anyhow::Result<Vec<(String, S
     Ok(out)
 }
 
-/// Solves every case at every resolution with every tier.
+/// Solves every case at every resolution with every tier and contact method, each row also
+/// printed to standard error as it is done (a long table shows its progress).
 pub fn grasp_rows(
     presets: &[String],
     scenes: &[String],
     resolutions: &[f64],
     tiers: &[TierName],
+    methods: &[ContactMethodName],
 ) -> anyhow::Result<Vec<GraspRow>> {
     let mut rows = Vec::new();
     for (case, scene) in cases(presets, scenes)? {
         for &resolution in resolutions {
-            for &tier in tiers {
+            for (&tier, &method) in tiers
+                .iter()
+                .flat_map(|t| methods.iter().map(move |m| (t, m)))
+            {
                 let mut s = scene.clone();
                 s.solver.tier = Some(tier);
+                s.solver.contact = Some(method);
                 for body in &mut s.body {
                     if let Shape::Hand { resolution: r, .. } = &mut body.shape {
                         *r = resolution;
@@ -101,6 +109,7 @@ pub fn grasp_rows(
                     case: case.clone(),
                     resolution,
                     tier,
+                    method,
                     keyframes: s.keyframe.len(),
                     total_s,
                     contact_steps: (0, 0),
@@ -155,6 +164,7 @@ pub fn grasp_rows(
                     }
                     Err(e) => row.outcome = Err(e.to_string()),
                 }
+                eprint!("{}", grasp_table_rows(std::slice::from_ref(&row)));
                 rows.push(row);
             }
         }
@@ -165,11 +175,18 @@ pub fn grasp_rows(
 /// The rows as a Markdown table.
 pub fn grasp_table(rows: &[GraspRow]) -> String {
     let mut out = String::from(
-        "| grasp | resolution | tier | keyframes | s per keyframe | contact steps (redone) | \
+        "| grasp | resolution | tier | contact | keyframes | s per keyframe | contact steps (redone) | \
          flexion factorizations | force on the hands (N) | thumb / index / middle / ring / \
          little (N) | peak skin pressure (kPa) | penetration left (µm) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
+    out.push_str(&grasp_table_rows(rows));
+    out
+}
+
+/// The table's rows, without its header.
+fn grasp_table_rows(rows: &[GraspRow]) -> String {
+    let mut out = String::new();
     for r in rows {
         let per = r.total_s / r.keyframes.max(1) as f64;
         let (force, left) = match &r.outcome {
@@ -196,11 +213,12 @@ pub fn grasp_table(rows: &[GraspRow]) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {:?} | {} | {per:.1} | {} ({}) | {} | {force} | {digits} | {pressure} | \
+            "| {} | {} | {:?} | {} | {} | {per:.1} | {} ({}) | {} | {force} | {digits} | {pressure} | \
              {left} |",
             r.case,
             r.resolution,
             r.tier,
+            r.method.name(),
             r.keyframes,
             r.contact_steps.0,
             r.contact_steps.1,

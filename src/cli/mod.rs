@@ -174,6 +174,9 @@ enum BenchCommand {
         /// Tiers (skinning, linear, incremental, corotational, nonlinear), comma separated.
         #[arg(long, value_delimiter = ',', default_value = "corotational")]
         tiers: Vec<String>,
+        /// Contact methods (lagrange: exact; paper: the paper's iteration), comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "lagrange")]
+        methods: Vec<String>,
     },
     /// The skin kept out of itself (self-contact) against the skin passing through itself: the
     /// index PIP to 110°, the middle finger adducted onto the ring finger, a full fist, per hand
@@ -375,6 +378,7 @@ fn run() -> Result<()> {
                 scenes,
                 resolutions,
                 tiers,
+                methods,
             } => {
                 let tiers = tiers
                     .iter()
@@ -390,9 +394,24 @@ fn run() -> Result<()> {
                         )),
                     })
                     .collect::<anyhow::Result<Vec<_>>>()?;
+                let methods = methods
+                    .iter()
+                    .map(|m| match m.trim() {
+                        "lagrange" => Ok(crate::scene::ContactMethodName::Lagrange),
+                        "paper" => Ok(crate::scene::ContactMethodName::Paper),
+                        other => Err(anyhow::anyhow!(
+                            "--methods: no contact method \"{other}\" (lagrange, paper)"
+                        )),
+                    })
+                    .collect::<anyhow::Result<Vec<_>>>()?;
                 println!("grasp benchmark: {} threads", rayon::current_num_threads());
-                let rows =
-                    crate::bench::grasp::grasp_rows(&presets, &scenes, &resolutions, &tiers)?;
+                let rows = crate::bench::grasp::grasp_rows(
+                    &presets,
+                    &scenes,
+                    &resolutions,
+                    &tiers,
+                    &methods,
+                )?;
                 print!("{}", crate::bench::grasp::grasp_table(&rows));
             }
             BenchCommand::SelfContact { resolutions } => {

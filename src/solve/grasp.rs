@@ -401,13 +401,10 @@ fn solve_grasp_with(
     // pose in fewer corrections. Along a motion the step starts away from the pose's
     // equilibrium, where a soft ball's complete tangent may be nearly singular (a 10 kPa ball
     // under its air was thrown off the fingers), so K̃ alone.
-    let geometric = !definite
-        && previous.is_none()
-        && !neo_hookean_objects(model)
-        && carried_given.is_some()
-        && model.corotates_objects();
+    let without_motion = !definite && previous.is_none() && carried_given.is_some();
+    let geometric = without_motion && !neo_hookean_objects(model) && model.corotates_objects();
     let linearised = if neo_hookean_objects(model) {
-        linearise_neo_hookean(model, &mesh, carried_given, definite)
+        linearise_neo_hookean(model, &mesh, carried_given, definite, without_motion)
     } else {
         // A hand's cell with no free node and nothing carried on its nodes adds nothing: the
         // assembly leaves it out, only checking it is not folded (skinning, or flexion's
