@@ -64,9 +64,8 @@ fn description(problem: ProblemId) -> &'static str {
              pose, then the grasp keyframe with contact) divided by two. With the `nonlinear` \
              tier the hand flexes by Newton increments and the ball is Neo-Hookean in the \
              contact steps (one Newton iteration each, iterated at the pose), the flesh near the \
-             contact linearised about its posed state; the air follows the wall without its \
-             load stiffness, so its corrections at the pose do not settle (the report's \
-             warning gives by how much)."
+             contact linearised about its posed state; the air follows the wall, its load \
+             stiffness in the corrections' tangent (since 2026-11-29)."
         }
     }
 }

@@ -244,9 +244,9 @@ impl ProblemId {
     pub fn not_a_reference(self, variant: &variant::Variant) -> Option<&'static str> {
         match (self, variant.tier) {
             (ProblemId::Grasp, TierName::Nonlinear) => Some(
-                "its contact steps do not settle on the pressurised ball (the air's load \
-                 stiffness is missing from the Neo-Hookean tangent: docs/contact.md, limits); \
-                 the grip would be uncertain by several per cent",
+                "in its contact steps the flesh near the contact is linearised about the pose \
+                 its flexion reached (docs/contact.md, limits), so the hand is not at large \
+                 strain where the grip is decided",
             ),
             _ => None,
         }
