@@ -86,8 +86,24 @@ pub(super) fn linearise(
             offset: Some(offset),
         });
     }
-    // The pressures follow the surface (`loads_at`): −∂(loads)/∂x joins the tangent, and the
-    // offset keeps f(U_c) = K·U_c + offset.
+    add_pressure_stiffness(model, mesh, u, &mut k, &mut offset);
+    Ok(Linearised {
+        k,
+        offset: Some(offset),
+    })
+}
+
+/// The pressures follow the surface (`loads_at`): −∂(loads)/∂x at the positions `mesh` + `u`
+/// (the symmetric part, `fem::geometric`) joins the tangent `k`, and `offset` keeps
+/// f(U_c) = K·U_c + offset.
+pub(super) fn add_pressure_stiffness(
+    model: &Model,
+    mesh: &Mesh,
+    u: &[f64],
+    k: &mut Stiffness,
+    offset: &mut [f64],
+) {
+    let node_u = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
     let now = Mesh {
         nodes: (0..mesh.node_count())
             .map(|n| mesh.nodes[n] + node_u(n))
@@ -105,10 +121,6 @@ pub(super) fn linearise(
             }
         }
     }
-    Ok(Linearised {
-        k,
-        offset: Some(offset),
-    })
 }
 
 /// Each cell's rotation: the polar rotation at its centre of the carried displacements for the

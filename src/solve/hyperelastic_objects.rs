@@ -15,10 +15,9 @@
 //! (7.8 % apart after nine). The hands' flesh keeps its linear stiffness on the pose that
 //! flexion gave it (its own nonlinear solve is the flexion's).
 
-use super::corotated::Linearised;
+use super::corotated::{add_pressure_stiffness, Linearised};
 use crate::fem::assembly::{assemble_elements, AssemblyError};
 use crate::fem::definite::absolute_eigenvalues;
-use crate::fem::geometric::pressure_load_stiffness;
 use crate::fem::hex8::{element_stiffness, mapped_points, InvertedCell};
 use crate::fem::hex8_hyperelastic::{element_state_with, gauss_cauchy_stress, Tangent};
 use crate::fem::hyperelastic::NeoHookean;
@@ -68,7 +67,7 @@ pub(super) fn linearise_neo_hookean(
     pressure_stiffness: bool,
 ) -> Result<Linearised, AssemblyError> {
     let volumetric = model.flexion.volumetric;
-    let (k, b) = assemble_elements(&model.pattern, mesh, true, &|c| {
+    let (mut k, b) = assemble_elements(&model.pattern, mesh, true, &|c| {
         let coords = mesh.cell_coords(c);
         let material = &model.cell_materials[c];
         if model.bodies[model.cell_body[c]].hand.is_some() {
@@ -100,29 +99,9 @@ pub(super) fn linearise_neo_hookean(
     })?;
     let b = b.expect("asked for");
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
-    let mut k = k;
     let mut offset: Vec<f64> = k.mul(&x).iter().zip(&b).map(|(a, b)| a - b).collect();
     if let (true, Some(u)) = (pressure_stiffness, carried) {
-        // The pressures follow the wall: −∂(loads)/∂x at the carried positions; the offset
-        // keeps f(U_c) = K·U_c + offset.
-        let node_u = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
-        let now = Mesh {
-            nodes: (0..mesh.node_count())
-                .map(|n| mesh.nodes[n] + node_u(n))
-                .collect(),
-            cells: Vec::new(),
-        };
-        for l in &model.loads {
-            if let Some((p, facets)) = &l.pressure {
-                for (a, bn, block) in pressure_load_stiffness(&now, facets, *p) {
-                    k.add_block(a, bn, &(-block));
-                    let f = block * node_u(bn);
-                    for i in 0..3 {
-                        offset[3 * a + i] += f[i];
-                    }
-                }
-            }
-        }
+        add_pressure_stiffness(model, mesh, u, &mut k, &mut offset);
     }
     Ok(Linearised {
         k,
