@@ -396,12 +396,16 @@ fn run() -> Result<()> {
                     .collect::<anyhow::Result<Vec<_>>>()?;
                 let methods = methods
                     .iter()
-                    .map(|m| match m.trim() {
-                        "lagrange" => Ok(crate::scene::ContactMethodName::Lagrange),
-                        "paper" => Ok(crate::scene::ContactMethodName::Paper),
-                        other => Err(anyhow::anyhow!(
-                            "--methods: no contact method \"{other}\" (lagrange, paper)"
-                        )),
+                    .map(|m| {
+                        use crate::scene::ContactMethodName;
+                        ContactMethodName::ALL
+                            .into_iter()
+                            .find(|c| c.name() == m.trim())
+                            .ok_or_else(|| {
+                                anyhow::anyhow!(
+                                    "--methods: no contact method \"{m}\" (lagrange, paper)"
+                                )
+                            })
                     })
                     .collect::<anyhow::Result<Vec<_>>>()?;
                 println!("grasp benchmark: {} threads", rayon::current_num_threads());

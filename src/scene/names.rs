@@ -59,6 +59,9 @@ pub enum ContactMethodName {
 }
 
 impl ContactMethodName {
+    /// Every method, in the order the help lists them.
+    pub const ALL: [ContactMethodName; 2] = [ContactMethodName::Lagrange, ContactMethodName::Paper];
+
     /// The name in the scene file.
     pub fn name(self) -> &'static str {
         match self {
