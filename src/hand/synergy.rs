@@ -101,8 +101,16 @@ fn tucked(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
 ///
 /// Wrapping (power, tripod): fingers flex MCP, PIP and DIP together from slightly bent to near
 /// a fist's (88°, 105°, 70° at the limits' edge: the full fist is reached without a crushed
-/// cell, `hand::full_fist`); the thumb abducts out of the palm and flexes across it, its MCP
-/// and IP flexing as it goes.
+/// cell, `hand::full_fist`); the thumb opens in wide palmar abduction (60°, the CMC's flexion
+/// −10°: out of the palm's plane, in front of the index) and wraps the object from the side
+/// opposite the fingertips, abducting to 70° while its MCP and IP flex (60°, 30°) — Kapandji's
+/// spherical grip, the thumb's pulp and the fingers' on either side of the object. Measured on
+/// the default scene's ball (the skin's shape carried by the bones): the thumb first meets it on
+/// the wrist's side below its equator, its normal force pointing (0.71, −0.54, 0.44) — towards
+/// the fingertips and up, against the fingers' (−0.95, ±0.2, 0.2); the old synergy (abducting
+/// 35 → 45°, flexing across the palm 0 → 35°) met it on its side, (−0.01, −0.98, −0.17), and
+/// nothing opposed the fingertips pushing the ball towards the wrist: a palm-down power grasp
+/// could not hold a free ball (tests/let_go.rs).
 ///
 /// Pinch (pulp to pulp): the thumb pronated into opposition (`thumb.cmc.rot`) and the index
 /// close their pads on each other, facing: along the whole synergy the pads' normals lie within
@@ -135,10 +143,10 @@ pub fn synergy(preshape: Preshape, digit: &str) -> Vec<(String, f64, f64)> {
     }
     if digit == "thumb" {
         vec![
-            (j("cmc.abd"), 35.0, 45.0),
-            (j("cmc.flex"), 0.0, 35.0),
-            (j("mcp"), 0.0, 40.0),
-            (j("ip"), 0.0, 45.0),
+            (j("cmc.abd"), 60.0, 70.0),
+            (j("cmc.flex"), -10.0, -5.0),
+            (j("mcp"), 0.0, 60.0),
+            (j("ip"), 0.0, 30.0),
         ]
     } else {
         vec![
