@@ -83,20 +83,10 @@ fn the_palm_down_power_grasp_holds_the_ball_let_go_of() {
     let frame = solved.frames.last().unwrap();
     let hand = &frame.hands[0];
     let g = hand.grasp.clone().unwrap();
-    assert!(g.held, "{:?}", g.reason);
-    assert!(g.margin >= 1.5, "margin {}", g.margin);
+    held_at_the_least_closing(&g);
     assert!(g.digits_touching.iter().any(|d| d == "thumb"), "{g:?}");
     assert!(hand.overloads.is_empty(), "{:?}", hand.overloads);
-    // The least closing that holds, and firmer ones that hold with a larger grip.
-    for t in &g.search {
-        if t.closing_deg < g.closing_deg {
-            assert!(
-                t.margin < 1.5,
-                "{t:?} holds, closed less than {}",
-                g.closing_deg
-            );
-        }
-    }
+    // Firmer closings that hold too, with a larger grip.
     let firmer: Vec<_> = g
         .search
         .iter()
@@ -156,18 +146,7 @@ fn a_ball_let_go_of_in_the_upturned_hand_is_held_by_it_alone() {
     let solved = solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"));
     let frame = solved.frames.last().unwrap();
     let g = frame.hands[0].grasp.clone().unwrap();
-    assert!(g.held, "{:?}", g.reason);
-    assert!(g.margin >= 1.5, "margin {}", g.margin);
-    // The least closing that holds: every pose closed less did not hold it.
-    for t in &g.search {
-        if t.closing_deg < g.closing_deg {
-            assert!(
-                t.margin < 1.5,
-                "{t:?} holds, closed less than {}",
-                g.closing_deg
-            );
-        }
-    }
+    held_at_the_least_closing(&g);
     let drift = g.drift.expect("held: its drift");
     assert!(drift > 1e-5 && drift < 0.01, "drift {drift} m");
 
@@ -215,4 +194,20 @@ fn held_by_the_hand_alone(solved: &prehensile::headless::Solved) {
         "contact on the ball {on_ball:?} against its weight {weight} N: {unbalanced} N left"
     );
     assert!(contact.max_penetration <= model.contact.tolerance * 1.01);
+}
+
+/// The grasp held with the margin asked (1.5) at the least closing that holds: every pose of
+/// the search closed less did not hold it.
+fn held_at_the_least_closing(g: &prehensile::state::GraspOutcome) {
+    assert!(g.held, "{:?}", g.reason);
+    assert!(g.margin >= 1.5, "margin {}", g.margin);
+    for t in &g.search {
+        if t.closing_deg < g.closing_deg {
+            assert!(
+                t.margin < 1.5,
+                "{t:?} holds, closed less than {}",
+                g.closing_deg
+            );
+        }
+    }
 }
