@@ -16,7 +16,7 @@
 //!   forces)";
 //! - 43: the strain of a hand's press above 20 %, "or pose the grasp less deep".
 
-mod common;
+use crate::common;
 
 use common::solve_cli;
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! thick-walled sphere under internal pressure (Lamé), a column under its own weight, and a
 //! two-material bar (per-element materials).
 
-mod common;
+use crate::common;
 use common::{rel, solve_mesh};
 use nalgebra::Vector3;
 use prehensile::fem::loads::{add_gravity, add_shared_force};

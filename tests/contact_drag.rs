@@ -8,7 +8,7 @@
 //! going up again gives the same grip. (Before, each move took 3–5 corrections that alternated
 //! in sign and the grip at the same pose differed by 0.9 % with the way there.)
 
-mod common;
+use crate::common;
 
 use prehensile::solve::{Posed, Workspace, CONTACT_CORRECTION};
 

@@ -3,7 +3,7 @@
 //! onto a slope (sticks below tan θ = μ, slides above), and the grasp scenes (tactile summary,
 //! bone thresholds).
 
-mod common;
+use crate::common;
 
 use nalgebra::{Rotation3, Vector3};
 use prehensile::contact::{

@@ -8,7 +8,7 @@
 //! read with the `gltf` crate, base plus morph target — are the VTU files' displaced points to
 //! 1e-6 m.
 
-mod common;
+use crate::common;
 
 use prehensile::export::vtu_grid::VtuEncoding;
 use prehensile::headless::{solve_scene_file, write_solved, write_solved_as, Solved};

@@ -11,7 +11,7 @@
 //! largest bone reactions at each resolution (docs/hand.md records them: they do not converge
 //! yet, see there).
 
-mod common;
+use crate::common;
 
 use common::flexion::bone_reactions;
 use nalgebra::Vector3;

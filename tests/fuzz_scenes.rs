@@ -33,8 +33,8 @@
 //!
 //! Both use a fixed seed (`FUZZ_SEED` overrides it, `FUZZ_CASES` / `FUZZ_SOLVE_CASES` the
 //! numbers of cases, for a longer run by hand: `FUZZ_SEED=7 FUZZ_CASES=3000 cargo test --release
-//! --test fuzz_scenes -- --nocapture`). Both print what their cases did (`--nocapture`) and write
-//! it to `$CARGO_TARGET_TMPDIR/fuzz_scenes/summary-*.txt`; both fail if too few cases got
+//! --test suite fuzz_scenes:: -- --nocapture`). Both print what their cases did (`--nocapture`)
+//! and write it to `$CARGO_TARGET_TMPDIR/fuzz_scenes/summary-*.txt`; both fail if too few cases got
 //! through (the fuzz cannot pass vacuously). A failing case is shrunk to fewer, simpler
 //! mutations; its scene text is printed and written under
 //! `$CARGO_TARGET_TMPDIR/fuzz_scenes/findings/`.
@@ -49,7 +49,7 @@
 //!   nonlinear statics of a refined hollow ball of 130 cells — fixed in 1f1ed8c (refused by the
 //!   memory estimate, exit 1).
 
-mod common;
+use crate::common;
 
 use common::limited::{signal, solve_limited, toml_files, trimmed, written, Ending};
 use prehensile::model::Model;

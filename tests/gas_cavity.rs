@@ -2,7 +2,7 @@
 //! isothermally (p·V = P0·V0 in absolute pressure), so squeezing raises it and releasing
 //! restores the ball (the paper's remark under Figure 3c).
 
-mod common;
+use crate::common;
 
 use common::rel;
 use nalgebra::Vector3;

@@ -4,7 +4,7 @@
 //! last left the ball and the flesh, and the grasp converges: no penetration left beyond the
 //! tolerance, and every body in equilibrium with the contact forces (action = reaction).
 
-mod common;
+use crate::common;
 
 use nalgebra::Vector3;
 use prehensile::app::pose::Preset;

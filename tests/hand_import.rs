@@ -2,7 +2,7 @@
 //! taken from: the built-in hand's display skin and joint points, moved anywhere in the scene,
 //! give back its skeleton, its flesh and — flexed — its bone reactions.
 
-mod common;
+use crate::common;
 
 use common::flexion::bone_reactions;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};

@@ -4,7 +4,7 @@
 //! warning) and Blender 3.4 (an armature of the convention's bones deforming the mesh; run when
 //! `blender` is on PATH).
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix4, Vector3};
 use prehensile::export::hand_rig::{from_gltf_axes, write_hand_rig};

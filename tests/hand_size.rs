@@ -4,7 +4,7 @@
 //! as the square of its size (linear elasticity: strains are the same for the same joint angles,
 //! forces go as stress × area).
 
-mod common;
+use crate::common;
 
 use common::flexion::bone_reactions;
 use prehensile::fem::hex8::{cell_volume, scaled_jacobian};

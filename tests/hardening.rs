@@ -3,7 +3,7 @@
 //! run as a user runs it, `prehensile solve FILE --out DIR`, or through the library where the
 //! number asserted is internal (the factor's size).
 
-mod common;
+use crate::common;
 
 use common::solve_cli;
 use nalgebra::Vector3;

@@ -2,7 +2,6 @@
 //! an explicit 6×24 strain-displacement matrix B, the 6×6 Voigt matrix D, a dense global K, and a
 //! dense LU solve of the partitioned system (6)–(8). Nothing is shared with `fem` but the mesh.
 
-mod common;
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 use prehensile::fem::assembly::{assemble, StiffnessPattern};
 use prehensile::fem::loads::add_gravity;

@@ -14,7 +14,7 @@
 //! joined by ` && `; an empty NEW deletes; OLD = `$` appends; `\n` is a newline), and each fix applied alone to the
 //! scene must make it solve (exit code 0).
 
-mod common;
+use crate::common;
 
 use common::limited::{signal, solve_limited, toml_files, trimmed, written, Ending};
 use std::fs;

@@ -4,7 +4,7 @@
 //! finite-strain uniaxial stretch, freedom from volumetric locking at ν = 0.4999, quadratic
 //! convergence, and a clear error when an element must invert.
 
-mod common;
+use crate::common;
 use common::rel;
 use nalgebra::{Matrix3, Vector3};
 use prehensile::bench::elements::{cantilever, timoshenko_tip};

@@ -3,7 +3,7 @@
 //! flesh, and of a ball a million times stiffer, to the pose, and finds the exact method's
 //! grasp. Where it cannot converge it says so, exits non-zero and writes nothing.
 
-mod common;
+use crate::common;
 
 use prehensile::headless::{solve_scene, unsolved, Solved};
 use prehensile::scene::Scene;

@@ -2,7 +2,7 @@
 //! reproduced exactly inside, with constant stress — for distorted hexahedra (MacNeal & Harder
 //! 1985) and for the degenerate prism and tetrahedron forms.
 
-mod common;
+use crate::common;
 use common::solve_mesh;
 use nalgebra::{Matrix3, Vector3};
 use prehensile::fem::Material;

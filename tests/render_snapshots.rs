@@ -113,7 +113,7 @@ fn check_snapshot(name: &str, actual: &RgbaImage) {
         panic!(
             "{name}: {count} pixels ({:.2}%) differ by more than {CHANNEL_TOLERANCE} (allowed \
              {:.2}%).\n  actual: {}\n  diff:   {}\n  reference: {}\n(if the change is intended: \
-             PREHENSILE_UPDATE_SNAPSHOTS=1 cargo test --release --test render_snapshots)",
+             PREHENSILE_UPDATE_SNAPSHOTS=1 cargo test --release --test suite render_snapshots::)",
             fraction * 100.0,
             MAX_DIFFERING * 100.0,
             a.display(),

@@ -5,7 +5,7 @@
 //! was corrected at its pose until its contact force changed by less than
 //! `CONTACT_CORRECTION` per correction, and the pose again is more such corrections.
 
-mod common;
+use crate::common;
 
 use nalgebra::Vector3;
 use prehensile::headless::solve_scene;

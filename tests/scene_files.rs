@@ -1,7 +1,7 @@
 //! Scene files and the `solve` command: the documented example works as written, bad input is
 //! refused with an error naming the file and the field, and nothing is left in `--out`.
 
-mod common;
+use crate::common;
 
 use prehensile::headless::solve_scene_file;
 use serde_json::Value;

@@ -8,7 +8,7 @@
 //! turned indefinite, which was reported as "some part of the model can still move without
 //! deforming" (stopped at 40 %).
 
-mod common;
+use crate::common;
 
 use nalgebra::Vector3;
 use prehensile::headless::{solve_scene, Solved};

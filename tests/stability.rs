@@ -2,7 +2,7 @@
 //! stops with a clear diagnostic, and never leaves a NaN or an infinity in a displacement, a
 //! reaction, a stress or `report.json`. The outcomes are tabulated in docs/stability.md.
 
-mod common;
+use crate::common;
 
 use nalgebra::Vector3;
 use prehensile::export::report::{frame_report, model_summary, Report};

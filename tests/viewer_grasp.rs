@@ -4,7 +4,7 @@
 //! found and the status says what was found. "hold against gravity" then Grasp, on a scene with
 //! no friction, is a result too: not held, and why.
 
-mod common;
+use crate::common;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;

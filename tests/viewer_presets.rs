@@ -6,7 +6,7 @@
 //! Rest releases the ball, which returns exactly to its static frame. While a preset is solved,
 //! a preview is on screen: the hand at the preset's pose by skinning, the ball where it was.
 
-mod common;
+use crate::common;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
