@@ -25,7 +25,8 @@ use nalgebra::{DMatrix, DVector, Vector2};
 const MAX_STEPS: usize = 200;
 /// Tresca problems of the fixed point at most; Newton steps on each before it is solved by
 /// interior point instead (where Newton settles them, in 1–18 steps on the hand's grasps), and
-/// interior-point solves at most (≈ 2 s each for 300 contacts).
+/// interior-point solves at most (over the contacts that may carry force: 1.6–3.8 s for
+/// 340–470 contacts of the upturned hand's grip, 2026-11-29; over all of them, 6–25 s).
 const TRESCA_PROBLEMS: usize = 60;
 const TRESCA_STEPS: usize = 30;
 const TRESCA_INTERIOR_POINTS: usize = 2;
@@ -237,8 +238,7 @@ fn newton(
     mut lambda: DVector<f64>,
     max_steps: usize,
 ) -> Result<Newton, ContactError> {
-    let n = lambda.len();
-    let mut w = g * &lambda + c;
+    let mut w = times_sparse(g, &lambda) + c;
     let mut f = residual(locals, lambda.as_slice(), w.as_slice());
     let norm = max_abs;
     let mut converged = false;
@@ -252,75 +252,26 @@ fn newton(
             break;
         }
         steps += 1;
-        // The generalized Jacobian, row by row.
-        let mut jac = DMatrix::zeros(n, n);
-        for l in locals {
-            let o = l.o;
-            let sn = lambda[o] - l.rn * w[o];
-            if sn <= 0.0 {
-                jac[(o, o)] = 1.0;
-            } else {
-                for j in 0..n {
-                    jac[(o, j)] = l.rn * g[(o, j)];
-                }
-            }
-            if l.k < 3 {
-                continue;
-            }
-            let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
-            let st = lt - l.rt * Vector2::new(w[o + 1], w[o + 2]);
-            let radius = l
-                .bound
-                .map_or(l.mu * sn.max(0.0), |b| if sn > 0.0 { b } else { 0.0 });
-            if sn <= 0.0 {
-                jac[(o + 1, o + 1)] = 1.0;
-                jac[(o + 2, o + 2)] = 1.0;
-            } else if st.norm() <= radius {
-                for a in 1..3 {
-                    for j in 0..n {
-                        jac[(o + a, j)] = l.rt * g[(o + a, j)];
-                    }
-                }
-            } else {
-                // F_t = λ_t − ρ·e, e = σ_t/|σ_t|, ρ = μ·σ_n:
-                // dF_t = dλ_t − μ·e·dσ_n − (ρ/|σ_t|)(I − e·eᵀ)·dσ_t.
-                let e = st / st.norm();
-                let q = radius / st.norm();
-                let m = nalgebra::Matrix2::identity() - e * e.transpose();
-                for j in 0..n {
-                    let dsn = if j == o { 1.0 } else { 0.0 } - l.rn * g[(o, j)];
-                    let dst = Vector2::new(
-                        if j == o + 1 { 1.0 } else { 0.0 } - l.rt * g[(o + 1, j)],
-                        if j == o + 2 { 1.0 } else { 0.0 } - l.rt * g[(o + 2, j)],
-                    );
-                    let dradius = if l.bound.is_some() { 0.0 } else { l.mu * dsn };
-                    let d = -e * dradius - m * dst * q;
-                    jac[(o + 1, j)] = d.x + if j == o + 1 { 1.0 } else { 0.0 };
-                    jac[(o + 2, j)] = d.y + if j == o + 2 { 1.0 } else { 0.0 };
-                }
-            }
-        }
-        // Dense LU (faer: blocked, parallel) of the generalized Jacobian.
-        let lu = faer::Mat::from_fn(n, n, |i, j| jac[(i, j)]).partial_piv_lu();
-        let mut x = faer::Mat::from_fn(n, 1, |i, _| -f[i]);
-        lu.solve_in_place(x.as_mut());
-        let step = DVector::from_fn(n, |i, _| x[(i, 0)]);
+        let step = newton_step(g, locals, &lambda, &w, &f);
         if !step.iter().all(|v| v.is_finite()) {
             return Err(ContactError::Singular {
                 active: locals.len(),
             });
         }
-        // Halve the step until the residual decreases (a few times at most).
+        // Halve the step until the residual decreases (a few times at most): the gaps along
+        // the step are w + t·G·Δλ.
         let before = norm(&f);
+        let g_step = times_sparse(g, &step);
         let mut t = 1.0;
         loop {
             let trial = &lambda + &step * t;
-            let wt = g * &trial + c;
+            let wt = &w + &g_step * t;
             let ft = residual(locals, trial.as_slice(), wt.as_slice());
             if norm(&ft) < before || t < 1e-3 {
+                // The gaps anew, free of the steps' round-off.
+                w = times_sparse(g, &trial) + c;
+                f = residual(locals, trial.as_slice(), w.as_slice());
                 lambda = trial;
-                w = wt;
-                f = ft;
                 break;
             }
             t *= 0.5;
@@ -333,6 +284,121 @@ fn newton(
         steps,
         converged,
     })
+}
+
+/// G·x over the nonzero entries of x (most multipliers of a grasp's set, and most of a step's
+/// entries, are zero: the open contacts').
+fn times_sparse(g: &DMatrix<f64>, x: &DVector<f64>) -> DVector<f64> {
+    let mut out = DVector::zeros(g.nrows());
+    for (j, &v) in x.iter().enumerate() {
+        if v != 0.0 {
+            out.axpy(v, &g.column(j), 1.0);
+        }
+    }
+    out
+}
+
+/// The Newton step of the Alart–Curnier equations at `lambda` (w = G·λ + c, F(λ) = `f`).
+///
+/// A contact whose augmented normal force σ_n is not positive is released: its rows of the
+/// generalized Jacobian are the identity's and its step is −F, which returns its multipliers to
+/// zero. Only the closed contacts' rows are solved for, with the released ones' steps moved to
+/// the right-hand side: the same step as the whole system's, on a dense LU of the closed rows
+/// alone (most of the set is released in a grasp: 7–9 closed of 262 on the upturned hand).
+fn newton_step(
+    g: &DMatrix<f64>,
+    locals: &[Local],
+    lambda: &DVector<f64>,
+    w: &DVector<f64>,
+    f: &[f64],
+) -> DVector<f64> {
+    let n = lambda.len();
+    let mut step = DVector::from_fn(n, |i, _| -f[i]);
+    // The closed contacts' slots, and where each sits in the reduced system.
+    let mut closed = Vec::new();
+    for l in locals {
+        if lambda[l.o] - l.rn * w[l.o] > 0.0 {
+            closed.extend(l.o..l.o + l.k);
+        }
+    }
+    let m = closed.len();
+    if m == 0 {
+        return step;
+    }
+    let mut at = vec![usize::MAX; n];
+    for (a, &i) in closed.iter().enumerate() {
+        at[i] = a;
+    }
+    let released = |j: usize| at[j] == usize::MAX;
+    // The closed rows of the generalized Jacobian, row by row: J_AA into `jac`, J_AI·Δλ_I
+    // taken to the right-hand side `rhs` = −F_A − J_AI·Δλ_I.
+    let mut jac = faer::Mat::<f64>::zeros(m, m);
+    let mut rhs = faer::Mat::<f64>::from_fn(m, 1, |a, _| -f[closed[a]]);
+    let put = |i: usize, j: usize, v: f64, jac: &mut faer::Mat<f64>, rhs: &mut faer::Mat<f64>| {
+        if released(j) {
+            rhs[(at[i], 0)] -= v * step[j];
+        } else {
+            jac[(at[i], at[j])] = v;
+        }
+    };
+    for l in locals {
+        let o = l.o;
+        let sn = lambda[o] - l.rn * w[o];
+        if sn <= 0.0 {
+            continue;
+        }
+        for j in 0..n {
+            put(o, j, l.rn * g[(o, j)], &mut jac, &mut rhs);
+        }
+        if l.k < 3 {
+            continue;
+        }
+        let lt = Vector2::new(lambda[o + 1], lambda[o + 2]);
+        let st = lt - l.rt * Vector2::new(w[o + 1], w[o + 2]);
+        let radius = l.bound.map_or(l.mu * sn, |b| b);
+        if st.norm() <= radius {
+            for a in 1..3 {
+                for j in 0..n {
+                    put(o + a, j, l.rt * g[(o + a, j)], &mut jac, &mut rhs);
+                }
+            }
+        } else {
+            // F_t = λ_t − ρ·e, e = σ_t/|σ_t|, ρ = μ·σ_n:
+            // dF_t = dλ_t − μ·e·dσ_n − (ρ/|σ_t|)(I − e·eᵀ)·dσ_t.
+            let e = st / st.norm();
+            let q = radius / st.norm();
+            let mm = nalgebra::Matrix2::identity() - e * e.transpose();
+            for j in 0..n {
+                let dsn = if j == o { 1.0 } else { 0.0 } - l.rn * g[(o, j)];
+                let dst = Vector2::new(
+                    if j == o + 1 { 1.0 } else { 0.0 } - l.rt * g[(o + 1, j)],
+                    if j == o + 2 { 1.0 } else { 0.0 } - l.rt * g[(o + 2, j)],
+                );
+                let dradius = if l.bound.is_some() { 0.0 } else { l.mu * dsn };
+                let d = -e * dradius - mm * dst * q;
+                put(
+                    o + 1,
+                    j,
+                    d.x + if j == o + 1 { 1.0 } else { 0.0 },
+                    &mut jac,
+                    &mut rhs,
+                );
+                put(
+                    o + 2,
+                    j,
+                    d.y + if j == o + 2 { 1.0 } else { 0.0 },
+                    &mut jac,
+                    &mut rhs,
+                );
+            }
+        }
+    }
+    // Dense LU (faer: blocked, parallel) of the closed rows' Jacobian.
+    jac.partial_piv_lu().solve_in_place(rhs.as_mut());
+    for (a, &i) in closed.iter().enumerate() {
+        step[i] = rhs[(a, 0)];
+    }
+    step
 }
 
 /// Fixed-point iterations of Tresca problems converging on Coulomb's law (Panagiotopoulos 1975;
@@ -366,7 +432,7 @@ fn tresca_fixed_point(
             Ok(solved) if solved.converged => solved.lambda,
             _ if interior_points < TRESCA_INTERIOR_POINTS => {
                 interior_points += 1;
-                tresca_by_interior_point(g, c, &bounded)?
+                tresca_by_interior_point(g, c, &bounded, &lambda)?
             }
             _ => return None,
         };
@@ -385,13 +451,71 @@ fn tresca_fixed_point(
     Some(lambda)
 }
 
-/// The Tresca problem of `locals` (each with its slip bound) as a convex quadratic programme
-/// over second-order cones, solved by interior point: `None` where it is not solved.
+/// The Tresca problem of `locals` (each with its slip bound) by interior point, over the contacts
+/// that may carry force: `None` where it is not solved.
+///
+/// Most of a grasp's contacts are open (7–9 of 262 closed on the upturned hand), and the
+/// programme's dense compliance makes its cost cubic in the contacts it holds (25 s for 469).
+/// A contact that carries no force adds nothing to the others' gaps, so the programme is solved
+/// over those that can — a slip bound, a normal force in `hint`, or closed at it — and a contact
+/// left out that the solution would put through (its gap below −10⁻⁹ of the largest) joins and
+/// the programme is solved again: the minimiser of the whole programme where every contact left
+/// out stays open, which is its optimality condition with no force.
 fn tresca_by_interior_point(
     g: &DMatrix<f64>,
     c: &DVector<f64>,
     locals: &[Local],
+    hint: &DVector<f64>,
 ) -> Option<DVector<f64>> {
+    let n = c.len();
+    let w = g * hint + c;
+    let mut taken: Vec<bool> = locals
+        .iter()
+        .map(|l| l.bound.is_some_and(|b| b > 0.0) || hint[l.o] > 0.0 || w[l.o] <= 0.0)
+        .collect();
+    let through = 1e-9 * c.amax();
+    for round in 0..=TRESCA_ROUNDS {
+        if round == TRESCA_ROUNDS {
+            taken.iter_mut().for_each(|t| *t = true);
+        }
+        // The contacts taken, their slots renumbered in order.
+        let mut slots = Vec::new();
+        let mut sub = Vec::new();
+        for (l, _) in locals.iter().zip(&taken).filter(|(_, t)| **t) {
+            sub.push(Local {
+                o: slots.len(),
+                ..*l
+            });
+            slots.extend(l.o..l.o + l.k);
+        }
+        let gs = DMatrix::from_fn(slots.len(), slots.len(), |i, j| g[(slots[i], slots[j])]);
+        let cs = DVector::from_fn(slots.len(), |i, _| c[slots[i]]);
+        let x = interior_point(&gs, &cs, &sub)?;
+        let mut lambda = DVector::zeros(n);
+        for (i, &s) in slots.iter().enumerate() {
+            lambda[s] = x[i];
+        }
+        let w = g * &lambda + c;
+        let mut joined = false;
+        for (l, t) in locals.iter().zip(taken.iter_mut()) {
+            if !*t && w[l.o] < -through {
+                *t = true;
+                joined = true;
+            }
+        }
+        if !joined {
+            return Some(lambda);
+        }
+    }
+    None
+}
+
+/// Rounds of [`tresca_by_interior_point`] over some of the contacts before it takes them all.
+const TRESCA_ROUNDS: usize = 6;
+
+/// The Tresca problem of `locals` (each with its slip bound) as a convex quadratic programme
+/// over second-order cones, solved by interior point: `None` where it is not solved.
+fn interior_point(g: &DMatrix<f64>, c: &DVector<f64>, locals: &[Local]) -> Option<DVector<f64>> {
     use clarabel::algebra::CscMatrix;
     use clarabel::solver::{
         DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
@@ -621,5 +745,106 @@ mod tests {
                 "μ = {mu}: the fixed point is {diff} off Newton's"
             );
         }
+    }
+
+    /// A coupled set of `count` three-row contacts, a third of them apart by 0.4 mm, the others
+    /// pressed in with tangential offsets: (G, c), G positive definite; with `spread`, every
+    /// compliance positive (a force anywhere opens every other gap, as on one side of a body).
+    fn coupled(count: usize, seed: u64, spread: bool) -> (DMatrix<f64>, DVector<f64>) {
+        let n = 3 * count;
+        let mut seed = seed;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let shift = if spread { 0.5 } else { 0.0 };
+        let a = DMatrix::from_fn(n, n + 6, |_, _| (next() + shift) * 1e-2);
+        let g = &a * a.transpose() + DMatrix::identity(n, n) * 1e-5;
+        let c = DVector::from_fn(n, |i, _| match (i % 3, i % 9) {
+            (0, 0) => 4e-4,
+            (0, _) => -1e-3 * (1.0 + next()),
+            _ => next() * 2e-3,
+        });
+        (g, c)
+    }
+
+    /// The Newton step over the closed contacts' rows alone is the step of the whole system
+    /// (the generalized Jacobian with identity rows for the released contacts), to round-off:
+    /// at multipliers where some contacts are released while carrying force, some stick, some
+    /// slip.
+    #[test]
+    fn the_step_over_the_closed_contacts_is_the_whole_systems() {
+        let (g, c) = coupled(12, 11, false);
+        let n = c.len();
+        let locals = frictional(&g, 0.5);
+        let lambda = DVector::from_fn(n, |i, _| match i % 3 {
+            0 => [3.0, 0.0, 0.5, 8.0][(i / 3) % 4],
+            _ => [0.4, -2.5, 0.1][(i / 3) % 3],
+        });
+        let w = &g * &lambda + &c;
+        let f = residual(&locals, lambda.as_slice(), w.as_slice());
+        let closed = locals
+            .iter()
+            .filter(|l| lambda[l.o] - l.rn * w[l.o] > 0.0)
+            .count();
+        assert!(closed > 0 && closed < locals.len(), "{closed} closed");
+        // The whole generalized Jacobian by central differences of F (piecewise smooth: away
+        // from its kinks at this λ, exact for the linear pieces up to round-off).
+        let h = 1e-7 * lambda.amax();
+        let mut jac = DMatrix::zeros(n, n);
+        for j in 0..n {
+            let mut lp = lambda.clone();
+            let mut lm = lambda.clone();
+            lp[j] += h;
+            lm[j] -= h;
+            let fp = residual(&locals, lp.as_slice(), (&g * &lp + &c).as_slice());
+            let fm = residual(&locals, lm.as_slice(), (&g * &lm + &c).as_slice());
+            for i in 0..n {
+                jac[(i, j)] = (fp[i] - fm[i]) / (2.0 * h);
+            }
+        }
+        let whole = jac.lu().solve(&-DVector::from_vec(f.clone())).unwrap();
+        let reduced = newton_step(&g, &locals, &lambda, &w, &f);
+        let diff = (&reduced - &whole).amax() / whole.amax();
+        assert!(
+            diff < 1e-5,
+            "the reduced step is {diff} off the whole system's"
+        );
+    }
+
+    /// The Tresca programme solved over the contacts that may carry force, others joining
+    /// where they would be put through, is the whole programme's minimiser: from a hint with
+    /// no force anywhere (every contact pressed in must join) and from the fixed point's own.
+    #[test]
+    fn the_programme_over_the_contacts_that_may_carry_force_is_the_whole_ones() {
+        let (g, c) = coupled(20, 3, true);
+        let n = c.len();
+        let mut locals = frictional(&g, 0.5);
+        for (i, l) in locals.iter_mut().enumerate() {
+            l.bound = Some(if i % 2 == 0 { 0.0 } else { 2.0 });
+        }
+        let whole = interior_point(&g, &c, &locals).unwrap();
+        // A hint pushing hard on one contact that carries no force, every other apart there:
+        // those that do carry force must join.
+        let idle = locals
+            .iter()
+            .position(|l| l.bound == Some(0.0) && whole[l.o] < 1e-9 * whole.amax())
+            .unwrap();
+        let mut pushing = DVector::zeros(n);
+        pushing[3 * idle] = 10.0 * whole.amax();
+        let w = &g * &pushing + &c;
+        let left_out = |l: &Local| l.bound == Some(0.0) && pushing[l.o] == 0.0 && w[l.o] > 0.0;
+        assert!(locals.iter().any(|l| left_out(l) && whole[l.o] > 0.0));
+        for hint in [DVector::zeros(n), whole.clone(), pushing] {
+            let some = tresca_by_interior_point(&g, &c, &locals, &hint).unwrap();
+            let diff = (&some - &whole).amax() / whole.amax();
+            assert!(diff < 1e-6, "{diff} off the whole programme's minimiser");
+        }
+        // Some contacts carry no force at the minimiser: the restriction leaves something out.
+        assert!(locals
+            .iter()
+            .any(|l| whole[l.o].abs() < 1e-9 * whole.amax()));
     }
 }
