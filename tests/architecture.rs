@@ -264,3 +264,36 @@ fn no_two_files_of_a_folder_import_each_other_in_a_circle() {
     }
     assert!(cycles.is_empty(), "import cycles:\n{}", cycles.join("\n"));
 }
+
+/// Every test file is a module of the one test binary (`tests/suite.rs`, `autotests = false`):
+/// a file it does not name would never run.
+#[test]
+fn every_test_file_is_named_in_the_suite() {
+    let tests = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let suite = std::fs::read_to_string(tests.join("suite.rs")).unwrap();
+    let named: BTreeSet<String> = code(&suite)
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("mod "))
+        .map(|m| m.trim_end_matches(';').trim().to_string())
+        .collect();
+    let mut files = BTreeSet::new();
+    for entry in std::fs::read_dir(&tests).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        if path.extension().is_some_and(|e| e == "rs") && name != "suite" {
+            files.insert(name);
+        } else if path.join("mod.rs").exists() {
+            files.insert(name);
+        }
+    }
+    let missing: Vec<_> = files.difference(&named).collect();
+    assert!(
+        missing.is_empty(),
+        "tests/suite.rs does not name {missing:?}"
+    );
+    let absent: Vec<_> = named.difference(&files).collect();
+    assert!(
+        absent.is_empty(),
+        "tests/suite.rs names {absent:?}, not in tests/"
+    );
+}

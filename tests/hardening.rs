@@ -354,31 +354,40 @@ fn a_solve_replaces_the_results_of_an_older_run_as_a_whole() {
 }
 
 /// Solves `dir/scene.toml` (written from `text`) into `dir/out` and returns the exit code,
-/// stderr and the run's own peak resident memory in bytes (from `wait4`).
+/// stderr and the run's own peak resident memory in bytes.
+///
+/// The peak is the solve's own: it is started by a small Python process, which reports its
+/// child's `ru_maxrss`. Started from this test binary directly, Linux would count the test
+/// binary's own high-water mark in it (an `exec` records the old address space's, and
+/// `posix_spawn` execs from the parent's), and the test binary holds every test running beside.
 #[cfg(target_os = "linux")]
-#[allow(clippy::zombie_processes)] // waited for by wait4, which std does not see
 fn solve_measured(dir: &Path, text: &str) -> (Option<i32>, String, u64) {
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
     let err_file = dir.join("stderr.txt");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
+    let script = "import resource, subprocess, sys\n\
+                  code = subprocess.call(sys.argv[1:], stdout=subprocess.DEVNULL)\n\
+                  print(code, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)";
+    let output = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(script)
+        .arg(env!("CARGO_BIN_EXE_prehensile"))
         .arg("solve")
         .arg(&scene)
         .arg("--out")
         .arg(dir.join("out"))
-        .stdout(std::process::Stdio::null())
         .stderr(std::fs::File::create(&err_file).unwrap())
-        .spawn()
-        .unwrap();
-    let mut status = 0;
-    // SAFETY: wait4 writes into the status and usage it is given; the child is ours and not
-    // waited for elsewhere.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
-    assert_eq!(pid, child.id() as libc::pid_t);
-    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+        .output()
+        .expect("python3 runs the measured solve");
+    let report = String::from_utf8_lossy(&output.stdout);
+    let mut fields = report.split_whitespace().rev();
+    let kb: u64 = fields
+        .next()
+        .and_then(|k| k.parse().ok())
+        .unwrap_or_else(|| panic!("the measured solve reported {report:?}"));
+    let code: Option<i32> = fields.next().and_then(|c| c.parse().ok());
     let stderr = std::fs::read_to_string(&err_file).unwrap();
-    (code, stderr, usage.ru_maxrss as u64 * 1024)
+    (code, stderr, kb * 1024)
 }
 
 #[test]
