@@ -280,9 +280,8 @@ fn every_test_file_is_named_in_the_suite() {
     for entry in std::fs::read_dir(&tests).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        if path.extension().is_some_and(|e| e == "rs") && name != "suite" {
-            files.insert(name);
-        } else if path.join("mod.rs").exists() {
+        let file = path.extension().is_some_and(|e| e == "rs") && name != "suite";
+        if file || path.join("mod.rs").exists() {
             files.insert(name);
         }
     }
