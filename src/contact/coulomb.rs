@@ -490,7 +490,16 @@ fn tresca_by_interior_point(
         }
         let gs = DMatrix::from_fn(slots.len(), slots.len(), |i, j| g[(slots[i], slots[j])]);
         let cs = DVector::from_fn(slots.len(), |i, _| c[slots[i]]);
-        let x = interior_point(&gs, &cs, &sub)?;
+        let x = if slots.is_empty() {
+            DVector::zeros(0)
+        } else {
+            match interior_point(&gs, &cs, &sub) {
+                Some(x) => x,
+                None if taken.iter().all(|t| *t) => return None,
+                // Where the part is not solved, the whole programme.
+                None => return interior_point(g, c, locals),
+            }
+        };
         let mut lambda = DVector::zeros(n);
         for (i, &s) in slots.iter().enumerate() {
             lambda[s] = x[i];
@@ -846,5 +855,19 @@ mod tests {
         assert!(locals
             .iter()
             .any(|l| whole[l.o].abs() < 1e-9 * whole.amax()));
+    }
+
+    /// Contacts all apart with no slip bound: none may carry force, the programme over none of
+    /// them is solved without the interior point, and no force is the answer.
+    #[test]
+    fn contacts_all_apart_carry_no_force() {
+        let (g, c) = coupled(4, 5, true);
+        let c = DVector::from_fn(c.len(), |i, _| if i % 3 == 0 { 1e-3 } else { c[i] });
+        let mut locals = frictional(&g, 0.5);
+        for l in locals.iter_mut() {
+            l.bound = Some(0.0);
+        }
+        let lambda = tresca_by_interior_point(&g, &c, &locals, &DVector::zeros(c.len())).unwrap();
+        assert_eq!(lambda.amax(), 0.0);
     }
 }
