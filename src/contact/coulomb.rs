@@ -13,7 +13,8 @@
 //! piecewise smooth in λ; Newton's method on them switches every contact between released,
 //! sticking and slipping at once, and converges in a few steps once the switching settles
 //! (even when a floating body's sliding makes G very ill-conditioned, where a Gauss–Seidel
-//! sweep crawls). A step that does not reduce the residual is halved.
+//! sweep crawls). A step that does not reduce the residual is halved; where no step along the
+//! direction does, the scales r grow (the same law: its kinks move, and the cycle ends).
 
 use super::point::{Adhesion, ContactError};
 use super::row::{coupling, fill_couplings, slot_of, slot_offsets, Couplings, Row};
@@ -31,8 +32,15 @@ const TRESCA_PROBLEMS: usize = 60;
 const TRESCA_STEPS: usize = 30;
 const TRESCA_INTERIOR_POINTS: usize = 2;
 /// Newton steps on Coulomb's law before turning to Tresca's fixed point (where it converges,
-/// Newton takes 2–46 steps on the hand's grasps).
-const FIRST_STEPS: usize = 60;
+/// Newton takes 2–46 steps on the hand's grasps, up to 133 on a ball let go of sliding out
+/// of a μ = 0.2 grip with the scales grown).
+const FIRST_STEPS: usize = 150;
+/// Where no step along Newton's direction reduces the residual, the scales r_n, r_t of the
+/// equations stepped on grow by this factor, at most this many times (2-cycles and creeping on
+/// a ball let go of, whose ground springs make its compliance a million times the flesh's
+/// along its rigid motion: its contacts' r = 1/G_ii is then far below their own stiffness).
+const R_GROWTH: f64 = 2.0;
+const R_GROWTHS: usize = 30;
 /// What [`newton`] ends with.
 struct Newton {
     /// The multipliers λ.
@@ -235,24 +243,47 @@ fn newton(
     g: &DMatrix<f64>,
     c: &DVector<f64>,
     locals: &[Local],
-    mut lambda: DVector<f64>,
+    lambda: DVector<f64>,
     max_steps: usize,
 ) -> Result<Newton, ContactError> {
+    newton_growing(g, c, locals, lambda, max_steps, R_GROWTHS)
+}
+
+/// [`newton`] whose scales grow at most `growths` times. The equations are the contact law at
+/// any scales r > 0; Newton steps on them at scales that grow by [`R_GROWTH`] each time no
+/// step along its direction reduces their residual (the step is then taken nevertheless, as
+/// before), which moves their kinks and ends the cycle. Convergence is judged on the equations
+/// at the contacts' own scales (at grown ones the gaps weigh more: the tolerance on them would
+/// loosen the one on the forces of contacts that carry none).
+fn newton_growing(
+    g: &DMatrix<f64>,
+    c: &DVector<f64>,
+    locals: &[Local],
+    mut lambda: DVector<f64>,
+    max_steps: usize,
+    growths: usize,
+) -> Result<Newton, ContactError> {
+    let mut scaled = locals.to_vec();
+    let mut grown = 0;
+    let gaps_scale = c.amax() * locals.iter().map(|l| l.rn).fold(0.0, f64::max);
     let mut w = times_sparse(g, &lambda) + c;
-    let mut f = residual(locals, lambda.as_slice(), w.as_slice());
-    let norm = max_abs;
-    let mut converged = false;
     let mut steps = 0;
-    while steps < max_steps {
-        let scale = lambda
-            .amax()
-            .max(c.amax() * locals.iter().map(|l| l.rn).fold(0.0, f64::max));
-        if norm(&f) <= TOLERANCE * scale.max(f64::MIN_POSITIVE) {
-            converged = true;
-            break;
+    loop {
+        let f = residual(locals, lambda.as_slice(), w.as_slice());
+        let scale = lambda.amax().max(gaps_scale);
+        let converged = max_abs(&f) <= TOLERANCE * scale.max(f64::MIN_POSITIVE);
+        if converged || steps == max_steps {
+            return Ok(Newton {
+                lambda,
+                w,
+                f,
+                steps,
+                converged,
+            });
         }
         steps += 1;
-        let step = newton_step(g, locals, &lambda, &w, &f);
+        let f = residual(&scaled, lambda.as_slice(), w.as_slice());
+        let step = newton_step(g, &scaled, &lambda, &w, &f);
         if !step.iter().all(|v| v.is_finite()) {
             return Err(ContactError::Singular {
                 active: locals.len(),
@@ -260,30 +291,29 @@ fn newton(
         }
         // Halve the step until the residual decreases (a few times at most): the gaps along
         // the step are w + t·G·Δλ.
-        let before = norm(&f);
+        let before = max_abs(&f);
         let g_step = times_sparse(g, &step);
         let mut t = 1.0;
         loop {
             let trial = &lambda + &step * t;
             let wt = &w + &g_step * t;
-            let ft = residual(locals, trial.as_slice(), wt.as_slice());
-            if norm(&ft) < before || t < 1e-3 {
+            let decreased = max_abs(&residual(&scaled, trial.as_slice(), wt.as_slice())) < before;
+            if decreased || t < 1e-3 {
+                if !decreased && grown < growths {
+                    grown += 1;
+                    for l in scaled.iter_mut() {
+                        l.rn *= R_GROWTH;
+                        l.rt *= R_GROWTH;
+                    }
+                }
                 // The gaps anew, free of the steps' round-off.
                 w = times_sparse(g, &trial) + c;
-                f = residual(locals, trial.as_slice(), w.as_slice());
                 lambda = trial;
                 break;
             }
             t *= 0.5;
         }
     }
-    Ok(Newton {
-        lambda,
-        w,
-        f,
-        steps,
-        converged,
-    })
 }
 
 /// G·x over the nonzero entries of x (most multipliers of a grasp's set, and most of a step's
@@ -869,5 +899,66 @@ mod tests {
         }
         let lambda = tresca_by_interior_point(&g, &c, &locals, &DVector::zeros(c.len())).unwrap();
         assert_eq!(lambda.amax(), 0.0);
+    }
+
+    /// A friction problem of 17 contacts (51 multipliers) on which Newton stalled: a settle of
+    /// the upturned hand's grip on a ball let go of (tests/let_go.rs's scene), written as
+    /// little-endian u64 n and contact count, then f64: G (n×n, by columns), c, the starting
+    /// λ, and per contact its first slot, rows, μ, r_n, r_t.
+    fn stalled_problem() -> (DMatrix<f64>, DVector<f64>, Vec<Local>, DVector<f64>) {
+        let bytes: &[u8] = include_bytes!("../../tests/fixtures/friction-stall-17-contacts.bin");
+        let mut words = bytes
+            .chunks_exact(8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")));
+        let mut int = || words.next().expect("a word") as usize;
+        let (n, count) = (int(), int());
+        let numbers: Vec<f64> = bytes[16..]
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect();
+        assert_eq!(numbers.len(), n * n + 2 * n + 5 * count);
+        let g = DMatrix::from_column_slice(n, n, &numbers[..n * n]);
+        let c = DVector::from_column_slice(&numbers[n * n..n * n + n]);
+        let lambda = DVector::from_column_slice(&numbers[n * n + n..n * n + 2 * n]);
+        let locals = numbers[n * n + 2 * n..]
+            .chunks_exact(5)
+            .map(|v| Local {
+                o: v[0] as usize,
+                k: v[1] as usize,
+                mu: v[2],
+                rn: v[3],
+                rt: v[4],
+                bound: None,
+            })
+            .collect();
+        (g, c, locals, lambda)
+    }
+
+    /// Where Newton at the contacts' own scales stalls (200 steps, not converged), with the
+    /// scales grown where no step reduces the residual it converges in a few steps, to
+    /// multipliers that obey Coulomb's law and agree with Tresca's fixed point finished by
+    /// Newton (the path such a settle took before).
+    #[test]
+    fn newton_that_stalls_converges_with_its_scales_grown() {
+        let (g, c, locals, start) = stalled_problem();
+        let fixed = newton_growing(&g, &c, &locals, start.clone(), 200, 0).unwrap();
+        assert!(!fixed.converged, "converged in {} steps", fixed.steps);
+        let grown = newton(&g, &c, &locals, start.clone(), FIRST_STEPS).unwrap();
+        assert!(
+            grown.converged && grown.steps <= 30,
+            "{} steps",
+            grown.steps
+        );
+        obeys_coulomb(&g, &c, &locals, &grown.lambda);
+        let tresca = tresca_fixed_point(&g, &c, &locals, fixed.lambda).unwrap();
+        let before = newton_growing(&g, &c, &locals, tresca, MAX_STEPS, 0).unwrap();
+        assert!(before.converged);
+        let scale = before.lambda.amax();
+        assert!(scale > 0.0);
+        assert!(
+            (&grown.lambda - &before.lambda).amax() <= 1e-6 * scale,
+            "{} apart of {scale}",
+            (&grown.lambda - &before.lambda).amax()
+        );
     }
 }
