@@ -907,15 +907,12 @@ mod tests {
     /// λ, and per contact its first slot, rows, μ, r_n, r_t.
     fn stalled_problem() -> (DMatrix<f64>, DVector<f64>, Vec<Local>, DVector<f64>) {
         let bytes: &[u8] = include_bytes!("../../tests/fixtures/friction-stall-17-contacts.bin");
-        let mut words = bytes
+        let words: Vec<u64> = bytes
             .chunks_exact(8)
-            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")));
-        let mut int = || words.next().expect("a word") as usize;
-        let (n, count) = (int(), int());
-        let numbers: Vec<f64> = bytes[16..]
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
             .collect();
+        let (n, count) = (words[0] as usize, words[1] as usize);
+        let numbers: Vec<f64> = words[2..].iter().map(|&w| f64::from_bits(w)).collect();
         assert_eq!(numbers.len(), n * n + 2 * n + 5 * count);
         let g = DMatrix::from_column_slice(n, n, &numbers[..n * n]);
         let c = DVector::from_column_slice(&numbers[n * n..n * n + n]);
@@ -937,13 +934,14 @@ mod tests {
     /// Where Newton at the contacts' own scales stalls (200 steps, not converged), with the
     /// scales grown where no step reduces the residual it converges in a few steps, to
     /// multipliers that obey Coulomb's law and agree with Tresca's fixed point finished by
-    /// Newton (the path such a settle took before).
+    /// Newton at fixed scales (the path such a settle took before, but for the fixed point's
+    /// inner Newton, which grows its scales too now).
     #[test]
     fn newton_that_stalls_converges_with_its_scales_grown() {
         let (g, c, locals, start) = stalled_problem();
         let fixed = newton_growing(&g, &c, &locals, start.clone(), 200, 0).unwrap();
         assert!(!fixed.converged, "converged in {} steps", fixed.steps);
-        let grown = newton(&g, &c, &locals, start.clone(), FIRST_STEPS).unwrap();
+        let grown = newton(&g, &c, &locals, start, FIRST_STEPS).unwrap();
         assert!(
             grown.converged && grown.steps <= 30,
             "{} steps",
