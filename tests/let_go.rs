@@ -118,6 +118,81 @@ fn the_palm_down_power_grasp_holds_the_ball_let_go_of() {
         "on the thumb {thumb:?}, on the fingers {fingers:?}"
     );
     held_by_the_hand_alone(&solved);
+    hand_made_grasps_press_harder(&g);
+}
+
+/// The gentlest grip `g` against grasps an animator makes by hand (issue 17's test), each
+/// judged as posed (`close = false`: solved from rest, let go of, no closing): the pose found,
+/// as posed, holds with the grip the search found (within 5 %: reached from rest, not along
+/// the closing); the fingers flexed 3° further at every MCP, PIP and DIP, and 6° with the
+/// thumb's MCP 5° further, hold too, with a larger grip; the viewer's Power grasp preset
+/// presses harder still and does not hold (its thumb, abducted 35° in the palm's plane, pushes
+/// the ball towards the wrist and out of the grip), and says so.
+fn hand_made_grasps_press_harder(g: &prehensile::state::GraspOutcome) {
+    let judged = |pose: &std::collections::BTreeMap<String, f64>| {
+        let table: Vec<String> = pose.iter().map(|(j, a)| format!("\"{j}\" = {a}")).collect();
+        let text = scene(&format!(
+            "grasp = {{ object = \"ball\", preshape = {{ {} }}, close = false }}",
+            table.join(", ")
+        ));
+        let scene = Scene::parse(&text, "hand-made.toml").unwrap();
+        let run = solve_scene(&scene, "hand-made.toml").unwrap_or_else(|e| panic!("{e}"));
+        let o = run.frames.last().unwrap().hands[0].grasp.clone().unwrap();
+        println!(
+            "hand-made: held {}, grip {:.3} N, margin {:.3}, drift {:?}, {:?}",
+            o.held, o.grip, o.margin, o.drift, o.reason
+        );
+        assert_eq!(
+            (o.trials, o.closing_deg),
+            (1, 0.0),
+            "judged as posed: {o:?}"
+        );
+        assert_eq!(o.preshape_grip, o.grip);
+        o
+    };
+    let further = |fingers: f64, thumb_mcp: f64| {
+        let mut pose = g.pose.clone();
+        for (joint, angle) in pose.iter_mut() {
+            let finger = !joint.starts_with("thumb.");
+            if finger
+                && [".mcp.flex", ".pip", ".dip"]
+                    .iter()
+                    .any(|j| joint.ends_with(j))
+            {
+                *angle += fingers;
+            }
+            if joint == "thumb.mcp" {
+                *angle += thumb_mcp;
+            }
+        }
+        pose
+    };
+    let found = judged(&g.pose);
+    assert!(found.held && found.margin >= 1.5, "{found:?}");
+    assert!((found.grip - g.grip).abs() <= 0.05 * g.grip, "{found:?}");
+    let mut last = g.grip;
+    for (fingers, thumb_mcp) in [(3.0, 0.0), (6.0, 5.0)] {
+        let h = judged(&further(fingers, thumb_mcp));
+        assert!(h.held && h.margin >= 1.5, "{h:?}");
+        assert!(h.grip > last, "{h:?}: not firmer than {last} N");
+        last = h.grip;
+    }
+    let skeleton = prehensile::hand::Skeleton::new(prehensile::hand::Side::Right);
+    let preset = prehensile::app::pose::Preset::PowerGrasp.angles(&skeleton);
+    let preset = skeleton
+        .dofs
+        .iter()
+        .zip(preset)
+        .map(|(d, a)| (d.name.clone(), a))
+        .collect();
+    let viewer = judged(&preset);
+    assert!(!viewer.held && viewer.grip > 10.0 * g.grip, "{viewer:?}");
+    let reason = viewer.reason.unwrap();
+    assert!(
+        reason.starts_with("as posed, let go of, the hand does not hold it")
+            && reason.contains("close = false"),
+        "{reason}"
+    );
 }
 
 /// The hand turned palm up (`placement = { rotation = [180, 0, 0] }`) with the ball on the

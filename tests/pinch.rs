@@ -151,3 +151,73 @@ fn twice_the_friction_half_the_pinch() {
     let ratio = (rough.pads[0] + rough.pads[1]) / (light.pads[0] + light.pads[1]);
     assert!((ratio - 0.5).abs() <= 0.05, "twice μ: {ratio} × the pinch");
 }
+
+/// A ball the pinch cannot hold: too slippery (μ = 0.01) or too heavy (a 20 kg weight, 192 N:
+/// the density at its bound of 10⁵ kg/m³ and gravity 6.96 times the Earth's, the rubber
+/// stiffened to 50 MPa so that its stand carries it). A result, not an error: held = false, no
+/// bone past its threshold in the frame shown (the firmest grip found), and the reason says
+/// why — the synergies closed to their end without a hold (the pads press at most ≈ 8 N on the
+/// 38 mm ball: the flesh gives and the ball squeezes out), the grip friction alone would need,
+/// margin·W/μ (the pinch's own closed form, computed here), how much more than the best found,
+/// and the bone nearest its threshold with that threshold.
+#[test]
+fn a_ball_too_slippery_or_too_heavy_to_pinch_is_not_held_and_the_grip_missing_is_named() {
+    let k = 6.96;
+    let [gx, gy, gz] = GRAVITY;
+    let heavy = pinch(1e5, 0.8)
+        .replace("young = 2.0e6", "young = 5.0e7")
+        .replace(
+            &format!("gravity = [{gx}, {gy}, {gz}]"),
+            &format!("gravity = [{}, {}, {}]", k * gx, k * gy, k * gz),
+        );
+    assert!(heavy.contains("5.0e7") && !heavy.contains(&format!("[{gx}, ")));
+    for (text, mu, g) in [
+        (pinch(1100.0, 0.01), 0.01, Vector3::from(GRAVITY).norm()),
+        (heavy, 0.8, (k * Vector3::from(GRAVITY)).norm()),
+    ] {
+        let scene = Scene::parse(&text, "pinch.toml").unwrap();
+        let run: Solved = solve_scene(&scene, "pinch.toml").unwrap_or_else(|e| panic!("{e}"));
+        let frame = run.frames.last().unwrap();
+        let hand = &frame.hands[0];
+        let o = hand.grasp.clone().expect("a grasp keyframe");
+        let reason = o.reason.clone().expect("not held: why");
+        println!(
+            "μ {mu}, gravity {g:.3} m/s²: grip {:.3} N, {reason}",
+            o.grip
+        );
+        assert!(!o.held && o.drift.is_none(), "{o:?}");
+        assert!(hand.overloads.is_empty(), "{:?}", hand.overloads);
+        let firmest = o.search.iter().map(|t| t.grip).fold(0.0, f64::max);
+        assert_eq!(o.grip, firmest, "the frame shown is the firmest grip");
+        let ball = run
+            .model
+            .bodies
+            .iter()
+            .position(|b| b.name == "ball")
+            .unwrap();
+        let weight = run.model.bodies[ball].mass * g;
+        let needed = 1.5 * weight / mu;
+        assert!(needed > 5.0 * o.grip, "{needed} N against {} N", o.grip);
+        // The bone nearest its threshold, found here.
+        let model = &run.model.bodies[hand.body];
+        let skeleton = &model.hand.as_deref().unwrap().skeleton;
+        let share = |b: usize| hand.bone_reactions[b].norm() / model.thresholds[b];
+        let nearest = (0..skeleton.bones.len())
+            .max_by(|&a, &b| share(a).total_cmp(&share(b)))
+            .unwrap();
+        assert!(share(nearest) < 1.0);
+        for said in [
+            "closed to the end of their synergies".to_string(),
+            format!("margin·weight/μ = {needed:.2} N"),
+            format!("{:.2} N more than the best found", needed - o.grip),
+            format!(
+                "the nearest, {}, bears {:.2} N of its {} N",
+                skeleton.bones[nearest].name,
+                hand.bone_reactions[nearest].norm(),
+                prehensile::util::number::readable(model.thresholds[nearest])
+            ),
+        ] {
+            assert!(reason.contains(&said), "{said} not in {reason}");
+        }
+    }
+}

@@ -110,6 +110,7 @@ impl GraspParams {
             hold: None,
             force: self.force,
             margin: self.force.is_none().then_some(self.margin),
+            close: None,
         }
     }
 }

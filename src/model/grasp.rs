@@ -51,6 +51,8 @@ pub struct GraspModel {
     pub hold: HoldTarget,
     /// Safety factor on friction (gravity holds).
     pub margin: f64,
+    /// The digits close to the gentlest grip (`false`: the pose is judged as posed).
+    pub close: bool,
 }
 
 /// The closing of `def` for the hand with `skeleton`, from the angles `angles` (the previous
@@ -195,6 +197,7 @@ pub fn grasp(
         digits,
         hold,
         margin,
+        close: def.close.unwrap_or(true),
     })
 }
 

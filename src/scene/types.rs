@@ -167,6 +167,11 @@ pub struct GraspDef {
     /// Safety factor on the friction the hold needs (default 1.5).
     #[serde(default)]
     pub margin: Option<f64>,
+    /// `false`: the digits do not close; the pose as posed (the preshape adjusted by the
+    /// keyframe's `pose`: an animator's own grasp) is solved and judged — does it hold, with
+    /// what margin and grip. Default `true`: the hand closes to the gentlest grip that holds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub close: Option<bool>,
 }
 
 /// A grasp's preshape: a name or a pose table.

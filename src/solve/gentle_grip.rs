@@ -243,6 +243,29 @@ impl Workspace {
             &self.contact.held.clone(),
         )?;
         let preshape_grip = start.grip;
+        // An animator's own grasp (`close = false`): the pose as posed is the grip, judged.
+        if !grasp.close {
+            let start = Trial {
+                theta: 0.0,
+                ..start
+            };
+            search.borrow_mut().push(GripTrial {
+                closing_deg: 0.0,
+                grip: start.grip,
+                margin: start.margin,
+            });
+            let reason = short_as_posed(model, (body, grasp), &start, overloaded(&start));
+            let touching = digits_touching(model, &start.frame, body);
+            return self.finish(
+                model,
+                posed,
+                (body, grasp),
+                start,
+                &touching,
+                (1, search.take(), preshape_grip),
+                reason,
+            );
+        }
         let mut lo = if touching.is_empty() {
             start.clone()
         } else {
@@ -487,6 +510,78 @@ fn overloaded_at_first_contact(o: &Overload) -> String {
     )
 }
 
+/// Why the pose `t` judged as posed (`close = false`) does not hold (`None`: it holds): a bone
+/// past its threshold (`overload`), nothing touched, no friction, the object not held let go
+/// of, or a margin or grip short of what is asked.
+fn short_as_posed(
+    model: &Model,
+    (hand, grasp): (usize, &GraspModel),
+    t: &Trial,
+    overload: Option<Overload>,
+) -> Option<String> {
+    const CLOSE: &str = "close the digits further, or leave out close = false and the hand closes \
+                         to the gentlest grip that holds";
+    if let Some(o) = overload {
+        return Some(format!(
+            "as posed, bone {} bears {:.3} N, past its threshold of {} N: open the digits that \
+             press it, or raise the threshold (bone_thresholds on the hand)",
+            o.bone,
+            o.reaction,
+            crate::util::number::readable(o.threshold)
+        ));
+    }
+    if t.grip <= 0.0 {
+        return Some(format!("as posed, no digit touches the object: {CLOSE}"));
+    }
+    match grasp.hold {
+        HoldTarget::Gravity { .. } => {
+            if let Some(why) = frictionless(model, hand, grasp.object) {
+                return Some(why);
+            }
+            match &t.released {
+                Some(Err(why)) => Some(format!("as posed, {why}: {CLOSE}")),
+                _ if t.margin < grasp.margin => Some(format!(
+                    "as posed, the grip of {:.3} N holds with a margin of {:.2}, short of the {} \
+                     asked: {CLOSE}",
+                    t.grip,
+                    t.margin,
+                    crate::util::number::readable(grasp.margin)
+                )),
+                _ => None,
+            }
+        }
+        HoldTarget::Force(f) if t.grip < f => Some(format!(
+            "as posed, the grip is {:.3} N, {:.3} N short of the {} N asked: {CLOSE}",
+            t.grip,
+            f - t.grip,
+            crate::util::number::readable(f)
+        )),
+        HoldTarget::Force(_) => None,
+    }
+}
+
+/// The digits of the hand `body` whose bones bear contact forces in `frame`, thumb first.
+fn digits_touching(model: &Model, frame: &Frame, body: usize) -> Vec<String> {
+    let Some(hand) = frame.hands.iter().find(|h| h.body == body) else {
+        return Vec::new();
+    };
+    let skeleton = &model.bodies[body]
+        .hand
+        .as_deref()
+        .expect("a grasp keyframe poses a hand")
+        .skeleton;
+    let mut touching = [false; DIGITS.len()];
+    for (bone, f) in skeleton.bones.iter().zip(&hand.contact_force) {
+        if let Some(d) = bone.digit.filter(|_| f.norm() > 0.0) {
+            touching[d] = true;
+        }
+    }
+    (0..DIGITS.len())
+        .filter(|&d| touching[d])
+        .map(|d| DIGITS[d].to_string())
+        .collect()
+}
+
 /// Why a bone's overload stops the grip: the bone, its reaction and threshold, and the force
 /// the hold still misses from `t`, the firmest grip within the thresholds.
 fn overload_reason(o: &Overload, grasp: &GraspModel, t: &Trial) -> String {
@@ -679,6 +774,23 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
         Some(Err(why)) => format!("; {why}"),
         _ => String::new(),
     };
+    // What friction alone would need: the digits' normal forces balancing among themselves (a
+    // pinch), friction carries the weight with the margin, μ·Σλ ≥ margin·|W|. A hand cradling
+    // the object under it needs less; no grip holds with less where nothing is under it.
+    let (mu, _, _) = friction(model, body, grasp.object);
+    let needed = grasp.margin * weight.norm() / mu;
+    let alone = if mu > 0.0 && needed > t.grip {
+        format!(
+            "; held by friction alone (μ = {}), its {:.2} N weight asks a grip of at least \
+             margin·weight/μ = {needed:.2} N, {:.2} N more than the best found ({})",
+            crate::util::number::readable(mu),
+            weight.norm(),
+            needed - t.grip,
+            most_loaded(model, body, &t.frame)
+        )
+    } else {
+        String::new()
+    };
     let told = if resultant.norm() > weight.norm() {
         format!(
             "{found}: the digits' normal forces leave {:.2} N unbalanced, pushing the object \
@@ -691,12 +803,57 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
     } else {
         found
     };
-    format!("{told}{why}")
+    format!("{told}{alone}{why}")
+}
+
+/// The bone of hand `body` nearest its threshold in `frame`, in words: how far the grip is
+/// from what the muscles can give.
+fn most_loaded(model: &Model, body: usize, frame: &Frame) -> String {
+    let Some(hand) = frame.hands.iter().find(|h| h.body == body) else {
+        return "no bone loaded".into();
+    };
+    let skeleton = &model.bodies[body]
+        .hand
+        .as_deref()
+        .expect("a grasp keyframe poses a hand")
+        .skeleton;
+    let thresholds = &model.bodies[body].thresholds;
+    let share = |b: usize| hand.bone_reactions[b].norm() / thresholds[b];
+    match (0..skeleton
+        .bones
+        .len()
+        .min(thresholds.len())
+        .min(hand.bone_reactions.len()))
+        .filter(|&b| thresholds[b] > 0.0)
+        .max_by(|&a, &b| share(a).total_cmp(&share(b)))
+    {
+        Some(b) => format!(
+            "no bone at its threshold: the nearest, {}, bears {:.2} N of its {} N",
+            skeleton.bones[b].name,
+            hand.bone_reactions[b].norm(),
+            crate::util::number::readable(thresholds[b])
+        ),
+        None => "no bone loaded".into(),
+    }
 }
 
 /// Why no grip holds body `object` against gravity in the hand `hand`'s contacts, if no pair of
 /// their materials has friction (`[[region]]`s may give either body several).
 fn frictionless(model: &Model, hand: usize, object: usize) -> Option<String> {
+    let (mu, a, b) = friction(model, hand, object);
+    (mu <= 0.0).then(|| {
+        format!(
+            "there is no friction between \"{a}\" and \"{b}\" (μ = 0): no grip holds an \
+             object against gravity without it; set [[friction]] between = [\"{a}\", \"{b}\"] \
+             (skin on rubber: μ ≈ 0.8), or give force = N for a target grip"
+        )
+    })
+}
+
+/// The largest friction coefficient between a material of body `hand` and one of body `object`
+/// (`[[region]]`s may give either body several), and the pair's names (the first pair where
+/// none has friction).
+fn friction(model: &Model, hand: usize, object: usize) -> (f64, &str, &str) {
     let materials = |b: usize| {
         let mut m: Vec<&str> = model.bodies[b]
             .cells
@@ -708,18 +865,16 @@ fn frictionless(model: &Model, hand: usize, object: usize) -> Option<String> {
         m
     };
     let (ours, theirs) = (materials(hand), materials(object));
-    let any = ours
-        .iter()
-        .any(|a| theirs.iter().any(|b| model.friction_between(a, b) > 0.0));
-    if any {
-        return None;
+    let mut best = (0.0, ours[0], theirs[0]);
+    for a in &ours {
+        for b in &theirs {
+            let mu = model.friction_between(a, b);
+            if mu > best.0 {
+                best = (mu, a, b);
+            }
+        }
     }
-    let (a, b) = (ours[0], theirs[0]);
-    Some(format!(
-        "there is no friction between \"{a}\" and \"{b}\" (μ = 0): no grip holds an object \
-         against gravity without it; set [[friction]] between = [\"{a}\", \"{b}\"] (skin on \
-         rubber: μ ≈ 0.8), or give force = N for a target grip"
-    ))
+    best
 }
 
 /// The next closing to try between `lo` (measure `m_lo`, short of `target`) and `hi` (measure
