@@ -221,3 +221,76 @@ fn a_ball_too_slippery_or_too_heavy_to_pinch_is_not_held_and_the_grip_missing_is
         }
     }
 }
+
+/// The tripod (thumb, index and middle pads) on the same free ball, moved 8 mm towards the
+/// middle finger (between the index's and the middle's pads): let go of, the three digits hold
+/// it with the margin asked, each pressing it, the others not; the contact forces on the ball
+/// balance its weight (action = reaction, to what the stabilising springs may carry) and every
+/// contact lies in its Coulomb cone.
+#[test]
+fn a_free_ball_is_held_in_a_tripod_by_thumb_index_and_middle() {
+    let text = pinch(1100.0, 0.8)
+        .replace("preshape = \"pinch\"", "preshape = \"tripod\"")
+        .replace(
+            "center = [0.0937, 0.0289, -0.0739]",
+            "center = [0.0937, 0.0209, -0.0739]",
+        )
+        .replace(
+            "min = [0.0935, 0.0235, -0.0935], max = [0.1015, 0.0315, -0.0895]",
+            "min = [0.0935, 0.0155, -0.0935], max = [0.1015, 0.0235, -0.0895]",
+        );
+    assert!(text.contains("\"tripod\"") && text.contains("0.0209") && text.contains("0.0155"));
+    let scene = Scene::parse(&text, "tripod.toml").unwrap();
+    let run: Solved = solve_scene(&scene, "tripod.toml").unwrap_or_else(|e| panic!("{e}"));
+    let model = &run.model;
+    let frame = run.frames.last().unwrap();
+    let hand = &frame.hands[0];
+    let g = hand.grasp.clone().expect("a grasp keyframe");
+    println!("{g:?}");
+    assert!(g.held, "{:?}", g.reason);
+    assert_eq!(g.digits_touching, ["thumb", "index", "middle"]);
+    assert!(
+        g.margin >= 1.5 && g.margin <= 1.5 * 1.05 + 1e-9,
+        "margin {}",
+        g.margin
+    );
+    assert!(hand.overloads.is_empty(), "{:?}", hand.overloads);
+    let skeleton = &model.bodies[hand.body].hand.as_deref().unwrap().skeleton;
+    let mut by_digit = [0.0; 5];
+    for (bone, f) in skeleton.bones.iter().zip(&hand.contact_force) {
+        if let Some(d) = bone.digit {
+            by_digit[d] += f.norm();
+        }
+    }
+    assert!(
+        by_digit[..3].iter().all(|&f| f > 0.05 * g.grip),
+        "{by_digit:?}"
+    );
+    assert_eq!(
+        &by_digit[3..],
+        &[0.0, 0.0],
+        "ring and little are tucked away"
+    );
+    // Held by the hand alone: equilibrium of the ball, Coulomb's cone at every contact.
+    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
+    let nodes = model.bodies[ball].nodes.clone();
+    let weight = model.bodies[ball].mass * Vector3::from(GRAVITY);
+    let contact = frame.contact.as_ref().expect("in contact");
+    let (mut on_ball, mut gross) = (Vector3::<f64>::zeros(), 0.0);
+    for c in &contact.contacts {
+        for (n, f) in c.nodal_forces() {
+            if nodes.contains(&n) {
+                on_ball += f;
+                gross += f.norm();
+            }
+        }
+        assert!(c.tangential.norm() <= 0.8 * c.force * (1.0 + 1e-6) + 1e-12);
+    }
+    let unbalanced = (on_ball + weight).norm();
+    assert!(
+        unbalanced < 1e-3 * gross.max(weight.norm()),
+        "contact on the ball {on_ball:?} against its weight {weight:?}: {unbalanced} N left"
+    );
+    let drift = g.drift.expect("held: its drift");
+    assert!(drift > 0.0 && drift < 0.002, "drift {drift} m");
+}

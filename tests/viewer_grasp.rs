@@ -1,8 +1,9 @@
 //! The viewer's Grasp row (issue 17) on the built-in default scene, with the real solver thread,
 //! driven through the real widgets (egui_kittest): "grip force" then Grasp closes the hand on
 //! the ball to the least closing that presses it with the 5 N asked; the sliders go to the pose
-//! found and the status says what was found. "hold against gravity" then Grasp, on a scene with
-//! no friction, is a result too: not held, and why.
+//! found and the status says what was found; "Does it hold?" judges that pose as posed (held,
+//! the same grip, nothing added to the timeline). "hold against gravity" then Grasp, on a scene
+//! with no friction, is a result too: not held, and why.
 
 use crate::common;
 
@@ -73,6 +74,31 @@ fn the_grasp_button_closes_the_hand_to_the_grip_asked() {
     );
     assert!(t.keys[t.current - 2].time < pre.time && pre.time < grip.time);
     let keys_after_grasp = t.keys.len();
+    let found = s.pose[0].1.clone();
+
+    // "Does it hold?" on the pose found: judged as posed (no closing, `close = false`), it
+    // presses the ball as the grasp found (the same pose solved again from itself), held; the
+    // sliders stay and nothing is added to the timeline.
+    h.get_by_label("Does it hold?").click();
+    let judged = settle(&mut h).expect("the judged pose's frame carries its outcome");
+    println!("{judged:?}");
+    assert!(judged.held && !judged.closed, "{judged:?}");
+    assert_eq!((judged.closing_deg, judged.trials), (0.0, 1));
+    assert!(
+        (judged.grip - g.grip).abs() <= 0.02 * g.grip,
+        "judged {} N against the grasp's {} N",
+        judged.grip,
+        g.grip
+    );
+    let s = h.state();
+    assert_eq!(s.pose[0].1, found);
+    assert_eq!(s.timeline.keys.len(), keys_after_grasp);
+    let status = s.status.grasp.clone().unwrap();
+    assert!(
+        status.starts_with("held \"ball\": grip")
+            && status.contains("of 5 N asked, judged as posed"),
+        "{status}"
+    );
 
     // A slider moved after the grasp: its preview and its result are no grasp (the preview
     // carried the grasp frame's outcome until 2026-11-27 and added the closing again).

@@ -102,6 +102,16 @@ impl GraspParams {
         }
     }
 
+    /// As a scene's grasp judging the pose `pose` (joint angles by name, degrees) as posed:
+    /// no closing (`close = false`), held as this row asks.
+    pub fn judging(&self, pose: std::collections::BTreeMap<String, f64>) -> crate::scene::GraspDef {
+        crate::scene::GraspDef {
+            preshape: Some(crate::scene::PreshapeDef::Pose(pose)),
+            close: Some(false),
+            ..self.def()
+        }
+    }
+
     /// As a scene's grasp.
     pub fn def(&self) -> crate::scene::GraspDef {
         crate::scene::GraspDef {
@@ -167,9 +177,13 @@ pub struct ViewerState {
     pub(crate) pose_changed: bool,
     /// The Grasp button was pressed: a grasp job goes out at the end of the frame.
     pub(crate) grasp_asked: bool,
-    /// The Grasp job in flight (its version) and the timeline key current when it was asked:
-    /// its result, and only its, puts the closing on the timeline after that key.
-    grasp_job: Option<(u64, usize)>,
+    /// The "Does it hold?" button was pressed: the sliders' pose is judged as posed (a grasp
+    /// job that does not close) at the end of the frame.
+    pub(crate) judge_asked: bool,
+    /// The Grasp job in flight (its version), the timeline key current when it was asked, and
+    /// whether it closes the hand: its result, and only its, puts the closing on the timeline
+    /// after that key (a pose judged as posed adds nothing).
+    grasp_job: Option<(u64, usize, bool)>,
     pub(crate) scene_changed: bool,
     pub(crate) range_changed: bool,
 }
@@ -212,6 +226,7 @@ impl ViewerState {
             redraw_asked: None,
             pose_changed: true,
             grasp_asked: false,
+            judge_asked: false,
             grasp_job: None,
             scene_changed: false,
             range_changed: false,
@@ -253,6 +268,7 @@ impl ViewerState {
     pub fn computing(&self) -> bool {
         self.pose_changed
             || self.grasp_asked
+            || self.judge_asked
             || self.pose_version.is_some_and(|v| self.in_flight == Some(v))
     }
 
@@ -303,18 +319,30 @@ impl ViewerState {
                 view.set_range(range);
             }
         }
-        if self.grasp_asked && !self.pose_changed {
+        if (self.grasp_asked || self.judge_asked) && !self.pose_changed {
+            let closes = self.grasp_asked;
             self.grasp_asked = false;
+            self.judge_asked = false;
             if let Some(hand) = self.hands.first() {
+                let grasp = if closes {
+                    self.grasp.def()
+                } else {
+                    let angles = self
+                        .pose
+                        .iter()
+                        .find(|(b, _)| *b == hand.body)
+                        .map_or(&[][..], |(_, a)| a.as_slice());
+                    self.grasp.judging(hand.skeleton.pose_of(angles))
+                };
                 let start = self.start_frame();
                 let v = self.submit(Target::Grasp {
                     body: hand.body,
-                    grasp: self.grasp.def(),
+                    grasp,
                     start,
                 });
                 self.pose_version = Some(v);
-                self.grasp_job = Some((v, self.timeline.current));
-                self.status.grasp = Some(CLOSING.into());
+                self.grasp_job = Some((v, self.timeline.current, closes));
+                self.status.grasp = Some(if closes { CLOSING } else { JUDGING }.into());
                 return;
             }
         }
@@ -421,7 +449,10 @@ impl ViewerState {
         let newest_pose = self.pose_version == Some(r.version);
         let timeline = self.timeline_job == Some(r.version);
         let failed = matches!(r.outcome, Err(Failure::Error(_) | Failure::Panic(_)));
-        if newest_pose && r.outcome.is_err() && self.status.grasp.as_deref() == Some(CLOSING) {
+        if newest_pose
+            && r.outcome.is_err()
+            && matches!(self.status.grasp.as_deref(), Some(CLOSING | JUDGING))
+        {
             self.status.grasp = None;
         }
         if failed && newest_pose && self.showing_preview() {
@@ -452,9 +483,9 @@ impl ViewerState {
                     // does (a later pose's preview carries the grasp frame's outcome along).
                     let grasp_job = self
                         .grasp_job
-                        .filter(|(v, _)| *v == r.version && !solution.preview);
+                        .filter(|(v, _, _)| *v == r.version && !solution.preview);
                     for h in &solution.frame.hands {
-                        let (Some(g), Some((_, key))) = (&h.grasp, grasp_job) else {
+                        let (Some(g), Some((_, key, closes))) = (&h.grasp, grasp_job) else {
                             continue;
                         };
                         let Some(i) = self.pose.iter().position(|(b, _)| *b == h.body) else {
@@ -462,7 +493,7 @@ impl ViewerState {
                         };
                         self.pose[i].1.clone_from(&h.angles);
                         self.status.grasp = Some(grasp_summary(g));
-                        if g.closing_deg > 0.0 || g.held {
+                        if closes && (g.closing_deg > 0.0 || g.held) {
                             self.add_closing(key, i, g, &h.angles);
                         }
                     }
@@ -581,6 +612,9 @@ impl ViewerState {
 /// The status line while a grasp is solved.
 const CLOSING: &str = "closing the hand…";
 
+/// The status while a pose is judged as posed.
+const JUDGING: &str = "letting go of the object in this pose…";
+
 /// What a grasp found, in a line of the status panel.
 fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
     let how = match (g.force_target, g.margin_target) {
@@ -600,16 +634,22 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
         (None, None) => format!("grip {:.2} N", g.grip),
     };
     let head = if g.held { "held" } else { "not held" };
-    let closing = if g.closing_deg < 0.0 {
+    let closing = if !g.closed {
+        "judged as posed".to_string()
+    } else if g.closing_deg < 0.0 {
         format!("{:.1}° short of first contact", -g.closing_deg)
     } else {
         format!("{:.1}° past first contact", g.closing_deg)
     };
-    let mut line = format!(
-        "{head} \"{}\" ({}): {how}, {closing}, {} poses solved",
-        g.object, g.preshape, g.trials
-    );
-    if g.preshape_grip > 0.0 {
+    let mut line = if g.closed {
+        format!(
+            "{head} \"{}\" ({}): {how}, {closing}, {} poses solved",
+            g.object, g.preshape, g.trials
+        )
+    } else {
+        format!("{head} \"{}\": {how}, {closing}", g.object)
+    };
+    if g.preshape_grip > 0.0 && g.closed {
         line.push_str(&format!(
             " — the open hand already presses it with {:.2} N in the preshape: nothing gentler \
              along the synergies; move the object out of the open hand",
@@ -651,6 +691,7 @@ mod tests {
             trials: 1,
             search: Vec::new(),
             reason: None,
+            closed: true,
         };
         let line = grasp_summary(&g);
         assert!(line.starts_with("held \"ball\" (pinch): grip 13.38 N of 3 N asked, 13.8° short of first contact, 1 poses solved"), "{line}");

@@ -70,12 +70,21 @@ impl Preshape {
             // thumb's.
             pose.insert("index.mcp.abd".into(), PINCH_INDEX_ABDUCTION);
         }
+        if self == Preshape::Tripod {
+            // The index and middle pads side by side, facing the thumb's.
+            pose.insert("index.mcp.abd".into(), TRIPOD_ABDUCTION.0);
+            pose.insert("middle.mcp.abd".into(), TRIPOD_ABDUCTION.1);
+        }
         pose
     }
 }
 
 /// The index's MCP abduction in the pinch, degrees (towards the middle finger).
 const PINCH_INDEX_ABDUCTION: f64 = -15.0;
+
+/// The index's and the middle's MCP abduction in the tripod, degrees (positive: radial, towards
+/// the thumb's side).
+const TRIPOD_ABDUCTION: (f64, f64) = (0.0, 10.0);
 
 /// A grasping digit's synergy at rest: its open angles (s = 0).
 pub fn open(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
@@ -99,7 +108,7 @@ fn tucked(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
 
 /// A digit's closing synergy in a preshape: (joint, open angle, closed angle), degrees.
 ///
-/// Wrapping (power, tripod): fingers flex MCP, PIP and DIP together from slightly bent to near
+/// Wrapping (power): fingers flex MCP, PIP and DIP together from slightly bent to near
 /// a fist's (88°, 105°, 70° at the limits' edge: the full fist is reached without a crushed
 /// cell, `hand::full_fist`); the thumb opens in wide palmar abduction (60°, the CMC's flexion
 /// −10°: out of the palm's plane, in front of the index) and wraps the object from the side
@@ -118,9 +127,27 @@ fn tucked(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
 /// to 15 mm closed, the point between them moving by less than 16 mm — the line between two
 /// poses found by minimising the pads' angle to that line at 45 and 15 mm apart with a ball's
 /// room between them (the skin's shape on the bones; `tests/pinch.rs` holds a free ball so).
+///
+/// Tripod (since 2026-11-29; the three-jaw chuck): the pinch's thumb and index, the index
+/// straight ahead (no abduction) and the middle finger closing along the index's pinch synergy,
+/// turned 10° towards it, its pad beside the index's: an object between the two fingers' pads
+/// is met by all three (before, the tripod closed the power grasp's wrapping thumb, which never
+/// met a ball the fingers' pads held).
 pub fn synergy(preshape: Preshape, digit: &str) -> Vec<(String, f64, f64)> {
     let j = |name: &str| format!("{digit}.{name}");
-    if preshape == Preshape::Pinch {
+    let pad_to_pad = match preshape {
+        Preshape::Pinch => true,
+        Preshape::Tripod => digit != "middle",
+        Preshape::Power => false,
+    };
+    if preshape == Preshape::Tripod && digit == "middle" {
+        return vec![
+            (j("mcp.flex"), 49.0, 34.0),
+            (j("pip"), 31.0, 72.0),
+            (j("dip"), 0.0, -10.0),
+        ];
+    }
+    if pad_to_pad {
         match digit {
             "thumb" => {
                 return vec![

@@ -493,6 +493,7 @@ impl Workspace {
                 trials,
                 search,
                 reason,
+                closed: grasp.close,
             });
         }
         Ok(frame)

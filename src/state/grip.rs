@@ -51,6 +51,9 @@ pub struct GraspOutcome {
     pub search: Vec<GripTrial>,
     /// Why the grip does not hold (when `held` is false).
     pub reason: Option<String>,
+    /// The digits closed along their synergies to the grip (`false`: the pose was judged as
+    /// posed, `close = false`).
+    pub closed: bool,
 }
 
 /// One pose of a grasp's search.

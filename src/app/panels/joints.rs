@@ -127,5 +127,15 @@ fn grasp_row(state: &mut ViewerState, ui: &mut egui::Ui) {
         {
             state.grasp_asked = true;
         }
+        if ui
+            .button("Does it hold?")
+            .on_hover_text(
+                "solve the pose the sliders set, let go of the object, and tell whether the hand \
+                 holds it as asked (no closing; the pose stays yours)",
+            )
+            .clicked()
+        {
+            state.judge_asked = true;
+        }
     });
 }
