@@ -663,6 +663,9 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
         if r.contains("[[friction]]") {
             line.push_str(" (here: the Object panel's skin friction μ)");
         }
+        if r.contains("leave out close = false") {
+            line.push_str(" (here: the Grasp button)");
+        }
     }
     line
 }
@@ -671,6 +674,40 @@ fn grasp_summary(g: &crate::state::GraspOutcome) -> String {
 mod tests {
     use super::grasp_summary;
     use crate::state::GraspOutcome;
+
+    #[test]
+    fn a_pose_judged_as_posed_is_told_so_and_the_advice_names_the_grasp_button() {
+        let g = GraspOutcome {
+            object: "ball".into(),
+            preshape: "pose".into(),
+            held: false,
+            pose: Default::default(),
+            preshape_pose: Default::default(),
+            margin: 0.0,
+            margin_target: Some(1.5),
+            grip: 20.318,
+            force_target: None,
+            closing_deg: 0.0,
+            preshape_grip: 20.318,
+            drift: None,
+            digits_touching: vec!["thumb".into()],
+            trials: 1,
+            search: Vec::new(),
+            reason: Some(
+                "as posed, let go of, the hand does not hold it: close the digits further, or \
+                 leave out close = false and the hand closes to the gentlest grip that holds"
+                    .into(),
+            ),
+            closed: false,
+        };
+        let line = grasp_summary(&g);
+        assert!(
+            line.starts_with("not held \"ball\": grip 20.32 N, friction margin 0.00 of 1.5, judged as posed — as posed"),
+            "{line}"
+        );
+        assert!(!line.contains("already presses"), "{line}");
+        assert!(line.ends_with("(here: the Grasp button)"), "{line}");
+    }
 
     #[test]
     fn a_grasp_short_of_first_contact_and_a_preshape_into_the_object_are_told() {
