@@ -224,9 +224,9 @@ fn a_ball_too_slippery_or_too_heavy_to_pinch_is_not_held_and_the_grip_missing_is
 
 /// The tripod (thumb, index and middle pads) on the same free ball, moved 8 mm towards the
 /// middle finger (between the index's and the middle's pads): let go of, the three digits hold
-/// it with the margin asked, each pressing it, the others not; the contact forces on the ball
-/// balance its weight (action = reaction, to what the stabilising springs may carry) and every
-/// contact lies in its Coulomb cone.
+/// it with the margin asked, each pressing it, the others not; held by the hand alone (its
+/// weight balanced by the contact forces, every contact in its Coulomb cone, nothing through
+/// the skin: `common::held`).
 #[test]
 fn a_free_ball_is_held_in_a_tripod_by_thumb_index_and_middle() {
     let text = pinch(1100.0, 0.8)
@@ -271,26 +271,7 @@ fn a_free_ball_is_held_in_a_tripod_by_thumb_index_and_middle() {
         &[0.0, 0.0],
         "ring and little are tucked away"
     );
-    // Held by the hand alone: equilibrium of the ball, Coulomb's cone at every contact.
-    let ball = model.bodies.iter().position(|b| b.name == "ball").unwrap();
-    let nodes = model.bodies[ball].nodes.clone();
-    let weight = model.bodies[ball].mass * Vector3::from(GRAVITY);
-    let contact = frame.contact.as_ref().expect("in contact");
-    let (mut on_ball, mut gross) = (Vector3::<f64>::zeros(), 0.0);
-    for c in &contact.contacts {
-        for (n, f) in c.nodal_forces() {
-            if nodes.contains(&n) {
-                on_ball += f;
-                gross += f.norm();
-            }
-        }
-        assert!(c.tangential.norm() <= 0.8 * c.force * (1.0 + 1e-6) + 1e-12);
-    }
-    let unbalanced = (on_ball + weight).norm();
-    assert!(
-        unbalanced < 1e-3 * gross.max(weight.norm()),
-        "contact on the ball {on_ball:?} against its weight {weight:?}: {unbalanced} N left"
-    );
+    crate::common::held::held_by_the_hand_alone(&run, "ball", Vector3::from(GRAVITY), 0.8);
     let drift = g.drift.expect("held: its drift");
     assert!(drift > 0.0 && drift < 0.002, "drift {drift} m");
 }

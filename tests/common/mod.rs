@@ -3,6 +3,7 @@
 
 pub mod flexion;
 pub mod gltf_validator;
+pub mod held;
 pub mod limited;
 pub mod viewer;
 pub mod vtu;
