@@ -135,20 +135,13 @@ fn tucked(preshape: Preshape, digit: &str) -> Vec<(String, f64)> {
 /// met a ball the fingers' pads held).
 pub fn synergy(preshape: Preshape, digit: &str) -> Vec<(String, f64, f64)> {
     let j = |name: &str| format!("{digit}.{name}");
-    let pad_to_pad = match preshape {
-        Preshape::Pinch => true,
-        Preshape::Tripod => digit != "middle",
-        Preshape::Power => false,
-    };
-    if preshape == Preshape::Tripod && digit == "middle" {
-        return vec![
-            (j("mcp.flex"), 49.0, 34.0),
-            (j("pip"), 31.0, 72.0),
-            (j("dip"), 0.0, -10.0),
-        ];
-    }
-    if pad_to_pad {
-        match digit {
+    if matches!(preshape, Preshape::Pinch | Preshape::Tripod) {
+        // The tripod's middle finger closes along the index's pinch synergy (its own joints).
+        let along = match (preshape, digit) {
+            (Preshape::Tripod, "middle") => "index",
+            _ => digit,
+        };
+        match along {
             "thumb" => {
                 return vec![
                     (j("cmc.abd"), 54.5, 37.0),
