@@ -180,10 +180,10 @@ pub struct ViewerState {
     /// The "Does it hold?" button was pressed: the sliders' pose is judged as posed (a grasp
     /// job that does not close) at the end of the frame.
     pub(crate) judge_asked: bool,
-    /// The Grasp job in flight (its version), the timeline key current when it was asked, and
-    /// whether it closes the hand: its result, and only its, puts the closing on the timeline
-    /// after that key (a pose judged as posed adds nothing).
-    grasp_job: Option<(u64, usize, bool)>,
+    /// The Grasp job in flight (its version) and the timeline key current when it was asked:
+    /// its result, and only its, puts the closing on the timeline after that key (a pose judged
+    /// as posed, its outcome not `closed`, adds nothing).
+    grasp_job: Option<(u64, usize)>,
     pub(crate) scene_changed: bool,
     pub(crate) range_changed: bool,
 }
@@ -341,7 +341,7 @@ impl ViewerState {
                     start,
                 });
                 self.pose_version = Some(v);
-                self.grasp_job = Some((v, self.timeline.current, closes));
+                self.grasp_job = Some((v, self.timeline.current));
                 self.status.grasp = Some(if closes { CLOSING } else { JUDGING }.into());
                 return;
             }
@@ -483,9 +483,9 @@ impl ViewerState {
                     // does (a later pose's preview carries the grasp frame's outcome along).
                     let grasp_job = self
                         .grasp_job
-                        .filter(|(v, _, _)| *v == r.version && !solution.preview);
+                        .filter(|(v, _)| *v == r.version && !solution.preview);
                     for h in &solution.frame.hands {
-                        let (Some(g), Some((_, key, closes))) = (&h.grasp, grasp_job) else {
+                        let (Some(g), Some((_, key))) = (&h.grasp, grasp_job) else {
                             continue;
                         };
                         let Some(i) = self.pose.iter().position(|(b, _)| *b == h.body) else {
@@ -493,7 +493,7 @@ impl ViewerState {
                         };
                         self.pose[i].1.clone_from(&h.angles);
                         self.status.grasp = Some(grasp_summary(g));
-                        if closes && (g.closing_deg > 0.0 || g.held) {
+                        if g.closed && (g.closing_deg > 0.0 || g.held) {
                             self.add_closing(key, i, g, &h.angles);
                         }
                     }

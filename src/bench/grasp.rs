@@ -145,12 +145,7 @@ pub fn grasp_rows(
                                 .hand
                                 .as_deref()
                                 .expect("a hand body");
-                            let mut on = [nalgebra::Vector3::zeros(); 5];
-                            for (bone, f) in hand.skeleton.bones.iter().zip(&h.contact_force) {
-                                if let Some(d) = bone.digit {
-                                    on[d] += f;
-                                }
-                            }
+                            let on = h.contact_force_by_digit(&hand.skeleton);
                             for (d, f) in row.digits.iter_mut().zip(on) {
                                 *d += f.norm();
                             }

@@ -101,11 +101,17 @@ impl Workspace {
             .hand
             .as_deref()
             .expect("a grasp keyframe poses a hand");
-        // Each closing digit's synergy parameter at first contact (None: it never meets).
+        // Each closing digit's synergy parameter at first contact (None: it never meets; a pose
+        // judged as posed closes none).
         let first: Vec<Option<f64>> = grasp
             .digits
             .iter()
-            .map(|(d, joints)| first_contact(model, body, hand, &key.angles, *d, joints, &object))
+            .map(|(d, joints)| {
+                grasp
+                    .close
+                    .then(|| first_contact(model, body, hand, &key.angles, *d, joints, &object))
+                    .flatten()
+            })
             .collect();
         // Each digit's synergy in degrees of its largest joint turn (from the angles it starts
         // at: a preshape adjusted by the keyframe's pose turns less or more).
@@ -571,15 +577,12 @@ fn digits_touching(model: &Model, frame: &Frame, body: usize) -> Vec<String> {
         .as_deref()
         .expect("a grasp keyframe poses a hand")
         .skeleton;
-    let mut touching = [false; DIGITS.len()];
-    for (bone, f) in skeleton.bones.iter().zip(&hand.contact_force) {
-        if let Some(d) = bone.digit.filter(|_| f.norm() > 0.0) {
-            touching[d] = true;
-        }
-    }
-    (0..DIGITS.len())
-        .filter(|&d| touching[d])
-        .map(|d| DIGITS[d].to_string())
+    let on = hand.contact_force_by_digit(skeleton);
+    DIGITS
+        .iter()
+        .zip(on)
+        .filter(|(_, f)| f.norm() > 0.0)
+        .map(|(d, _)| d.to_string())
         .collect()
 }
 
@@ -779,8 +782,8 @@ fn firmest(model: &Model, grasp: &GraspModel, body: usize, t: &Trial) -> String 
     // pinch), friction carries the weight with the margin, μ·Σλ ≥ margin·|W|. A hand cradling
     // the object under it needs less; no grip holds with less where nothing is under it.
     let (mu, _, _) = friction(model, body, grasp.object);
-    let needed = grasp.margin * weight.norm() / mu;
-    let alone = if mu > 0.0 && needed > t.grip {
+    let needed = (mu > 0.0).then(|| grasp.margin * weight.norm() / mu);
+    let alone = if let Some(needed) = needed.filter(|&n| n > t.grip) {
         format!(
             "; held by friction alone (μ = {}), its {:.2} N weight asks a grip of at least \
              margin·weight/μ = {needed:.2} N, {:.2} N more than the best found ({})",
@@ -820,11 +823,7 @@ fn most_loaded(model: &Model, body: usize, frame: &Frame) -> String {
         .skeleton;
     let thresholds = &model.bodies[body].thresholds;
     let share = |b: usize| hand.bone_reactions[b].norm() / thresholds[b];
-    match (0..skeleton
-        .bones
-        .len()
-        .min(thresholds.len())
-        .min(hand.bone_reactions.len()))
+    match (0..skeleton.bones.len())
         .filter(|&b| thresholds[b] > 0.0)
         .max_by(|&a, &b| share(a).total_cmp(&share(b)))
     {

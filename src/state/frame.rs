@@ -54,3 +54,20 @@ pub struct HandFrame {
     /// What a grasp keyframe found (the gentlest grip), for the frame it ends in.
     pub grasp: Option<super::GraspOutcome>,
 }
+
+impl HandFrame {
+    /// The contact force on each digit's flesh (thumb first: `hand::synergy::DIGITS`), N: its
+    /// bones' `contact_force` summed (the carpus's left out). `skeleton` is this hand's.
+    pub fn contact_force_by_digit(
+        &self,
+        skeleton: &crate::hand::Skeleton,
+    ) -> [nalgebra::Vector3<f64>; 5] {
+        let mut on = [nalgebra::Vector3::zeros(); 5];
+        for (bone, f) in skeleton.bones.iter().zip(&self.contact_force) {
+            if let Some(d) = bone.digit {
+                on[d] += f;
+            }
+        }
+        on
+    }
+}
