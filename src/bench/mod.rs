@@ -4,6 +4,7 @@
 pub mod accuracy;
 pub mod contact;
 pub mod elements;
+pub mod gentle;
 pub mod grasp;
 pub mod hand;
 pub mod region;

@@ -186,6 +186,22 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "1,1.5")]
         resolutions: Vec<f64>,
     },
+    /// The gentlest grip from preshape to grip (grasp keyframes): per grasp and hand resolution,
+    /// whether it holds, the closing, grip, margin and drift found, the poses solved and the
+    /// time; over several resolutions, the grip's refinement study.
+    Gentle {
+        /// Grasps, comma separated: `power` (the Power-grasp scene with skin friction 0.8, the
+        /// power preshape held against gravity) or scene files with grasp keyframes.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "power,assets/scenes/hand-gentle-grip.toml"
+        )]
+        grasps: Vec<String>,
+        /// Hand mesh resolutions, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1")]
+        resolutions: Vec<f64>,
+    },
     /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
     /// moving joints and near the contact only) and with everything everywhere; time saved and
     /// the difference in the result.
@@ -425,6 +441,17 @@ fn run() -> Result<()> {
                 );
                 let rows = crate::bench::self_contact::self_contact_rows(&resolutions)?;
                 print!("{}", crate::bench::self_contact::self_contact_table(&rows));
+            }
+            BenchCommand::Gentle {
+                grasps,
+                resolutions,
+            } => {
+                println!(
+                    "gentlest-grip benchmark: {} threads",
+                    rayon::current_num_threads()
+                );
+                let rows = crate::bench::gentle::gentle_rows(&grasps, &resolutions)?;
+                print!("{}", crate::bench::gentle::gentle_table(&rows));
             }
             BenchCommand::Region { scenes } => {
                 println!("region benchmark: {} threads", rayon::current_num_threads());
