@@ -147,3 +147,29 @@ fn gentle_table_rows(rows: &[GentleRow]) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cases_are_grasp_keyframes_and_a_scene_without_one_is_refused_by_name() {
+        let found = cases(&["power".into(), "assets/scenes/hand-gentle-grip.toml".into()]).unwrap();
+        assert_eq!(found.len(), 2);
+        let power = &found[0].1;
+        assert!(
+            power.friction.iter().any(|f| f.mu == 0.8),
+            "{:?}",
+            power.friction
+        );
+        assert!(power.keyframe.iter().any(|k| k.grasp.is_some()));
+        let e = cases(&["assets/scenes/finger-press-ball.toml".into()])
+            .map(|c| c.len())
+            .expect_err("no grasp keyframe: refused")
+            .to_string();
+        assert!(
+            e.starts_with("assets/scenes/finger-press-ball.toml: no grasp keyframe"),
+            "{e}"
+        );
+    }
+}
