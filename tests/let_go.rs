@@ -74,7 +74,7 @@ fn the_released_model_frees_the_object_and_nothing_else() {
 /// alone with the margin asked, at the least closing that holds; every bone within its
 /// threshold; the grip smaller than those of the firmer closings that hold too; the thumb
 /// pushes the ball towards the fingertips, the fingers towards the wrist. Measured
-/// (2026-11-29): held at 0.59° past first contact, grip 1.36 N, margin 1.72, drift 1.6 mm.
+/// (2026-11-30): held at 0.5° past first contact, grip 1.206 N, margin 1.523, drift 1.74 mm.
 #[test]
 fn the_palm_down_power_grasp_holds_the_ball_let_go_of() {
     let text = scene("grasp = { object = \"ball\", preshape = \"power\" }");
@@ -257,9 +257,10 @@ fn held_at_the_least_closing(g: &prehensile::state::GraspOutcome) {
 
 /// The gentlest power grip under the hand's refinement (the numbers the product exists for
 /// converge): the palm-down grasp searched at hand resolutions 1, 1.25 and 1.5 (the ball's mesh
-/// alike) is held at each, with the margin asked within the search's 5 %, and the grips found
-/// lie within 15 % of one another (measured 2026-11-30: 1.206, 1.354, 1.200 N; before the
-/// let-go told its floor from sliding out, 1.36, 2.50, 4.09 N).
+/// alike) is held at each, at a margin near the one asked (under 2: before the let-go told its
+/// floor from sliding out, the search closed on to margins of 2.35–2.60), and the grips found
+/// lie within 15 % of one another (measured 2026-11-30: 1.206, 1.354, 1.200 N, margins 1.523,
+/// 1.530, 1.533; before, 1.36, 2.50, 4.09 N).
 #[test]
 fn the_gentlest_power_grip_converges_under_the_hands_refinement() {
     let grips: Vec<f64> = ["1.0", "1.25", "1.5"]
@@ -275,11 +276,7 @@ fn the_gentlest_power_grip_converges_under_the_hands_refinement() {
                 .clone()
                 .unwrap();
             held_at_the_least_closing(&g);
-            assert!(
-                g.margin <= 1.5 * 1.05,
-                "resolution {r}: margin {}",
-                g.margin
-            );
+            assert!(g.margin < 2.0, "resolution {r}: margin {}", g.margin);
             g.grip
         })
         .collect();

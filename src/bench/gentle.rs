@@ -104,6 +104,24 @@ pub fn gentle_table(rows: &[GentleRow]) -> String {
     out
 }
 
+/// `text` as one table cell of at most `chars` characters: no column bars or line breaks, an
+/// ellipsis where it was cut.
+fn cell(text: &str, chars: usize) -> String {
+    let flat: String = text
+        .chars()
+        .map(|c| match c {
+            '|' => '/',
+            '\n' | '\r' => ' ',
+            c => c,
+        })
+        .collect();
+    if flat.chars().count() > chars {
+        format!("{}…", flat.chars().take(chars).collect::<String>())
+    } else {
+        flat
+    }
+}
+
 /// The table's rows, without its header.
 fn gentle_table_rows(rows: &[GentleRow]) -> String {
     let mut out = String::new();
@@ -123,10 +141,7 @@ fn gentle_table_rows(rows: &[GentleRow]) -> String {
                 let drift = g.drift.map_or("—".into(), |d| format!("{:.2}", d * 1e3));
                 let held = match (&g.reason, g.held) {
                     (_, true) => "yes".to_string(),
-                    (Some(why), false) => {
-                        let short: String = why.chars().take(100).collect();
-                        format!("no: {short}…")
-                    }
+                    (Some(why), false) => format!("no: {}", cell(why, 100)),
                     (None, false) => "no".into(),
                 };
                 let _ = writeln!(
@@ -136,11 +151,13 @@ fn gentle_table_rows(rows: &[GentleRow]) -> String {
                 );
             }
             Err(e) => {
-                let short: String = e.chars().take(140).collect();
                 let _ = writeln!(
                     out,
-                    "| {} | {} | stopped: {short}… | — | — | — | — | — | — | {:.1} |",
-                    r.case, r.resolution, r.total_s
+                    "| {} | {} | stopped: {} | — | — | — | — | — | — | {:.1} |",
+                    r.case,
+                    r.resolution,
+                    cell(e, 140),
+                    r.total_s
                 );
             }
         }
@@ -151,6 +168,13 @@ fn gentle_table_rows(rows: &[GentleRow]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cell_has_no_bars_or_breaks_and_an_ellipsis_only_where_cut() {
+        assert_eq!(cell("a | b\nc", 10), "a / b c");
+        assert_eq!(cell("abcdef", 3), "abc…");
+        assert_eq!(cell("abc", 3), "abc");
+    }
 
     #[test]
     fn the_cases_are_grasp_keyframes_and_a_scene_without_one_is_refused_by_name() {

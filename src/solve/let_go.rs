@@ -7,11 +7,12 @@
 //! normal forces, which the stand balanced, now balance among themselves and the weight — or
 //! the solve finds that nothing holds it (its stabilising springs would carry its load:
 //! `stabilize::check_held`), settled again from where each solve left it (the springs anchored
-//! there). Held: a settle whose springs carry at most 10⁻⁴ of its load, or whose springs carry at
-//! most 10⁻³ of it once the settles no longer slow (the creep of contacts at their cones, µm a
-//! settle). Sliding out: a settle that moves it more than half as far as the one before, its
-//! springs carrying 10⁻² of its load or more. How far it moves on release, its drift, is
-//! measured.
+//! there). The springs' force is measured against the forces on the object — the larger of its
+//! load and its contacts' summed force (`stabilize::check_held`). Held: a settle whose springs
+//! carry at most 10⁻⁴ of them, or at most 10⁻³ once the settles no longer slow (the creep of
+//! contacts at their cones, µm a settle). Sliding out: a settle that moves it more than half as
+//! far as the one before, its springs carrying more than 10⁻². How far it moves on release, its
+//! drift, is measured.
 
 use super::driver::{Posed, Workspace};
 use super::error::SimError;
@@ -63,8 +64,8 @@ impl Release {
         // it, and a solve whose springs carry part of its load is not failed but settled
         // again from there: held, each settle moves it less (by the springs' over the
         // contacts' stiffness, ≈ 10⁻²) down to a floor of micrometres where the springs carry
-        // ≈ 10⁻⁴ of its load; sliding out, centimetres every time, the springs carrying a
-        // quarter of its load to all of it.
+        // ≈ 10⁻⁴ of the forces on it; sliding out, 0.4 mm to centimetres every time, the
+        // springs carrying 1 % of them to all.
         self.workspace.contact.unheld = Some(None);
         let centre = |u: &[f64]| -> Vector3<f64> {
             let nodes = self.model.bodies[object].nodes.clone();
@@ -77,6 +78,7 @@ impl Release {
         let start = centre(&held.solution.displacement);
         let mut anchor = held.solution.displacement.clone();
         let mut last = f64::INFINITY;
+        let mut last_share = 0.0;
         let mut creeping = None;
         for _ in 0..SETTLES {
             self.workspace.contact.anchor = Some(anchor);
@@ -95,7 +97,8 @@ impl Release {
                 .unheld
                 .as_mut()
                 .and_then(Option::take);
-            // The share of its load the springs carried in this settle.
+            // The share of the forces on it (its load, or its contacts' summed force where
+            // larger) the springs carried in this settle.
             let share = match &unheld {
                 None => 0.0,
                 Some(crate::contact::ContactError::NotHeld { held, .. }) => held / 100.0,
@@ -107,7 +110,7 @@ impl Release {
                     let drift = centre(&frame.solution.displacement) - start;
                     return Ok(LetGo { frame, drift });
                 }
-                // At the floor: the contacts carry all but a thousandth of its load, and what
+                // At the floor: the contacts carry all but a thousandth of the forces, and what
                 // is left creeps on by micrometres a settle (the incremental friction's
                 // contacts at their cones slip again each time the springs are re-anchored):
                 // held, where it is.
@@ -115,12 +118,13 @@ impl Release {
                     let drift = centre(&frame.solution.displacement) - start;
                     return Ok(LetGo { frame, drift });
                 }
-                // A settle that moves it as far as the one before with its springs carrying a
-                // hundredth of its load or more: it slides out. (Between that and the floor, a
+                // A settle that moves it as far as the one before with its springs carrying
+                // more than a hundredth of the forces: it slides out. (Between that and the floor, a
                 // contact slipping again after the load moved onto it: settled again.)
                 Some(e) if !slowing && share > SLIDING => return Err(SimError::Contact(e)),
                 Some(_) => {
                     last = moved;
+                    last_share = share;
                     anchor = frame.solution.displacement.clone();
                     creeping = (share <= FLOOR).then_some(frame);
                 }
@@ -132,7 +136,7 @@ impl Release {
         }
         Err(SimError::Contact(crate::contact::ContactError::NotHeld {
             body: self.model.bodies[object].name.clone(),
-            held: 0.0,
+            held: 100.0 * last_share,
             motion: format!("still moves {last:.3e} m after {SETTLES} settles"),
             place: String::new(),
         }))
@@ -146,14 +150,15 @@ const SETTLES: usize = 12;
 /// slides out, or (its springs carrying at most [`FLOOR`] of its load) it is held and creeps.
 const SETTLED: f64 = 0.5;
 
-/// The largest share of its load the springs may carry in a settle that no longer slows for
-/// the object to be held: contacts carrying 99.9 % of it (measured, the power grasp's settles
+/// The largest share of the forces on it (its load, or its contacts' summed force where
+/// larger) the springs may carry in a settle that no longer slows for the object to be held
+/// (measured, the power grasp's settles
 /// at hand resolution 1.25: 0.92, 0.20, 0.045, 0.014, 0.018 %, moving 642, 142, 31, 9.8 and
 /// 12 µm; sliding out, 23–100 %, moving 12–28 mm each).
 const FLOOR: f64 = 1e-3;
 
-/// The share of its load the springs carry in a settle that no longer slows for the object to
-/// slide out (at hand resolution 1.5 the same grasp's settles, held, rise once in a while
+/// The share of the forces on it the springs carry, past which a settle that no longer slows
+/// has the object slide out (at hand resolution 1.5 the same grasp's settles, held, rise once in a while
 /// from ≈ 0.02 % to 0.1–0.2 % as a contact slips; sliding out, 1.2–100 %).
 const SLIDING: f64 = 1e-2;
 
