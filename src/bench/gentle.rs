@@ -4,7 +4,7 @@
 //! several resolutions the table is the grip's refinement study.
 
 use crate::headless::solve_scene;
-use crate::scene::{Scene, Shape};
+use crate::scene::Scene;
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -61,12 +61,7 @@ pub fn gentle_rows(names: &[String], resolutions: &[f64]) -> anyhow::Result<Vec<
     let mut rows = Vec::new();
     for (case, scene) in cases(names)? {
         for &resolution in resolutions {
-            let mut s = scene.clone();
-            for body in &mut s.body {
-                if let Shape::Hand { resolution: r, .. } = &mut body.shape {
-                    *r = resolution;
-                }
-            }
+            let s = super::grasp::at_hand_resolution(&scene, resolution);
             let t = Instant::now();
             let solved = solve_scene(&s, &case);
             let total_s = t.elapsed().as_secs_f64();

@@ -59,6 +59,17 @@ pub fn preset_scene(preset: Preset) -> Scene {
     Scene::parse(&text, "default.toml").expect("the default scene with a preset parses")
 }
 
+/// `scene` with every hand meshed at `resolution`.
+pub fn at_hand_resolution(scene: &Scene, resolution: f64) -> Scene {
+    let mut s = scene.clone();
+    for body in &mut s.body {
+        if let Shape::Hand { resolution: r, .. } = &mut body.shape {
+            *r = resolution;
+        }
+    }
+    s
+}
+
 /// The cases: `presets` (names as on the viewer's buttons) and scene files.
 fn cases(presets: &[String], scenes: &[String]) -> anyhow::Result<Vec<(String, Scene)>> {
     let mut out = Vec::new();
@@ -94,14 +105,9 @@ pub fn grasp_rows(
                 .iter()
                 .flat_map(|t| methods.iter().map(move |m| (t, m)))
             {
-                let mut s = scene.clone();
+                let mut s = at_hand_resolution(&scene, resolution);
                 s.solver.tier = Some(tier);
                 s.solver.contact = Some(method);
-                for body in &mut s.body {
-                    if let Shape::Hand { resolution: r, .. } = &mut body.shape {
-                        *r = resolution;
-                    }
-                }
                 let t = Instant::now();
                 let solved = solve_scene(&s, &case);
                 let total_s = t.elapsed().as_secs_f64();

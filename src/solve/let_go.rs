@@ -76,6 +76,10 @@ impl Release {
                 / count
         };
         let start = centre(&held.solution.displacement);
+        let stays = |frame: Frame| {
+            let drift = centre(&frame.solution.displacement) - start;
+            LetGo { frame, drift }
+        };
         let mut anchor = held.solution.displacement.clone();
         let mut last = f64::INFINITY;
         let mut last_share = 0.0;
@@ -106,21 +110,15 @@ impl Release {
             };
             let slowing = moved <= SETTLED * last;
             match unheld {
-                None => {
-                    let drift = centre(&frame.solution.displacement) - start;
-                    return Ok(LetGo { frame, drift });
-                }
+                None => return Ok(stays(frame)),
                 // At the floor: the contacts carry all but a thousandth of the forces, and what
                 // is left creeps on by micrometres a settle (the incremental friction's
                 // contacts at their cones slip again each time the springs are re-anchored):
                 // held, where it is.
-                Some(_) if share <= FLOOR && !slowing => {
-                    let drift = centre(&frame.solution.displacement) - start;
-                    return Ok(LetGo { frame, drift });
-                }
+                Some(_) if share <= FLOOR && !slowing => return Ok(stays(frame)),
                 // A settle that moves it as far as the one before with its springs carrying
-                // more than a hundredth of the forces: it slides out. (Between that and the floor, a
-                // contact slipping again after the load moved onto it: settled again.)
+                // more than a hundredth of the forces: it slides out. (Between that and the
+                // floor, a contact slipping again after the load moved onto it: settled again.)
                 Some(e) if !slowing && share > SLIDING => return Err(SimError::Contact(e)),
                 Some(_) => {
                     last = moved;
@@ -131,8 +129,7 @@ impl Release {
             }
         }
         if let Some(frame) = creeping {
-            let drift = centre(&frame.solution.displacement) - start;
-            return Ok(LetGo { frame, drift });
+            return Ok(stays(frame));
         }
         Err(SimError::Contact(crate::contact::ContactError::NotHeld {
             body: self.model.bodies[object].name.clone(),
@@ -147,19 +144,18 @@ impl Release {
 const SETTLES: usize = 12;
 
 /// A settle that moves the object more than this share of the one before no longer slows: it
-/// slides out, or (its springs carrying at most [`FLOOR`] of its load) it is held and creeps.
+/// slides out, or (its springs carrying at most [`FLOOR`] of the forces) it is held and creeps.
 const SETTLED: f64 = 0.5;
 
 /// The largest share of the forces on it (its load, or its contacts' summed force where
 /// larger) the springs may carry in a settle that no longer slows for the object to be held
-/// (measured, the power grasp's settles
-/// at hand resolution 1.25: 0.92, 0.20, 0.045, 0.014, 0.018 %, moving 642, 142, 31, 9.8 and
-/// 12 µm; sliding out, 23–100 %, moving 12–28 mm each).
+/// (measured, the power grasp's settles at hand resolution 1.25: 0.92, 0.20, 0.045, 0.014,
+/// 0.018 %, moving 642, 142, 31, 9.8 and 12 µm; sliding out, 23–100 %, moving 12–28 mm each).
 const FLOOR: f64 = 1e-3;
 
 /// The share of the forces on it the springs carry, past which a settle that no longer slows
-/// has the object slide out (at hand resolution 1.5 the same grasp's settles, held, rise once in a while
-/// from ≈ 0.02 % to 0.1–0.2 % as a contact slips; sliding out, 1.2–100 %).
+/// has the object slide out (at hand resolution 1.5 the same grasp's settles, held, rise once
+/// in a while from ≈ 0.02 % to 0.1–0.2 % as a contact slips; sliding out, 1.2–100 %).
 const SLIDING: f64 = 1e-2;
 
 /// Why the object let go of is not held, in words (`error` from [`Release::let_go`]): where
