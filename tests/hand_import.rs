@@ -124,7 +124,9 @@ fn compare(side: Side) {
     // vertices lay more than 0.2 mm inside, the deepest 12.7 mm.
     assert!(farthest < 0.1e-3, "{side:?}: {:.3} mm off", farthest * 1e3);
     // Flexed: every bone's reaction within 5 % of the built-in hand's largest, and the bones
-    // that carry the flexion (a quarter of the largest or more) within 5 % of their own.
+    // that carry the flexion (a quarter of the largest or more) within 1 % of their own
+    // (measured 0.1 %: the imported lattice is laid from the skeleton as the built-in one's; it
+    // was 2.6 / 4.3 % when laid from the skin's bounds).
     let pose = [("index.pip", 90.0)];
     let (rb, ri) = (
         bone_reactions(&builtin, &pose),
@@ -147,7 +149,7 @@ fn compare(side: Side) {
         );
         if rb[b] > 0.25 * largest {
             assert!(
-                (ri[b] / rb[b] - 1.0).abs() < 0.05,
+                (ri[b] / rb[b] - 1.0).abs() < 0.01,
                 "{name}: {} N against {} N",
                 ri[b],
                 rb[b]
@@ -240,9 +242,9 @@ fn a_rigged_glb_in_each_convention_is_the_hand_of_a_scene() {
     use prehensile::hand::rig_names::CONVENTIONS;
     let dir = std::env::temp_dir().join(format!("prehensile-hand-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let builtin = HandModel::new(Side::Right, 0.75).unwrap();
+    let builtin = HandModel::new(Side::Right, 1.0).unwrap();
     let reference =
-        solved_reactions(&dir, &flexed_scene("side = \"right\", resolution = 0.75")).unwrap();
+        solved_reactions(&dir, &flexed_scene("side = \"right\", resolution = 1")).unwrap();
     let largest = reference.iter().map(|r| r.1).fold(0.0, f64::max);
     for (c, convention) in CONVENTIONS.into_iter().enumerate() {
         let options = RigOptions {
@@ -250,7 +252,7 @@ fn a_rigged_glb_in_each_convention_is_the_hand_of_a_scene() {
             skin: RigSkin::Display,
         };
         write_hand_rig(&dir.join("hand.glb"), &builtin, convention, &options).unwrap();
-        let shape = "gltf = \"hand.glb\", side = \"right\", resolution = 0.75, \
+        let shape = "gltf = \"hand.glb\", side = \"right\", resolution = 1, \
                      placement = { translation = [0.2, 0.0, 0.1], rotation = [0.0, 0.0, 90.0] }";
         let imported = solved_reactions(&dir, &flexed_scene(shape))
             .unwrap_or_else(|e| panic!("{convention:?}: {e}"));
@@ -259,8 +261,21 @@ fn a_rigged_glb_in_each_convention_is_the_hand_of_a_scene() {
             if *b > 0.05 * largest {
                 println!("{convention:?} {name}: {b:.4} N built-in, {i:.4} N imported");
             }
+            // A rig with every joint gives the built-in hand back: within 1 % (measured 0.1 %
+            // on the index's PIP 90°: its lattice is laid from the skeleton as the built-in
+            // one's; 2.6–4.3 % when it was laid from the skin's bounds). Mixamo's has no finger
+            // metacarpals: they start a third of the way from the wrist (the built-in's at 31 %
+            // along, 47 % across for the index), and the reaction moves with them (measured
+            // +6.7 %) — within 10 %. Resolution 1: at 0.75 one crease cell 0.2 mm inside the
+            // skin decides the reaction, and the rig's skin (the display skin) is up to 0.7 mm
+            // off the built-in shape there.
+            let within = if format!("{convention:?}") == "Mixamo" {
+                0.10
+            } else {
+                0.01
+            };
             assert!(
-                (i - b).abs() < 0.05 * largest.max(*b),
+                (i - b).abs() < within * largest.max(*b),
                 "{convention:?} {name}: {i} N against {b} N"
             );
         }
@@ -325,8 +340,10 @@ fn rigs_exported_by_blender_flex_as_the_builtin_hand() {
             if *b > 0.05 * largest {
                 println!("{file} {name}: {b:.4} N built-in, {i:.4} N imported");
             }
+            // Mixamo rigs: no finger metacarpals, within 10 % as in
+            // `a_rigged_glb_in_each_convention_is_the_hand_of_a_scene` (measured +6.4 %).
             assert!(
-                (i - b).abs() < 0.05 * largest.max(*b),
+                (i - b).abs() < 0.10 * largest.max(*b),
                 "{file} {name}: {i} N against {b} N"
             );
         }

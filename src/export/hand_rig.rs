@@ -62,24 +62,19 @@ pub enum RigError {
     },
 }
 
-/// The rest position of joint `key` in `skeleton`: `wrist` the carpus's start, `<digit>.tip` the
-/// end of the digit's distal bone, any other key the start of the bone of that name.
+/// The rest position of joint `key` in `skeleton` ([`Skeleton::joint_point`]).
 pub fn joint_position(skeleton: &Skeleton, key: &str) -> Result<Vector3<f64>, RigError> {
-    let (bone, tip) = match key {
-        "wrist" => ("carpus".to_string(), false),
-        _ => match key.strip_suffix(".tip") {
-            Some(digit) => (format!("{digit}.distal"), true),
-            None => (key.to_string(), false),
-        },
-    };
-    let b = skeleton
-        .bone_index(&bone)
+    skeleton
+        .joint_point(key)
         .ok_or_else(|| RigError::MissingBone {
             key: key.to_string(),
-            bone: bone.clone(),
-        })?;
-    let bone = &skeleton.bones[b];
-    Ok(if tip { bone.end } else { bone.start })
+            bone: match key {
+                "wrist" => "carpus".to_string(),
+                _ => key
+                    .strip_suffix(".tip")
+                    .map_or(key.to_string(), |d| format!("{d}.distal")),
+            },
+        })
 }
 
 /// The joints `convention` names for `hand`, parents before children, in `joint_keys` order.

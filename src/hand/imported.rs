@@ -2,9 +2,16 @@
 //!
 //! The hand's own frame is found from the rig: x along the fingers' proximal phalanges, z the
 //! dorsal normal of the plane of x and the knuckle line (index MCP to little MCP; the side decides
-//! which way is dorsal), the origin at the wrist joint. In that frame the hand is built as the
-//! built-in one is — the skin's mesh as its shape, the flesh lattice, the display and contact
-//! skins — and the whole model is then placed back where the rig is.
+//! which way is dorsal), the origin at the wrist joint; then turned as the built-in hand's own
+//! axes are turned from the frame the same rule finds on its skeleton (`BuiltinFrame`). In that
+//! frame the hand is built as the built-in one is — the skin's mesh as its shape, the flesh
+//! lattice, the display and contact skins — and the whole model is then placed back where the rig
+//! is. The lattice's lines are laid from the skeleton, not from the skin's bounds: through the
+//! point that sits, from the wrist joint and scaled by the hand's size, where the built-in hand's
+//! lattice anchor sits from its wrist. So a thumb resting lower, a longer forearm stump or a
+//! ring on a finger do not move where the lattice cuts the joints' creases (a bone's reaction
+//! depends on that: ±23 % at resolution 1, docs/hand.md), and the built-in hand taken as a rig
+//! is meshed on its own lattice.
 //!
 //! Real rigs are imperfect, and the joints are taken as hints: a joint near the back (or the
 //! front) of a finger, or outside it, is moved to 42 % of the finger's thickness from the back
@@ -19,7 +26,7 @@ use super::mesh_skin::{Located, MeshSkin, SkinMeshError};
 use super::model::HandModel;
 use super::rig::RigJoints;
 use super::rig_names::{joint_keys, required};
-use super::shape::SkinShape;
+use super::shape::{BuiltinSkin, SkinShape};
 use super::skeleton::{Side, Skeleton};
 use super::MeshingError;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
@@ -122,8 +129,9 @@ const TIP_PAD: f64 = 0.0035;
 /// Where a joint sits across its finger: its distance from the back over the finger's thickness.
 const JOINT_DEPTH: f64 = 0.42;
 
-/// The built-in hand's length from the wrist joint to the middle finger's MCP, m (sizes scale by
-/// an imported hand's against it).
+/// The built-in hand's length from the wrist joint to the middle finger's MCP, about, m (the
+/// imported hand's heuristics scale by it; its size is measured against the exact length,
+/// `BuiltinFrame::wrist_to_middle_mcp`).
 const WRIST_TO_MIDDLE_MCP: f64 = 0.0974;
 
 impl HandModel {
@@ -147,7 +155,9 @@ impl HandModel {
         if !missing.is_empty() {
             return Err(RigError::MissingJoints(missing));
         }
-        let frame = hand_frame(side, &rig.joints)?;
+        let reference = BuiltinFrame::of(side);
+        let found = hand_frame(side, &rig.joints)?;
+        let frame = Isometry3::from_parts(found.translation, found.rotation * reference.turn);
         let to_hand = frame.inverse();
         let joint = |k: &str| {
             rig.joints
@@ -155,7 +165,7 @@ impl HandModel {
                 .map(|p| to_hand * nalgebra::Point3::from(*p))
                 .map(|p| p.coords)
         };
-        let scale = joint("middle.proximal").unwrap().norm() / WRIST_TO_MIDDLE_MCP;
+        let scale = joint("middle.proximal").unwrap().norm() / reference.wrist_to_middle_mcp;
         let tip_len = (joint("middle.proximal").unwrap() - joint("middle.distal").unwrap()).norm();
         let length = joint("middle.distal").unwrap().x + tip_len * 0.4;
         if !(0.08..=0.4).contains(&length) {
@@ -203,6 +213,7 @@ impl HandModel {
             thumb_pronation_deg: THUMB.pronation_deg,
         };
         let skeleton = Skeleton::from_joints(side, &joints);
+        let skin = skin.with_lattice_anchor(reference.anchor * scale);
         let hand = HandModel::build(
             skeleton,
             SkinShape::Mesh(Box::new(skin)),
@@ -398,6 +409,39 @@ fn carpus(
         0.0055 * scale,
     ];
     (Vector3::new((x0 + x1) / 2.0, (y0 + y1) / 2.0, z), half)
+}
+
+/// How the built-in hand's own axes and lattice sit in the frame [`hand_frame`] finds on its
+/// skeleton at rest.
+struct BuiltinFrame {
+    /// From the found frame's axes to the built-in hand's (a rotation applied in the found frame).
+    turn: UnitQuaternion<f64>,
+    /// The built-in hand's lattice anchor from its wrist joint, in its own axes (a right hand's
+    /// frame, as lattice anchors are), m.
+    anchor: Vector3<f64>,
+    /// Its length from the wrist joint to the middle finger's MCP, m ([`WRIST_TO_MIDDLE_MCP`]
+    /// exactly: an imported hand's size is measured against it, so that the built-in hand taken
+    /// as a rig is of size 1 to round-off and meshed on the built-in hand's lattice).
+    wrist_to_middle_mcp: f64,
+}
+
+impl BuiltinFrame {
+    fn of(side: Side) -> BuiltinFrame {
+        let skeleton = Skeleton::new(side);
+        let joints: BTreeMap<String, Vector3<f64>> = joint_keys()
+            .into_iter()
+            .filter_map(|k| skeleton.joint_point(&k).map(|p| (k, p)))
+            .collect();
+        let found = hand_frame(side, &joints).expect("the built-in skeleton has a frame");
+        let right = Skeleton::new(Side::Right);
+        let point = |k: &str| right.joint_point(k).expect("the built-in skeleton has it");
+        let wrist = point("wrist");
+        BuiltinFrame {
+            turn: found.rotation.inverse(),
+            anchor: BuiltinSkin::lattice_anchor() - wrist,
+            wrist_to_middle_mcp: (point("middle.proximal") - wrist).norm(),
+        }
+    }
 }
 
 /// The hand's frame in the scene: origin at the wrist joint, x along the fingers' proximal

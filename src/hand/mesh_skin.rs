@@ -136,6 +136,7 @@ pub struct MeshSkin {
     cut_x: f64,
     lo: Vector3<f64>,
     hi: Vector3<f64>,
+    anchor: Option<Vector3<f64>>,
 }
 
 impl std::fmt::Debug for MeshSkin {
@@ -240,6 +241,7 @@ impl MeshSkin {
             cut_x,
             lo: lo - pad,
             hi: hi + pad,
+            anchor: None,
         })
     }
 
@@ -280,6 +282,18 @@ impl MeshSkin {
     /// The wrist cut, x in the hand frame, m.
     pub fn cut_x(&self) -> f64 {
         self.cut_x
+    }
+
+    /// The skin with the flesh lattice's lines passing through `anchor` (a right hand's frame,
+    /// as [`super::SkinShape::lattice_anchor`]), instead of starting from its bounds.
+    pub fn with_lattice_anchor(mut self, anchor: Vector3<f64>) -> MeshSkin {
+        self.anchor = Some(anchor);
+        self
+    }
+
+    /// The point the flesh lattice's lines pass through, if one was set.
+    pub fn lattice_anchor(&self) -> Option<Vector3<f64>> {
+        self.anchor
     }
 }
 

@@ -77,17 +77,15 @@ impl SkinShape {
     }
 
     /// A point the flesh lattice's lines pass through (a right hand's frame), if the shape
-    /// has one: a stretched built-in hand's lattice passes through the stretched lower corner of
-    /// the anatomy tables' hand, so that with its spacing stretched alike it is that hand's
-    /// lattice stretched (the built-in hand's own: its lower corner, as always). Laid from the
-    /// stretched skin's own padded bounds instead, it would be shifted by the pad's change.
+    /// has one: a stretched built-in hand's lattice passes through the stretched anchor of the
+    /// anatomy tables' hand ([`BuiltinSkin::lattice_anchor`]), so that with its spacing
+    /// stretched alike it is that hand's lattice stretched; an imported skin's, through the
+    /// anchor its skeleton places ([`MeshSkin::with_lattice_anchor`]). Laid from the skin's own
+    /// padded bounds instead, it would move with whatever moves those bounds.
     pub fn lattice_anchor(&self) -> Option<Vector3<f64>> {
         match self {
-            SkinShape::Builtin(s) => {
-                let (lo, _) = BuiltinSkin::new(Side::Right).bounds();
-                Some(s.stretch.apply(&lo))
-            }
-            SkinShape::Mesh(_) => None,
+            SkinShape::Builtin(s) => Some(s.stretch.apply(&BuiltinSkin::lattice_anchor())),
+            SkinShape::Mesh(s) => s.lattice_anchor(),
         }
     }
 
@@ -129,6 +127,12 @@ impl BuiltinSkin {
     /// The built-in hand's skin.
     pub fn new(side: Side) -> BuiltinSkin {
         BuiltinSkin::sized(side, Stretch::IDENTITY)
+    }
+
+    /// The point the built-in hand's flesh lattice's lines pass through (a right hand's frame,
+    /// the anatomy tables' size): its skin's lower corner.
+    pub fn lattice_anchor() -> Vector3<f64> {
+        BuiltinSkin::new(Side::Right).bounds().0
     }
 
     /// Which hand it is.

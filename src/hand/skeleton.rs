@@ -428,6 +428,21 @@ impl Skeleton {
         self.bones.iter().position(|b| b.name == name)
     }
 
+    /// The rest position of rig joint `key` ([`super::rig_names::joint_keys`]): `wrist` the
+    /// carpus's start, `<digit>.tip` the end of the digit's distal bone, any other key the
+    /// start of the bone of that name; `None` when the skeleton has no such bone.
+    pub fn joint_point(&self, key: &str) -> Option<Vector3<f64>> {
+        let (bone, tip) = match key {
+            "wrist" => ("carpus".to_string(), false),
+            _ => match key.strip_suffix(".tip") {
+                Some(digit) => (format!("{digit}.distal"), true),
+                None => (key.to_string(), false),
+            },
+        };
+        let bone = &self.bones[self.bone_index(&bone)?];
+        Some(if tip { bone.end } else { bone.start })
+    }
+
     /// Comma-separated bone names (for error messages).
     pub fn bone_names(&self) -> String {
         let names: Vec<&str> = self.bones.iter().map(|b| b.name.as_str()).collect();
