@@ -530,10 +530,24 @@ fn blender_imports_an_armature_of_the_conventions_bones_deforming_the_mesh() {
             mesh["vertices"].as_u64().unwrap() as usize,
             back.positions.len()
         );
-        assert_eq!(
-            mesh["polygons"].as_u64().unwrap() as usize,
-            back.triangles.len()
+        // Blender's importer validates the mesh, which keeps one of two triangles on the same
+        // three vertices: a fold of the contact skin onto itself where two lattice quads meet
+        // along two edges (2 of 7 176 in the left hand's at resolution 0.75; none at 1).
+        let distinct: std::collections::HashSet<[usize; 3]> = back
+            .triangles
+            .iter()
+            .map(|t| {
+                let mut t = *t;
+                t.sort_unstable();
+                t
+            })
+            .collect();
+        assert!(
+            back.triangles.len() - distinct.len() <= back.triangles.len() / 1000,
+            "{} triangles repeat another's vertices",
+            back.triangles.len() - distinct.len()
         );
+        assert_eq!(mesh["polygons"].as_u64().unwrap() as usize, distinct.len());
         assert_eq!(
             mesh["armature"], armatures[0]["name"],
             "deformed by the armature"

@@ -68,12 +68,7 @@ pub fn joint_position(skeleton: &Skeleton, key: &str) -> Result<Vector3<f64>, Ri
         .joint_point(key)
         .ok_or_else(|| RigError::MissingBone {
             key: key.to_string(),
-            bone: match key {
-                "wrist" => "carpus".to_string(),
-                _ => key
-                    .strip_suffix(".tip")
-                    .map_or(key.to_string(), |d| format!("{d}.distal")),
-            },
+            bone: Skeleton::joint_bone(key).0,
         })
 }
 

@@ -432,15 +432,20 @@ impl Skeleton {
     /// carpus's start, `<digit>.tip` the end of the digit's distal bone, any other key the
     /// start of the bone of that name; `None` when the skeleton has no such bone.
     pub fn joint_point(&self, key: &str) -> Option<Vector3<f64>> {
-        let (bone, tip) = match key {
+        let (bone, tip) = Skeleton::joint_bone(key);
+        let bone = &self.bones[self.bone_index(&bone)?];
+        Some(if tip { bone.end } else { bone.start })
+    }
+
+    /// The bone whose start (or end, when the flag is set: a tip) is rig joint `key`.
+    pub fn joint_bone(key: &str) -> (String, bool) {
+        match key {
             "wrist" => ("carpus".to_string(), false),
             _ => match key.strip_suffix(".tip") {
                 Some(digit) => (format!("{digit}.distal"), true),
                 None => (key.to_string(), false),
             },
-        };
-        let bone = &self.bones[self.bone_index(&bone)?];
-        Some(if tip { bone.end } else { bone.start })
+        }
     }
 
     /// Comma-separated bone names (for error messages).
