@@ -269,7 +269,7 @@ fn a_rigged_glb_in_each_convention_is_the_hand_of_a_scene() {
             // +6.7 %) — within 10 %. Resolution 1: at 0.75 one crease cell 0.2 mm inside the
             // skin decides the reaction, and the rig's skin (the display skin) is up to 0.7 mm
             // off the built-in shape there.
-            let within = if format!("{convention:?}") == "Mixamo" {
+            let within = if convention == prehensile::hand::rig_names::Convention::Mixamo {
                 0.10
             } else {
                 0.01

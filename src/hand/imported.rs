@@ -433,13 +433,17 @@ impl BuiltinFrame {
             .filter_map(|k| skeleton.joint_point(&k).map(|p| (k, p)))
             .collect();
         let found = hand_frame(side, &joints).expect("the built-in skeleton has a frame");
-        let right = Skeleton::new(Side::Right);
-        let point = |k: &str| right.joint_point(k).expect("the built-in skeleton has it");
-        let wrist = point("wrist");
+        let wrist = joints["wrist"];
+        // Anchors are in a right hand's frame: a left hand's wrist mirrored back in y (the
+        // built-in left hand is the right one mirrored).
+        let wrist_right = match side {
+            Side::Right => wrist,
+            Side::Left => Vector3::new(wrist.x, -wrist.y, wrist.z),
+        };
         BuiltinFrame {
             turn: found.rotation.inverse(),
-            anchor: BuiltinSkin::lattice_anchor() - wrist,
-            wrist_to_middle_mcp: (point("middle.proximal") - wrist).norm(),
+            anchor: BuiltinSkin::lattice_anchor() - wrist_right,
+            wrist_to_middle_mcp: (joints["middle.proximal"] - wrist).norm(),
         }
     }
 }
