@@ -23,6 +23,17 @@ fn check_converged_grasp(preset: Preset) {
         frame.hands[0].stats.stopped_short.is_none(),
         "{preset:?}: stopped short"
     );
+    // Every frame leaves the solver with its stresses (a step's are computed only for the frame
+    // kept: src/solve/frame_stress.rs), finite, over every node.
+    for f in &solved.frames {
+        assert_eq!(f.stress_pending, None, "{preset:?}");
+        assert_eq!(f.stress.nodal.len(), model.mesh.node_count(), "{preset:?}");
+        assert!(f
+            .stress
+            .nodal
+            .iter()
+            .all(|s| s.iter().all(|v| v.is_finite())));
+    }
     let contact = frame.contact.as_ref().expect("the grasp touches the ball");
     // No interpenetration left beyond what the contact accepts on the moved geometry (its
     // limit, 0.5 mm here); measured 0.1–0.2 µm (2026-11-24), up to 0.12 mm with skin held on

@@ -217,7 +217,9 @@ impl Workspace {
             .filter_map(|(b, _)| posed.hands.iter().find(|h| h.body == *b))
             .map(|h| (h.body, h.state.angles.clone()))
             .collect();
+        // The stresses of the frame kept only (its steps' were not needed).
         self.move_hands_as_asked(model, posed, targets, cancel)
+            .and_then(|mut frame| super::frame_stress::complete(model, &mut frame).map(|()| frame))
             .and_then(|frame| SimError::finite(model, frame))
             .map_err(|e| keyframe_share(model, e, &from, targets))
             .map_err(|e| self.beyond_small_strain(model, e))
@@ -1195,6 +1197,7 @@ fn still_frame(model: &Model) -> Frame {
             nodal: vec![Matrix3::zeros(); model.mesh.node_count()],
             cell_von_mises: vec![0.0; model.mesh.cell_count()],
         },
+        stress_pending: None,
         assembly_ms: 0.0,
         stress_ms: 0.0,
         hands: Vec::new(),

@@ -18,9 +18,8 @@ use super::compose::compose;
 use super::corotated::{linearise, loads_at};
 use super::crossing::crossings;
 use super::error::SimError;
-use super::hyperelastic_objects::{
-    linearise_neo_hookean, neo_hookean_objects, with_neo_hookean_stress,
-};
+use super::frame_stress::pending;
+use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use crate::contact::{
@@ -29,13 +28,12 @@ use crate::contact::{
     WindingTree,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
-use crate::fem::stress::stress_field_except;
 use crate::fem::DofPartition;
 use crate::mesh::Mesh;
 use crate::model::Model;
 use crate::state::outcome::{node_bone, overloads};
 use crate::state::HandState;
-use crate::state::{Frame, HandFrame};
+use crate::state::{Frame, HandFrame, PendingStress};
 use crate::util::near::NearPoints;
 use crate::util::timing::ms;
 use nalgebra::Vector3;
@@ -614,7 +612,6 @@ fn solve_grasp_with(
         (&embedded, &skin_points),
         &result,
     )?;
-
     // The frame: objects' displacements from rest, hands' from rest through their pose.
     let u = &result.solution.displacement;
     let mut frame_u = u.clone();
@@ -663,27 +660,9 @@ fn solve_grasp_with(
         hf.contact_force = contact_force;
         hand_frames.push(hf);
     }
-    let t = Instant::now();
-    // Rotation-free strain in the flesh, and in the other bodies where they were corotated;
-    // their Cauchy stress where they are Neo-Hookean.
+    // Rotation-free strain in the flesh, and in the other bodies where they were corotated
+    // (their Cauchy stress where they are Neo-Hookean): once this is the frame kept.
     let objects_turned = carried_given.is_some() && model.corotates_objects();
-    let turned = |c: usize| objects_turned || model.bodies[model.cell_body[c]].hand.is_some();
-    // (Neo-Hookean bodies get theirs below, not the small-strain one first.)
-    let neo_hookean =
-        |c: usize| neo_hookean_objects(model) && model.bodies[model.cell_body[c]].hand.is_none();
-    let mut stress = stress_field_except(
-        &model.mesh,
-        &model.cell_materials,
-        &frame_u,
-        &turned,
-        &neo_hookean,
-    )
-    .map_err(|(c, e)| inverted_by_step(model, c, e.relative_det))?;
-    if neo_hookean_objects(model) {
-        stress = with_neo_hookean_stress(model, stress, &frame_u)
-            .map_err(|(c, det)| inverted_by_step(model, c, det))?;
-    }
-    let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
     let ContactResult {
         mut solution,
@@ -695,7 +674,6 @@ fn solve_grasp_with(
     summary.region_cells = region_cells;
     summary.times.detection = times.detection;
     summary.times.assembly = assembly_ms;
-    summary.times.stress = stress_ms;
     summary.skin_points = hands
         .iter()
         .zip(&skin_points)
@@ -703,9 +681,10 @@ fn solve_grasp_with(
         .collect();
     Ok(Some(Frame {
         solution,
-        stress,
+        stress: pending(),
+        stress_pending: Some(PendingStress::Contact { objects_turned }),
         assembly_ms,
-        stress_ms,
+        stress_ms: 0.0,
         hands: hand_frames,
         contact: Some(summary),
     }))
@@ -742,7 +721,7 @@ fn objects_moved(model: &Model, still: &Frame) -> f64 {
 /// (the press went further than its mesh follows in one linearised step; a smaller step may
 /// not), told as a contact error so that the motion halves its step; the flesh's stays an
 /// inverted element.
-fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
+pub(super) fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
     let b = &model.bodies[model.cell_body[cell]];
     if b.hand.is_some() {
         return SimError::inverted(model, cell, relative_det);

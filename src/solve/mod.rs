@@ -8,6 +8,7 @@ mod driver;
 mod error;
 mod flexion;
 mod flexion_nonlinear;
+mod frame_stress;
 mod gas;
 mod gentle_grip;
 mod grasp;

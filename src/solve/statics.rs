@@ -109,6 +109,7 @@ fn solve_static_with(
     Ok(Frame {
         solution,
         stress,
+        stress_pending: None,
         assembly_ms,
         stress_ms,
         hands: Vec::new(),

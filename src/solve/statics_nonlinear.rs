@@ -72,6 +72,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
         return Ok(Frame {
             solution,
             stress: from_gauss(&model.mesh, gauss),
+            stress_pending: None,
             assembly_ms: 0.0,
             stress_ms: ms(t),
             hands: Vec::new(),
@@ -132,6 +133,7 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             },
         },
         stress,
+        stress_pending: None,
         assembly_ms: 0.0,
         stress_ms,
         hands: Vec::new(),

@@ -12,8 +12,13 @@ use crate::fem::stress::StressField;
 pub struct Frame {
     /// Displacements and reactions.
     pub solution: Solution,
-    /// Stresses.
+    /// Stresses (empty while `stress_pending`).
     pub stress: StressField,
+    /// Stresses not computed yet, and by which rule: a contact step along a motion, or a
+    /// correction at a pose, is mostly a state on the way to the next, so only the frame a
+    /// keyframe ends with gets its stresses (`solve::frame_stress`). `None`: `stress` is the
+    /// frame's.
+    pub stress_pending: Option<PendingStress>,
     /// Time spent assembling K, ms.
     pub assembly_ms: f64,
     /// Time spent on stresses, ms.
@@ -22,6 +27,19 @@ pub struct Frame {
     pub hands: Vec<HandFrame>,
     /// Contact against the obstacles (None without obstacles).
     pub contact: Option<ContactSummary>,
+}
+
+/// How a frame's stresses are to be computed, once it is the frame kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PendingStress {
+    /// The static frame with the hands composed into it (src/solve/compose.rs).
+    Composed,
+    /// A contact step's frame (src/solve/grasp.rs): the other bodies turned where the step
+    /// corotated them (`objects_turned`).
+    Contact {
+        /// Whether the other bodies' strain is rotation-free (corotated about a carried state).
+        objects_turned: bool,
+    },
 }
 
 /// A hand in a frame.

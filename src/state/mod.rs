@@ -12,7 +12,7 @@ mod validity;
 
 pub use cavity::{cavity_state, CavityState};
 pub use finite::{first_non_finite, NonFinite};
-pub use frame::{Frame, HandFrame};
+pub use frame::{Frame, HandFrame, PendingStress};
 pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};
 pub use hand::{HandState, KeyframeStats, StoppedShort, UnsettledMotion};
 pub use tactile::{contact_pressure, contact_skin_pressure, skin_pressure};
