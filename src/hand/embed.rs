@@ -97,7 +97,10 @@ fn at(mesh: &Mesh, c: usize, xi: &Vector3<f64>) -> ([f64; 8], Vector3<f64>) {
 ///   N_a(ξ₀) + ∇N_a(ξ₀)·δ, bounded by [`WEIGHT_BOUND`] (the next nearest cell otherwise). They sum to
 ///   one and reproduce every affine motion of the cell, like the trilinear map, but grow linearly
 ///   with the distance, not as its cube (a trilinear map extrapolated three cells out puts
-///   weights of 30 on nodes and turns a cell's slight distortion into spikes of the skin).
+///   weights of 30 on nodes and turns a cell's slight distortion into spikes of the skin);
+/// - otherwise the same among the cells around those, up to [`RINGS`] rings out (a point beyond
+///   thin cells, whose tangent maps reach it only with weights beyond the bound);
+/// - otherwise `cell` as in the first case (the point pulled in).
 pub fn embed(
     mesh: &Mesh,
     around: &NodeCells,
@@ -115,7 +118,33 @@ pub fn embed(
     if miss <= REPRODUCED || reach == Reach::OwnCell {
         return (cell, n);
     }
-    let cells = around.around(mesh, cell);
+    // The cells around it first; where none holds the point nor extrapolates it within the
+    // bound, the cells around those (a display skin vertex may lie a few cells from its
+    // control quad's cell where the lattice's boundary cells are small, as at resolution 1.5).
+    let mut cells = vec![cell];
+    for _ in 0..RINGS {
+        cells = cells.iter().flat_map(|&c| around.around(mesh, c)).collect();
+        cells.sort_unstable();
+        cells.dedup();
+        if let Some(found) = in_cells(mesh, &cells, p, &fit) {
+            return found;
+        }
+    }
+    (cell, n)
+}
+
+/// How many rings of cells around a point's own cell [`embed`] looks in.
+const RINGS: usize = 3;
+
+/// A cell of `cells` holding `p` (interpolated), else the nearest extrapolating it within
+/// [`WEIGHT_BOUND`]; `fit` gives a cell's natural coordinates of `p`, their shape functions and
+/// how far they miss it.
+fn in_cells(
+    mesh: &Mesh,
+    cells: &[usize],
+    p: &Vector3<f64>,
+    fit: &dyn Fn(usize) -> (Vector3<f64>, [f64; 8], f64),
+) -> Option<(usize, [f64; 8])> {
     let fits: Vec<(usize, Vector3<f64>, [f64; 8], f64)> = cells
         .iter()
         .map(|&c| {
@@ -128,7 +157,7 @@ pub fn embed(
         .filter(|f| f.3 <= REPRODUCED && beyond(&f.1) <= 1e-9)
         .min_by(|a, b| beyond(&a.1).total_cmp(&beyond(&b.1)))
     {
-        return (c, n);
+        return Some((c, n));
     }
     // Extrapolated along a cell's tangent map from ξ₀, Newton's estimate of the point clamped
     // to the reference cube (the cell's point nearest it for a cell not too distorted), the
@@ -153,10 +182,10 @@ pub fn embed(
         let delta = inv * d;
         let w: [f64; 8] = std::array::from_fn(|a| n0[a] + dn[a].dot(&delta));
         if w.iter().all(|w| w.is_finite() && w.abs() <= WEIGHT_BOUND) {
-            return (c, w);
+            return Some((c, w));
         }
     }
-    (cell, n)
+    None
 }
 
 #[cfg(test)]
@@ -256,5 +285,52 @@ mod tests {
         assert!(largest <= WEIGHT_BOUND, "{n:?}");
         // Measured 7.5: a quarter of the trilinear map's 30 (linear growth, not cubic).
         assert!(largest < 10.0, "{n:?}");
+    }
+
+    /// A row of cells along x between the given planes, each 1 × 1 across.
+    fn row(planes: &[f64]) -> Mesh {
+        let mut nodes = Vec::new();
+        for k in 0..2 {
+            for j in 0..2 {
+                for &x in planes {
+                    nodes.push(Vector3::new(x, j as f64, k as f64));
+                }
+            }
+        }
+        let m = planes.len();
+        let id = |i: usize, j: usize, k: usize| i + m * j + 2 * m * k;
+        let cells = (0..m - 1)
+            .map(|i| {
+                [
+                    id(i, 0, 0),
+                    id(i + 1, 0, 0),
+                    id(i + 1, 1, 0),
+                    id(i, 1, 0),
+                    id(i, 0, 1),
+                    id(i + 1, 0, 1),
+                    id(i + 1, 1, 1),
+                    id(i, 1, 1),
+                ]
+            })
+            .collect();
+        Mesh { nodes, cells }
+    }
+
+    /// Beyond two thin cells (0.01 across): the cells sharing a node with the first reach the
+    /// point only with weights of ≈ 20 (beyond the bound); the next ring's cell holds it and
+    /// interpolates it exactly (the first cell alone pulled it 0.77 in).
+    #[test]
+    fn a_point_beyond_thin_cells_is_found_in_the_next_ring() {
+        let mesh = row(&[0.0, 0.01, 0.02, 1.02]);
+        let around = NodeCells::new(&mesh);
+        let p = Vector3::new(0.8, 0.5, 0.5);
+        let (c, n) = embed(&mesh, &around, 0, &p, Reach::Nearest);
+        assert_eq!(c, 2);
+        assert!((place(&mesh, c, &n) - p).norm() < 1e-12, "reproduced");
+        assert!(n.iter().all(|w| (0.0..=1.0).contains(w)), "{n:?}");
+        // Its own cell alone does not reproduce it.
+        let (c, n) = embed(&mesh, &around, 0, &p, Reach::OwnCell);
+        assert_eq!(c, 0);
+        assert!((place(&mesh, c, &n) - p).norm() > 0.5);
     }
 }
