@@ -3,10 +3,13 @@
 //! stresses (a polar decomposition at every Gauss point of the model, 12–25 ms a step for the
 //! default scene) were computed and thrown away. Nothing in a step depends on the stresses of
 //! the step before, so a frame is solved with its stresses pending ([`PendingStress`]) and
-//! [`complete`] computes them by the rule of the solve that made it.
+//! [`complete`] computes them by the rule of the solve that made it. (Where the stresses are
+//! also a check — Neo-Hookean objects, whose det F ≤ 0 halves a contact step — the step computes
+//! them at once.)
 
 use super::error::SimError;
 use super::hyperelastic_objects::{neo_hookean_objects, with_neo_hookean_stress};
+use crate::contact::ContactError;
 use crate::fem::hyperelastic_body::HyperelasticBody;
 use crate::fem::stress::{from_gauss, stress_field_except, StressField};
 use crate::model::Model;
@@ -33,7 +36,7 @@ pub(super) fn complete(model: &Model, frame: &mut Frame) -> Result<(), SimError>
     let u = &frame.solution.displacement;
     frame.stress = match rule {
         PendingStress::Composed => composed(model, u)?,
-        PendingStress::Contact { objects_turned } => contact(model, u, objects_turned)?,
+        PendingStress::Contact { objects_turned } => contact_stress(model, u, objects_turned)?,
     };
     frame.stress_pending = None;
     frame.stress_ms = ms(t);
@@ -67,9 +70,14 @@ fn composed(model: &Model, u: &[f64]) -> Result<StressField, SimError> {
 }
 
 /// A contact step's frame: rotation-free strain in the flesh, and in the other bodies where
-/// the step corotated them; their Cauchy stress where they are Neo-Hookean.
-fn contact(model: &Model, u: &[f64], objects_turned: bool) -> Result<StressField, SimError> {
-    let inverted = |c: usize, det: f64| super::grasp::inverted_by_step(model, c, det);
+/// the step corotated them; their Cauchy stress where they are Neo-Hookean (the contact step
+/// computes these at once: they tell whether an object's cell turned inside out).
+pub(super) fn contact_stress(
+    model: &Model,
+    u: &[f64],
+    objects_turned: bool,
+) -> Result<StressField, SimError> {
+    let inverted = |c: usize, det: f64| inverted_by_step(model, c, det);
     let turned = |c: usize| objects_turned || model.bodies[model.cell_body[c]].hand.is_some();
     // (Neo-Hookean bodies get theirs below, not the small-strain one first.)
     let neo_hookean =
@@ -80,6 +88,22 @@ fn contact(model: &Model, u: &[f64], objects_turned: bool) -> Result<StressField
         return with_neo_hookean_stress(model, stress, u).map_err(|(c, det)| inverted(c, det));
     }
     Ok(stress)
+}
+
+/// A cell the contact step's displacements turn inside out: an object's is this step's failure
+/// (the press went further than its mesh follows in one linearised step; a smaller step may
+/// not), told as a contact error so that the motion halves its step; the flesh's stays an
+/// inverted element.
+fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
+    let b = &model.bodies[model.cell_body[cell]];
+    if b.hand.is_some() {
+        return SimError::inverted(model, cell, relative_det);
+    }
+    SimError::Contact(ContactError::Inverts {
+        body: b.name.clone(),
+        element: cell - b.cells.start,
+        relative_det,
+    })
 }
 
 /// Cauchy stress of the Neo-Hookean law (`[solver] volumetric`) at the Gauss points of every

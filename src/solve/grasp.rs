@@ -18,7 +18,7 @@ use super::compose::compose;
 use super::corotated::{linearise, loads_at};
 use super::crossing::crossings;
 use super::error::SimError;
-use super::frame_stress::pending;
+use super::frame_stress::{contact_stress, pending};
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
@@ -663,6 +663,14 @@ fn solve_grasp_with(
     // Rotation-free strain in the flesh, and in the other bodies where they were corotated
     // (their Cauchy stress where they are Neo-Hookean): once this is the frame kept.
     let objects_turned = carried_given.is_some() && model.corotates_objects();
+    let rule = PendingStress::Contact { objects_turned };
+    // Neo-Hookean bodies' stresses at once: an object cell turned inside out (det F ≤ 0) is
+    // found there and told as a contact error, so that the motion halves its step.
+    let (stress, stress_pending) = if neo_hookean_objects(model) {
+        (contact_stress(model, &frame_u, objects_turned)?, None)
+    } else {
+        (pending(), Some(rule))
+    };
     // The frame keeps the displacements once: the whole model's, in its own solution.
     let ContactResult {
         mut solution,
@@ -681,8 +689,8 @@ fn solve_grasp_with(
         .collect();
     Ok(Some(Frame {
         solution,
-        stress: pending(),
-        stress_pending: Some(PendingStress::Contact { objects_turned }),
+        stress,
+        stress_pending,
         assembly_ms,
         stress_ms: 0.0,
         hands: hand_frames,
@@ -715,22 +723,6 @@ fn objects_moved(model: &Model, still: &Frame) -> f64 {
         .flat_map(|b| b.nodes.clone())
         .map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm())
         .fold(0.0, f64::max)
-}
-
-/// A cell the contact step's displacements turn inside out: an object's is this step's failure
-/// (the press went further than its mesh follows in one linearised step; a smaller step may
-/// not), told as a contact error so that the motion halves its step; the flesh's stays an
-/// inverted element.
-pub(super) fn inverted_by_step(model: &Model, cell: usize, relative_det: f64) -> SimError {
-    let b = &model.bodies[model.cell_body[cell]];
-    if b.hand.is_some() {
-        return SimError::inverted(model, cell, relative_det);
-    }
-    SimError::Contact(ContactError::Inverts {
-        body: b.name.clone(),
-        element: cell - b.cells.start,
-        relative_det,
-    })
 }
 
 /// `geometric`: the corotated bodies' tangent had their turn's and pressures' stiffness.
