@@ -612,6 +612,7 @@ fn solve_grasp_with(
         (&embedded, &skin_points),
         &result,
     )?;
+
     // The frame: objects' displacements from rest, hands' from rest through their pose.
     let u = &result.solution.displacement;
     let mut frame_u = u.clone();
@@ -666,11 +667,13 @@ fn solve_grasp_with(
     let rule = PendingStress::Contact { objects_turned };
     // Neo-Hookean bodies' stresses at once: an object cell turned inside out (det F ≤ 0) is
     // found there and told as a contact error, so that the motion halves its step.
+    let t = Instant::now();
     let (stress, stress_pending) = if neo_hookean_objects(model) {
         (contact_stress(model, &frame_u, objects_turned)?, None)
     } else {
         (pending(), Some(rule))
     };
+    let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
     let ContactResult {
         mut solution,
@@ -682,6 +685,7 @@ fn solve_grasp_with(
     summary.region_cells = region_cells;
     summary.times.detection = times.detection;
     summary.times.assembly = assembly_ms;
+    summary.times.stress = stress_ms;
     summary.skin_points = hands
         .iter()
         .zip(&skin_points)
@@ -692,7 +696,7 @@ fn solve_grasp_with(
         stress,
         stress_pending,
         assembly_ms,
-        stress_ms: 0.0,
+        stress_ms,
         hands: hand_frames,
         contact: Some(summary),
     }))
