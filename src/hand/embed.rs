@@ -191,36 +191,13 @@ fn in_cells(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::Hex;
 
     /// Two unit cubes side by side along x, the second sheared so that its map is not affine.
     fn two_cells() -> Mesh {
-        let mut nodes = Vec::new();
-        for k in 0..2 {
-            for j in 0..2 {
-                for i in 0..3 {
-                    let shear = if i == 2 && j == 1 && k == 1 { 0.3 } else { 0.0 };
-                    nodes.push(Vector3::new(i as f64 + shear, j as f64, k as f64));
-                }
-            }
-        }
-        let id = |i: usize, j: usize, k: usize| i + 3 * j + 6 * k;
-        let cell = |i: usize| -> Hex {
-            [
-                id(i, 0, 0),
-                id(i + 1, 0, 0),
-                id(i + 1, 1, 0),
-                id(i, 1, 0),
-                id(i, 0, 1),
-                id(i + 1, 0, 1),
-                id(i + 1, 1, 1),
-                id(i, 1, 1),
-            ]
-        };
-        Mesh {
-            nodes,
-            cells: vec![cell(0), cell(1)],
-        }
+        let mut mesh = row(&[0.0, 1.0, 2.0]);
+        // The node at x = 2, y = 1, z = 1.
+        mesh.nodes[2 + 3 + 6].x += 0.3;
+        mesh
     }
 
     fn place(mesh: &Mesh, cell: usize, n: &[f64; 8]) -> Vector3<f64> {
