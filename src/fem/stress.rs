@@ -20,8 +20,8 @@ pub fn von_mises(sigma: &Matrix3<f64>) -> f64 {
     (1.5 * dev.component_mul(&dev).sum()).max(0.0).sqrt()
 }
 
-/// Stresses of a solved displacement field.
-#[derive(Clone, Debug)]
+/// Stresses of a solved displacement field (empty by default: none computed).
+#[derive(Clone, Debug, Default)]
 pub struct StressField {
     /// Per cell, the stress at its eight Gauss points.
     pub gauss: Vec<[Matrix3<f64>; 8]>,

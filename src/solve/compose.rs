@@ -3,7 +3,7 @@
 //! are computed if it is the frame kept (src/solve/frame_stress.rs).
 
 use super::error::SimError;
-use super::frame_stress::pending;
+use crate::fem::stress::StressField;
 use crate::model::Model;
 use crate::state::{Frame, HandFrame, PendingStress};
 
@@ -11,7 +11,7 @@ use crate::state::{Frame, HandFrame, PendingStress};
 pub fn compose(model: &Model, still: &Frame, hands: Vec<HandFrame>) -> Result<Frame, SimError> {
     let mut frame = Frame {
         solution: still.solution.clone(),
-        stress: pending(),
+        stress: StressField::default(),
         stress_pending: Some(PendingStress::Composed),
         assembly_ms: still.assembly_ms,
         stress_ms: 0.0,

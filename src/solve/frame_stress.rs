@@ -17,15 +17,6 @@ use crate::state::{Frame, PendingStress};
 use crate::util::timing::ms;
 use std::time::Instant;
 
-/// No stresses yet: the field a frame carries while they are pending.
-pub(super) fn pending() -> StressField {
-    StressField {
-        gauss: Vec::new(),
-        nodal: Vec::new(),
-        cell_von_mises: Vec::new(),
-    }
-}
-
 /// Computes `frame`'s stresses if they are pending (the time they took goes to its
 /// `stress_ms`, and to its contact's split).
 pub(super) fn complete(model: &Model, frame: &mut Frame) -> Result<(), SimError> {

@@ -18,7 +18,7 @@ use super::compose::compose;
 use super::corotated::{linearise, loads_at};
 use super::crossing::crossings;
 use super::error::SimError;
-use super::frame_stress::{contact_stress, pending};
+use super::frame_stress::contact_stress;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
@@ -28,6 +28,7 @@ use crate::contact::{
     WindingTree,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
+use crate::fem::stress::StressField;
 use crate::fem::DofPartition;
 use crate::mesh::Mesh;
 use crate::model::Model;
@@ -671,7 +672,7 @@ fn solve_grasp_with(
     let (stress, stress_pending) = if neo_hookean_objects(model) {
         (contact_stress(model, &frame_u, objects_turned)?, None)
     } else {
-        (pending(), Some(rule))
+        (StressField::default(), Some(rule))
     };
     let stress_ms = ms(t);
     // The frame keeps the displacements once: the whole model's, in its own solution.
