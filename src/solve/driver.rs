@@ -10,6 +10,7 @@ use super::path::{flex_ahead, FlexionPath, Parts};
 use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
+use super::untouched::untouched_step;
 use crate::contact::ContactMethod;
 use crate::fem::solve::{PartitionedSolver, Solution, SolveStats};
 use crate::fem::stress::StressField;
@@ -287,6 +288,7 @@ impl Workspace {
         );
         let Some(plan) = path.ahead_plan() else {
             let too_deep = too_deep(posed);
+            self.know_untouched_motion(model, has_objects);
             return self.move_along(
                 model,
                 posed,
@@ -328,6 +330,7 @@ impl Workspace {
             });
             path.take_ahead(from_ahead);
             let too_deep = too_deep(posed);
+            self.know_untouched_motion(model, has_objects);
             let result = self.move_along(
                 model,
                 posed,
@@ -349,6 +352,21 @@ impl Workspace {
             }
             result
         })
+    }
+
+    /// The step the bodies other than the hands take from the static frame where nothing
+    /// touches them (src/solve/untouched.rs), solved once per workspace (in a scene with such
+    /// bodies) while the knots flex ahead: what tells the steps along a motion that come near a
+    /// body without touching it that they need no solve.
+    fn know_untouched_motion(&mut self, model: &Model, has_objects: bool) {
+        if !has_objects || self.contact.untouched.is_some() {
+            return;
+        }
+        let Some(still) = self.still.as_ref() else {
+            return;
+        };
+        let step = untouched_step(model, still, self.contact.anchor.as_deref());
+        self.contact.untouched = Some(step.ok());
     }
 
     /// The keyframe's motion once its flexion path is planned: in one contact step, then along

@@ -22,6 +22,7 @@ use super::frame_stress::contact_stress;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
+use super::untouched::UntouchedStep;
 use crate::contact::{
     connected_pieces, solve_lagrange, solve_paper, ContactError, ContactMethod, ContactProblem,
     ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
@@ -56,6 +57,10 @@ pub struct ContactCache {
     /// An object's springs that carried more than they may are kept here instead of failing
     /// the step (`Some(None)`: nothing to tell; `None`: such a step fails).
     pub(super) unheld: Option<Option<ContactError>>,
+    /// The step of the other bodies from the static frame touching nothing
+    /// (src/solve/untouched.rs): `None` before it is asked, `Some(None)` where it could not be
+    /// solved (such steps are then solved).
+    pub(super) untouched: Option<Option<UntouchedStep>>,
 }
 
 impl ContactCache {
@@ -67,6 +72,7 @@ impl ContactCache {
             transferred: Vec::new(),
             anchor: None,
             unheld: None,
+            untouched: None,
         }
     }
 }
@@ -314,11 +320,21 @@ fn solve_grasp_with(
         None => Vec::new(),
     };
     // Nothing touches, nor can the bodies' loads bring them into touch (every gap wider than
-    // the farthest they move an object's node from where detection sees it): the static
-    // frame, a contact frame without contacts.
-    if let Some(still) = untouched {
-        if crossed.is_empty() && closest > objects_moved(model, still) + settings.tolerance {
+    // the farthest they move an object's node from where detection sees it): a contact frame
+    // without contacts. From rest, the bodies move to the static frame; from the static frame,
+    // by the step they take there alone (src/solve/untouched.rs), where it is known.
+    let from_static = match (carried_given, &cache.untouched) {
+        (None, _) => Some(None),
+        (Some(_), Some(Some(step))) => Some(Some(step)),
+        (Some(_), _) => None,
+    };
+    if let (Some(still), Some(step)) = (untouched, from_static) {
+        let reach = step.map_or_else(|| objects_moved(model, still), |s| s.motion);
+        if crossed.is_empty() && closest > reach + settings.tolerance {
             let mut frame = compose(model, still, hands.to_vec())?;
+            if let Some(step) = step {
+                super::untouched::apply(model, step, &mut frame);
+            }
             let skin_points = hands
                 .iter()
                 .zip(&skin_points)

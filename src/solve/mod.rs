@@ -25,6 +25,7 @@ mod stabilize;
 mod statics;
 mod statics_nonlinear;
 mod step_control;
+mod untouched;
 
 pub use driver::{solve_frames, Posed, PosedHand, Workspace, CONTACT_CORRECTION, CONTACT_STEP_DEG};
 pub use error::SimError;
