@@ -322,13 +322,13 @@ fn solve_grasp_with(
     // Nothing touches, nor can the bodies' loads bring them into touch (every gap wider than
     // the farthest they move an object's node from where detection sees it): a contact frame
     // without contacts. From rest, the bodies move to the static frame; from the static frame,
-    // by the step they take there alone (src/solve/untouched.rs), where it is known.
-    let from_static = match (carried_given, &cache.untouched) {
-        (None, _) => Some(None),
-        (Some(_), Some(Some(step))) => Some(Some(step)),
-        (Some(_), _) => None,
+    // by the step they take there alone (src/solve/untouched.rs) where it is known, else they
+    // are taken to stay in it (bounded by their motion from rest).
+    let step = match (carried_given, &cache.untouched) {
+        (Some(_), Some(Some(step))) => Some(step),
+        _ => None,
     };
-    if let (Some(still), Some(step)) = (untouched, from_static) {
+    if let Some(still) = untouched {
         let reach = step.map_or_else(|| objects_moved(model, still), |s| s.motion);
         if crossed.is_empty() && closest > reach + settings.tolerance {
             let mut frame = compose(model, still, hands.to_vec())?;

@@ -16,7 +16,9 @@
 //! farther than ΔU's largest nodal motion and the contact tolerance from every body, as detection
 //! sees them, having crossed none, cannot touch in the step; the step's frame is the static
 //! frame moved by ΔU with these reactions, the hands composed into it — what the solve would
-//! give, without the factorization of the flesh and the bodies together.
+//! give, without the factorization of the flesh and the bodies together. (Not with rigid
+//! obstacles in the scene: the bodies' step would have their contact to solve; such steps are
+//! judged as before, by the static frame's motion from rest.)
 
 use super::corotated::{linearise, loads_at};
 use super::error::SimError;
@@ -49,6 +51,12 @@ pub(super) fn untouched_step(
     still: &Frame,
     anchor: Option<&[f64]>,
 ) -> Result<UntouchedStep, SimError> {
+    // With rigid obstacles the bodies' step has their contact to solve too: not this one.
+    if !model.obstacles.is_empty() {
+        return Err(SimError::Unsupported(
+            "the step of bodies touching rigid obstacles".into(),
+        ));
+    }
     let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
     // What a step from the static frame carries: its displacements, none on the hands.
     let carried: Vec<f64> = still
