@@ -166,6 +166,65 @@ pub(super) fn loads_at(
     (loads, unit)
 }
 
+/// The right-hand side of a contact step from the displacements `carried` (over every dof;
+/// `given`: a state was carried, whose pressures then act on the surface where it is now, at
+/// `positions`).
+pub(super) struct StepLoads {
+    /// The loads less the forces the carried state already holds, f(U_c) = K·U_c + offset; the
+    /// floating bodies' springs resting at the anchor: k·(U − U_a), so K·U less k·U_a.
+    pub loads: Vec<f64>,
+    /// The gas cavity's unit load on the surface where it is now, if any (see [`loads_at`]).
+    pub unit_gas: Option<Vec<f64>>,
+    /// The supports' values less what they already moved; zero at the hands' dofs (their bones
+    /// do not move further, the flesh outside the step's region stays put).
+    pub prescribed: Vec<f64>,
+}
+
+/// [`StepLoads`] of a step with stiffness `k` (the springs of the floating bodies in it, resting
+/// at `anchor`, or at rest) and the linearisation's `offset`, over `partition`.
+pub(super) fn step_loads(
+    model: &Model,
+    (k, offset): (&Stiffness, Option<&[f64]>),
+    (springs, anchor): (&[(usize, f64)], Option<&[f64]>),
+    partition: &crate::fem::DofPartition,
+    (carried, given): (&[f64], bool),
+    positions: &[Vector3<f64>],
+) -> StepLoads {
+    let mut held = k.mul(carried);
+    if let Some(offset) = offset {
+        for (h, o) in held.iter_mut().zip(offset) {
+            *h += o;
+        }
+    }
+    let (loads_now, unit_gas) = loads_at(model, positions, given.then_some(carried));
+    let mut loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
+    if let Some(anchor) = anchor {
+        for &(b, spring) in springs {
+            let nodes = model.bodies[b].nodes.clone();
+            for d in 3 * nodes.start..3 * nodes.end {
+                if !partition.prescribed[d] {
+                    loads[d] += spring * anchor[d];
+                }
+            }
+        }
+    }
+    let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
+    let prescribed = (0..model.prescribed.len())
+        .map(|d| {
+            if hand_dof(d) {
+                0.0
+            } else {
+                model.prescribed[d] - carried[d]
+            }
+        })
+        .collect();
+    StepLoads {
+        loads,
+        unit_gas,
+        prescribed,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,7 +15,7 @@
 //! equation (8) then include the grasp.
 
 use super::compose::compose;
-use super::corotated::{linearise, loads_at};
+use super::corotated::{linearise, step_loads, StepLoads};
 use super::crossing::crossings;
 use super::error::SimError;
 use super::frame_stress::contact_stress;
@@ -496,35 +496,18 @@ fn solve_grasp_with(
     // supports' values less what they already moved; the flesh outside the region stays put.
     // f(U_c): K·U_c, plus what the carried rotation of the other bodies adds; the loads with
     // the pressures on the surface where it is now.
-    let mut held = k.mul(carried);
-    if let Some(offset) = &linearised.offset {
-        for (h, o) in held.iter_mut().zip(offset) {
-            *h += o;
-        }
-    }
-    let (loads_now, unit_gas) = loads_at(model, &x_now_nodes, carried_given);
-    let mut loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
-    // Springs resting where the anchor puts them: k·(U − U_a), so K·U less k·U_a.
-    if let Some(anchor) = &cache.anchor {
-        for &(b, spring) in &springs {
-            let nodes = model.bodies[b].nodes.clone();
-            for d in 3 * nodes.start..3 * nodes.end {
-                if !partition.prescribed[d] {
-                    loads[d] += spring * anchor[d];
-                }
-            }
-        }
-    }
-    let hand_dof = |d: usize| model.bodies[model.body_of_node(d / 3)].hand.is_some();
-    let prescribed: Vec<f64> = (0..model.prescribed.len())
-        .map(|d| {
-            if hand_dof(d) {
-                0.0
-            } else {
-                model.prescribed[d] - carried[d]
-            }
-        })
-        .collect();
+    let StepLoads {
+        loads,
+        unit_gas,
+        prescribed,
+    } = step_loads(
+        model,
+        (&k, linearised.offset.as_deref()),
+        (&springs, cache.anchor.as_deref()),
+        &partition,
+        (carried, carried_given.is_some()),
+        &x_now_nodes,
+    );
     let problem = ContactProblem {
         k: &k,
         partition: &partition,

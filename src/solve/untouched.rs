@@ -20,7 +20,7 @@
 //! obstacles in the scene: the bodies' step would have their contact to solve; such steps are
 //! judged as before, by the static frame's motion from rest.)
 
-use super::corotated::{linearise, loads_at};
+use super::corotated::{linearise, step_loads, StepLoads};
 use super::error::SimError;
 use super::gas::solve_with_gas;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
@@ -86,33 +86,18 @@ pub(super) fn untouched_step(
     let partition = &model.partition;
     let mut k = linearised.k;
     let springs = stabilize(model, &mut k, partition);
-    let mut held = k.mul(&carried);
-    if let Some(offset) = &linearised.offset {
-        for (h, o) in held.iter_mut().zip(offset) {
-            *h += o;
-        }
-    }
-    let (loads_now, unit_gas) = loads_at(model, &x_now, Some(&carried));
-    let mut loads: Vec<f64> = loads_now.iter().zip(&held).map(|(r, f)| r - f).collect();
-    if let Some(anchor) = anchor {
-        for &(b, spring) in &springs {
-            let nodes = model.bodies[b].nodes.clone();
-            for d in 3 * nodes.start..3 * nodes.end {
-                if !partition.prescribed[d] {
-                    loads[d] += spring * anchor[d];
-                }
-            }
-        }
-    }
-    let prescribed: Vec<f64> = (0..model.prescribed.len())
-        .map(|d| {
-            if hand_dof(d) {
-                0.0
-            } else {
-                model.prescribed[d] - carried[d]
-            }
-        })
-        .collect();
+    let StepLoads {
+        loads,
+        unit_gas,
+        prescribed,
+    } = step_loads(
+        model,
+        (&k, linearised.offset.as_deref()),
+        (&springs, anchor),
+        partition,
+        (&carried, true),
+        &x_now,
+    );
     let mut solver = PartitionedSolver::new(model.ordering);
     let mut solve = |loads: &[f64]| -> Result<Solution, SimError> {
         solver
