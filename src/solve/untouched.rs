@@ -20,7 +20,7 @@
 //! obstacles in the scene: the bodies' step would have their contact to solve; such steps are
 //! judged as before, by the static frame's motion from rest.)
 
-use super::corotated::{linearise, step_loads, StepLoads};
+use super::corotated::{linearise, step_loads};
 use super::error::SimError;
 use super::gas::solve_with_gas;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
@@ -86,11 +86,8 @@ pub(super) fn untouched_step(
     let partition = &model.partition;
     let mut k = linearised.k;
     let springs = stabilize(model, &mut k, partition);
-    let StepLoads {
-        loads,
-        unit_gas,
-        prescribed,
-    } = step_loads(
+    // The step's right-hand side from the static frame, as a contact step's.
+    let rhs = step_loads(
         model,
         (&k, linearised.offset.as_deref()),
         (&springs, anchor),
@@ -101,17 +98,17 @@ pub(super) fn untouched_step(
     let mut solver = PartitionedSolver::new(model.ordering);
     let mut solve = |loads: &[f64]| -> Result<Solution, SimError> {
         solver
-            .solve(&k, partition, &prescribed, loads, &x_now)
+            .solve(&k, partition, &rhs.prescribed, loads, &x_now)
             .map_err(|e| SimError::solve(model, e))
     };
     let solution = match &model.gas {
-        None => solve(&loads)?,
+        None => solve(&rhs.loads)?,
         Some(cavity) => solve_with_gas(
             cavity,
             |p| {
-                solve(&match &unit_gas {
-                    Some(unit) => cavity.with_gauge_on(&loads, p, unit),
-                    None => cavity.with_gauge(&loads, p),
+                solve(&match &rhs.unit_gas {
+                    Some(unit) => cavity.with_gauge_on(&rhs.loads, p, unit),
+                    None => cavity.with_gauge(&rhs.loads, p),
                 })
             },
             |s| {
