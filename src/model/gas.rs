@@ -88,6 +88,13 @@ impl GasCavity {
         self.orientation * enclosed_volume(&self.facets, |n| rest[n] + u(n))
     }
 
+    /// The volume of the cavity after a step `step` from the displacements `carried` (both
+    /// over every dof), the nodes at `rest` moved by their sum, m³.
+    pub fn volume_after(&self, rest: &[Vector3<f64>], carried: &[f64], step: &[f64]) -> f64 {
+        let u: Vec<f64> = step.iter().zip(carried).map(|(s, c)| s + c).collect();
+        self.volume(rest, &u)
+    }
+
     /// The gauge pressure of the gas at volume `volume`: p = P0·V0/V − p_ambient, Pa.
     pub fn gauge_at(&self, volume: f64) -> f64 {
         self.rest_absolute() * self.rest_volume / volume - self.ambient

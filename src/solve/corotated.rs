@@ -180,6 +180,17 @@ pub(super) struct StepLoads {
     pub prescribed: Vec<f64>,
 }
 
+impl StepLoads {
+    /// The loads with the gas `cavity` at gauge pressure `p` (its unit load on the surface where
+    /// it is now, where the step has one).
+    pub fn at_gauge(&self, cavity: &crate::model::GasCavity, p: f64) -> Vec<f64> {
+        match &self.unit_gas {
+            Some(unit) => cavity.with_gauge_on(&self.loads, p, unit),
+            None => cavity.with_gauge(&self.loads, p),
+        }
+    }
+}
+
 /// [`StepLoads`] of a step with stiffness `k` (the springs of the floating bodies in it, resting
 /// at `anchor`, or at rest) and the linearisation's `offset`, over `partition`.
 pub(super) fn step_loads(

@@ -15,7 +15,7 @@
 //! equation (8) then include the grasp.
 
 use super::compose::compose;
-use super::corotated::{linearise, step_loads, StepLoads};
+use super::corotated::{linearise, step_loads};
 use super::crossing::crossings;
 use super::error::SimError;
 use super::frame_stress::contact_stress;
@@ -496,11 +496,7 @@ fn solve_grasp_with(
     // supports' values less what they already moved; the flesh outside the region stays put.
     // f(U_c): K·U_c, plus what the carried rotation of the other bodies adds; the loads with
     // the pressures on the surface where it is now.
-    let StepLoads {
-        loads,
-        unit_gas,
-        prescribed,
-    } = step_loads(
+    let rhs = step_loads(
         model,
         (&k, linearised.offset.as_deref()),
         (&springs, cache.anchor.as_deref()),
@@ -511,8 +507,8 @@ fn solve_grasp_with(
     let problem = ContactProblem {
         k: &k,
         partition: &partition,
-        prescribed: &prescribed,
-        loads: &loads,
+        prescribed: &rhs.prescribed,
+        loads: &rhs.loads,
         positions: &x_now,
         embedded: &embedded,
         obstacles: &model
@@ -559,21 +555,12 @@ fn solve_grasp_with(
         Some(cavity) => super::gas::solve_with_gas(
             cavity,
             |p| {
-                let loads = match &unit_gas {
-                    Some(unit) => cavity.with_gauge_on(&loads, p, unit),
-                    None => cavity.with_gauge(&loads, p),
-                };
                 contact_solve(&ContactProblem {
-                    loads: &loads,
+                    loads: &rhs.at_gauge(cavity, p),
                     ..problem
                 })
             },
-            |r| {
-                let u: Vec<f64> = (r.solution.displacement.iter().zip(carried))
-                    .map(|(u, c)| u + c)
-                    .collect();
-                cavity.volume(&model.mesh.nodes, &u)
-            },
+            |r| cavity.volume_after(&model.mesh.nodes, carried, &r.solution.displacement),
         )?,
     };
     // Displacements from the reference again: the carried ones plus the step's. (The reactions

@@ -105,18 +105,8 @@ pub(super) fn untouched_step(
         None => solve(&rhs.loads)?,
         Some(cavity) => solve_with_gas(
             cavity,
-            |p| {
-                solve(&match &rhs.unit_gas {
-                    Some(unit) => cavity.with_gauge_on(&rhs.loads, p, unit),
-                    None => cavity.with_gauge(&rhs.loads, p),
-                })
-            },
-            |s| {
-                let u: Vec<f64> = (s.displacement.iter().zip(&carried))
-                    .map(|(u, c)| u + c)
-                    .collect();
-                cavity.volume(&model.mesh.nodes, &u)
-            },
+            |p| solve(&rhs.at_gauge(cavity, p)),
+            |s| cavity.volume_after(&model.mesh.nodes, &carried, &s.displacement),
         )?,
     };
     let mut reaction = solution.reaction;
