@@ -30,6 +30,8 @@ pub struct Physics {
     dirty: bool,
     /// The last frame a pose job delivered (of the current model): what a preview moves.
     last_frame: Option<Arc<Frame>>,
+    /// The model's first keyframe prepared ahead ([`Workspace::prepare`]).
+    prepared: bool,
 }
 
 fn error(e: impl std::fmt::Display) -> Failure {
@@ -48,6 +50,7 @@ impl Physics {
             self.model = None;
             self.workspace = None;
             self.last_frame = None;
+            self.prepared = false;
             let model = Model::build(&job.scene, "scene").map_err(error)?;
             self.workspace = Some(Workspace::new(&model).map_err(error)?);
             self.hands = Posed::rest(&model);
@@ -269,5 +272,18 @@ impl Solve for Physics {
                 }
             }
         }
+    }
+
+    /// Once per model, the first keyframe's memory acquired ahead; a failure (a factor beyond
+    /// the memory budget) is left for that keyframe to report.
+    fn idle(&mut self, cancel: &Cancel) {
+        if self.prepared || self.dirty {
+            return;
+        }
+        let (Some(model), Some(workspace)) = (self.model.clone(), self.workspace.as_mut()) else {
+            return;
+        };
+        let _ = workspace.prepare(&model, &self.hands, Some(&stale(cancel)));
+        self.prepared = !cancel.is_stale();
     }
 }

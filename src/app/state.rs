@@ -272,6 +272,12 @@ impl ViewerState {
             || self.pose_version.is_some_and(|v| self.in_flight == Some(v))
     }
 
+    /// Whether the solver thread runs nothing: no job, nor the work it does ahead while it
+    /// waits for one.
+    pub fn solver_idle(&self) -> bool {
+        !self.computing() && self.port.idle()
+    }
+
     /// The version of the newest job submitted (0 before any).
     pub fn latest_version(&self) -> u64 {
         self.next_version - 1

@@ -17,6 +17,11 @@ pub trait SolverPort {
     fn submit(&mut self, job: Job);
     /// Results that arrived since the last call, oldest first (never blocks).
     fn poll(&mut self) -> Vec<JobResult>;
+    /// Whether the solver runs nothing: no job, and none of the work it does ahead while it
+    /// waits for one ([`Solve::idle`]).
+    fn idle(&self) -> bool {
+        true
+    }
 }
 
 /// Tells a running job whether a newer one has been submitted.
@@ -43,6 +48,12 @@ impl Cancel {
 pub trait Solve: Send {
     /// Runs `job`, checking `cancel` as often as it can.
     fn run(&mut self, job: &Job, cancel: &Cancel, emit: &mut dyn FnMut(Result<Solution, Failure>));
+
+    /// Work done ahead while no job waits, after a job's last result went out; `cancel` turns
+    /// stale when a job arrives.
+    fn idle(&mut self, cancel: &Cancel) {
+        let _ = cancel;
+    }
 }
 
 impl<F> Solve for F
@@ -59,6 +70,9 @@ struct Shared {
     wake: Condvar,
     stop: AtomicBool,
     latest: Arc<AtomicU64>,
+    /// Set (under `slot`'s lock) when a job is submitted, cleared (under it too) once the
+    /// thread has run it and its idle work with no job waiting.
+    working: AtomicBool,
 }
 
 /// The solver thread and its mailbox.
@@ -77,6 +91,7 @@ impl ThreadSolver {
             wake: Condvar::new(),
             stop: AtomicBool::new(false),
             latest: Arc::new(AtomicU64::new(0)),
+            working: AtomicBool::new(false),
         });
         let (tx, results) = channel();
         let inner = shared.clone();
@@ -171,18 +186,48 @@ fn worker_loop(
             return;
         }
         notify();
+        idle(&shared, &mut solve);
+    }
+}
+
+/// The solver's idle work, unless a job already waits; then the thread is marked not working
+/// unless one arrived meanwhile. A panic in it loses that work only.
+fn idle(shared: &Shared, solve: &mut impl Solve) {
+    let waiting = || {
+        shared
+            .slot
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .is_some()
+    };
+    if waiting() || shared.stop.load(Ordering::Acquire) {
+        return;
+    }
+    let cancel = Cancel::new(shared.latest.clone(), shared.latest.load(Ordering::Acquire));
+    let _ = catch_unwind(AssertUnwindSafe(|| solve.idle(&cancel)));
+    let slot = shared.slot.lock().unwrap_or_else(|e| e.into_inner());
+    if slot.is_none() {
+        shared.working.store(false, Ordering::Release);
     }
 }
 
 impl SolverPort for ThreadSolver {
     fn submit(&mut self, job: Job) {
         self.shared.latest.store(job.version, Ordering::Release);
-        *self.shared.slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(job);
+        {
+            let mut slot = self.shared.slot.lock().unwrap_or_else(|e| e.into_inner());
+            *slot = Some(job);
+            self.shared.working.store(true, Ordering::Release);
+        }
         self.shared.wake.notify_one();
     }
 
     fn poll(&mut self) -> Vec<JobResult> {
         self.results.try_iter().collect()
+    }
+
+    fn idle(&self) -> bool {
+        !self.shared.working.load(Ordering::Acquire)
     }
 }
 
@@ -194,5 +239,99 @@ impl Drop for ThreadSolver {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::jobs::Target;
+    use crate::present::VisualOptions;
+    use crate::scene::{Scene, DEFAULT_SCENE};
+    use std::time::{Duration, Instant};
+
+    fn job(version: u64) -> Job {
+        Job {
+            version,
+            scene: Arc::new(Scene::parse(DEFAULT_SCENE, "default").unwrap()),
+            scene_revision: 0,
+            visual: VisualOptions::default(),
+            target: Target::Pose {
+                pose: Vec::new(),
+                start: None,
+            },
+        }
+    }
+
+    /// Runs nothing for a job; its idle work lasts until a job arrives or a second passed,
+    /// and says which.
+    struct Idler {
+        log: Arc<Mutex<Vec<String>>>,
+    }
+
+    impl Solve for Idler {
+        fn run(&mut self, job: &Job, _: &Cancel, _: &mut dyn FnMut(Result<Solution, Failure>)) {
+            self.log
+                .lock()
+                .unwrap()
+                .push(format!("job {}", job.version));
+        }
+
+        fn idle(&mut self, cancel: &Cancel) {
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_secs(1) {
+                if cancel.is_stale() {
+                    self.log.lock().unwrap().push("idle stopped".into());
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(2));
+            }
+            self.log.lock().unwrap().push("idle done".into());
+        }
+    }
+
+    fn wait_until(what: &str, mut done: impl FnMut() -> bool) {
+        let start = Instant::now();
+        while !done() {
+            assert!(start.elapsed() < Duration::from_secs(30), "never {what}");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    #[test]
+    fn idle_work_runs_after_a_job_and_stops_for_the_next() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let mut port = ThreadSolver::spawn(Idler { log: log.clone() }, Arc::new(|| {}));
+        assert!(port.idle(), "nothing submitted yet");
+        port.submit(job(1));
+        assert!(!port.idle(), "working from the submission on");
+        let mut answers = Vec::new();
+        wait_until("answered", || {
+            answers.extend(port.poll());
+            !answers.is_empty()
+        });
+        // The job's answer went out before its idle work ended: still working.
+        assert!(!port.idle(), "the idle work runs after the answer");
+        wait_until("idle", || port.idle());
+        assert_eq!(*log.lock().unwrap(), ["job 1", "idle done"]);
+
+        // A job submitted during the idle work stops it, then runs.
+        port.submit(job(2));
+        wait_until("job 2 run", || log.lock().unwrap().len() >= 3);
+        std::thread::sleep(Duration::from_millis(20));
+        port.submit(job(3));
+        wait_until("idle", || port.idle());
+        let log = log.lock().unwrap().clone();
+        assert_eq!(
+            log,
+            [
+                "job 1",
+                "idle done",
+                "job 2",
+                "idle stopped",
+                "job 3",
+                "idle done"
+            ]
+        );
     }
 }

@@ -208,6 +208,64 @@ impl PartitionedSolver {
         self.ordering
     }
 
+    /// Entries of the factor's buffer as held (acquired by the largest factorization so far, or
+    /// [`PartitionedSolver::reserve_for`]).
+    pub fn factor_capacity(&self) -> usize {
+        self.factor.capacity()
+    }
+
+    /// Acquires ahead the memory a factorization of `partition` on `pattern` takes (the factor
+    /// and its scratch, written once so that their pages are the process's): a first
+    /// factorization otherwise pays for them (the hand's 61 MB factor at resolution 1: its first
+    /// factorization took 206–382 ms where the next took 83–121 ms). The analysis it needs for
+    /// their sizes is not kept: the solve that follows orders its own region. For an idle solver
+    /// thread (the viewer's). Refused as a solve would be when the factor does not fit the
+    /// memory budget.
+    pub fn reserve_for(
+        &mut self,
+        pattern: &Arc<StiffnessPattern>,
+        partition: &DofPartition,
+        positions: &[Vector3<f64>],
+    ) -> Result<(), SolveError> {
+        let neq = partition.free_count();
+        if neq == 0 {
+            return Ok(());
+        }
+        let keys = dof_keys(&self.node_ids, pattern.dofs);
+        let analysis = analyse(pattern, partition, positions, self.ordering, &keys)?;
+        let entries = analysis.cholesky.len_val();
+        let par = factorization_parallelism(factor_work(&analysis.cholesky));
+        let scratch_bytes = analysis
+            .cholesky
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+            .unaligned_bytes_required();
+        let needed = (entries.saturating_sub(self.factor.capacity()) as u64)
+            .saturating_mul(8)
+            .saturating_add(
+                (scratch_bytes as u64).saturating_sub(8 * self.scratch.capacity() as u64),
+            );
+        if let Some((available, limit)) = super::memory::budget() {
+            if needed > available {
+                return Err(SolveError::TooBig {
+                    needed,
+                    available,
+                    limit,
+                    equations: neq,
+                    entries,
+                });
+            }
+        }
+        if self.factor.len() < entries {
+            // The factor's values are no longer those of any matrix.
+            self.factored.clear();
+            grow_zeroed(&mut self.factor, entries);
+        }
+        for word in scratch(&mut self.scratch, scratch_bytes) {
+            word.write(0);
+        }
+        Ok(())
+    }
+
     /// Solves K·U = R with the dofs marked in `partition` held at `prescribed_values`
     /// (read only at prescribed dofs). `positions` are the node positions the ordering works on.
     pub fn solve(

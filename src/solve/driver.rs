@@ -30,7 +30,7 @@ pub struct Workspace {
     /// The static frame of the other bodies; `None` when one of them can only be held by a hand.
     still: Option<Frame>,
     /// The flexion caches by hand body.
-    caches: Vec<(usize, FlexionCaches)>,
+    pub(super) caches: Vec<(usize, FlexionCaches)>,
     /// What the contact steps keep from one to the next (their solver, the nodes held).
     pub(super) contact: ContactCache,
 }

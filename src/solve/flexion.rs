@@ -212,6 +212,35 @@ impl<'a> Flexion<'a> {
         }
     }
 
+    /// Acquires ahead, for the schemes of linear increments (the corotated and the paper's),
+    /// the memory of the largest factorization a keyframe of the hand at `state` makes: that of
+    /// the FEM region of every FEM cell ([`PartitionedSolver::reserve_for`]). The region the
+    /// caches keep is left as it is (the one the hand last moved: the next keyframe's
+    /// likeliest).
+    pub fn prepare(&mut self, state: &HandState) -> Result<(), SimError> {
+        if !matches!(
+            self.settings.scheme,
+            FlexionScheme::UpdatedLagrangian | FlexionScheme::Corotational
+        ) {
+            return Ok(());
+        }
+        let active: Vec<bool> = (0..self.hand.flesh.mesh.cells.len())
+            .map(|c| self.cell_method(c) == FleshMethod::Fem)
+            .collect();
+        let Some(sub) = sub_problem(self.hand, &self.materials, &active) else {
+            return Ok(());
+        };
+        let positions: Vec<Vector3<f64>> = sub.nodes.iter().map(|&n| state.positions[n]).collect();
+        self.caches.solver.set_node_ids(sub.nodes.clone());
+        self.caches
+            .solver
+            .reserve_for(&sub.pattern, &sub.partition, &positions)
+            .map_err(|source| SimError::Solve {
+                body: self.body.clone(),
+                source,
+            })
+    }
+
     /// Whether the caller asked to stop.
     pub(super) fn cancelled(&self) -> bool {
         self.cancel.as_ref().is_some_and(|c| c())

@@ -17,6 +17,7 @@ mod let_go;
 mod linear_factor;
 mod paper_roles;
 mod path;
+mod prepare;
 mod preview;
 pub mod proximity;
 mod region;
