@@ -483,3 +483,32 @@ fn resolution_2_flexes_the_pip_to_90_and_the_dip_to_40() {
         "{sum} of {largest} N"
     );
 }
+
+/// The display skin moved by the contact skin (src/hand/skin_follow.rs): at rest each vertex is
+/// where its own embedding puts it, and under a rigid motion of the flesh the skin moves
+/// rigidly — its rest offsets turn with the surface, also where the split skin's seams collapse
+/// a control quad (0.40 mm off before those took a neighbour's frame). What it is for is
+/// asserted in tests/grasp_presets.rs (a ball 100 times stiffer: the display skin 1.43 mm into
+/// it before, 0.49 mm now).
+#[test]
+fn the_display_skin_follows_the_contact_skin() {
+    let hand = hand();
+    let rest = &hand.flesh.mesh.nodes;
+    let own = |nodes: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+        (0..hand.skin.vertex_count())
+            .map(|v| hand.skin.terms(v).map(|(n, w)| nodes[n] * w).sum())
+            .collect()
+    };
+    let at_rest = hand.skin.positions(rest);
+    assert!(max_distance(&at_rest, &own(rest)) < 1e-12);
+
+    let turn = nalgebra::Rotation3::from_axis_angle(
+        &nalgebra::Unit::new_normalize(Vector3::new(0.3, -0.5, 0.8)),
+        0.9,
+    );
+    let shift = Vector3::new(0.02, -0.01, 0.05);
+    let moved: Vec<Vector3<f64>> = rest.iter().map(|p| turn * p + shift).collect();
+    let expected: Vec<Vector3<f64>> = at_rest.iter().map(|p| turn * p + shift).collect();
+    let rigid = max_distance(&hand.skin.positions(&moved), &expected);
+    assert!(rigid < 1e-12, "{rigid} m off a rigid motion");
+}

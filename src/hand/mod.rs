@@ -20,6 +20,7 @@ mod shape;
 pub mod size;
 mod skeleton;
 mod skin;
+mod skin_follow;
 mod skinning;
 mod stretch;
 pub mod synergy;

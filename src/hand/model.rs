@@ -110,13 +110,23 @@ impl HandModel {
                 |p| shape.project(p),
             )
         };
-        let skin = embedded(SKIN_LEVELS, Reach::Nearest);
+        let mut skin = embedded(SKIN_LEVELS, Reach::Nearest);
         // The contact skin keeps its vertices within reach of their own cells: placed exactly
         // on the skin, the 106 (of 6 560) it pulls in by up to 4.2 mm on the backs and creases
         // of the fingers made the fist's self-contact fail to settle (ring PIP 41°), the folded
         // PIP crease invert a cell at 90.6°, and the pad's press into the soft ball stop at
         // 71 % of its way (measured 2026-11-27; docs/hand.md).
         let contact_skin = embedded(CONTACT_SKIN_LEVELS, Reach::OwnCell);
+        // The display skin moves with what the contact holds (`skin_follow.rs`).
+        skin.follow(
+            contact_skin.clone(),
+            (
+                &flesh.display_quads,
+                flesh.display_vertices.len(),
+                SKIN_LEVELS,
+            ),
+            &flesh.mesh.nodes,
+        );
         let weights = SkinningWeights::new(&skeleton, &flesh.mesh.nodes, &flesh.node_bone);
         Ok(HandModel {
             skeleton,

@@ -4,6 +4,7 @@
 //! display resolution never costs simulation time.
 
 use super::embed::{embed, NodeCells, Reach};
+use super::skin_follow::{Combinations, Follow};
 use crate::mesh::Mesh;
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -20,6 +21,9 @@ pub struct DisplaySkin {
     pub quads: Vec<[u32; 4]>,
     /// Catmull–Clark levels from the control net.
     levels: usize,
+    /// Where set, the vertices are moved by the contact skin rather than by their own cells
+    /// (`skin_follow.rs`).
+    follow: Option<Box<Follow>>,
 }
 
 type Row = Vec<(usize, f64)>;
@@ -317,8 +321,70 @@ impl DisplaySkin {
         self.offsets.len() - 1
     }
 
+    /// Moves the vertices with `control`, the contact skin (the control net this skin was
+    /// subdivided `levels` times from, `quads` over `count` vertices, at level 0), instead of
+    /// with their own cells: each the subdivision of the contact skin's vertices plus its
+    /// offset from that at rest (`rest`: the flesh nodes at rest), turned with the surface
+    /// (`skin_follow.rs`). Where the contact holds the contact skin out of a body, the display
+    /// skin lies on a smooth surface through the points it holds.
+    pub fn follow(
+        &mut self,
+        control: DisplaySkin,
+        (quads, count, levels): (&[[usize; 4]], usize, usize),
+        rest: &[Vector3<f64>],
+    ) {
+        assert_eq!(levels, self.levels, "subdivided as this skin was");
+        assert_eq!(control.levels, 0, "the contact skin is the control net");
+        // The contact skin numbers the control net's vertices by their first appearance.
+        let mut local = vec![u32::MAX; count];
+        let mut next = 0u32;
+        for &v in quads.iter().flatten() {
+            if local[v] == u32::MAX {
+                local[v] = next;
+                next += 1;
+            }
+        }
+        assert_eq!(
+            next as usize,
+            control.vertex_count(),
+            "the control net's vertices"
+        );
+        let subdivided = DisplaySkin::new(quads, count, levels);
+        assert_eq!(subdivided.vertex_count(), self.vertex_count());
+        let rows = Combinations {
+            offsets: subdivided.offsets.clone(),
+            terms: subdivided
+                .nodes
+                .iter()
+                .zip(&subdivided.weights)
+                .map(|(&n, &w)| (local[n as usize], w))
+                .collect(),
+        };
+        let control = Combinations {
+            offsets: control.offsets,
+            terms: control.nodes.into_iter().zip(control.weights).collect(),
+        };
+        let control_quads = quads.iter().map(|q| q.map(|v| local[v])).collect();
+        let site = control_coordinates(&self.quads, self.vertex_count(), levels);
+        let at_rest = self.embedded_positions(rest);
+        self.follow = Some(Box::new(Follow::new(
+            (control, rows),
+            (control_quads, site),
+            (&at_rest, rest),
+        )));
+    }
+
     /// Display vertex positions for node positions `nodes`.
     pub fn positions(&self, nodes: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+        match &self.follow {
+            Some(follow) => follow.positions(nodes),
+            None => self.embedded_positions(nodes),
+        }
+    }
+
+    /// Display vertex positions for node positions `nodes`, each by its own embedding
+    /// ([`Self::terms`]).
+    pub(super) fn embedded_positions(&self, nodes: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
         (0..self.vertex_count())
             .map(|v| {
                 let (a, b) = (self.offsets[v] as usize, self.offsets[v + 1] as usize);
