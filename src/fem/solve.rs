@@ -244,17 +244,7 @@ impl PartitionedSolver {
             .saturating_add(
                 (scratch_bytes as u64).saturating_sub(8 * self.scratch.capacity() as u64),
             );
-        if let Some((available, limit)) = super::memory::budget() {
-            if needed > available {
-                return Err(SolveError::TooBig {
-                    needed,
-                    available,
-                    limit,
-                    equations: neq,
-                    entries,
-                });
-            }
-        }
+        within_budget(needed, neq, entries)?;
         if self.factor.len() < entries {
             // The factor's values are no longer those of any matrix.
             self.factored.clear();
@@ -351,17 +341,7 @@ impl PartitionedSolver {
             .saturating_add(analysis.gather.len() as u64)
             .saturating_mul(8)
             .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64));
-        if let Some((available, limit)) = super::memory::budget() {
-            if needed > available {
-                return Err(SolveError::TooBig {
-                    needed,
-                    available,
-                    limit,
-                    equations: neq,
-                    entries,
-                });
-            }
-        }
+        within_budget(needed, neq, entries)?;
 
         let t = Instant::now();
         let k11_values: Vec<f64> = analysis.gather.iter().map(|&i| k.values[i]).collect();
@@ -459,6 +439,23 @@ impl PartitionedSolver {
             stats,
         })
     }
+}
+
+/// A factorization of `equations` equations and `entries` factor entries that needs `needed`
+/// more bytes, refused where the memory budget does not leave them.
+fn within_budget(needed: u64, equations: usize, entries: usize) -> Result<(), SolveError> {
+    if let Some((available, limit)) = super::memory::budget() {
+        if needed > available {
+            return Err(SolveError::TooBig {
+                needed,
+                available,
+                limit,
+                equations,
+                entries,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Right-hand sides from which a substitution with the factor runs in parallel.

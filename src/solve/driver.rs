@@ -820,20 +820,7 @@ fn flex_hand(
     target: &[f64],
     (far, region_at): Parts<'_>,
 ) -> Result<(HandState, KeyframeStats), SimError> {
-    let body = &model.bodies[b];
-    let hand = body.hand.as_deref().expect("a hand body");
-    let kept = match caches.iter().position(|(cb, _)| *cb == b) {
-        Some(i) => caches.swap_remove(i).1,
-        None => FlexionCaches::new(model.ordering),
-    };
-    let mut stepper = Flexion::new(
-        hand,
-        &body.name,
-        model.cell_materials[body.cells.clone()].to_vec(),
-        model.flexion.clone(),
-        model.ordering,
-    )
-    .with_caches(kept);
+    let mut stepper = hand_stepper(model, caches, b);
     if let Some(cancel) = cancel {
         stepper = stepper.with_cancel(cancel.clone());
     }
@@ -842,6 +829,29 @@ fn flex_hand(
     let result = stepper.move_to(&mut state, target);
     caches.push((b, stepper.into_caches()));
     result.map(|stats| (state, stats))
+}
+
+/// The flexion stepper of hand body `b`, with its caches taken out of `caches` (or new ones):
+/// put them back with [`Flexion::into_caches`].
+pub(super) fn hand_stepper<'m>(
+    model: &'m Model,
+    caches: &mut Vec<(usize, FlexionCaches)>,
+    b: usize,
+) -> Flexion<'m> {
+    let body = &model.bodies[b];
+    let hand = body.hand.as_deref().expect("a hand body");
+    let kept = match caches.iter().position(|(cb, _)| *cb == b) {
+        Some(i) => caches.swap_remove(i).1,
+        None => FlexionCaches::new(model.ordering),
+    };
+    Flexion::new(
+        hand,
+        &body.name,
+        model.cell_materials[body.cells.clone()].to_vec(),
+        model.flexion.clone(),
+        model.ordering,
+    )
+    .with_caches(kept)
 }
 
 /// The relaxation factor of the next correction at the pose by Aitken's Δ² on vectors (Irons

@@ -8,8 +8,8 @@
 //! Nothing here changes a result: the keyframes after it solve the same equations in the same
 //! elimination order.
 
-use super::driver::{Posed, Workspace};
-use super::flexion::{CancelCheck, Flexion, FlexionCaches};
+use super::driver::{hand_stepper, Posed, Workspace};
+use super::flexion::CancelCheck;
 use super::SimError;
 use crate::model::Model;
 
@@ -27,22 +27,10 @@ impl Workspace {
             if cancel.is_some_and(|c| c()) {
                 return Ok(());
             }
-            let body = &model.bodies[hand.body];
-            let Some(model_hand) = body.hand.as_deref() else {
+            if model.bodies[hand.body].hand.is_none() {
                 continue;
-            };
-            let kept = match self.caches.iter().position(|(b, _)| *b == hand.body) {
-                Some(i) => self.caches.swap_remove(i).1,
-                None => FlexionCaches::new(model.ordering),
-            };
-            let mut stepper = Flexion::new(
-                model_hand,
-                &body.name,
-                model.cell_materials[body.cells.clone()].to_vec(),
-                model.flexion.clone(),
-                model.ordering,
-            )
-            .with_caches(kept);
+            }
+            let mut stepper = hand_stepper(model, &mut self.caches, hand.body);
             let prepared = stepper.prepare(&hand.state);
             self.caches.push((hand.body, stepper.into_caches()));
             prepared?;
