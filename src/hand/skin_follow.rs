@@ -51,8 +51,9 @@ pub(super) struct Follow {
     /// The contact skin's vertices (the control net's, in the order the subdivision numbers
     /// them) over the flesh nodes.
     control: Combinations,
-    /// Each display vertex's subdivision weights over the contact skin's vertices.
-    rows: Combinations,
+    /// Each subdivision level's vertices over the level before's (the first over the contact
+    /// skin's vertices, the last giving the display vertices).
+    levels: Vec<Combinations>,
     /// The control net's quads, over the contact skin's vertices.
     control_quads: Vec<[u32; 4]>,
     /// Where each display vertex's frame is taken: its control quad and bilinear coordinates
@@ -67,10 +68,10 @@ pub(super) struct Follow {
 impl Follow {
     /// The display skin (its vertices `at_rest` with the flesh nodes at rest `rest`, each
     /// at `site` on a quad of `control_quads`) following the contact skin `control`, each
-    /// display vertex the combination `rows` of the contact skin's vertices plus its offset from
+    /// display vertex the contact skin's vertices subdivided by `levels` plus its offset from
     /// that at rest.
     pub(super) fn new(
-        (control, rows): (Combinations, Combinations),
+        (control, levels): (Combinations, Vec<Combinations>),
         (control_quads, site): (Vec<[u32; 4]>, Sites),
         (at_rest, rest): (&[Vector3<f64>], &[Vector3<f64>]),
     ) -> Follow {
@@ -78,12 +79,12 @@ impl Follow {
         let site = frame_sites(&control_quads, site, &points);
         let mut follow = Follow {
             control,
-            rows,
+            levels,
             control_quads,
             site,
             offset: Vec::new(),
         };
-        let base = follow.rows.at(&points);
+        let base = follow.subdivided(&points);
         let frames = follow.frames(&points);
         follow.offset = at_rest
             .iter()
@@ -92,6 +93,13 @@ impl Follow {
             .map(|((p, b), f)| f.transpose() * (p - b))
             .collect();
         follow
+    }
+
+    /// The display vertices' subdivided positions from the contact skin's vertices at `points`.
+    fn subdivided(&self, points: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+        self.levels
+            .iter()
+            .fold(points.to_vec(), |coarser, level| level.at(&coarser))
     }
 
     /// Each display vertex's frame ([`frame_at`] its frame site) with the contact skin's
@@ -109,7 +117,7 @@ impl Follow {
     /// The display skin's vertices at flesh node positions `nodes`.
     pub(super) fn positions(&self, nodes: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
         let points = self.control.at(nodes);
-        let base = self.rows.at(&points);
+        let base = self.subdivided(&points);
         let frames = self.frames(&points);
         base.iter()
             .zip(&frames)
