@@ -1,18 +1,18 @@
 //! The display skin moved by the contact skin: each display vertex is the Catmull–Clark
 //! subdivision of the contact skin's vertices (the control net the display skin was subdivided
 //! from, each vertex where its cell puts it) plus its rest offset from that subdivision, turned
-//! with the subdivided surface's frame there.
+//! with its control quad's frame at its site.
 //!
 //! Why: the contact holds the contact skin's vertices out of every object (issue 15, item 5); a
 //! display vertex embedded in its own flesh cell follows that cell's trilinear field, which
 //! under a hard press (a ball 100 times stiffer than rubber squeezing the pad's cells by 10 mm)
 //! extrapolates far from the held points — the display skin went 1.43 mm into such a ball
-//! between contact points held to 10⁻⁸ m. The subdivision weights are positive and sum to one, so the display skin
-//! lies on a smooth surface through what the contact holds: 0.49 mm into that ball; on the
-//! default scene's presets 0.29 mm (Pinch, from 0.57) and 0.47 mm (Power grasp, from 0.50) into
-//! the rubber ball (measured 2026-12-02; what is left is the display skin lying outward of the
-//! contact skin's points, docs/hand.md). At rest the display skin is where it was, to
-//! round-off, and it moves rigidly with the flesh (tests/hand.rs).
+//! between contact points held to 10⁻⁸ m. The subdivision weights are positive and sum to one,
+//! so the display skin lies on a smooth surface through what the contact holds: 0.49 mm into
+//! that ball; on the default scene's presets 0.29 mm (Pinch, from 0.57) and 0.47 mm (Power
+//! grasp, from 0.50) into the rubber ball (measured 2026-12-02; what is left is the display
+//! skin lying outward of the contact skin's points, docs/hand.md). At rest the display skin is
+//! where it was, to round-off, and it moves rigidly with the flesh (tests/hand.rs).
 
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
