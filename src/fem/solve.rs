@@ -239,12 +239,11 @@ impl PartitionedSolver {
             .cholesky
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .unaligned_bytes_required();
-        let needed = (entries.saturating_sub(self.factor.capacity()) as u64)
-            .saturating_mul(8)
-            .saturating_add(
-                (scratch_bytes as u64).saturating_sub(8 * self.scratch.capacity() as u64),
-            );
-        within_budget(needed, neq, entries)?;
+        within_budget(
+            self.bytes_beyond_held(entries, 0, scratch_bytes as u64),
+            neq,
+            entries,
+        )?;
         if self.factor.len() < entries {
             // The factor's values are no longer those of any matrix.
             self.factored.clear();
@@ -254,6 +253,15 @@ impl PartitionedSolver {
             word.write(0);
         }
         Ok(())
+    }
+
+    /// Bytes a factorization takes beyond the buffers held: its factor's `entries`, `values`
+    /// more (K11's, gathered), and `scratch_bytes` of scratch.
+    fn bytes_beyond_held(&self, entries: usize, values: usize, scratch_bytes: u64) -> u64 {
+        (entries.saturating_sub(self.factor.capacity()) as u64)
+            .saturating_add(values as u64)
+            .saturating_mul(8)
+            .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64))
     }
 
     /// Solves K·U = R with the dofs marked in `partition` held at `prescribed_values`
@@ -337,10 +345,7 @@ impl PartitionedSolver {
                 Default::default(),
             )
             .unaligned_bytes_required() as u64;
-        let needed = (entries.saturating_sub(self.factor.capacity()) as u64)
-            .saturating_add(analysis.gather.len() as u64)
-            .saturating_mul(8)
-            .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64));
+        let needed = self.bytes_beyond_held(entries, analysis.gather.len(), scratch_bytes);
         within_budget(needed, neq, entries)?;
 
         let t = Instant::now();

@@ -231,7 +231,6 @@ impl<'a> Flexion<'a> {
             return Ok(());
         };
         let positions: Vec<Vector3<f64>> = sub.nodes.iter().map(|&n| state.positions[n]).collect();
-        self.caches.solver.set_node_ids(sub.nodes.clone());
         self.caches
             .solver
             .reserve_for(&sub.pattern, &sub.partition, &positions)
