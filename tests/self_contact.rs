@@ -87,6 +87,20 @@ fn digit_of_vertex(hand: &HandModel, v: usize) -> usize {
     hand.skeleton.bones[bone].digit.map_or(0, |d| d + 1)
 }
 
+/// The force the ring finger's bones feel (N): the press of the middle finger's skin on the
+/// ring's, carried by the ring's flesh to its bones, which do not move. (Not the contact's
+/// summed multipliers: skin on skin is held both ways — the middle's points on the ring's facets
+/// and the ring's on the middle's — and one press may be shared between the two rows in any
+/// proportion.)
+fn ring_press(hand: &HandModel, state: &HandState) -> f64 {
+    let r = state.bone_reactions(hand);
+    let ring: Vector3<f64> = (0..hand.skeleton.bones.len())
+        .filter(|&b| hand.skeleton.bones[b].name.starts_with("ring."))
+        .map(|b| r[b])
+        .sum();
+    ring.norm()
+}
+
 /// How deep the middle finger's skin went into the ring finger: the largest distance from the
 /// ring's skin of a middle skin vertex inside it (generalised winding number of the ring's open
 /// skin tube > ½), mm.
@@ -135,13 +149,7 @@ fn the_middle_finger_presses_on_the_ring_finger_and_does_not_enter_it() {
     let hand = hand();
     let (free, free_stats) = adducted(hand, -5.0, false, true);
     let (held, stats) = adducted(hand, -5.0, true, true);
-    let ring_bones: Vec<usize> = (0..hand.skeleton.bones.len())
-        .filter(|&b| hand.skeleton.bones[b].name.starts_with("ring."))
-        .collect();
-    let ring_reaction = |s: &HandState| -> Vector3<f64> {
-        let r = s.bone_reactions(hand);
-        ring_bones.iter().map(|&b| r[b]).sum()
-    };
+    let ring_reaction = |s: &HandState| ring_press(hand, s);
     let free_depth = middle_inside_ring_mm(hand, &free);
     // (The skin's crossings beyond 3 lattice spacings, for the record.)
     let apart = 3.0 * hand.flesh.spacing;
@@ -156,10 +164,10 @@ fn the_middle_finger_presses_on_the_ring_finger_and_does_not_enter_it() {
         "without self-contact: middle {free_depth:.3} mm inside the ring, ring bones {:.4} N; \
          with: {held_depth:.3} mm, {} contacts, {:.4} N, ring bones {:.4} N, Σ bones {:.2e} N; \
          {} / {} factorizations",
-        ring_reaction(&free).norm(),
+        ring_reaction(&free),
         stats.self_contacts,
         stats.self_contact_force,
-        ring_reaction(&held).norm(),
+        ring_reaction(&held),
         total.norm(),
         free_stats.factorizations,
         stats.factorizations,
@@ -172,11 +180,11 @@ fn the_middle_finger_presses_on_the_ring_finger_and_does_not_enter_it() {
     assert!(stats.self_contacts > 0 && stats.self_contact_force > 0.1);
     // The press reaches the ring's bones, which do not move: the ring's flesh carries it to them.
     // (Without the contact they feel only what the palm's flesh passes on.)
-    let press = ring_reaction(&held).norm();
+    let press = ring_reaction(&held);
     assert!(
-        press > 0.5 * stats.self_contact_force && press > 10.0 * ring_reaction(&free).norm(),
-        "ring bones {press} N for a press of {} N",
-        stats.self_contact_force
+        press > 1.0 && press > 100.0 * ring_reaction(&free),
+        "ring bones {press} N (without self-contact {} N)",
+        ring_reaction(&free)
     );
     // Action and reaction: the contact forces are internal, the bones balance.
     assert!(
@@ -318,13 +326,11 @@ fn the_left_hand_presses_as_the_right_one() {
         left_stats.self_contacts,
         left_stats.self_contact_force
     );
-    let (r, l) = (
-        right_stats.self_contact_force,
-        left_stats.self_contact_force,
-    );
+    let (r, l) = (ring_press(hand(), &right), ring_press(left_hand(), &left));
+    eprintln!("ring bones: right {r:.4} N, left {l:.4} N");
     assert!(
-        r > 0.1 && (l - r).abs() < 0.02 * r,
-        "left {l} N, right {r} N"
+        r > 1.0 && (l - r).abs() < 0.05 * r,
+        "ring bones: left {l} N, right {r} N"
     );
     assert!(depth < 0.5, "left middle {depth} mm inside the ring");
     // The two hands mirror each other: the right hand's middle fingertip lies across the
@@ -357,7 +363,7 @@ fn the_left_hand_presses_as_the_right_one() {
 fn the_local_region_grows_around_the_skin_meeting_itself() {
     let hand = hand();
     let (local, local_stats) = adducted(hand, -5.0, true, false);
-    let (_, whole_stats) = adducted(hand, -5.0, true, true);
+    let (whole, whole_stats) = adducted(hand, -5.0, true, true);
     let (deep, deep_stats) = adducted(hand, -8.0, true, false);
     let (free, _) = adducted(hand, -8.0, false, false);
     let depth = |s: &HandState| middle_inside_ring_mm(hand, s);
@@ -374,16 +380,17 @@ fn the_local_region_grows_around_the_skin_meeting_itself() {
         depth(&deep),
         depth(&free)
     );
-    let (l, w) = (
-        local_stats.self_contact_force,
-        whole_stats.self_contact_force,
+    let (l, w) = (ring_press(hand, &local), ring_press(hand, &whole));
+    eprintln!(
+        "ring bones: local {l:.4} N, whole {w:.4} N, −8° {:.4} N",
+        ring_press(hand, &deep)
     );
     assert!(local_stats.free_dofs < whole_stats.free_dofs / 2);
     assert!((l - w).abs() < 0.03 * w, "local {l} N, whole {w} N");
     assert!(depth(&local) < 0.5 && depth(&deep) < 0.5);
     assert!(depth(&free) > 1.0);
     // Pressed further, harder.
-    assert!(deep_stats.self_contact_force > 2.0 * l);
+    assert!(ring_press(hand, &deep) > 2.0 * l);
 }
 
 /// The full fist's joints, each scaled by `scale` (and `little.pip` set to `little_pip` if
@@ -447,12 +454,15 @@ fn short_of_the_share_is_reached(error: &str, little_pip: Option<f64>) {
     );
 }
 
-/// The user's path when self-contact cannot settle: a scene asking for it on the full fist
-/// stops with an error that says where (the joint and its angle, the share of the motion) and
-/// what to do; doing either thing it says solves the scene: the keyframe short of that share,
-/// or `self_contact = false`.
+/// The user's path when the full fist cannot close with self-contact: along the straight path
+/// of its joint angles from rest, the thumb's distal phalanx passes through the index finger's
+/// (their bones' nearest nodes 0.3 mm apart at 70 % of the way, `prehensile bench
+/// self-contact` notes it), so with the skin kept out of itself the thumb's pad is crushed between
+/// them. A scene asking for it stops with an error that says where (the element, the joint and
+/// its angle, the share of the motion) and what to do; doing either thing it says solves the
+/// scene: the keyframe short of that share, or `self_contact = false`.
 #[test]
-fn an_unsettled_self_contact_says_where_and_its_advice_works() {
+fn the_full_fist_with_self_contact_says_where_it_stops_and_its_advice_works() {
     let error = match solve_fist(&fist_scene(true, &fist_pose(1.0, None))) {
         Ok(_) => panic!("the full fist with self-contact was expected to stop"),
         Err(e) => e,
@@ -462,21 +472,13 @@ fn an_unsettled_self_contact_says_where_and_its_advice_works() {
         error.contains("fist.toml") && error.contains("body \"hand\""),
         "{error}"
     );
-    assert!(error.contains("self-contact did not settle as little.pip reaches"));
-    assert!(error.contains("self_contact = false"));
-    // (Not the advice for contact between bodies, which does not help here.)
-    assert!(!error.contains("contact_max_iterations"), "{error}");
-    // The share is the failing joint's angle along its motion (0 → 105°).
-    let reached: f64 = error
-        .split("little.pip reaches ")
-        .nth(1)
-        .and_then(|t| t.split('°').next())
-        .and_then(|t| t.parse().ok())
-        .unwrap();
     assert!(
-        (failed_share(&error) - reached / 105.0).abs() < 1e-3,
+        error.contains("flesh element") && error.contains("crushed"),
         "{error}"
     );
+    assert!(error.contains("self_contact = false"), "{error}");
+    // (Not the advice for contact between bodies, which does not help here.)
+    assert!(!error.contains("contact_max_iterations"), "{error}");
     short_of_the_share_is_reached(&error, None);
     let solved =
         solve_fist(&fist_scene(false, &fist_pose(1.0, None))).unwrap_or_else(|e| panic!("{e}"));
@@ -558,4 +560,81 @@ fn flesh_crushed_says_where_and_stopping_short_works() {
     );
     assert!(error.contains("self_contact = false"), "{error}");
     short_of_the_share_is_reached(&error, Some(45.0));
+}
+
+/// The four fingers closed into a fist with the skin kept out of itself (issue 16): index,
+/// middle and ring at MCP 88°, PIP 105°, DIP 70°; the little finger at MCP 88°, PIP 95°, DIP 60°
+/// (at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its metacarpal's, through
+/// the pulp and the palm's flesh; at 95° / 60°, 11.2 mm). Before the self-contact followed each
+/// skin point's path over an increment (continuous collision, 2026-12-02) this stopped at
+/// little PIP 50.7° ("the skin's self-contact did not settle"). Asserted: it closes; the fingers
+/// press on each other and on the palm; the skin inside its own flesh beyond its own
+/// neighbourhood is at most a third of what it is without (584 → 155 measured); the flesh keeps
+/// its volume to 1.5 %; the bones balance (the contact is internal to the hand).
+#[test]
+fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
+    let hand = hand();
+    let mut pose: Vec<(String, f64)> = Vec::new();
+    for finger in ["index", "middle", "ring", "little"] {
+        let (pip, dip) = if finger == "little" {
+            (95.0, 60.0)
+        } else {
+            (105.0, 70.0)
+        };
+        pose.push((format!("{finger}.mcp.flex"), 88.0));
+        pose.push((format!("{finger}.pip"), pip));
+        pose.push((format!("{finger}.dip"), dip));
+    }
+    let close = |self_contact: bool| {
+        let mut stepper = Flexion::new(
+            hand,
+            "hand",
+            vec![FLESH; hand.flesh.mesh.cells.len()],
+            FlexionSettings {
+                self_contact: self_contact.then(ContactSettings::default),
+                ..Default::default()
+            },
+            FillOrdering::Auto,
+        );
+        let mut state = HandState::rest(hand);
+        let target = hand
+            .skeleton
+            .apply_pose(&state.angles, &pose.iter().cloned().collect())
+            .unwrap();
+        let stats = stepper
+            .move_to(&mut state, &target)
+            .unwrap_or_else(|e| panic!("self-contact {self_contact}: {e}"));
+        assert_eq!(state.angles, target);
+        (state, stats)
+    };
+    let (free, _) = close(false);
+    let (held, stats) = close(true);
+    let check = prehensile::model::SkinOverlapCheck::new(hand);
+    let (inside_free, inside_held) = (
+        check.overlap(hand, &free.positions).len(),
+        check.overlap(hand, &held.positions).len(),
+    );
+    let v0 = HandState::rest(hand).flesh_volume(hand);
+    let volume = held.flesh_volume(hand) / v0 - 1.0;
+    let reactions = held.bone_reactions(hand);
+    let total: Vector3<f64> = reactions.iter().sum();
+    let largest = reactions.iter().map(|r| r.norm()).fold(0.0, f64::max);
+    eprintln!(
+        "skin inside its own flesh {inside_free} → {inside_held}; {} points, {:.3} N; \
+         {} increments, {} halvings; volume {:+.3} %; largest bone reaction {largest:.3} N, \
+         Σ {:.2e} N",
+        stats.self_contacts,
+        stats.self_contact_force,
+        stats.increments_taken,
+        stats.halvings,
+        100.0 * volume,
+        total.norm()
+    );
+    assert!(stats.self_contacts > 50 && stats.self_contact_force > 1.0);
+    assert!(
+        inside_free > 300 && 3 * inside_held <= inside_free,
+        "{inside_free} → {inside_held}"
+    );
+    assert!(volume.abs() < 0.015, "flesh volume {volume:+.2e}");
+    assert!(total.norm() < 1e-7 * largest, "Σ bone reactions {total}");
 }

@@ -40,7 +40,23 @@ fn motions() -> Vec<(&'static str, Pose, f64)> {
             1.0,
         ),
         ("full fist", full_fist(), 10.0),
+        (
+            "four fingers' fist (little PIP 95°, DIP 60°)",
+            four_finger_fist(),
+            10.0,
+        ),
     ]
+}
+
+/// The four fingers closed (MCP 88°, PIP 105°, DIP 70°), the thumb at rest; the little finger
+/// at PIP 95°, DIP 60°: at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its
+/// metacarpal's, through its pulp and the palm's flesh (11.2 mm at 95° / 60°).
+fn four_finger_fist() -> Pose {
+    let mut pose = full_fist();
+    pose.retain(|joint, _| !joint.starts_with("thumb"));
+    pose.insert("little.pip".into(), 95.0);
+    pose.insert("little.dip".into(), 60.0);
+    pose
 }
 
 /// Runs every motion at every resolution, without and with self-contact.

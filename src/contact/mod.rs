@@ -21,6 +21,7 @@ mod quasi_newton;
 mod row;
 mod self_contact;
 mod surface;
+mod swept;
 mod winding;
 
 pub use along_surface::SurfaceEdges;
@@ -39,4 +40,5 @@ pub use pressure::nodal_pressure;
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};
+pub use swept::passes_through;
 pub use winding::{vertices_inside_itself, winding_number_of, WindingTree};

@@ -228,7 +228,10 @@ impl ContactProblem<'_> {
                             let (start, now) =
                                 (t.map(|m| self.positions[m]), t.map(|m| current[m]));
                             o.excludes(node, t)
-                                || own.is_none_or(|m| !o.meets((&current[node], m), &start, &now))
+                                || own.is_none_or(|m| {
+                                    let path = (&self.positions[node], &current[node], m);
+                                    !o.met_over_step((node, t), path, &start, &now)
+                                })
                         })
                 };
                 // The facet the node is pushed out of, among those `skip` leaves, if it is behind

@@ -3,26 +3,28 @@
 //! second and first phalanges", the paper's finger flexing), fingertip against palm, finger
 //! against finger.
 //!
-//! A point of a surface may meet a facet of the same surface unless, on the rest geometry,
+//! A point of a surface never meets the facets of its own neighbourhood: those with a corner
+//! within `radius` of it along the surface at rest (geodesic distance over the surface's edges),
+//! which the flesh between them keeps in place (a point always lies on its neighbouring facets,
+//! and on a curved skin slightly behind or in front of them). Along the surface, not straight:
+//! two fingers side by side are near each other, but far apart over the web between them, and
+//! may meet.
 //!
-//! - a corner of the facet is within `radius` of the point along the surface (geodesic distance
-//!   over the surface's edges): its own neighbourhood, which the flesh between them keeps in
-//!   place (a point always lies on its neighbouring facets, and on a curved skin slightly behind
-//!   or in front of them). Along the surface, not straight: two fingers side by side are near
-//!   each other, but far apart over the web between them, and may meet; or
-//! - the point lies behind the facet (on its inner side) nearer than `reach`, by more than
-//!   `behind` or at all where it lies over the facet (see below): the same piece of flesh seen
-//!   from its other side (the far side of a finger, the nail behind the pulp), which the point
-//!   can only reach through the flesh. Skin that lies
-//!   about in the facet's plane at rest (the two sides of a crease, along the finger) may meet
-//!   it; a point far away (the fingertip, seen from the palm) too, whichever side of the
-//!   facet's plane it lies.
+//! Beyond it, over a step, a point meets a facet it **passed through** — its straight path
+//! against the facet's corners' straight paths went from the facet's front to its back
+//! ([`super::passes_through`], continuous collision) — or one it **lay on** where the step
+//! started (facing it, over it, behind its plane by no more than the contact's penetration
+//! limit: held there by the step before). Skin that lies behind the plane of a facet across the
+//! air of a fold (the two sides of a crease, a fingertip beside the palm) has passed through
+//! nothing and is not held; skin that went through another side is held, however the two faced
+//! where the step started. Nothing needs guessing from the normals: the far side of a finger is
+//! never passed through from the front unless its flesh is crushed through.
 //!
-//! and, on the current geometry, a point meets only a facet that faces it — the facet's normal
-//! and the point's own more than [`OPPOSED`] apart, as skin meeting skin is — and that it lies
-//! over: its nearest point on the facet (nearly) the foot of its normal. On a convex finger every
-//! skin point lies behind the plane of the skin around the finger from it, and beside the skin
-//! farther along: neither is a contact.
+//! (Until 2026-12-02 a point met the nearest facet it lay behind whose normal opposed its own by
+//! more than 105° where the step started, [`OPPOSED`]; that guess missed skin already through a
+//! facet that faced it at 104° and held skin behind facets it had never crossed — the full fist
+//! stopped at little PIP 50.7°. It remains the prediction of where the skin will meet itself
+//! over a keyframe by skinning alone, [`OwnNeighbourhood::meets`], where there is no path.)
 //!
 //! Everything else — skin that was apart, or side by side, at rest — is an ordinary pair of the
 //! contact problem ([`super::SurfacePair`] with its slaves on the surface they meet), solved by
@@ -30,6 +32,7 @@
 
 use super::along_surface::SurfaceEdges;
 use super::surface::{project_on_triangle, Projection};
+use super::swept::passes_through;
 use nalgebra::Vector3;
 
 /// The skin's normals at a point and at a facet it may meet are at least this far from
@@ -53,21 +56,27 @@ pub struct OwnNeighbourhood {
     behind: f64,
     /// See `behind`, m.
     reach: f64,
+    /// A point behind a facet's plane by no more than this where a step started, facing it and
+    /// over it, lay on it (held there by the step before), m.
+    touching: f64,
 }
 
 impl OwnNeighbourhood {
     /// The neighbourhoods on the surface `triangles` (contact indices) at the rest positions
-    /// `rest` (one per contact index): points within `radius` along the surface, and points
-    /// behind a facet by more than `behind` within `reach` (m).
+    /// `rest` (one per contact index): points within `radius` along the surface; for the
+    /// prediction by skinning, points behind a facet by more than `behind` within `reach`; a
+    /// point touched a facet where a step started if it lay behind it by no more than
+    /// `touching` (m).
     pub fn new(
         rest: Vec<Vector3<f64>>,
         triangles: &[[usize; 3]],
         radius: f64,
         (behind, reach): (f64, f64),
+        touching: f64,
     ) -> Self {
         assert!(
-            radius >= 0.0 && behind >= 0.0 && reach >= 0.0,
-            "a neighbourhood's radius, behind and reach are ≥ 0"
+            radius >= 0.0 && behind >= 0.0 && reach >= 0.0 && touching >= 0.0,
+            "a neighbourhood's radius, behind, reach and touching are ≥ 0"
         );
         let near = geodesic_neighbourhoods(&rest, triangles, radius);
         OwnNeighbourhood {
@@ -76,6 +85,7 @@ impl OwnNeighbourhood {
             near,
             behind,
             reach,
+            touching,
         }
     }
 
@@ -112,21 +122,60 @@ impl OwnNeighbourhood {
         }
     }
 
-    /// Whether `point` may not meet the facet with corners `facet` (contact indices).
+    /// Whether the point `point` moving from `from` to `to` over a step (its outward normal
+    /// where the step started: `normal`) meets the facet `facet` (contact indices) whose
+    /// corners moved from `start` to `now`: it passed through the facet, or lay on it where the
+    /// step started but not already at rest (skin that merely touches at rest, as where the
+    /// digits' skins meet at the webs, does not lock; see the module's text). Its own
+    /// neighbourhood is [`Self::excludes`]'s.
+    pub fn met_over_step(
+        &self,
+        (point, facet): (usize, &[usize; 3]),
+        (from, to, normal): (&Vector3<f64>, &Vector3<f64>, &Vector3<f64>),
+        start: &[Vector3<f64>; 3],
+        now: &[Vector3<f64>; 3],
+    ) -> bool {
+        if passes_through([from, to], start, now).is_some() {
+            return true;
+        }
+        self.lay_on(from, normal, start) && {
+            let at_rest = project_on_triangle(&self.rest[point], &facet.map(|c| self.rest[c]));
+            !at_rest.is_some_and(|q| q.gap.abs() <= self.touching && self.over(&q))
+        }
+    }
+
+    /// Whether the point at `point` (outward normal `normal`) lay on the facet `corners`:
+    /// facing it, behind its plane by no more than `touching`, and over it (as
+    /// [`Self::over`]: a point held on a facet may have slid a little past its edge).
+    fn lay_on(
+        &self,
+        point: &Vector3<f64>,
+        normal: &Vector3<f64>,
+        corners: &[Vector3<f64>; 3],
+    ) -> bool {
+        let Some(q) = project_on_triangle(point, corners) else {
+            return false;
+        };
+        q.normal.dot(normal) < OPPOSED && q.gap <= 0.0 && q.gap >= -self.touching && self.over(&q)
+    }
+
+    /// Whether the facet with corners `facet` (contact indices) is `point`'s own: one of its
+    /// facets, or a facet with a corner in its neighbourhood along the surface.
     pub fn excludes(&self, point: usize, facet: &[usize; 3]) -> bool {
-        let p = self.rest[point];
         if facet.contains(&point) {
             return true;
         }
         let near = &self.near[point];
-        if facet.iter().any(|c| near.binary_search(c).is_ok()) {
-            return true;
-        }
+        facet.iter().any(|c| near.binary_search(c).is_ok())
+    }
+
+    /// Whether `point` lies behind the facet `facet` at rest within reach — by more than
+    /// `behind`, or at all where it lies over it: the far side of the same flesh, which a
+    /// prediction without a path (skinning from rest to a keyframe's end) must not take for
+    /// skin meeting skin (at rest nothing is in contact).
+    pub fn behind_at_rest(&self, point: usize, facet: &[usize; 3]) -> bool {
         let corners = facet.map(|c| self.rest[c]);
-        match project_on_triangle(&p, &corners) {
-            // Behind the facet at rest, within reach — by more than `behind`, or at all where
-            // the point lies over it: the far side of the same flesh (at rest nothing is in
-            // contact).
+        match project_on_triangle(&self.rest[point], &corners) {
             Some(q) => {
                 q.distance < self.reach && (q.gap < -self.behind || (self.over(&q) && q.gap < 0.0))
             }
@@ -193,7 +242,7 @@ mod tests {
         let above = strip(&mut rest, 2.0, false);
         let under = strip(&mut rest, -4.0, false);
         let triangles: Vec<[usize; 3]> = [&top[..], &above[..], &under[..]].concat();
-        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.01));
+        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.01), 0.0);
         let point = 0; // (0, 0, 0) on the top strip
                        // Its own facets and those within 2.5 mm along the skin.
         assert!(n.excludes(point, &top[0]));
@@ -203,17 +252,20 @@ mod tests {
         assert!(!n.excludes(point, &top[16]));
         // The strip above: 2 mm away in space, far along the skin, in front: may meet it.
         assert!(!n.excludes(point, &above[0]));
-        // The underside, 4 mm behind, within reach: the far side of the same flesh.
-        assert!(n.excludes(point, &under[0]));
-        let short = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.003));
-        assert!(!short.excludes(point, &under[0]));
+        // The underside, 4 mm behind, within reach: not its neighbourhood along the skin, but
+        // the far side of the same flesh at rest.
+        assert!(!n.excludes(point, &under[0]));
+        assert!(n.behind_at_rest(point, &under[0]));
+        assert!(!n.behind_at_rest(point, &above[0]));
+        let short = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.003), 0.0);
+        assert!(!short.behind_at_rest(point, &under[0]));
         // Deeper behind than `behind` only: a point 0.5 mm below the top's plane, far along it.
         let mut sunk = rest.clone();
         sunk[point].z = -0.0005;
-        let strict = OwnNeighbourhood::new(sunk.clone(), &triangles, 0.0025, (0.0004, 0.04));
-        assert!(strict.excludes(point, &top[16]));
-        let lenient = OwnNeighbourhood::new(sunk, &triangles, 0.0025, (0.001, 0.04));
-        assert!(!lenient.excludes(point, &top[16]));
+        let strict = OwnNeighbourhood::new(sunk.clone(), &triangles, 0.0025, (0.0004, 0.04), 0.0);
+        assert!(strict.behind_at_rest(point, &top[16]));
+        let lenient = OwnNeighbourhood::new(sunk, &triangles, 0.0025, (0.001, 0.04), 0.0);
+        assert!(!lenient.behind_at_rest(point, &top[16]));
     }
 
     /// A skin split along a seam (its vertices duplicated, as where the lattice splits a node
@@ -231,7 +283,7 @@ mod tests {
         }
         right.retain(|t| t.iter().all(|&v| v >= 22));
         let triangles: Vec<[usize; 3]> = [&left[..], &right[..]].concat();
-        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.01));
+        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.0025, (0.001, 0.01), 0.0);
         // Vertex 20 is (10, 0, 0) on the first strip; the second strip's first facets touch it.
         assert!(n.excludes(20, &right[0]));
         assert!(n.excludes(18, &right[0]));
@@ -250,6 +302,7 @@ mod tests {
             &[&top[..], &above[..]].concat(),
             0.004,
             (0.001, 0.01),
+            0.0,
         );
         let corners = |t: [usize; 3]| t.map(|c| rest[c]);
         let up = Vector3::z();
@@ -263,5 +316,59 @@ mod tests {
         // A point 5 mm past the facet (deeper than the radius) is not skin that met skin.
         let deep = Vector3::new(0.7e-3, 0.2e-3, 7.0e-3);
         assert!(!n.meets((&deep, &up), &corners(above[0]), &corners(above[0])));
+    }
+
+    /// Over a step: a point meets a facet of its own skin it passed through (whatever the
+    /// facing where the step started), or one it lay on; not one it lies behind across the air
+    /// of a fold without having passed through it.
+    #[test]
+    fn over_a_step_a_point_meets_what_it_passed_through_or_lay_on() {
+        let mut rest = Vec::new();
+        let top = strip(&mut rest, 0.0, true);
+        let above = strip(&mut rest, 2.0, false);
+        let n = OwnNeighbourhood::new(
+            rest.clone(),
+            &[&top[..], &above[..]].concat(),
+            0.004,
+            (0.001, 0.01),
+            1e-4,
+        );
+        let corners = |t: [usize; 3]| t.map(|c| rest[c]);
+        let up = Vector3::z();
+        let facet = corners(above[0]);
+        // From 0.2 mm below the strip above to 0.3 mm into it: passed through.
+        let from = Vector3::new(0.7e-3, 0.2e-3, 1.8e-3);
+        let to = Vector3::new(0.7e-3, 0.2e-3, 2.3e-3);
+        assert!(n.met_over_step((0, &above[0]), (&from, &to, &up), &facet, &facet));
+        // The same path with the point's normal at 90° to the facet's (a facing test would have
+        // left it): passed through all the same.
+        let sideways = Vector3::x();
+        assert!(n.met_over_step((0, &above[0]), (&from, &to, &sideways), &facet, &facet));
+        // Already 0.3 mm behind where the step started, going deeper: behind its plane by more
+        // than `touching` (0.1 mm), it passed through nothing over this step.
+        let deep = Vector3::new(0.7e-3, 0.2e-3, 2.3e-3);
+        let deeper = Vector3::new(0.7e-3, 0.2e-3, 2.5e-3);
+        assert!(!n.met_over_step((0, &above[0]), (&deep, &deeper, &up), &facet, &facet));
+        // Lying on it (0.05 mm behind, held there by the step before): met.
+        let on = Vector3::new(0.7e-3, 0.2e-3, 2.05e-3);
+        assert!(n.met_over_step((0, &above[0]), (&on, &deeper, &up), &facet, &facet));
+        // …unless it does not face it.
+        assert!(!n.met_over_step((0, &above[0]), (&on, &deeper, &sideways), &facet, &facet));
+        // Stopping short of it: not met.
+        let short = Vector3::new(0.7e-3, 0.2e-3, 1.95e-3);
+        assert!(!n.met_over_step((0, &above[0]), (&from, &short, &up), &facet, &facet));
+        // Skin that touched the facet already at rest (0.05 mm behind it, as where the digits'
+        // skins meet at the webs) does not lock there; passing through it still counts.
+        let mut touching = rest.clone();
+        touching[0] = on;
+        let t = OwnNeighbourhood::new(
+            touching,
+            &[&top[..], &above[..]].concat(),
+            0.004,
+            (0.001, 0.01),
+            1e-4,
+        );
+        assert!(!t.met_over_step((0, &above[0]), (&on, &deeper, &up), &facet, &facet));
+        assert!(t.met_over_step((0, &above[0]), (&from, &to, &up), &facet, &facet));
     }
 }

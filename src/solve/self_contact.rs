@@ -4,8 +4,10 @@
 //!
 //! Each increment of the FEM region is solved as a contact problem: equations (7)–(8) on the
 //! increment's stiffness, with the region's skin points (the contact skin's vertices embedded in
-//! its cells) as slaves against the region's own skin facets, every pair but a point's own
-//! neighbourhood (`contact::OwnNeighbourhood`), by the exact method (`contact::solve_lagrange`:
+//! its cells) as slaves against the region's own skin facets beyond a point's own neighbourhood
+//! that its path over the increment passed through, or that it lay on where the increment
+//! started (`contact::OwnNeighbourhood`: continuous collision of the skin with itself), by the
+//! exact method (`contact::solve_lagrange`:
 //! an active set of multipliers through the Schur complement of the increment's factor). The
 //! contact forces are internal to the hand: they push flesh against flesh, and where they reach a
 //! bone node they go into its reaction (equation (8)), so the bones feel the fold.
@@ -42,7 +44,9 @@ const NEIGHBOURHOOD: f64 = 2.0 * BASE_SPACING;
 
 /// Skin lying behind a facet at rest by more than this is the same flesh seen from behind, m
 /// (one base lattice spacing): skin about in the facet's plane (the other side of a crease,
-/// along the finger) may meet it.
+/// along the finger) may meet it. Read only by the prediction of where the skin will meet
+/// itself ([`near_itself`]: skinning from rest, no path to follow); the increments follow each
+/// point's path.
 const BEHIND: f64 = BASE_SPACING;
 
 impl OwnSkin {
@@ -79,7 +83,9 @@ impl OwnSkin {
         // `near_itself`).
         let behind = (BEHIND, 2.0 * settings.search_depth);
         let triangles = ContactSurface::from_quads(0, &quads, &rest).triangles;
-        let own = OwnNeighbourhood::new(rest, &triangles, NEIGHBOURHOOD, behind);
+        // A point held by the step before lies within the penetration limit behind its facet.
+        let touching = 2.0 * settings.penetration_limit();
+        let own = OwnNeighbourhood::new(rest, &triangles, NEIGHBOURHOOD, behind, touching);
         Some(OwnSkin {
             embedded,
             quads,
@@ -170,6 +176,7 @@ pub(super) fn near_itself(
         &surface.triangles,
         NEIGHBOURHOOD,
         behind,
+        0.0,
     );
     let normals = surface.reference_normals();
     let bvh = surface.hierarchy(&end, margin);
@@ -180,7 +187,9 @@ pub(super) fn near_itself(
         };
         let skip = |t: &[usize; 3]| {
             let corners = t.map(|c| end[c]);
-            own.excludes(v, t) || !own.meets((&end[v], normal), &corners, &corners)
+            own.excludes(v, t)
+                || own.behind_at_rest(v, t)
+                || !own.meets((&end[v], normal), &corners, &corners)
         };
         if let Some(p) = bvh.project(&end[v], &end, Some(normal), skip) {
             if p.gap < margin {
