@@ -471,7 +471,7 @@ impl<'a> Flexion<'a> {
                     let meeting = super::self_contact::near_itself(
                         hand,
                         self.settings.blend,
-                        &skeleton.transforms(target),
+                        (&skeleton.transforms(target), &motion),
                         &state.positions,
                         contact,
                     );

@@ -150,16 +150,30 @@ const MEETING: f64 = 0.003;
 /// the keyframe starts) of the skin points, and of the corners of the facets they face, that
 /// come within [`MEETING`] of their own skin (the pairs the increments' self-contact, solved
 /// with `settings`, would consider) when the flesh follows the bones to `transforms` (rest →
-/// the keyframe's end) by skinning from rest. The flexion's local region grows around
-/// them: the press of skin on skin must fall on flesh the increments solve, not on the region's
-/// prescribed edge, where nothing can give.
+/// the keyframe's end) by skinning from rest — pairs of which some skin moves over the keyframe
+/// (`motion`: each bone's from the keyframe's start to its end). The flexion's local region grows
+/// around them: the press of skin on skin must fall on flesh the increments solve, not on the
+/// region's prescribed edge, where nothing can give. Skin that met itself in a keyframe before
+/// and does not move in this one (the fingers of a fist while the thumb folds over them) is left
+/// where it is: solved again, its contact would be found afresh from every increment's start and
+/// chase itself (the thumb folding over a four-fingers' fist stopped at its third increment on
+/// the fingers' creases, the fingers not moving).
 pub(super) fn near_itself(
     hand: &HandModel,
     blend: Blend,
-    transforms: &[Isometry3<f64>],
+    (transforms, motion): (&[Isometry3<f64>], &[Isometry3<f64>]),
     now: &[Vector3<f64>],
     settings: &ContactSettings,
 ) -> Vec<Vector3<f64>> {
+    let bone_moves: Vec<bool> = motion
+        .iter()
+        .map(|m| m.translation.vector.norm() > 1e-12 || m.rotation.angle() > 1e-12)
+        .collect();
+    let skin_moves = |v: usize| {
+        hand.contact_skin
+            .terms(v)
+            .any(|(n, _)| hand.weights.weights[n].iter().any(|&(b, _)| bone_moves[b]))
+    };
     let margin = MEETING.min(settings.search_depth);
     let skin = &hand.contact_skin;
     let rest = &hand.flesh.mesh.nodes;
@@ -192,7 +206,7 @@ pub(super) fn near_itself(
                 || !own.meets((&end[v], normal), &corners, &corners)
         };
         if let Some(p) = bvh.project(&end[v], &end, Some(normal), skip) {
-            if p.gap < margin {
+            if p.gap < margin && (skin_moves(v) || p.nodes.iter().any(|&c| skin_moves(c))) {
                 out.push(now[v]);
                 out.extend(p.nodes.map(|c| now[c]));
             }
