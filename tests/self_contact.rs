@@ -41,6 +41,18 @@ fn posed(
     settings: FlexionSettings,
     self_contact: bool,
 ) -> (HandState, KeyframeStats) {
+    let pose: Pose = [(joint.to_string(), angle)].into_iter().collect();
+    posed_to(hand, &pose, settings, self_contact)
+}
+
+/// `hand` moved to `pose` from rest with `settings`, with or without self-contact; it reaches
+/// the pose.
+fn posed_to(
+    hand: &HandModel,
+    pose: &Pose,
+    settings: FlexionSettings,
+    self_contact: bool,
+) -> (HandState, KeyframeStats) {
     let mut stepper = Flexion::new(
         hand,
         "hand",
@@ -52,11 +64,11 @@ fn posed(
         FillOrdering::NestedDissection,
     );
     let mut state = HandState::rest(hand);
-    let pose: Pose = [(joint.to_string(), angle)].into_iter().collect();
-    let target = hand.skeleton.apply_pose(&state.angles, &pose).unwrap();
+    let target = hand.skeleton.apply_pose(&state.angles, pose).unwrap();
     let stats = stepper
         .move_to(&mut state, &target)
-        .unwrap_or_else(|e| panic!("{joint} {angle}°: {e}"));
+        .unwrap_or_else(|e| panic!("{pose:?}, self-contact {self_contact}: {e}"));
+    assert_eq!(state.angles, target);
     (state, stats)
 }
 
@@ -574,39 +586,18 @@ fn flesh_crushed_says_where_and_stopping_short_works() {
 #[test]
 fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
     let hand = hand();
-    let mut pose: Vec<(String, f64)> = Vec::new();
+    let mut pose = Pose::new();
     for finger in ["index", "middle", "ring", "little"] {
         let (pip, dip) = if finger == "little" {
             (95.0, 60.0)
         } else {
             (105.0, 70.0)
         };
-        pose.push((format!("{finger}.mcp.flex"), 88.0));
-        pose.push((format!("{finger}.pip"), pip));
-        pose.push((format!("{finger}.dip"), dip));
+        pose.insert(format!("{finger}.mcp.flex"), 88.0);
+        pose.insert(format!("{finger}.pip"), pip);
+        pose.insert(format!("{finger}.dip"), dip);
     }
-    let close = |self_contact: bool| {
-        let mut stepper = Flexion::new(
-            hand,
-            "hand",
-            vec![FLESH; hand.flesh.mesh.cells.len()],
-            FlexionSettings {
-                self_contact: self_contact.then(ContactSettings::default),
-                ..Default::default()
-            },
-            FillOrdering::Auto,
-        );
-        let mut state = HandState::rest(hand);
-        let target = hand
-            .skeleton
-            .apply_pose(&state.angles, &pose.iter().cloned().collect())
-            .unwrap();
-        let stats = stepper
-            .move_to(&mut state, &target)
-            .unwrap_or_else(|e| panic!("self-contact {self_contact}: {e}"));
-        assert_eq!(state.angles, target);
-        (state, stats)
-    };
+    let close = |self_contact: bool| posed_to(hand, &pose, Default::default(), self_contact);
     let (free, _) = close(false);
     let (held, stats) = close(true);
     let check = prehensile::model::SkinOverlapCheck::new(hand);

@@ -291,19 +291,24 @@ mod tests {
         assert!(!n.excludes(14, &right[4]));
     }
 
-    /// Whether a point meets a facet: facing it (normals more than 105° apart) and over it.
-    #[test]
-    fn meets_only_a_facet_that_faces_it_and_that_it_lies_over() {
+    /// Vertices, and the triangles of a lower and an upper strip.
+    type Strips = (Vec<Vector3<f64>>, Vec<[usize; 3]>, Vec<[usize; 3]>);
+
+    /// A strip facing up at z = 0 and one facing down 2 mm above it (`top`, `above`), their
+    /// vertices, and their neighbourhoods (radius 4 mm, touching within `touching`).
+    fn facing_strips(touching: f64) -> (Strips, OwnNeighbourhood) {
         let mut rest = Vec::new();
         let top = strip(&mut rest, 0.0, true);
         let above = strip(&mut rest, 2.0, false);
-        let n = OwnNeighbourhood::new(
-            rest.clone(),
-            &[&top[..], &above[..]].concat(),
-            0.004,
-            (0.001, 0.01),
-            0.0,
-        );
+        let triangles = [&top[..], &above[..]].concat();
+        let n = OwnNeighbourhood::new(rest.clone(), &triangles, 0.004, (0.001, 0.01), touching);
+        ((rest, top, above), n)
+    }
+
+    /// Whether a point meets a facet: facing it (normals more than 105° apart) and over it.
+    #[test]
+    fn meets_only_a_facet_that_faces_it_and_that_it_lies_over() {
+        let ((rest, top, above), n) = facing_strips(0.0);
         let corners = |t: [usize; 3]| t.map(|c| rest[c]);
         let up = Vector3::z();
         // A point of the top strip 0.3 mm into the strip above, under its first facet.
@@ -323,16 +328,7 @@ mod tests {
     /// of a fold without having passed through it.
     #[test]
     fn over_a_step_a_point_meets_what_it_passed_through_or_lay_on() {
-        let mut rest = Vec::new();
-        let top = strip(&mut rest, 0.0, true);
-        let above = strip(&mut rest, 2.0, false);
-        let n = OwnNeighbourhood::new(
-            rest.clone(),
-            &[&top[..], &above[..]].concat(),
-            0.004,
-            (0.001, 0.01),
-            1e-4,
-        );
+        let ((rest, top, above), n) = facing_strips(1e-4);
         let corners = |t: [usize; 3]| t.map(|c| rest[c]);
         let up = Vector3::z();
         let facet = corners(above[0]);

@@ -186,8 +186,12 @@ fn skin_overlap_warnings(model: &Model, frames: &[FrameReport]) -> Vec<String> {
                 o.vertices,
                 parts.join(", "),
                 if held {
-                    "the self-contact does not reach it (the contact steps against other \
-                     bodies, and the nonlinear and linear tiers, do not carry it)"
+                    "the self-contact leaves it there (skin folding through the skin within \
+                     6.4 mm of it along the skin, which the flesh between is left to keep apart; \
+                     skin behind a facet by less than the contact's penetration limit; a \
+                     facet's edge through another with no vertex through; or the contact steps \
+                     against other bodies and the nonlinear and linear tiers, which do not \
+                     carry it: docs/hand.md, \"Self-contact\")"
                 } else {
                     "nothing keeps it out ([solver] self_contact = true keeps the flexion's \
                      skin out of itself, experimental: docs/hand.md)"
