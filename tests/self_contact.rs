@@ -630,34 +630,40 @@ fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
     assert!(total.norm() < 1e-7 * largest, "Σ bone reactions {total}");
 }
 
-/// The shipped full fist (assets/scenes/hand-full-fist.toml): the four fingers close, then the
-/// thumb folds over, with the skin kept out of itself. Both keyframes converge; the skin inside
-/// its own flesh (the report's count, away from the webs) is at most a third of what the same
-/// scene leaves without self-contact; the flesh keeps its volume to 1.5 %; the bones balance.
-#[test]
-fn the_shipped_full_fist_closes_with_the_skin_kept_out_of_itself() {
+/// The shipped full fist (assets/scenes/hand-full-fist.toml) at hand `resolution`: the four
+/// fingers close, then the thumb folds over, with the skin kept out of itself. Both keyframes
+/// converge; the skin inside its own flesh (the report's count, away from the webs) is at most a
+/// third of what the same scene leaves without self-contact; the flesh keeps its volume to
+/// `volume` (a fraction); the bones balance. Returns the largest bone reaction of the last
+/// frame, N.
+fn full_fist_closes(resolution: f64, volume: f64) -> f64 {
     let text = std::fs::read_to_string("assets/scenes/hand-full-fist.toml").unwrap();
     assert!(text.contains("self_contact = true"));
+    let text = text.replace(
+        "side = \"right\" }",
+        &format!("side = \"right\", resolution = {resolution} }}"),
+    );
     let solve = |text: &str| {
         let scene = prehensile::scene::Scene::parse(text, "hand-full-fist.toml").unwrap();
         prehensile::headless::solve_scene(&scene, "hand-full-fist.toml")
-            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_else(|e| panic!("resolution {resolution}: {e}"))
     };
     let held = solve(&text);
     let free = solve(&text.replace("self_contact = true", "self_contact = false"));
+    let mut largest = 0.0;
     for (i, frame) in held.report.frames.iter().enumerate() {
         let hand = &frame.hands["hand"];
         let free_hand = &free.report.frames[i].hands["hand"];
         let sum = Vector3::from(hand.bone_reaction_sum).norm();
-        let largest = hand.bones.values().map(|b| b.magnitude).fold(0.0, f64::max);
+        largest = hand.bones.values().map(|b| b.magnitude).fold(0.0, f64::max);
         eprintln!(
-            "frame {i}: skin inside its own flesh {} without, {} with; volume {:+.3} %; \
-             largest bone reaction {largest:.3} N, Σ {sum:.2e} N",
+            "resolution {resolution}, frame {i}: skin inside its own flesh {} without, {} with; \
+             volume {:+.3} %; largest bone reaction {largest:.3} N, Σ {sum:.2e} N",
             free_hand.skin_overlap.vertices,
             hand.skin_overlap.vertices,
             100.0 * hand.volume_change
         );
-        assert!(hand.volume_change.abs() < 0.015, "frame {i}");
+        assert!(hand.volume_change.abs() < volume, "frame {i}");
         assert!(sum < 1e-7 * largest.max(1e-3), "frame {i}: Σ bones {sum} N");
         if i > 0 {
             let (f, h) = (free_hand.skin_overlap.vertices, hand.skin_overlap.vertices);
@@ -666,5 +672,18 @@ fn the_shipped_full_fist_closes_with_the_skin_kept_out_of_itself() {
     }
     // The thumb folded: its IP at the pose.
     let last = &held.report.frames[2].hands["hand"];
-    assert!((last.pose["thumb.ip"] - 80.0).abs() < 1e-9);
+    assert!((last.pose["thumb.ip"] - 70.0).abs() < 1e-9);
+    largest
+}
+
+#[test]
+fn the_shipped_full_fist_closes_with_the_skin_kept_out_of_itself() {
+    full_fist_closes(1.0, 0.015);
+}
+
+/// The same at resolution 1.5 (the flesh loses up to 1.50 % of its volume there: the creases
+/// pressed shut; bound 2 %).
+#[test]
+fn the_full_fist_closes_with_the_skin_kept_out_of_itself_at_resolution_1_5() {
+    full_fist_closes(1.5, 0.02);
 }
