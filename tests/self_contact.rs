@@ -586,17 +586,7 @@ fn flesh_crushed_says_where_and_stopping_short_works() {
 #[test]
 fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
     let hand = hand();
-    let mut pose = Pose::new();
-    for finger in ["index", "middle", "ring", "little"] {
-        let (pip, dip) = if finger == "little" {
-            (95.0, 60.0)
-        } else {
-            (105.0, 70.0)
-        };
-        pose.insert(format!("{finger}.mcp.flex"), 88.0);
-        pose.insert(format!("{finger}.pip"), pip);
-        pose.insert(format!("{finger}.dip"), dip);
-    }
+    let pose = prehensile::hand::four_finger_fist();
     let close = |self_contact: bool| posed_to(hand, &pose, Default::default(), self_contact);
     let (free, _) = close(false);
     let (held, stats) = close(true);

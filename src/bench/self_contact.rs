@@ -6,7 +6,7 @@
 use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
-use crate::hand::{full_fist, HandModel, Pose, Side};
+use crate::hand::{four_finger_fist, full_fist, HandModel, Pose, Side};
 use crate::model::FlexionSettings;
 use crate::solve::Flexion;
 use crate::state::HandState;
@@ -46,17 +46,6 @@ fn motions() -> Vec<(&'static str, Pose, f64)> {
             10.0,
         ),
     ]
-}
-
-/// The four fingers closed (MCP 88°, PIP 105°, DIP 70°), the thumb at rest; the little finger
-/// at PIP 95°, DIP 60°: at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its
-/// metacarpal's, through its pulp and the palm's flesh (11.2 mm at 95° / 60°).
-fn four_finger_fist() -> Pose {
-    let mut pose = full_fist();
-    pose.retain(|joint, _| !joint.starts_with("thumb"));
-    pose.insert("little.pip".into(), 95.0);
-    pose.insert("little.dip".into(), 60.0);
-    pose
 }
 
 /// Runs every motion at every resolution, without and with self-contact.

@@ -405,10 +405,9 @@ impl<'a> Flexion<'a> {
                 let mut class = vec![usize::MAX; motion.len()];
                 let mut reps: Vec<usize> = Vec::new();
                 for b in 0..motion.len() {
-                    let same = reps.iter().find(|&&r| {
-                        let d = motion[r].inverse() * motion[b];
-                        d.translation.vector.norm() < 1e-12 && d.rotation.angle() < 1e-12
-                    });
+                    let same = reps
+                        .iter()
+                        .find(|&&r| super::self_contact::still(&(motion[r].inverse() * motion[b])));
                     class[b] = match same {
                         Some(&r) => class[r],
                         None => {

@@ -22,6 +22,7 @@ mod preview;
 pub mod proximity;
 mod region;
 mod self_contact;
+pub(crate) use self_contact::NEIGHBOURHOOD as SELF_CONTACT_NEIGHBOURHOOD;
 mod stabilize;
 mod statics;
 mod statics_nonlinear;

@@ -40,7 +40,7 @@ pub(super) struct OwnSkin {
 /// of its mesh (two base lattice spacings, 6.4 mm), so that refining the mesh refines the same
 /// contact problem: at two spacings of a resolution-1.5 lattice (4.3 mm) the dorsal skin over
 /// the PIP's knuckle met itself at 30° of flexion and crushed a cell.
-const NEIGHBOURHOOD: f64 = 2.0 * BASE_SPACING;
+pub(crate) const NEIGHBOURHOOD: f64 = 2.0 * BASE_SPACING;
 
 /// Skin lying behind a facet at rest by more than this is the same flesh seen from behind, m
 /// (one base lattice spacing): skin about in the facet's plane (the other side of a crease,
@@ -142,6 +142,11 @@ impl OwnSkin {
     }
 }
 
+/// Whether the rigid motion `m` leaves everything where it was (to round-off).
+pub(super) fn still(m: &Isometry3<f64>) -> bool {
+    m.translation.vector.norm() < 1e-12 && m.rotation.angle() < 1e-12
+}
+
 /// How near its own skin (m) a skin point must come at a keyframe's end, predicted by
 /// skinning, for the local flexion region to grow around it.
 const MEETING: f64 = 0.003;
@@ -165,10 +170,7 @@ pub(super) fn near_itself(
     now: &[Vector3<f64>],
     settings: &ContactSettings,
 ) -> Vec<Vector3<f64>> {
-    let bone_moves: Vec<bool> = motion
-        .iter()
-        .map(|m| m.translation.vector.norm() > 1e-12 || m.rotation.angle() > 1e-12)
-        .collect();
+    let bone_moves: Vec<bool> = motion.iter().map(|m| !still(m)).collect();
     let skin_moves = |v: usize| {
         hand.contact_skin
             .terms(v)
