@@ -20,7 +20,8 @@ struct Globals {
     sky_bottom: vec4<f32>,
     // Key shadow map size (texels), under-map size (texels), scene radius (m), under-map depth range (m).
     params: vec4<f32>,
-    // Grid spacing (m), contact-occlusion reach (m), unused, unused.
+    // Grid spacing (m), contact-occlusion reach (m), half width of the shadow filter (taps:
+    // 2 for 5×5, 0 for one in a draft), contact-occlusion samples (24; 8 in a draft).
     extra: vec4<f32>,
 };
 
@@ -32,21 +33,24 @@ struct Globals {
 @group(0) @binding(5) var linear_sampler: sampler;
 
 // Fraction of the key light reaching `world` (1 = lit): 5×5 percentage-closer filtering of the
-// shadow map, each tap itself bilinearly filtered, for a soft penumbra. The point is pushed
-// along its normal by a small fraction of the scene to avoid self-shadowing acne.
+// shadow map (one tap in a draft: `g.extra.z`), each tap itself bilinearly filtered, for a soft
+// penumbra. The point is pushed along its normal by a small fraction of the scene to avoid
+// self-shadowing acne.
 fn key_light_visibility(world: vec3<f32>, normal: vec3<f32>) -> f32 {
     let p = g.light_view_proj * vec4<f32>(world + normal * (g.params.z * 0.006), 1.0);
     let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
     let texel = 1.0 / g.params.x;
+    let half = i32(g.extra.z);
     var lit = 0.0;
-    for (var j = -2; j <= 2; j++) {
-        for (var i = -2; i <= 2; i++) {
+    for (var j = -half; j <= half; j++) {
+        for (var i = -half; i <= half; i++) {
             let o = vec2<f32>(f32(i), f32(j)) * (1.6 * texel);
             lit += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, p.z - 0.0015);
         }
     }
+    let taps = f32((2 * half + 1) * (2 * half + 1));
     let inside = all(uv > vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0)) && p.z < 1.0;
-    return select(1.0, lit / 25.0, inside);
+    return select(1.0, lit / taps, inside);
 }
 
 // Hemisphere ambient: sky colour from above, warm bounce from the ground below.

@@ -26,11 +26,12 @@ fn contact_occlusion(world: vec3<f32>) -> f32 {
     let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
     let size = g.params.y;
     let reach = g.extra.y;
+    let n = i32(g.extra.w);
     var occ = 0.0;
     var weight = 0.0;
-    for (var k = 0; k < 24; k++) {
+    for (var k = 0; k < n; k++) {
         // Vogel disk: radius √((k + ½)/n), golden-angle turns.
-        let r = sqrt((f32(k) + 0.5) / 24.0);
+        let r = sqrt((f32(k) + 0.5) / f32(n));
         let a = f32(k) * 2.39996;
         let o = vec2<f32>(cos(a), sin(a)) * r * 0.11;
         let tc = clamp(vec2<i32>((uv + o) * size), vec2<i32>(0), vec2<i32>(i32(size) - 1));

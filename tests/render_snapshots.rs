@@ -12,7 +12,7 @@ use prehensile::export::png::write_png_atomic;
 use prehensile::headless::render_frame;
 use prehensile::headless::solve_scene_file;
 use prehensile::present::{Overlay, VisualOptions};
-use prehensile::render::{Camera, DrawList, Renderer, Surface};
+use prehensile::render::{Camera, DrawList, Quality, Renderer, Surface};
 use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
@@ -438,4 +438,171 @@ fn window_path_draws_the_same_image_as_the_headless_path() {
     assert!(window == *headless.as_raw(), "the two paths differ");
     // And a bad size is an error, not a panic.
     assert!(r.render(&mut scene, &camera, &view, 0, 100).is_err());
+}
+
+/// Draws with `quality` for as long as it lives, then anti-aliased again (the test binary shares
+/// one renderer).
+struct Drawing<'a>(std::sync::MutexGuard<'a, Renderer>);
+
+impl<'a> Drawing<'a> {
+    fn at(mut r: std::sync::MutexGuard<'a, Renderer>, quality: Quality) -> Self {
+        r.set_quality(quality);
+        Drawing(r)
+    }
+}
+
+impl Drop for Drawing<'_> {
+    fn drop(&mut self) {
+        self.0.set_quality(Quality::Full);
+    }
+}
+
+/// The draft the window draws while its view changes fast (`Quality::Draft`: one sample per
+/// pixel, one shadow tap, fewer samples of the ground's occlusion): a slanted edge anti-aliased
+/// has pixels between the surface's colour and the background's, a draft's has none; a scene
+/// with its ground and shadows drawn as a draft differs from the anti-aliased image only along
+/// edges and penumbrae; the window's path draws the same draft as the headless one.
+#[test]
+fn a_draft_draws_the_same_scene_with_one_sample_per_pixel() {
+    let cam = top_camera();
+    let list = DrawList {
+        surfaces: vec![Surface {
+            positions: vec![[-1.5, -1.0, 0.0], [1.5, -0.6, 0.0], [-0.5, 1.2, 0.0]],
+            indices: vec![0, 1, 2],
+            scalars: None,
+            color: [0.8, 0.05, 0.05, 1.0],
+        }],
+        ..Default::default()
+    };
+    let redness = |c: &Rgba<u8>| c[0] as i32 - c[1].max(c[2]) as i32;
+    let full = renderer().render_to_rgba(&list, &cam, 200, 100).unwrap();
+    let draft = Drawing::at(renderer(), Quality::Draft)
+        .0
+        .render_to_rgba(&list, &cam, 200, 100)
+        .unwrap();
+    let inside = redness(full.get_pixel(90, 50));
+    let outside = redness(full.get_pixel(2, 2));
+    assert!(inside > outside + 100, "{inside} vs {outside}");
+    let between = |img: &RgbaImage| {
+        img.pixels()
+            .filter(|p| {
+                let x = redness(p);
+                x > outside + (inside - outside) / 4 && x < inside - (inside - outside) / 4
+            })
+            .count()
+    };
+    let (blended_full, blended_draft) = (between(&full), between(&draft));
+    assert!(
+        blended_full >= 20,
+        "{blended_full} edge pixels anti-aliased"
+    );
+    assert_eq!(blended_draft, 0, "a draft blends no edge");
+
+    let solved =
+        solve_scene_file(&manifest().join("assets/scenes/solid-ball-on-table.toml")).unwrap();
+    let lists = prehensile::headless::draw_lists(&solved, &VisualOptions::default()).unwrap();
+    let camera = prehensile::headless::camera_for(&lists, "three-quarter", 1.5).unwrap();
+    let (w, h) = (240, 160);
+    let mut scene = renderer().upload(&lists[0]).unwrap();
+    let full = renderer()
+        .render_scene_to_rgba(&mut scene, &camera, w, h)
+        .unwrap();
+    let mut drawing = Drawing::at(renderer(), Quality::Draft);
+    let r = &mut drawing.0;
+    let draft = r.render_scene_to_rgba(&mut scene, &camera, w, h).unwrap();
+    let (count, _) = compare(&full, &draft);
+    let fraction = count as f64 / (w * h) as f64;
+    eprintln!(
+        "draft against anti-aliased: {count} pixels ({:.2} %) differ",
+        100.0 * fraction
+    );
+    assert!(count > 0 && fraction < 0.05, "{count} pixels differ");
+    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some("window stand-in"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: prehensile::render::HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    r.render(&mut scene, &camera, &view, w, h).unwrap();
+    assert!(
+        read_texture(r, &texture) == *draft.as_raw(),
+        "the two paths differ"
+    );
+}
+
+/// The lights' maps (shadow, under-map) are drawn again only when what casts shadows changed,
+/// not when the camera alone moved: a square moved in place (`update_positions`, the bounds
+/// unchanged — the lights' views the same) takes its shadow along, as drawn from a fresh
+/// upload; an orbit with the maps kept draws what it draws with them drawn afresh.
+#[test]
+fn the_shadows_follow_the_casters_and_not_the_camera() {
+    let mut r = renderer();
+    let above = Camera {
+        eye: Vec3::new(0.0, 0.0, 30.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 30f32.to_radians(),
+    };
+    let list = |x: f32| DrawList {
+        surfaces: vec![
+            square(Vec3::new(x, 0.0, 1.0), [0.2, 0.6, 0.2, 1.0]),
+            // A sliver spanning the bounds, so that the square moves within them.
+            Surface {
+                positions: vec![[-4.0, -4.0, 0.0], [-3.9, -4.0, 0.0], [4.0, 4.0, 1.2]],
+                indices: vec![0, 1, 2],
+                scalars: None,
+                color: [0.5, 0.5, 0.5, 1.0],
+            },
+        ],
+        ground: Some(prehensile::render::Ground {
+            height: 0.0,
+            center: [0.0, 0.0],
+            extent: 6.0,
+        }),
+        ..Default::default()
+    };
+    let (w, h) = (240, 240);
+    let light = |img: &RgbaImage, x: f32, y: f32| {
+        let p = px(img, above.project(Vec3::new(x, y, 0.0), w, h).unwrap());
+        p[0] as i32 + p[1] as i32 + p[2] as i32
+    };
+    // The key light comes from (−0.3, −0.9, 1.6): a point 1 m up shadows the ground
+    // (0.19, 0.56) m further; beyond the square's far edge (y = 1), y = 1.3 is in its shadow.
+    let shadowed =
+        |img: &RgbaImage, x: f32| light(img, x + 0.19, 1.3) + 60 < light(img, x + 0.19, -1.6);
+    let mut scene = r.upload(&list(-1.5)).unwrap();
+    let before = r.render_scene_to_rgba(&mut scene, &above, w, h).unwrap();
+    assert!(shadowed(&before, -1.5) && !shadowed(&before, 1.5));
+    let moved = list(1.5);
+    let queue = r.queue().clone();
+    scene.surfaces[0]
+        .update_positions(&queue, &moved.surfaces[0].positions)
+        .unwrap();
+    let after = r.render_scene_to_rgba(&mut scene, &above, w, h).unwrap();
+    assert!(!shadowed(&after, -1.5) && shadowed(&after, 1.5));
+    let mut fresh = r.upload(&moved).unwrap();
+    let expected = r.render_scene_to_rgba(&mut fresh, &above, w, h).unwrap();
+    assert_eq!(compare(&after, &expected).0, 0);
+
+    let orbited = Camera {
+        eye: Vec3::new(8.0, -20.0, 14.0),
+        ..above
+    };
+    let kept = r.render_scene_to_rgba(&mut scene, &orbited, w, h).unwrap();
+    let mut other = r.upload(&list(0.0)).unwrap();
+    r.render_scene_to_rgba(&mut other, &orbited, w, h).unwrap();
+    let drawn_again = r.render_scene_to_rgba(&mut scene, &orbited, w, h).unwrap();
+    assert!(
+        kept == drawn_again,
+        "an orbit with the maps kept draws otherwise"
+    );
 }

@@ -5,14 +5,17 @@
 //!
 //! A level of detail while the view changes fast: a preview (a pose being dragged, drawn with
 //! the coarse skin) and an orbit, pan or zoom in progress are drawn at
-//! [`INTERACTIVE_SCALE`] of the view's pixels in each direction, shown stretched; the solved
-//! frame, once the camera rests, is drawn again at full size. On a software renderer the draw
-//! is mostly pixels (shadow taps, 4× MSAA, the translucent skin): a quarter of them keeps the
-//! view moving while a slider or the camera is dragged.
+//! [`INTERACTIVE_SCALE`] of the view's pixels in each direction with one sample per pixel
+//! (`Quality::Draft`), shown stretched; the solved frame, once the camera rests, is drawn again
+//! at full size, anti-aliased. On a software renderer the draw is mostly pixels and their samples
+//! (shadow taps, 4× MSAA, the translucent skin): a quarter of the pixels at one sample each keeps
+//! the view moving while a slider or the camera is dragged.
 
 use super::jobs::Solution;
 use super::state::SceneView;
-use crate::render::{Bounds, Camera, DrawList, GpuScene, Renderer, HEADLESS_FORMAT, PRESETS};
+use crate::render::{
+    Bounds, Camera, DrawList, GpuScene, Quality, Renderer, HEADLESS_FORMAT, PRESETS,
+};
 use crate::util::timing::ms;
 use eframe::egui;
 use eframe::egui_wgpu::RenderState;
@@ -54,12 +57,13 @@ pub struct View3d {
 impl View3d {
     /// A view drawing with a renderer on `render_state`'s device.
     pub fn new(render_state: &RenderState) -> Self {
-        let renderer = Renderer::from_device(
+        let mut renderer = Renderer::from_device(
             render_state.device.clone(),
             render_state.queue.clone(),
             render_state.adapter.get_info(),
             HEADLESS_FORMAT,
         );
+        renderer.prepare(Quality::Draft);
         View3d {
             renderer,
             render_state: render_state.clone(),
@@ -132,6 +136,11 @@ impl View3d {
             return;
         };
         let start = Instant::now();
+        self.renderer.set_quality(if self.preview || self.moving {
+            Quality::Draft
+        } else {
+            Quality::Full
+        });
         match self
             .renderer
             .render(scene, camera, &t.view, t.size.0, t.size.1)
@@ -276,6 +285,7 @@ impl SceneView for View3d {
     ) -> Result<image::RgbaImage, String> {
         // The view's camera; the export's aspect may differ from the view's.
         let cam = self.camera.ok_or("nothing shown yet")?;
+        self.renderer.set_quality(Quality::Full);
         let out = match solution {
             Some(s) => self
                 .renderer

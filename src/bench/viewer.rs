@@ -35,6 +35,9 @@ struct Row {
     solve_ms: Vec<f64>,
     upload_ms: Vec<f64>,
     draw_ms: Vec<f64>,
+    /// The solved frame drawn again as the window draws it while the camera orbits (the
+    /// interactive size, one sample per pixel), ms.
+    orbit_ms: Vec<f64>,
 }
 
 fn ui_frame(ctx: &egui::Context, state: &mut ViewerState) -> f64 {
@@ -107,6 +110,7 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         solve_ms: Vec::new(),
         upload_ms: Vec::new(),
         draw_ms: Vec::new(),
+        orbit_ms: Vec::new(),
     };
     for i in 0..changes {
         let angle = &mut state.pose[0].1[joint];
@@ -131,9 +135,12 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
             row.preview_ms.push(at);
             row.preview_draw_ms
                 .push(upload_and_draw(renderer, &list, VIEW)?);
+            // As the window draws a preview: a quarter of the pixels, one sample each.
             let reduced = crate::app::view3d::drawn_size(VIEW, true);
-            row.preview_draw_reduced_ms
-                .push(upload_and_draw(renderer, &list, reduced)?);
+            renderer.set_quality(crate::render::Quality::Draft);
+            let drawn = upload_and_draw(renderer, &list, reduced);
+            renderer.set_quality(crate::render::Quality::Full);
+            row.preview_draw_reduced_ms.push(drawn?);
         }
         row.frame_ms.extend(times);
         let shown = state.shown.as_ref().expect("shown");
@@ -143,6 +150,17 @@ fn tier_row(tier: Tier, changes: usize, renderer: &mut Renderer) -> Result<Row> 
         let t = Instant::now();
         draw(renderer, &mut gpu, &shown.solution.draw_list, VIEW)?;
         row.draw_ms.push(ms(t));
+        renderer.set_quality(crate::render::Quality::Draft);
+        let t = Instant::now();
+        let orbit = draw(
+            renderer,
+            &mut gpu,
+            &shown.solution.draw_list,
+            crate::app::view3d::drawn_size(VIEW, true),
+        );
+        renderer.set_quality(crate::render::Quality::Full);
+        orbit?;
+        row.orbit_ms.push(ms(t));
     }
     Ok(row)
 }
@@ -187,9 +205,11 @@ pub(super) fn stats(v: &[f64]) -> (f64, f64, f64) {
 /// Measures every tier; returns the Markdown table.
 pub fn run(changes: usize) -> Result<String> {
     let mut renderer = Renderer::new_headless()?;
+    // As the window does when it opens.
+    renderer.prepare(crate::render::Quality::Draft);
     eprintln!("adapter: {}", renderer.adapter_summary());
     let mut out = String::from(
-        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | + its upload and 3D draw ms (mean), full / interactive size | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| tier | first frame ms | UI frames measured | UI frame ms mean / p95 / max | slider → preview shown ms (mean; previews) | + its upload and 3D draw ms (mean), full / interactive (half each side, one sample) | slider → frame shown ms (mean / max) | + upload ms (mean) | + 3D draw ms (mean) | slider → on screen ms (mean) | solved frame redrawn while orbiting ms (mean) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for tier in Tier::ALL {
         let row = tier_row(tier, changes, &mut renderer)?;
@@ -200,8 +220,9 @@ pub fn run(changes: usize) -> Result<String> {
         let (pr, _, _) = stats(&row.preview_draw_reduced_ms);
         let (um, _, _) = stats(&row.upload_ms);
         let (dm, _, _) = stats(&row.draw_ms);
+        let (om, _, _) = stats(&row.orbit_ms);
         out.push_str(&format!(
-            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {pd:.0} / {pr:.0} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} |\n",
+            "| {} | {:.0} | {} | {fm:.2} / {fp:.2} / {fx:.2} | {pm:.0} ({}) | {pd:.0} / {pr:.0} | {sm:.0} / {sx:.0} | {um:.0} | {dm:.0} | {:.0} | {om:.0} |\n",
             crate::app::settings::tier_label(row.tier),
             row.first_ms,
             row.frame_ms.len(),

@@ -3,6 +3,8 @@
 use super::camera::{Bounds, Camera};
 use super::colormap::{guard_range, srgb_to_linear};
 use super::draw_list::{Ground, Legend};
+use super::pipelines::{SHADOW_MAP_SIZE, UNDER_MAP_SIZE};
+use super::quality::Quality;
 use glam::camera::rh::proj::directx::orthographic;
 use glam::camera::rh::view::look_at_mat4;
 use glam::{Mat4, Vec3};
@@ -43,6 +45,34 @@ fn look(eye: Vec3, target: Vec3) -> Mat4 {
     look_at_mat4(eye, target, up)
 }
 
+/// How the lights' maps are sized and sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightSampling {
+    /// Side of the key light's shadow map, texels.
+    pub shadow_size: u32,
+    /// Side of the ground's under-map, texels.
+    pub under_size: u32,
+    /// Half width of the shadow's filter, taps: 2 for 5×5.
+    pub shadow_half_width: u32,
+    /// Samples of the ground's contact occlusion.
+    pub occlusion_samples: u32,
+}
+
+impl LightSampling {
+    /// The sampling of a frame at `quality`: a draft takes one shadow tap (bilinear) instead of
+    /// 25 and 8 occlusion samples instead of 24 — most of what each pixel costs on a software
+    /// renderer (the shading is the same).
+    pub fn of(quality: Quality) -> Self {
+        let full = quality == Quality::Full;
+        LightSampling {
+            shadow_size: SHADOW_MAP_SIZE,
+            under_size: UNDER_MAP_SIZE,
+            shadow_half_width: if full { 2 } else { 0 },
+            occlusion_samples: if full { 24 } else { 8 },
+        }
+    }
+}
+
 /// Computes the frame's uniforms. `objects` bounds what casts shadows; the ground (if any)
 /// widens the depth range of the camera.
 pub fn frame_globals(
@@ -51,8 +81,7 @@ pub fn frame_globals(
     objects: &Bounds,
     ground: Option<&Ground>,
     legend: Option<&Legend>,
-    shadow_size: u32,
-    under_size: u32,
+    sampling: LightSampling,
 ) -> FrameGlobals {
     let objects = if objects.is_valid() {
         *objects
@@ -102,8 +131,18 @@ pub fn frame_globals(
         ground_v,
         srgb([0.66, 0.72, 0.80]),
         srgb([0.95, 0.95, 0.94]),
-        [shadow_size as f32, under_size as f32, r, under_range],
-        [grid, 0.35 * r, 0.0, 0.0],
+        [
+            sampling.shadow_size as f32,
+            sampling.under_size as f32,
+            r,
+            under_range,
+        ],
+        [
+            grid,
+            0.35 * r,
+            sampling.shadow_half_width as f32,
+            sampling.occlusion_samples as f32,
+        ],
     ] {
         globals.extend_from_slice(&v);
     }

@@ -64,6 +64,15 @@ pub struct GpuSurface {
     interleaved: Vec<[f32; 6]>,
     color: [f32; 4],
     has_scalars: bool,
+    /// Stamp of the geometry in its vertex buffer: unique among every surface's every upload
+    /// (`light_maps`: the lights' maps are drawn again only when a caster's stamp changes).
+    geometry: u64,
+}
+
+/// The next geometry stamp.
+fn next_geometry() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl GpuSurface {
@@ -140,6 +149,7 @@ impl GpuSurface {
             interleaved: Vec::new(),
             color: surface.color,
             has_scalars,
+            geometry: next_geometry(),
         };
         match normals {
             Some(given) => {
@@ -159,6 +169,7 @@ impl GpuSurface {
     }
 
     fn upload_vertices(&mut self, queue: &wgpu::Queue) {
+        self.geometry = next_geometry();
         self.interleaved.clear();
         self.interleaved.extend(
             self.positions
@@ -447,6 +458,12 @@ impl GpuScene {
             .iter()
             .filter(|s| !s.is_translucent())
             .chain(self.arrows.iter())
+    }
+
+    /// The geometry stamps of the surfaces that cast shadows, in order: the same stamps, the
+    /// same shadows.
+    pub(super) fn caster_geometry(&self) -> Vec<u64> {
+        self.casters().map(|s| s.geometry).collect()
     }
 
     /// Every surface that casts a shadow (translucent ones too).

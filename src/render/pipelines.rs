@@ -1,5 +1,6 @@
 //! Bind group layouts, samplers and render pipelines, created once per renderer.
 
+use super::frame_pipelines::FramePipelines;
 use wgpu::util::DeviceExt;
 
 /// Samples per pixel of the frame (anti-aliasing).
@@ -12,8 +13,6 @@ pub const SHADOW_MAP_SIZE: u32 = 2048;
 pub const UNDER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Side of the ground's under-map, texels.
 pub const UNDER_MAP_SIZE: u32 = 512;
-
-const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
 /// Vertex stride of lit surfaces: position and normal, 6 × f32.
 pub const SURFACE_STRIDE: u64 = 24;
@@ -28,18 +27,10 @@ pub struct Pipelines {
     pub light_layout: wgpu::BindGroupLayout,
     /// Group 0 of the overlay: screen rectangle, image, sampler.
     pub overlay_layout: wgpu::BindGroupLayout,
-    /// Gradient background.
-    pub background: wgpu::RenderPipeline,
-    /// Ground plane.
-    pub ground: wgpu::RenderPipeline,
-    /// Opaque lit surfaces.
-    pub opaque: wgpu::RenderPipeline,
-    /// Translucent lit surfaces (blended, no depth write, back faces culled).
-    pub translucent: wgpu::RenderPipeline,
-    /// Wireframes.
-    pub lines: wgpu::RenderPipeline,
-    /// Screen-space images (the legend).
-    pub overlay: wgpu::RenderPipeline,
+    /// The frame's pipelines, anti-aliased ([`MSAA_SAMPLES`] per pixel).
+    pub frame: FramePipelines,
+    /// The colour format of the frame.
+    pub format: wgpu::TextureFormat,
     /// Depth-only key-light shadow map.
     pub shadow: wgpu::RenderPipeline,
     /// Heights above the ground, seen from below.
@@ -87,34 +78,7 @@ fn sampler_entry(binding: u32, ty: wgpu::SamplerBindingType) -> wgpu::BindGroupL
     }
 }
 
-const SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-const SCALAR_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![2 => Float32];
 const POSITION_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
-
-fn surface_buffers() -> [Option<wgpu::VertexBufferLayout<'static>>; 2] {
-    [
-        Some(wgpu::VertexBufferLayout {
-            array_stride: SURFACE_STRIDE,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &SURFACE_ATTRIBUTES,
-        }),
-        Some(wgpu::VertexBufferLayout {
-            array_stride: 4,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &SCALAR_ATTRIBUTES,
-        }),
-    ]
-}
-
-/// How a pipeline treats depth and colour.
-struct Style {
-    depth_write: bool,
-    depth_compare: wgpu::CompareFunction,
-    blend: Option<wgpu::BlendState>,
-    cull: Option<wgpu::Face>,
-    topology: wgpu::PrimitiveTopology,
-}
 
 impl Pipelines {
     /// Creates everything for colour targets of `format`.
@@ -156,154 +120,17 @@ impl Pipelines {
                 immediate_size: 0,
             })
         };
-        let scene_layout = layout(&[&globals_layout, &object_layout]);
-        let globals_only = layout(&[&globals_layout]);
-        let module = |label: &str, source: String| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            })
-        };
-        let mesh = module(
-            "mesh",
-            format!("{COMMON}\n{}", include_str!("../../shaders/mesh.wgsl")),
-        );
-        let lines = module(
-            "lines",
-            format!("{COMMON}\n{}", include_str!("../../shaders/lines.wgsl")),
-        );
-        let ground = module(
-            "ground",
-            format!("{COMMON}\n{}", include_str!("../../shaders/ground.wgsl")),
-        );
-        let background = module(
-            "background",
-            format!(
-                "{COMMON}\n{}",
-                include_str!("../../shaders/background.wgsl")
-            ),
-        );
-        let overlay = module("overlay", include_str!("../../shaders/overlay.wgsl").into());
-        let shadow = module("shadow", include_str!("../../shaders/shadow.wgsl").into());
+        let shadow = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("shadow"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/shadow.wgsl").into()),
+        });
 
-        let alpha = Some(wgpu::BlendState::ALPHA_BLENDING);
-        let color_pipeline = |label: &str,
-                              layout: &wgpu::PipelineLayout,
-                              module: &wgpu::ShaderModule,
-                              buffers: &[Option<wgpu::VertexBufferLayout>],
-                              style: Style| {
-            let targets = [Some(wgpu::ColorTargetState {
-                format,
-                blend: style.blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: style.topology,
-                    cull_mode: style.cull,
-                    front_face: wgpu::FrontFace::Ccw,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(style.depth_write),
-                    depth_compare: Some(style.depth_compare),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: MSAA_SAMPLES,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let tri = wgpu::PrimitiveTopology::TriangleList;
-        let always = wgpu::CompareFunction::Always;
-        let less = wgpu::CompareFunction::Less;
-        let flat = |depth_write, depth_compare, blend| Style {
-            depth_write,
-            depth_compare,
-            blend,
-            cull: None,
-            topology: tri,
-        };
-        let background = color_pipeline(
-            "background",
-            &globals_only,
-            &background,
-            &[],
-            flat(false, always, None),
+        let frame = FramePipelines::new(
+            device,
+            format,
+            MSAA_SAMPLES,
+            (&globals_layout, &object_layout, &overlay_layout),
         );
-        let ground = color_pipeline(
-            "ground",
-            &globals_only,
-            &ground,
-            &[],
-            flat(false, always, alpha),
-        );
-        let opaque = color_pipeline(
-            "opaque",
-            &scene_layout,
-            &mesh,
-            &surface_buffers(),
-            flat(true, less, None),
-        );
-        let translucent = color_pipeline(
-            "translucent",
-            &scene_layout,
-            &mesh,
-            &surface_buffers(),
-            Style {
-                depth_write: false,
-                depth_compare: less,
-                blend: alpha,
-                cull: Some(wgpu::Face::Back),
-                topology: tri,
-            },
-        );
-        let position_only = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &POSITION_ATTRIBUTES,
-        })];
-        let lines = color_pipeline(
-            "lines",
-            &scene_layout,
-            &lines,
-            &position_only,
-            Style {
-                depth_write: false,
-                depth_compare: wgpu::CompareFunction::LessEqual,
-                blend: alpha,
-                cull: None,
-                topology: wgpu::PrimitiveTopology::LineList,
-            },
-        );
-        let overlay_pipeline_layout = layout(&[&overlay_layout]);
-        let overlay = color_pipeline(
-            "overlay",
-            &overlay_pipeline_layout,
-            &overlay,
-            &[],
-            flat(false, always, alpha),
-        );
-
         let shadow_layout = layout(&[&light_layout]);
         let position_at_stride = [Some(wgpu::VertexBufferLayout {
             array_stride: SURFACE_STRIDE,
@@ -383,15 +210,26 @@ impl Pipelines {
             object_layout,
             light_layout,
             overlay_layout,
-            background,
-            ground,
-            opaque,
-            translucent,
-            lines,
-            overlay,
+            frame,
+            format,
             shadow,
             under,
         }
+    }
+
+    /// The frame's pipelines for `samples` per pixel, on the layouts of these (1: the draft
+    /// frame drawn while the view changes fast, `Quality::Draft`).
+    pub fn frame_pipelines(&self, device: &wgpu::Device, samples: u32) -> FramePipelines {
+        FramePipelines::new(
+            device,
+            self.format,
+            samples,
+            (
+                &self.globals_layout,
+                &self.object_layout,
+                &self.overlay_layout,
+            ),
+        )
     }
 
     /// A uniform buffer holding `bytes` and a bind group of `layout` on it (binding 0).

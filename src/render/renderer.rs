@@ -6,23 +6,28 @@ use super::colormap::Colormap;
 use super::context::{describe_adapter, GpuContext};
 use super::draw_list::{DrawList, Legend};
 use super::error::RenderError;
-use super::globals::frame_globals;
+use super::frame_pipelines::FramePipelines;
+use super::globals::{frame_globals, LightSampling};
 use super::gpu_scene::{Gpu, GpuScene};
 use super::legend::legend_image;
 use super::pipelines::{
     Pipelines, DEPTH_FORMAT, MSAA_SAMPLES, SHADOW_MAP_SIZE, UNDER_FORMAT, UNDER_MAP_SIZE,
 };
+use super::quality::Quality;
 use image::RgbaImage;
 use std::sync::{Arc, Mutex};
 
 /// Colour format of headless images (8-bit sRGB).
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
-/// Multisampled colour and depth targets of one size (plus, headless, the resolved image and
-/// its readback buffer).
+/// Colour and depth targets of one size and number of samples (the multisampled colour
+/// resolved into the caller's target; plus, headless, the resolved image and its readback
+/// buffer).
 struct Targets {
     size: (u32, u32),
-    msaa: wgpu::TextureView,
+    samples: u32,
+    /// The multisampled colour, `None` with one sample (drawn into the target itself).
+    msaa: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     resolved: Option<(wgpu::Texture, wgpu::TextureView, wgpu::Buffer, u32)>,
 }
@@ -41,6 +46,12 @@ pub struct Renderer {
     max_side: u32,
     format: wgpu::TextureFormat,
     pipelines: Pipelines,
+    /// The frame's pipelines with one sample per pixel, made at the first draft.
+    draft: Option<FramePipelines>,
+    quality: Quality,
+    /// What the shadow map and the under-map hold: the casters' geometry stamps and the two
+    /// lights' view-projections they were drawn with (`None`: nothing drawn yet).
+    light_maps: Option<(Vec<u64>, [f32; 32])>,
     globals_buffer: wgpu::Buffer,
     globals_group: wgpu::BindGroup,
     key_light: (wgpu::Buffer, wgpu::BindGroup),
@@ -192,6 +203,9 @@ impl Renderer {
             max_side,
             format,
             pipelines,
+            draft: None,
+            quality: Quality::Full,
+            light_maps: None,
             globals_buffer,
             globals_group,
             key_light,
@@ -215,6 +229,28 @@ impl Renderer {
     /// One line about the adapter (name, backend, type, driver).
     pub fn adapter_summary(&self) -> String {
         describe_adapter(&self.info)
+    }
+
+    /// Draws the frames that follow at `quality` (anti-aliased until set otherwise).
+    pub fn set_quality(&mut self, quality: Quality) {
+        self.prepare(quality);
+        self.quality = quality;
+    }
+
+    /// Makes the pipelines of `quality` now, if they are not made yet: a window makes its
+    /// draft's when it opens (150–200 ms on llvmpipe) rather than at the first drag.
+    pub fn prepare(&mut self, quality: Quality) {
+        if quality.samples() != MSAA_SAMPLES && self.draft.is_none() {
+            self.draft = Some(
+                self.pipelines
+                    .frame_pipelines(&self.device, quality.samples()),
+            );
+        }
+    }
+
+    /// The quality frames are drawn at.
+    pub fn quality(&self) -> Quality {
+        self.quality
     }
 
     /// The device.
@@ -252,7 +288,9 @@ impl Renderer {
         Ok(())
     }
 
-    fn take_errors(&self) -> Result<(), RenderError> {
+    /// The device's errors since the last call, if any (and then the lights' maps are drawn
+    /// again: what they hold is not known).
+    fn take_errors(&mut self) -> Result<(), RenderError> {
         let mut errors = self
             .errors
             .lock()
@@ -262,15 +300,17 @@ impl Renderer {
         } else {
             let all = errors.join("; ");
             errors.clear();
+            drop(errors);
+            self.light_maps = None;
             Err(RenderError::Gpu(all))
         }
     }
 
     fn ensure_targets(&mut self, width: u32, height: u32, headless: bool) {
-        let fits = self
-            .targets
-            .as_ref()
-            .is_some_and(|t| t.size == (width, height) && (!headless || t.resolved.is_some()));
+        let samples = self.quality.samples();
+        let fits = self.targets.as_ref().is_some_and(|t| {
+            t.size == (width, height) && t.samples == samples && (!headless || t.resolved.is_some())
+        });
         if fits {
             return;
         }
@@ -291,15 +331,10 @@ impl Renderer {
                 view_formats: &[],
             })
         };
-        let msaa = color(MSAA_SAMPLES, wgpu::TextureUsages::RENDER_ATTACHMENT)
-            .create_view(&Default::default());
-        let depth = depth_texture(
-            &self.device,
-            "frame depth",
-            (width, height),
-            MSAA_SAMPLES,
-            false,
-        );
+        let msaa = (samples > 1).then(|| {
+            color(samples, wgpu::TextureUsages::RENDER_ATTACHMENT).create_view(&Default::default())
+        });
+        let depth = depth_texture(&self.device, "frame depth", (width, height), samples, false);
         let resolved = headless.then(|| {
             let texture = color(
                 1,
@@ -318,6 +353,7 @@ impl Renderer {
         });
         self.targets = Some(Targets {
             size: (width, height),
+            samples,
             msaa,
             depth,
             resolved,
@@ -452,8 +488,7 @@ impl Renderer {
             &scene.bounds(),
             scene.ground.as_ref(),
             legend.as_ref(),
-            SHADOW_MAP_SIZE,
-            UNDER_MAP_SIZE,
+            LightSampling::of(self.quality),
         );
         self.queue
             .write_buffer(&self.globals_buffer, 0, bytemuck::cast_slice(&fg.globals));
@@ -499,7 +534,19 @@ impl Renderer {
                 &self.under_light.1,
             ),
         ];
-        for (depth, color, pipeline, light) in light_passes {
+        // The maps hold what the lights see of the casters: drawn again only when a caster's
+        // geometry or a light's view changed (not while the camera alone moves: an orbit).
+        let mut lights = [0.0; 32];
+        lights[..16].copy_from_slice(&fg.light_view_proj.to_cols_array());
+        lights[16..].copy_from_slice(&fg.under_view_proj.to_cols_array());
+        let maps = (scene.caster_geometry(), lights);
+        let light_passes = if self.light_maps.as_ref() == Some(&maps) {
+            &light_passes[..0]
+        } else {
+            self.light_maps = Some(maps);
+            &light_passes[..]
+        };
+        for &(depth, color, pipeline, light) in light_passes {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("light view"),
                 color_attachments: color,
@@ -520,16 +567,27 @@ impl Renderer {
             }
         }
         let targets = self.targets.as_ref().expect("targets were just made");
+        let frame = match (&targets.msaa, &self.draft) {
+            (Some(_), _) => &self.pipelines.frame,
+            (None, Some(draft)) => draft,
+            (None, None) => unreachable!("one-sample targets are made with the draft pipelines"),
+        };
+        // Multisampled: drawn into the samples, resolved into the target; one sample: drawn
+        // into the target.
+        let (view, resolve_target, store) = match &targets.msaa {
+            Some(msaa) => (msaa, Some(target), wgpu::StoreOp::Discard),
+            None => (target, None, wgpu::StoreOp::Store),
+        };
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.msaa,
+                    view,
                     depth_slice: None,
-                    resolve_target: Some(target),
+                    resolve_target,
                     ops: wgpu::Operations {
                         load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Discard,
+                        store,
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -543,26 +601,26 @@ impl Renderer {
                 ..Default::default()
             });
             pass.set_bind_group(0, &self.globals_group, &[]);
-            pass.set_pipeline(&self.pipelines.background);
+            pass.set_pipeline(&frame.background);
             pass.draw(0..3, 0..1);
             if scene.ground.is_some_and(|g| g.extent > 0.0) {
-                pass.set_pipeline(&self.pipelines.ground);
+                pass.set_pipeline(&frame.ground);
                 pass.draw(0..6, 0..1);
             }
-            pass.set_pipeline(&self.pipelines.opaque);
+            pass.set_pipeline(&frame.opaque);
             for s in scene.opaque() {
                 s.draw(&mut pass);
             }
-            pass.set_pipeline(&self.pipelines.lines);
+            pass.set_pipeline(&frame.lines);
             for l in &scene.lines {
                 l.draw(&mut pass);
             }
-            pass.set_pipeline(&self.pipelines.translucent);
+            pass.set_pipeline(&frame.translucent);
             for i in translucent {
                 scene.surfaces[i].draw(&mut pass);
             }
             if let (Some(_), Some(overlay)) = (&legend, &self.legend) {
-                pass.set_pipeline(&self.pipelines.overlay);
+                pass.set_pipeline(&frame.overlay);
                 pass.set_bind_group(0, &overlay.group, &[]);
                 pass.draw(0..6, 0..1);
             }
