@@ -405,6 +405,102 @@ fn the_local_region_grows_around_the_skin_meeting_itself() {
     assert!(ring_press(hand, &deep) > 2.0 * l);
 }
 
+/// The press of the skin on itself is part of the tactile map (issue 16): the middle finger
+/// adducted onto the ring finger (−5°, 1° increments, the scene's path), each press felt on both
+/// sides — the forces on the middle's skin and on the ring's are equal (action = reaction) and
+/// nothing else of the skin is pressed; the map on the contact skin and the nodal map of the
+/// exports integrate to those forces, and the report's peak skin pressure is the map's.
+#[test]
+fn the_skin_pressed_on_itself_is_on_the_tactile_map() {
+    let text = fist_scene(true, "\"middle.mcp.abd\" = -5.0")
+        .replace("[solver]\n", "[solver]\nmax_step_deg = 1.0\n");
+    let solved = solve_fist(&text).unwrap();
+    let (model, frame) = (&solved.model, solved.frames.last().unwrap());
+    let h = &frame.hands[0];
+    let hand = model.bodies[h.body].hand.as_deref().unwrap();
+    assert!(frame.contact.is_none(), "no other body");
+    assert_eq!(h.self_contact.len(), hand.contact_skin.vertex_count());
+    let mut by_digit = [0.0; 6];
+    for (v, f) in h.self_contact.iter().enumerate() {
+        assert!(*f >= 0.0 && f.is_finite());
+        by_digit[digit_of_vertex(hand, v)] += f;
+    }
+    let total: f64 = by_digit.iter().sum();
+    eprintln!("self-contact forces by digit (palm, thumb … little): {by_digit:?} N");
+    // Some skin of the middle finger's and ring finger's proximal phalanges lies over the palm's
+    // heaviest node: count the palm with either side, and require the two sides equal.
+    let (middle, ring) = (by_digit[3], by_digit[4]);
+    assert!(middle > 0.5 && ring > 0.5, "{by_digit:?}");
+    assert!(
+        (middle - ring).abs() <= 0.01 * total + by_digit[0],
+        "middle {middle} N, ring {ring} N, palm {} N",
+        by_digit[0]
+    );
+    assert!(
+        by_digit[1] + by_digit[2] + by_digit[5] < 1e-12 * total,
+        "{by_digit:?}"
+    );
+    // The contact skin's map integrates to the forces.
+    let pressure = prehensile::state::contact_skin_pressure(model, frame, h.body).unwrap();
+    let at = hand.contact_skin.positions(&h.positions);
+    let mut area = vec![0.0; at.len()];
+    for q in &hand.contact_skin.quads {
+        let p = q.map(|v| at[v as usize]);
+        let a = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+        for &v in q {
+            area[v as usize] += 0.25 * a;
+        }
+    }
+    let integral: f64 = pressure.iter().zip(&area).map(|(p, a)| p * a).sum();
+    assert!(
+        (integral - total).abs() < 1e-9 * total,
+        "{integral} vs {total} N"
+    );
+    // So does the nodal map the VTU and glTF exports carry, over the hand's lattice facets.
+    let nodal = prehensile::state::contact_pressure(model, frame).unwrap();
+    let body = &model.bodies[h.body];
+    let mut node_area = vec![0.0; model.mesh.nodes.len()];
+    for f in &body.facets {
+        let p = f.nodes.map(|n| model.mesh.nodes[n]);
+        let a = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+        let mut distinct = f.nodes.to_vec();
+        distinct.sort_unstable();
+        distinct.dedup();
+        for &n in &distinct {
+            node_area[n] += a / distinct.len() as f64;
+        }
+    }
+    let integral: f64 = nodal.iter().zip(&node_area).map(|(p, a)| p * a).sum();
+    assert!(
+        (integral - total).abs() < 1e-9 * total,
+        "{integral} vs {total} N"
+    );
+    // The report: the press counted once, each part's share, the peak of the display skin's
+    // map (positive and finite; 400 kPa measured: the node-to-facet forces are spiky, the peak
+    // is a vertex's, not a converged pressure).
+    let report = solved.report.frames.last().unwrap().hands["hand"]
+        .self_contact
+        .clone()
+        .expect("the report's self-contact");
+    assert!((report.force - 0.5 * total).abs() < 1e-12 * total);
+    let parts: f64 = report.parts.values().sum();
+    assert!((parts - total).abs() < 1e-9 * total, "{:?}", report.parts);
+    assert!(report.parts.contains_key("middle") && report.parts.contains_key("ring"));
+    let display = prehensile::state::self_contact_skin_pressure(model, h).unwrap();
+    let peak = display.iter().copied().fold(0.0, f64::max);
+    assert_eq!(report.max_pressure, peak);
+    eprintln!(
+        "the press {:.3} N, parts {:?}, peak {:.1} kPa (contact skin {:.1} kPa)",
+        report.force,
+        report.parts,
+        peak * 1e-3,
+        pressure.iter().copied().fold(0.0, f64::max) * 1e-3
+    );
+    assert!(peak.is_finite() && peak > 1e3 && peak < 1e6, "{peak} Pa");
+    // The rest frame presses nowhere.
+    assert!(solved.report.frames[0].hands["hand"].self_contact.is_none());
+}
+
 /// The full fist's joints, each scaled by `scale` (and `little.pip` set to `little_pip` if
 /// given), as the TOML of a pose.
 fn fist_pose(scale: f64, little_pip: Option<f64>) -> String {

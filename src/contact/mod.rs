@@ -36,7 +36,7 @@ pub use point::{
     ContactResult, ContactSettings, ContactSummary, ContactTimes, Master, PairSides, Relaxation,
     DEFAULT_MAX_ITERATIONS,
 };
-pub use pressure::nodal_pressure;
+pub use pressure::{nodal_pressure, nodal_pressure_with};
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};

@@ -14,6 +14,17 @@ pub fn nodal_pressure(
     facets: &[Facet],
     contacts: &[ContactPoint],
 ) -> Vec<f64> {
+    nodal_pressure_with(nodes, facets, contacts, &[])
+}
+
+/// [`nodal_pressure`] with more normal forces: each `(terms, force)` of `more` pressing `force`
+/// (N) on the nodes of `terms` (node, weight), shared as a contact's side is.
+pub fn nodal_pressure_with(
+    nodes: &[Vector3<f64>],
+    facets: &[Facet],
+    contacts: &[ContactPoint],
+    more: &[(Vec<(usize, f64)>, f64)],
+) -> Vec<f64> {
     let mut area = vec![0.0; nodes.len()];
     for f in facets {
         let p = f.nodes.map(|n| nodes[n]);
@@ -26,18 +37,23 @@ pub fn nodal_pressure(
         }
     }
     let mut pressure = vec![0.0; nodes.len()];
-    for c in contacts {
-        // Each side's share of the normal force over its nodes on the surface.
-        let (slave, master) = c.terms.split_at(c.slave_terms);
-        for side in [slave, master] {
-            let on_surface = |&&(n, w): &&(usize, f64)| area[n] > 0.0 && w != 0.0;
-            let total: f64 = side.iter().filter(on_surface).map(|t| t.1.abs()).sum();
-            if total > 0.0 {
-                for &(n, w) in side.iter().filter(on_surface) {
-                    pressure[n] += c.force * w.abs() / total / area[n];
-                }
+    // A side's share of a normal force over its nodes on the surface.
+    let mut press = |side: &[(usize, f64)], force: f64| {
+        let on_surface = |&&(n, w): &&(usize, f64)| area[n] > 0.0 && w != 0.0;
+        let total: f64 = side.iter().filter(on_surface).map(|t| t.1.abs()).sum();
+        if total > 0.0 {
+            for &(n, w) in side.iter().filter(on_surface) {
+                pressure[n] += force * w.abs() / total / area[n];
             }
         }
+    };
+    for c in contacts {
+        let (slave, master) = c.terms.split_at(c.slave_terms);
+        press(slave, c.force);
+        press(master, c.force);
+    }
+    for (terms, force) in more {
+        press(terms, *force);
     }
     pressure
 }

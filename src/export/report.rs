@@ -313,6 +313,51 @@ pub struct HandReport {
     pub grasp: Option<crate::state::GraspOutcome>,
     /// Where the skin has gone into the hand's own flesh (beyond where it already is at rest).
     pub skin_overlap: SkinOverlap,
+    /// The skin pressed on itself (`[solver] self_contact`: a fold, a fingertip on the palm,
+    /// fingers side by side); absent where it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub self_contact: Option<SelfContactReport>,
+}
+
+/// The press of a hand's skin on itself in a frame: part of the tactile map.
+#[derive(Clone, Debug, Serialize)]
+pub struct SelfContactReport {
+    /// The normal forces of the press, each counted once (half of what both sides feel), N.
+    pub force: f64,
+    /// What each part's skin feels (palm, thumb … little: the part of the bone leading each
+    /// vertex's heaviest node), N; parts with none left out. Each press is felt on both sides:
+    /// these sum to twice `force`.
+    pub parts: BTreeMap<String, f64>,
+    /// Largest pressure of the press on the display skin, Pa.
+    pub max_pressure: f64,
+}
+
+/// The self-contact entry of hand frame `h` (`None` when its skin presses nowhere on itself).
+fn self_contact_report(model: &Model, h: &crate::state::HandFrame) -> Option<SelfContactReport> {
+    let total: f64 = h.self_contact.iter().sum();
+    if total <= 0.0 {
+        return None;
+    }
+    let hand = model.bodies[h.body].hand.as_deref()?;
+    let mut parts = vec![0.0; crate::state::outcome::PARTS.len()];
+    for (v, f) in h.self_contact.iter().enumerate() {
+        let node = hand.contact_skin.heaviest_node(v);
+        parts[crate::state::outcome::part_of_bone(hand, hand.weights.weights[node][0].0)] += f;
+    }
+    let max_pressure = crate::state::self_contact_skin_pressure(model, h)
+        .unwrap_or_default()
+        .into_iter()
+        .fold(0.0, f64::max);
+    Some(SelfContactReport {
+        force: 0.5 * total,
+        parts: crate::state::outcome::PARTS
+            .iter()
+            .zip(parts)
+            .filter(|(_, f)| *f > 0.0)
+            .map(|(name, f)| (name.to_string(), f))
+            .collect(),
+        max_pressure,
+    })
 }
 
 /// The contact skin's vertices inside the hand's own flesh in a frame, away from where the skins
@@ -485,6 +530,7 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                             .map(|c| skin_overlap(hand, &h.positions, c))
                             .unwrap_or_default()
                     },
+                    self_contact: self_contact_report(model, h),
                 },
             )
         })

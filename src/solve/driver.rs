@@ -1020,6 +1020,7 @@ fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
                 transforms: hand.skeleton.transforms(&h.angles),
                 positions: less(&h.positions, &h.contact_displacement),
                 reaction: less(&h.reaction, &h.contact_reaction),
+                self_contact: h.self_contact.clone(),
             };
             PosedHand {
                 body: h.body,
@@ -1250,6 +1251,7 @@ fn hand_frame(
         contact_reaction: Vec::new(),
         bone_reactions: bone_reactions.clone(),
         reaction: state.reaction.clone(),
+        self_contact: state.self_contact.clone(),
         volume: state.flesh_volume(hand),
         stats,
         contact_force: vec![nalgebra::Vector3::zeros(); hand.skeleton.bones.len()],

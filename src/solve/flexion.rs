@@ -669,6 +669,8 @@ impl Flexion<'_> {
                 prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
             }
         }
+        // The self-contact's forces at the skin's vertices, added once the increment is taken.
+        let mut pressed = None;
         let solution = match own_skin {
             None => self
                 .caches
@@ -683,6 +685,11 @@ impl Flexion<'_> {
                     self.with_self_contact(skin, &k, sub, (&prescribed, &loads), &mesh, absolute)?;
                 stats.self_contacts = result.contacts.len();
                 stats.self_contact_force = result.normal_force();
+                if !result.contacts.is_empty() {
+                    let mut forces = vec![0.0; self.hand.contact_skin.vertex_count()];
+                    skin.add_forces(&result.contacts, &mut forces);
+                    pressed = Some(forces);
+                }
                 let mut solution = result.solution;
                 if absolute {
                     // Back to positions: the unknowns of the corotated increment.
@@ -715,6 +722,9 @@ impl Flexion<'_> {
             if q <= 0.0 {
                 return Ok(Some((sub.cells[local], q)));
             }
+        }
+        if let Some(forces) = pressed {
+            state.self_contact = crate::state::blend_forces(&state.self_contact, 1.0, &forces, 1.0);
         }
         for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {

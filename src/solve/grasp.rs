@@ -636,6 +636,7 @@ fn solve_grasp_with(
             transforms: hand.skeleton.transforms(&hf.angles),
             positions: hf.positions.clone(),
             reaction: hf.reaction.clone(),
+            self_contact: Vec::new(),
         };
         hf.bone_reactions = state.bone_reactions(hand);
         hf.volume = state.flesh_volume(hand);

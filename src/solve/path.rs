@@ -319,6 +319,7 @@ fn between(
         transforms,
         positions,
         reaction,
+        self_contact: crate::state::blend_forces(&a.self_contact, 1.0 - t, &b.self_contact, t),
     }
 }
 
@@ -350,6 +351,7 @@ mod tests {
                 .map(|p| motion(s).transform_point(&Point3::from(*p)).coords)
                 .collect(),
             reaction: vec![Vector3::new(s, 0.0, -s); rest.positions.len()],
+            self_contact: vec![s; 3],
         };
         let (a, b) = (at(0.0), at(1.0));
         // `between` takes the angles' transforms; for a rigid motion of all bones, compare the
@@ -359,6 +361,7 @@ mod tests {
             assert!((p - rest.positions[n]).norm() < 1e-12, "node {n}");
         }
         assert!((carried.reaction[0] - Vector3::new(0.5, 0.0, -0.5)).norm() < 1e-15);
+        assert_eq!(carried.self_contact, vec![0.5; 3]);
         // At the knots, the knots themselves.
         for (t, knot) in [(0.0, &a), (1.0, &b)] {
             let there = between(&hand, (&a, &b), t, rest.angles.clone());
@@ -379,6 +382,7 @@ mod tests {
             transforms: Vec::new(),
             positions: vec![Vector3::new(flexions, 0.0, 0.0)],
             reaction: Vec::new(),
+            self_contact: Vec::new(),
         }
     }
 

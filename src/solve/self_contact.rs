@@ -27,6 +27,8 @@ use std::sync::Arc;
 pub(super) struct OwnSkin {
     /// The skin points kept (every term in the region), over the region's local nodes.
     embedded: EmbeddedPoints,
+    /// The contact-skin vertex of each point kept, in the order of their contact indices.
+    vertices: Vec<usize>,
     /// Skin quads with all four corners kept, in contact indices.
     quads: Vec<[usize; 4]>,
     /// Which facets each point may not meet.
@@ -63,10 +65,12 @@ impl OwnSkin {
         }
         let mut embedded = EmbeddedPoints::none(sub.nodes.len());
         let mut index = vec![usize::MAX; skin.vertex_count()];
+        let mut vertices = Vec::new();
         for (v, slot) in index.iter_mut().enumerate() {
             let terms: Vec<(usize, f64)> = skin.terms(v).map(|(n, w)| (local[n], w)).collect();
             if terms.iter().all(|t| t.0 != usize::MAX) {
                 *slot = embedded.push(terms);
+                vertices.push(v);
             }
         }
         let quads: Vec<[usize; 4]> = skin
@@ -88,6 +92,7 @@ impl OwnSkin {
         let own = OwnNeighbourhood::new(rest, &triangles, NEIGHBOURHOOD, behind, touching);
         Some(OwnSkin {
             embedded,
+            vertices,
             quads,
             own: Arc::new(own),
             settings: ContactSettings {
@@ -139,6 +144,24 @@ impl OwnSkin {
             forces_before: &[],
         };
         solve_lagrange(solver, &problem, &self.settings)
+    }
+}
+
+impl OwnSkin {
+    /// Adds the normal forces of `contacts` (a [`OwnSkin::solve`]'s) to `forces`, one per
+    /// contact-skin vertex (N): each held point's force to its vertex, and to the corners of the
+    /// facet holding it their shares h_i of it — the press felt on both sides of the skin.
+    pub(super) fn add_forces(&self, contacts: &[crate::contact::ContactPoint], forces: &mut [f64]) {
+        let first = self.embedded.first();
+        let vertex = |i: usize| self.vertices[i - first];
+        for c in contacts {
+            forces[vertex(c.node)] += c.force;
+            if let crate::contact::Master::Facet { nodes, weights, .. } = c.master {
+                for (&m, h) in nodes.iter().zip(weights) {
+                    forces[vertex(m)] += h * c.force;
+                }
+            }
+        }
     }
 }
 

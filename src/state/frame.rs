@@ -61,6 +61,9 @@ pub struct HandFrame {
     pub bone_reactions: Vec<nalgebra::Vector3<f64>>,
     /// Accumulated reaction at every flesh node, N.
     pub reaction: Vec<nalgebra::Vector3<f64>>,
+    /// Normal force of the skin's contact with itself at each contact-skin vertex, N (see
+    /// `HandState::self_contact`; empty without).
+    pub self_contact: Vec<f64>,
     /// Flesh volume, m³.
     pub volume: f64,
     /// What reaching this frame's pose cost.

@@ -18,6 +18,21 @@ pub struct HandState {
     /// reactions, as the updated Lagrangian scheme sums their stresses (each increment's
     /// reactions balance, so the total does).
     pub reaction: Vec<Vector3<f64>>,
+    /// Normal force of the skin's contact with itself at each vertex of the contact skin, N: as
+    /// the point held, and as a corner of the facet holding it by its share h_i (each press is
+    /// felt on both sides); summed over the increments as the reactions are (the increments'
+    /// flesh starts each from where the last left it, unstressed). Empty until the skin meets
+    /// itself.
+    pub self_contact: Vec<f64>,
+}
+
+/// `a` and `b` (forces at the same points; an empty one is zero everywhere) added with the
+/// factors `fa` and `fb`.
+pub fn blend_forces(a: &[f64], fa: f64, b: &[f64], fb: f64) -> Vec<f64> {
+    let n = a.len().max(b.len());
+    (0..n)
+        .map(|i| fa * a.get(i).copied().unwrap_or(0.0) + fb * b.get(i).copied().unwrap_or(0.0))
+        .collect()
 }
 
 impl HandState {
@@ -35,6 +50,7 @@ impl HandState {
             angles,
             positions: hand.flesh.mesh.nodes.clone(),
             reaction: vec![Vector3::zeros(); hand.flesh.mesh.nodes.len()],
+            self_contact: Vec::new(),
         }
     }
 

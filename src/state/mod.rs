@@ -14,6 +14,8 @@ pub use cavity::{cavity_state, CavityState};
 pub use finite::{first_non_finite, NonFinite};
 pub use frame::{Frame, HandFrame, PendingStress};
 pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};
-pub use hand::{HandState, KeyframeStats, StoppedShort, UnsettledMotion};
-pub use tactile::{contact_pressure, contact_skin_pressure, skin_pressure};
+pub use hand::{blend_forces, HandState, KeyframeStats, StoppedShort, UnsettledMotion};
+pub use tactile::{
+    contact_pressure, contact_skin_pressure, self_contact_skin_pressure, skin_pressure,
+};
 pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

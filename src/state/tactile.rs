@@ -1,8 +1,9 @@
 //! The tactile map of a solved frame: the contact pressure at every node of the model, and on
-//! each hand's smooth skin.
+//! each hand's smooth skin — the press of other bodies and of the skin on itself (a fold, a
+//! fingertip on the palm, fingers side by side: `HandFrame::self_contact`, felt on both sides).
 
 use super::Frame;
-use crate::contact::{nodal_pressure, Master};
+use crate::contact::{nodal_pressure_with, Master};
 use crate::model::Model;
 
 /// Contact pressure at every node (Pa, 0 off contact), over the boundary facets of all bodies;
@@ -10,16 +11,40 @@ use crate::model::Model;
 /// nodes get the share of their cells' skin points (see [`skin_pressure`] for the map on the
 /// skin itself).
 pub fn contact_pressure(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
-    let contact = frame.contact.as_ref()?;
+    // The skin's press on itself, each contact-skin vertex's force on its cell's nodes.
+    let mut own = Vec::new();
+    for h in &frame.hands {
+        let (Some(hand), nodes) = (
+            model.bodies[h.body].hand.as_deref(),
+            &model.bodies[h.body].nodes,
+        ) else {
+            continue;
+        };
+        for (v, &force) in h.self_contact.iter().enumerate() {
+            if force != 0.0 {
+                let terms = hand
+                    .contact_skin
+                    .terms(v)
+                    .map(|(n, w)| (nodes.start + n, w))
+                    .collect();
+                own.push((terms, force));
+            }
+        }
+    }
+    if frame.contact.is_none() && own.is_empty() {
+        return None;
+    }
     let facets: Vec<crate::mesh::Facet> = model
         .bodies
         .iter()
         .flat_map(|b| b.facets.iter().copied())
         .collect();
-    Some(nodal_pressure(
+    let contacts = frame.contact.as_ref().map_or(&[][..], |c| &c.contacts[..]);
+    Some(nodal_pressure_with(
         &model.mesh.nodes,
         &facets,
-        &contact.contacts,
+        contacts,
+        &own,
     ))
 }
 
@@ -30,19 +55,39 @@ pub fn contact_pressure(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
 /// exported integrates over the display skin to the contact's normal force. `None` without
 /// contact on this hand's skin.
 pub fn skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
-    // The contact skin is the control net itself (its quads are the control quads).
-    const _: () = assert!(crate::hand::CONTACT_SKIN_LEVELS == 0);
     let hand = model.bodies[body].hand.as_deref()?;
     let force = contact_skin_forces(model, frame, body)?;
     let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
+    Some(on_display_skin(hand, positions, &force))
+}
+
+/// The press of hand frame `h`'s skin on itself alone, on its display skin (Pa at each display
+/// vertex, as [`skin_pressure`]); `None` where it presses nowhere.
+pub fn self_contact_skin_pressure(model: &Model, h: &super::HandFrame) -> Option<Vec<f64>> {
+    let hand = model.bodies[h.body].hand.as_deref()?;
+    if h.self_contact.iter().all(|f| *f == 0.0) {
+        return None;
+    }
+    let mut force = h.self_contact.clone();
+    force.resize(hand.contact_skin.vertex_count(), 0.0);
+    Some(on_display_skin(hand, &h.positions, &force))
+}
+
+/// The normal forces `force` at the contact skin's vertices (N) as a pressure on the display
+/// skin of `hand` with its flesh at `positions` (Pa at each display vertex).
+fn on_display_skin(
+    hand: &crate::hand::HandModel,
+    positions: &[nalgebra::Vector3<f64>],
+    force: &[f64],
+) -> Vec<f64> {
+    // The contact skin is the control net itself (its quads are the control quads).
+    const _: () = assert!(crate::hand::CONTACT_SKIN_LEVELS == 0);
     let area = hand.skin.vertex_areas(&hand.skin.positions(positions));
     let quads = &hand.contact_skin.quads;
     let share = hand.skin.to_control(&area, quads, force.len());
-    let pressure = per_area(&force, &share);
-    Some(
-        hand.skin
-            .from_control(|q, i| pressure[quads[q][i] as usize]),
-    )
+    let pressure = per_area(force, &share);
+    hand.skin
+        .from_control(|q, i| pressure[quads[q][i] as usize])
 }
 
 /// Contact pressure at each vertex of hand `body`'s contact skin (Pa, 0 off contact): the
@@ -67,14 +112,29 @@ pub fn contact_skin_pressure(model: &Model, frame: &Frame, body: usize) -> Optio
 }
 
 /// The normal contact force at each vertex of hand `body`'s contact skin, N: as the slave, or
-/// its share h_i as a facet's corner. `None` without contact on this hand's skin.
+/// its share h_i as a facet's corner, against other bodies and against the skin itself. `None`
+/// without contact on this hand's skin.
 fn contact_skin_forces(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
-    let contact = frame.contact.as_ref()?;
-    let &(_, first) = contact.skin_points.iter().find(|s| s.0 == body)?;
     let hand = model.bodies[body].hand.as_deref()?;
     let count = hand.contact_skin.vertex_count();
+    let own = frame
+        .hands
+        .iter()
+        .find(|h| h.body == body)
+        .map_or(&[][..], |h| &h.self_contact[..]);
+    let others = frame
+        .contact
+        .as_ref()
+        .and_then(|c| Some((c, c.skin_points.iter().find(|s| s.0 == body)?.1)));
+    if others.is_none() && own.is_empty() {
+        return None;
+    }
+    let mut force = super::blend_forces(own, 1.0, &[], 0.0);
+    force.resize(count, 0.0);
+    let Some((contact, first)) = others else {
+        return Some(force);
+    };
     let local = |v: usize| (v >= first && v < first + count).then(|| v - first);
-    let mut force = vec![0.0; count];
     for c in &contact.contacts {
         if let Some(v) = local(c.node) {
             force[v] += c.force;
