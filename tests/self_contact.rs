@@ -499,6 +499,27 @@ fn the_skin_pressed_on_itself_is_on_the_tactile_map() {
     assert!(peak.is_finite() && peak > 1e3 && peak < 1e6, "{peak} Pa");
     // The rest frame presses nowhere.
     assert!(solved.report.frames[0].hands["hand"].self_contact.is_none());
+    // The pressure overlay draws it (the skin's colours reach the peak), where a scene whose
+    // skin presses nowhere is refused with the reason.
+    let options = prehensile::present::VisualOptions {
+        overlay: prehensile::present::Overlay::Pressure,
+        ..Default::default()
+    };
+    let lists = prehensile::headless::draw_lists(&solved, &options).unwrap();
+    let drawn = lists
+        .last()
+        .unwrap()
+        .surfaces
+        .iter()
+        .flat_map(|s| s.scalars.iter().flatten())
+        .fold(0.0f32, |m, p| m.max(*p));
+    assert!(
+        (drawn as f64 - peak).abs() < 1e-6 * peak,
+        "{drawn} vs {peak}"
+    );
+    let free = solve_fist(&text.replace("self_contact = true", "self_contact = false")).unwrap();
+    let refused = prehensile::headless::draw_lists(&free, &options).unwrap_err();
+    assert!(refused.to_string().contains("self_contact"), "{refused}");
 }
 
 /// The full fist's joints, each scaled by `scale` (and `little.pip` set to `little_pip` if

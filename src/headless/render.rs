@@ -40,8 +40,15 @@ pub enum HeadlessError {
 /// The draw lists of every frame.
 pub fn draw_lists(solved: &Solved, options: &VisualOptions) -> Result<Vec<DrawList>, VisualError> {
     // The pressure overlay of a scene in which nothing ever touches says so (a frame out of
-    // contact in a scene with contact shows zero pressure).
-    if options.overlay == Overlay::Pressure && solved.frames.iter().all(|f| f.contact.is_none()) {
+    // contact in a scene with contact shows zero pressure). The skin pressed on itself is
+    // contact too.
+    let touches = |f: &crate::state::Frame| {
+        f.contact.is_some()
+            || f.hands
+                .iter()
+                .any(|h| h.self_contact.iter().any(|&p| p > 0.0))
+    };
+    if options.overlay == Overlay::Pressure && !solved.frames.iter().any(touches) {
         return Err(VisualError::NoContact);
     }
     solved
