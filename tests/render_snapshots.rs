@@ -401,6 +401,26 @@ fn read_texture(r: &Renderer, texture: &wgpu::Texture) -> Vec<u8> {
         .collect()
 }
 
+/// A texture standing for the window's (`Renderer::render` draws into it), and its view.
+fn window_target(r: &Renderer, (w, h): (u32, u32)) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some("window stand-in"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: prehensile::render::HEADLESS_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
+}
+
 #[test]
 fn window_path_draws_the_same_image_as_the_headless_path() {
     // The interactive window renders into its own texture view with `Renderer::render`.
@@ -417,21 +437,7 @@ fn window_path_draws_the_same_image_as_the_headless_path() {
     let headless = r
         .render_scene_to_rgba(&mut scene, &camera, 150, 100)
         .unwrap();
-    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
-        label: Some("window stand-in"),
-        size: wgpu::Extent3d {
-            width: 150,
-            height: 100,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: prehensile::render::HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
+    let (texture, view) = window_target(&r, (150, 100));
     r.render(&mut scene, &camera, &view, 150, 100).unwrap();
     let window = read_texture(&r, &texture);
     assert_eq!(window.len(), headless.as_raw().len());
@@ -517,21 +523,7 @@ fn a_draft_draws_the_same_scene_with_one_sample_per_pixel() {
         100.0 * fraction
     );
     assert!(count > 0 && fraction < 0.05, "{count} pixels differ");
-    let texture = r.device().create_texture(&wgpu::TextureDescriptor {
-        label: Some("window stand-in"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: prehensile::render::HEADLESS_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let view = texture.create_view(&Default::default());
+    let (texture, view) = window_target(r, (w, h));
     r.render(&mut scene, &camera, &view, w, h).unwrap();
     assert!(
         read_texture(r, &texture) == *draft.as_raw(),

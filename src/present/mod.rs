@@ -75,7 +75,7 @@ impl Default for VisualOptions {
 #[derive(Debug, Error, PartialEq, Eq)]
 pub enum VisualError {
     /// The pressure overlay needs contact.
-    #[error("no contact in this scene: the pressure overlay needs contact pairs, or the skin pressed on itself (`[solver] self_contact`); use stress, displacement or forces")]
+    #[error("no contact in this scene: the pressure overlay needs contact pairs or the skin pressed on itself with `[solver] self_contact` (use stress, displacement or forces)")]
     NoContact,
     /// The frame does not belong to the model.
     #[error("the frame has {got} displacement values, the model needs {expected}")]

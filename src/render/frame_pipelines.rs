@@ -2,7 +2,7 @@
 //! overlay) for one number of samples per pixel: anti-aliased for the frame shown at rest, one
 //! sample for the draft drawn while the view changes fast.
 
-use super::pipelines::{DEPTH_FORMAT, SURFACE_STRIDE};
+use super::formats::{pipeline_layout, DEPTH_FORMAT, SURFACE_STRIDE};
 
 const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
@@ -66,15 +66,7 @@ impl FramePipelines {
             &wgpu::BindGroupLayout,
         ),
     ) -> Self {
-        let layout = |groups: &[&wgpu::BindGroupLayout]| {
-            let groups: Vec<Option<&wgpu::BindGroupLayout>> =
-                groups.iter().map(|g| Some(*g)).collect();
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: None,
-                bind_group_layouts: &groups,
-                immediate_size: 0,
-            })
-        };
+        let layout = |groups: &[&wgpu::BindGroupLayout]| pipeline_layout(device, groups);
         let scene_layout = layout(&[globals_layout, object_layout]);
         let globals_only = layout(&[globals_layout]);
         let module = |label: &str, source: String| {

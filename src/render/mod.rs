@@ -36,6 +36,7 @@ mod colormap;
 mod context;
 mod draw_list;
 mod error;
+mod formats;
 mod frame_pipelines;
 mod geometry;
 mod globals;

@@ -1,21 +1,18 @@
 //! Bind group layouts, samplers and render pipelines, created once per renderer.
 
+use super::formats::pipeline_layout;
+pub use super::formats::{DEPTH_FORMAT, SURFACE_STRIDE};
 use super::frame_pipelines::FramePipelines;
 use wgpu::util::DeviceExt;
 
 /// Samples per pixel of the frame (anti-aliasing).
 pub const MSAA_SAMPLES: u32 = 4;
-/// Depth format of the frame and the shadow maps.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Side of the key light's shadow map, texels.
 pub const SHADOW_MAP_SIZE: u32 = 2048;
 /// Format of the ground's under-map (heights as depth values, in a colour texture).
 pub const UNDER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Side of the ground's under-map, texels.
 pub const UNDER_MAP_SIZE: u32 = 512;
-
-/// Vertex stride of lit surfaces: position and normal, 6 × f32.
-pub const SURFACE_STRIDE: u64 = 24;
 
 /// All pipelines and layouts.
 pub struct Pipelines {
@@ -111,15 +108,7 @@ impl Pipelines {
                 sampler_entry(2, wgpu::SamplerBindingType::Filtering),
             ],
         });
-        let layout = |groups: &[&wgpu::BindGroupLayout]| {
-            let groups: Vec<Option<&wgpu::BindGroupLayout>> =
-                groups.iter().map(|g| Some(*g)).collect();
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: None,
-                bind_group_layouts: &groups,
-                immediate_size: 0,
-            })
-        };
+        let layout = |groups: &[&wgpu::BindGroupLayout]| pipeline_layout(device, groups);
         let shadow = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shadow"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/shadow.wgsl").into()),
