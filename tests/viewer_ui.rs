@@ -356,6 +356,26 @@ fn the_far_fingers_checkbox_writes_the_scene_key() {
     assert_eq!(model.flexion.near_contact, None);
 }
 
+/// The Solver panel's self-contact checkbox writes `[solver] self_contact` (off by default, as
+/// in the scene), and the model built from the job keeps the skin out of itself.
+#[test]
+fn the_self_contact_checkbox_writes_the_scene_key() {
+    let (port, mut h) = answered();
+    assert!(!h.state().solver.self_contact);
+    h.get_by_label("skin kept out of itself").click();
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    assert_eq!(job.scene.solver.self_contact, Some(true));
+    let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
+    assert!(model.flexion.self_contact.is_some());
+    h.get_by_label("skin kept out of itself").click();
+    h.step();
+    let job = port.jobs().last().unwrap().clone();
+    assert_eq!(job.scene.solver.self_contact, Some(false));
+    let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
+    assert!(model.flexion.self_contact.is_none());
+}
+
 /// The File panel's glTF button writes the solved timeline frames as one animated
 /// `animation.glb`: one mesh per surface, a morph target per later frame, the keys' times.
 #[test]

@@ -34,6 +34,9 @@ pub struct SolverParams {
     /// Fingers far from every object follow their bones by skinning (`[solver]
     /// far_from_contact = "skinning"`, the default) rather than being solved.
     pub skin_far_fingers: bool,
+    /// The skin kept out of itself (`[solver] self_contact`): a crease's two sides, a fingertip
+    /// on the palm, fingers side by side.
+    pub self_contact: bool,
 }
 
 impl SolverParams {
@@ -63,6 +66,7 @@ impl SolverParams {
             hand_size: hand_size.flatten(),
             contact: s.contact.unwrap_or_default(),
             skin_far_fingers: s.far_from_contact != Some(FarFromContact::Solve),
+            self_contact: s.self_contact.unwrap_or(false),
         }
     }
 
@@ -76,6 +80,10 @@ impl SolverParams {
         } else {
             FarFromContact::Solve
         });
+        // Written only when changed: a scene's own key (or its absence) stays as it was.
+        if s.self_contact.unwrap_or(false) != self.self_contact {
+            s.self_contact = Some(self.self_contact);
+        }
         // `tier` is written with `flesh` and `flexion` agreeing with it.
         self.tier.write(s);
         for b in &mut scene.body {

@@ -1,5 +1,5 @@
-//! Solver: tier, contact method, tolerance, far fingers, increment size, mesh resolution, the
-//! built-in hand's size.
+//! Solver: tier, contact method, tolerance, far fingers, self-contact, increment size, mesh
+//! resolution, the built-in hand's size.
 
 use super::super::settings::{tier_label, Tier};
 use super::super::state::ViewerState;
@@ -51,6 +51,15 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             "a finger farther than near_contact (10 mm) from every object over a keyframe \
              follows its bones by skinning unless skinning would crush its flesh; FEM goes \
              where contact is",
+        )
+        .changed();
+    done |= ui
+        .checkbox(&mut s.self_contact, "skin kept out of itself")
+        .on_hover_text(
+            "self-contact: the skin may not pass through itself — a crease's two sides, a \
+             fingertip on the palm, fingers side by side; its press goes to the bones and the \
+             contact pressure overlay (corotational and incremental tiers; the flexion takes \
+             7–16 times longer)",
         )
         .changed();
     let r = ui.add(
