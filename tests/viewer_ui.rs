@@ -376,6 +376,82 @@ fn the_self_contact_checkbox_writes_the_scene_key() {
     assert!(model.flexion.self_contact.is_none());
 }
 
+/// With the skin kept out of itself, the Fist preset goes in two stages, each solved before the
+/// next is asked: the four fingers close (the little finger at PIP 95°, DIP 60°), the thumb
+/// where it was; then the thumb folds over (IP 70°). Without self-contact, one pose. A slider
+/// moved before the first stage is solved drops the second.
+#[test]
+fn the_fist_with_self_contact_closes_the_fingers_then_the_thumb() {
+    let (port, mut h) = answered();
+    let (pip, little, thumb) = (
+        joint(h.state(), "index.pip"),
+        joint(h.state(), "little.pip"),
+        joint(h.state(), "thumb.ip"),
+    );
+    let thumb_before = h.state().pose[0].1[thumb];
+    h.get_by_label("skin kept out of itself").click();
+    h.step();
+    port.answer_frame(pose_jobs(&port).last().unwrap().version, 1.0, None);
+    h.step();
+    h.get_by_label("Fist").click();
+    h.step();
+    let first = pose_jobs(&port).last().unwrap().clone();
+    assert_eq!(pose_angle(&first, pip), 105.0);
+    assert_eq!(pose_angle(&first, little), 95.0);
+    assert_eq!(pose_angle(&first, thumb), thumb_before);
+    let asked = pose_jobs(&port).len();
+    h.step();
+    assert_eq!(
+        pose_jobs(&port).len(),
+        asked,
+        "the thumb waits for the fingers"
+    );
+    port.answer_frame(first.version, 2.0, None);
+    h.step();
+    h.step();
+    let second = pose_jobs(&port).last().unwrap().clone();
+    assert!(second.version > first.version);
+    assert_eq!(pose_angle(&second, thumb), 70.0);
+    assert_eq!(pose_angle(&second, pip), 105.0);
+    assert_eq!(h.state().pose[0].1[thumb], 70.0);
+    port.answer_frame(second.version, 3.0, None);
+    h.step();
+    assert!(!h.state().computing());
+
+    // A slider moved meanwhile: the thumb stays where the slider put it.
+    h.get_by_label("Rest").click();
+    h.step();
+    port.answer_frame(pose_jobs(&port).last().unwrap().version, 4.0, None);
+    h.step();
+    h.get_by_label("Fist").click();
+    h.step();
+    let first = pose_jobs(&port).last().unwrap().clone();
+    slider(&h, "index.pip").set_value_accesskit(60.0);
+    h.step();
+    let moved = pose_jobs(&port).last().unwrap().clone();
+    port.answer_frame(first.version, 5.0, None);
+    port.answer_frame(moved.version, 6.0, None);
+    h.step();
+    h.step();
+    assert_eq!(pose_jobs(&port).last().unwrap().version, moved.version);
+    assert_eq!(h.state().pose[0].1[thumb], 0.0);
+
+    // Without self-contact the Fist is one pose, the thumb across.
+    h.get_by_label("skin kept out of itself").click();
+    h.step();
+    port.answer_frame(pose_jobs(&port).last().unwrap().version, 7.0, None);
+    h.step();
+    h.get_by_label("Fist").click();
+    h.step();
+    let one = pose_jobs(&port).last().unwrap().clone();
+    assert_eq!(pose_angle(&one, little), 105.0);
+    assert_eq!(pose_angle(&one, thumb), 30.0);
+    port.answer_frame(one.version, 8.0, None);
+    h.step();
+    h.step();
+    assert_eq!(pose_jobs(&port).last().unwrap().version, one.version);
+}
+
 /// The File panel's glTF button writes the solved timeline frames as one animated
 /// `animation.glb`: one mesh per surface, a morph target per later frame, the keys' times.
 #[test]

@@ -104,6 +104,38 @@ impl Preset {
         }
     }
 
+    /// The poses the preset goes through from `current` (joint angles of `skeleton`), each
+    /// solved before the next is asked, within the joints' limits. One but for the Fist with the
+    /// skin kept out of itself (`self_contact`): the fingers close first
+    /// ([`crate::hand::four_finger_fist`], the thumb where it is), then the thumb folds over
+    /// ([`crate::hand::thumb_over_fist`]) — the fist the flesh allows: closed together, the
+    /// thumb's path runs through the index finger and its flesh is crushed.
+    pub fn stages(self, skeleton: &Skeleton, current: &[f64], self_contact: bool) -> Vec<Vec<f64>> {
+        if self != Preset::Fist || !self_contact {
+            return vec![self.angles(skeleton)];
+        }
+        // `pose` over `from`: its joints set, the others of its digits (every finger, or the
+        // thumb) at 0°, the rest as in `from`.
+        let over = |pose: &crate::hand::Pose, thumb: bool, from: &[f64]| -> Vec<f64> {
+            skeleton
+                .dofs
+                .iter()
+                .zip(from)
+                .map(|(d, a)| {
+                    let angle = match pose.get(&d.name) {
+                        Some(set) => *set,
+                        None if (digit_of(&d.name) == "thumb") == thumb => 0.0,
+                        None => *a,
+                    };
+                    angle.clamp(d.limits.min, d.limits.max)
+                })
+                .collect()
+        };
+        let fingers = over(&crate::hand::four_finger_fist(), false, current);
+        let fingers_then = over(&crate::hand::thumb_over_fist(), true, &fingers);
+        vec![fingers, fingers_then]
+    }
+
     /// The joint angles of this preset for `skeleton`, within its limits.
     pub fn angles(self, skeleton: &Skeleton) -> Vec<f64> {
         skeleton

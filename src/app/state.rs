@@ -184,6 +184,9 @@ pub struct ViewerState {
     /// its result, and only its, puts the closing on the timeline after that key (a pose judged
     /// as posed, its outcome not `closed`, adds nothing).
     grasp_job: Option<(u64, usize)>,
+    /// A preset in stages (the Fist with self-contact: the fingers, then the thumb): the pose
+    /// asked now, and the pose asked once it is solved — unless the sliders moved meanwhile.
+    pub(crate) staged: Option<(Pose, Pose)>,
     pub(crate) scene_changed: bool,
     pub(crate) range_changed: bool,
 }
@@ -228,6 +231,7 @@ impl ViewerState {
             grasp_asked: false,
             judge_asked: false,
             grasp_job: None,
+            staged: None,
             scene_changed: false,
             range_changed: false,
         })
@@ -506,13 +510,26 @@ impl ViewerState {
                     if grasp_job.is_some() {
                         self.grasp_job = None;
                     }
+                    let solved = !solution.preview;
                     self.show(r.version, solution, Source::Interactive);
+                    // The next stage of a preset, once its first is solved.
+                    if solved {
+                        if let Some((first, then)) = self.staged.take() {
+                            if self.pose == first {
+                                self.pose = then;
+                                self.pose_changed = true;
+                            }
+                        }
+                    }
                 } else {
                     self.status.discarded += 1;
                 }
             }
             Err(Failure::Cancelled) => self.status.cancelled += 1,
             Err(Failure::Error(e)) if newest_pose || timeline => {
+                if newest_pose {
+                    self.staged = None;
+                }
                 if timeline {
                     self.timeline_failed = true;
                     self.status.error = Some(format!("timeline: {e}"));
@@ -521,6 +538,9 @@ impl ViewerState {
                 }
             }
             Err(Failure::Panic(p)) if newest_pose || timeline => {
+                if newest_pose {
+                    self.staged = None;
+                }
                 self.timeline_failed |= timeline;
                 self.status.error = Some(format!(
                     "the solver panicked: {p} (the last good frame stays on screen)"

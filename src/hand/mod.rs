@@ -30,7 +30,7 @@ pub use imported::{RigError, RiggedHand};
 pub use lattice::{mesh_flesh, mesh_flesh_offset, FleshMesh, MeshingError, BASE_SPACING};
 pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
-pub use poses::{four_finger_fist, full_fist};
+pub use poses::{four_finger_fist, full_fist, thumb_over_fist};
 pub use rig::RigJoints;
 pub use shape::{BuiltinSkin, SkinShape};
 pub use size::HandSize;

@@ -22,6 +22,23 @@ pub fn full_fist() -> Pose {
     pose
 }
 
+/// The thumb folded over the closed fingers beside the index (CMC flexion 0°, abduction 25°,
+/// MCP 30°, IP 70°): its bones stay at least 9.5 mm from every finger's all the way from rest
+/// once the fingers are closed ([`four_finger_fist`]); [`full_fist`]'s thumb ends 2.2 mm from
+/// the middle finger's bones, where flesh kept out of itself is crushed
+/// (assets/scenes/hand-full-fist.toml's second keyframe; docs/hand.md, "Self-contact").
+pub fn thumb_over_fist() -> Pose {
+    [
+        ("thumb.cmc.flex", 0.0),
+        ("thumb.cmc.abd", 25.0),
+        ("thumb.mcp", 30.0),
+        ("thumb.ip", 70.0),
+    ]
+    .into_iter()
+    .map(|(joint, angle)| (joint.to_string(), angle))
+    .collect()
+}
+
 /// The four fingers closed as in [`full_fist`], the thumb at rest, the little finger at PIP 95°,
 /// DIP 60°: at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its metacarpal's,
 /// through its pulp and the palm's flesh (11.2 mm at 95° / 60°; the other fingers' 10.2–12.0 mm),

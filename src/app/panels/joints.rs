@@ -15,9 +15,18 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         for p in Preset::ALL {
             if ui.button(p.label()).clicked() {
-                for (h, (_, angles)) in state.hands.iter().zip(state.pose.iter_mut()) {
-                    *angles = p.angles(&h.skeleton);
+                let self_contact = state.solver.self_contact;
+                let mut then = state.pose.clone();
+                for (h, ((_, angles), (_, later))) in state
+                    .hands
+                    .iter()
+                    .zip(state.pose.iter_mut().zip(then.iter_mut()))
+                {
+                    let mut stages = p.stages(&h.skeleton, angles, self_contact).into_iter();
+                    *angles = stages.next().unwrap_or_default();
+                    *later = stages.last().unwrap_or_else(|| angles.clone());
                 }
+                state.staged = (then != state.pose).then(|| (state.pose.clone(), then));
                 state.pose_changed = true;
             }
         }
