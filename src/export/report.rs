@@ -334,15 +334,14 @@ pub struct SelfContactReport {
 
 /// The self-contact entry of hand frame `h` (`None` when its skin presses nowhere on itself).
 fn self_contact_report(model: &Model, h: &crate::state::HandFrame) -> Option<SelfContactReport> {
-    let total: f64 = h.self_contact.iter().sum();
-    if total <= 0.0 {
+    if !h.presses_itself() {
         return None;
     }
     let hand = model.bodies[h.body].hand.as_deref()?;
+    let total: f64 = h.self_contact.iter().sum();
     let mut parts = vec![0.0; crate::state::outcome::PARTS.len()];
     for (v, f) in h.self_contact.iter().enumerate() {
-        let node = hand.contact_skin.heaviest_node(v);
-        parts[crate::state::outcome::part_of_bone(hand, hand.weights.weights[node][0].0)] += f;
+        parts[crate::state::outcome::part_of_skin_vertex(hand, v)] += f;
     }
     let max_pressure = crate::state::self_contact_skin_pressure(model, h)
         .unwrap_or_default()
@@ -422,13 +421,12 @@ pub fn skin_overlap(
     nodes: &[Vector3<f64>],
     check: &crate::model::SkinOverlapCheck,
 ) -> SkinOverlap {
-    use crate::state::outcome::{node_bone, part_of_bone, PARTS};
+    use crate::state::outcome::{part_of_skin_vertex, PARTS};
     let inside = check.overlap(hand, nodes);
     let mut parts = BTreeMap::new();
     for &v in &inside {
-        let bone = node_bone(hand, hand.contact_skin.heaviest_node(v));
         *parts
-            .entry(PARTS[part_of_bone(hand, bone)].to_string())
+            .entry(PARTS[part_of_skin_vertex(hand, v)].to_string())
             .or_default() += 1;
     }
     SkinOverlap {

@@ -42,12 +42,8 @@ pub fn draw_lists(solved: &Solved, options: &VisualOptions) -> Result<Vec<DrawLi
     // The pressure overlay of a scene in which nothing ever touches says so (a frame out of
     // contact in a scene with contact shows zero pressure). The skin pressed on itself is
     // contact too.
-    let touches = |f: &crate::state::Frame| {
-        f.contact.is_some()
-            || f.hands
-                .iter()
-                .any(|h| h.self_contact.iter().any(|&p| p > 0.0))
-    };
+    let touches =
+        |f: &crate::state::Frame| f.contact.is_some() || f.hands.iter().any(|h| h.presses_itself());
     if options.overlay == Overlay::Pressure && !solved.frames.iter().any(touches) {
         return Err(VisualError::NoContact);
     }

@@ -77,6 +77,11 @@ pub struct HandFrame {
 }
 
 impl HandFrame {
+    /// Whether its skin presses on itself anywhere (`self_contact`).
+    pub fn presses_itself(&self) -> bool {
+        self.self_contact.iter().any(|&f| f > 0.0)
+    }
+
     /// The contact force on each digit's flesh (thumb first: `hand::synergy::DIGITS`), N: its
     /// bones' `contact_force` summed (the carpus's left out). `skeleton` is this hand's.
     pub fn contact_force_by_digit(

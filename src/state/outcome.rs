@@ -114,6 +114,12 @@ pub fn node_bone(hand: &HandModel, n: usize) -> usize {
     hand.flesh.node_bone[n].unwrap_or(hand.weights.weights[n][0].0)
 }
 
+/// Index into [`PARTS`] of contact-skin vertex `v`: the part of the bone leading its heaviest
+/// node.
+pub fn part_of_skin_vertex(hand: &HandModel, v: usize) -> usize {
+    part_of_bone(hand, node_bone(hand, hand.contact_skin.heaviest_node(v)))
+}
+
 /// Index into [`PARTS`] of bone `b`.
 pub fn part_of_bone(hand: &HandModel, b: usize) -> usize {
     hand.skeleton.bones[b].digit.map_or(0, |d| d + 1)

@@ -65,7 +65,7 @@ pub fn skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f6
 /// vertex, as [`skin_pressure`]); `None` where it presses nowhere.
 pub fn self_contact_skin_pressure(model: &Model, h: &super::HandFrame) -> Option<Vec<f64>> {
     let hand = model.bodies[h.body].hand.as_deref()?;
-    if h.self_contact.iter().all(|f| *f == 0.0) {
+    if !h.presses_itself() {
         return None;
     }
     let mut force = h.self_contact.clone();
@@ -129,7 +129,7 @@ fn contact_skin_forces(model: &Model, frame: &Frame, body: usize) -> Option<Vec<
     if others.is_none() && own.is_empty() {
         return None;
     }
-    let mut force = super::blend_forces(own, 1.0, &[], 0.0);
+    let mut force = own.to_vec();
     force.resize(count, 0.0);
     let Some((contact, first)) = others else {
         return Some(force);
