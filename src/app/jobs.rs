@@ -78,6 +78,10 @@ pub struct Solution {
     /// A preview of a pose job, drawn at once while the pose is solved (the hands moved by
     /// skinning, nothing else computed: `solve::skinned_preview`); the solved frame follows.
     pub preview: bool,
+    /// The frame a pose job's motion reached at the pose, solved, before the corrections at
+    /// the pose settle its contact (`solve::Workspace::move_hands_showing`): shown while they
+    /// run, drawn as a draft; the settled frame follows.
+    pub settling: bool,
 }
 
 /// Why a job produced no frame.

@@ -96,7 +96,25 @@ impl Physics {
         }
         let workspace = self.workspace.as_mut().expect("built with the model");
         self.dirty = true;
-        let result = workspace.move_hands(&model, &mut self.hands, pose, Some(&stale(cancel)));
+        // The frame the motion reached at the pose goes out while the corrections settle its
+        // contact (drawn as a draft, marked as settling); the settled frame follows.
+        let emit = std::cell::RefCell::new(emit);
+        let reached = |frame: &Frame| {
+            if cancel.is_stale() {
+                return;
+            }
+            if let Ok(mut solution) = deliver(job, &model, frame.clone(), started, None, false) {
+                solution.settling = true;
+                (emit.borrow_mut())(Ok(solution));
+            }
+        };
+        let result = workspace.move_hands_showing(
+            &model,
+            &mut self.hands,
+            pose,
+            Some(&stale(cancel)),
+            &reached,
+        );
         self.dirty = false;
         // Cancelled, the hands stopped at a completed increment: the next job goes on from
         // there.
@@ -220,6 +238,7 @@ fn deliver(
         timeline_frame,
         visual: job.visual,
         preview,
+        settling: false,
     })
 }
 

@@ -510,7 +510,7 @@ impl ViewerState {
                     if grasp_job.is_some() {
                         self.grasp_job = None;
                     }
-                    let solved = !solution.preview;
+                    let solved = !solution.preview && !solution.settling;
                     self.show(r.version, solution, Source::Interactive);
                     // The next stage of a preset, once its first is solved.
                     if solved {
@@ -553,6 +553,12 @@ impl ViewerState {
     /// `true` while the frame on screen is a preview (its pose is being solved).
     pub fn showing_preview(&self) -> bool {
         self.shown.as_ref().is_some_and(|s| s.solution.preview)
+    }
+
+    /// `true` while the frame on screen is solved at its pose but its contact is being settled
+    /// (the corrections at the pose run; the settled frame follows).
+    pub fn showing_settling(&self) -> bool {
+        self.shown.as_ref().is_some_and(|s| s.solution.settling)
     }
 
     /// The closing of a grasp on the timeline: the preshape, then the grip found (`angles`), for

@@ -115,5 +115,6 @@ pub fn tiny_solution(x: f32, timeline_frame: Option<usize>) -> Solution {
         timeline_frame,
         visual: VisualOptions::default(),
         preview: false,
+        settling: false,
     }
 }

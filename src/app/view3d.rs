@@ -44,7 +44,8 @@ pub struct View3d {
     bounds: Option<Bounds>,
     target: Option<Target>,
     dirty: bool,
-    /// The frame shown is a preview (drawn at the interactive scale).
+    /// The frame shown is a preview, or a frame whose contact is settling: replaced shortly,
+    /// drawn at the interactive scale as a draft.
     preview: bool,
     /// The camera moved in the last UI frame (drawn at the interactive scale).
     moving: bool,
@@ -218,7 +219,7 @@ impl SceneView for View3d {
             self.camera = None;
         }
         self.list = Some(list);
-        self.preview = solution.preview;
+        self.preview = solution.preview || solution.settling;
         self.dirty = true;
     }
 

@@ -144,8 +144,9 @@ fn worker_loop(
         let mut alive = true;
         let outcome = catch_unwind(AssertUnwindSafe(|| {
             solve.run(&job, &cancel, &mut |outcome| {
-                // A preview goes out at once: it is never a job's last message.
-                if matches!(&outcome, Ok(s) if s.preview) {
+                // A preview, or a frame settling, goes out at once: it is never a job's last
+                // message.
+                if matches!(&outcome, Ok(s) if s.preview || s.settling) {
                     alive &= tx
                         .send(JobResult {
                             version,

@@ -100,6 +100,11 @@ fn carried_by(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
 /// and their flexion along it.
 type Motion<'a, 'p> = (&'a [(usize, Vec<f64>, Vec<f64>)], &'p mut FlexionPath);
 
+/// What watches a keyframe being solved: its cancel check, and what is shown the frame its
+/// motion reached before the corrections at its pose settle the contact
+/// ([`Workspace::move_hands_showing`]).
+type Watch<'a> = (Option<&'a CancelCheck>, Option<&'a dyn Fn(&Frame)>);
+
 /// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
 /// degrees: the skin of a fingertip 8 cm from the joint moves ≈ 7 mm, within what one contact
 /// step resolves from the last converged state.
@@ -212,6 +217,34 @@ impl Workspace {
         targets: &[(usize, Vec<f64>)],
         cancel: Option<&CancelCheck>,
     ) -> Result<Frame, SimError> {
+        self.move_hands_watched(model, posed, targets, (cancel, None))
+    }
+
+    /// [`Workspace::move_hands`], showing `reached` the frame the motion reached at the pose
+    /// before the corrections at the pose settle its contact (its stresses computed, its values
+    /// finite), where there are corrections to make: a frame at the pose, in contact, whose
+    /// contact force the first correction changes by a few per mille (a finger in contact
+    /// dragged by 2°: under 0.1 %). The viewer shows it while the corrections run; the frame
+    /// returned is the settled one.
+    pub fn move_hands_showing(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        targets: &[(usize, Vec<f64>)],
+        cancel: Option<&CancelCheck>,
+        reached: &dyn Fn(&Frame),
+    ) -> Result<Frame, SimError> {
+        self.move_hands_watched(model, posed, targets, (cancel, Some(reached)))
+    }
+
+    /// [`Workspace::move_hands`] watched by `watch`.
+    fn move_hands_watched(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        targets: &[(usize, Vec<f64>)],
+        watch: Watch<'_>,
+    ) -> Result<Frame, SimError> {
         // Where each moving hand starts the keyframe from, for a flexion error's share.
         let from: Vec<(usize, Vec<f64>)> = targets
             .iter()
@@ -219,7 +252,7 @@ impl Workspace {
             .map(|h| (h.body, h.state.angles.clone()))
             .collect();
         // The stresses of the frame kept only (its steps' were not needed).
-        self.move_hands_as_asked(model, posed, targets, cancel)
+        self.move_hands_as_asked(model, posed, targets, watch)
             .and_then(|mut frame| super::frame_stress::complete(model, &mut frame).map(|()| frame))
             .and_then(|frame| SimError::finite(model, frame))
             .map_err(|e| keyframe_share(model, e, &from, targets))
@@ -232,8 +265,9 @@ impl Workspace {
         model: &Model,
         posed: &mut Posed,
         targets: &[(usize, Vec<f64>)],
-        cancel: Option<&CancelCheck>,
+        watch: Watch<'_>,
     ) -> Result<Frame, SimError> {
+        let cancel = watch.0;
         let index = |body: usize| {
             posed
                 .hands
@@ -289,13 +323,7 @@ impl Workspace {
         let Some(plan) = path.ahead_plan() else {
             let too_deep = too_deep(posed);
             self.know_untouched_motion(model, has_objects);
-            return self.move_along(
-                model,
-                posed,
-                (&moving, &mut path),
-                (too_deep, start),
-                cancel,
-            );
+            return self.move_along(model, posed, (&moving, &mut path), (too_deep, start), watch);
         };
         // The knots flexed ahead on another thread while the contact steps solve (the caches of
         // the moving hands go with it, and come back).
@@ -331,13 +359,8 @@ impl Workspace {
             path.take_ahead(from_ahead);
             let too_deep = too_deep(posed);
             self.know_untouched_motion(model, has_objects);
-            let result = self.move_along(
-                model,
-                posed,
-                (&moving, &mut path),
-                (too_deep, start),
-                cancel,
-            );
+            let result =
+                self.move_along(model, posed, (&moving, &mut path), (too_deep, start), watch);
             // A knot still flexing stops at its next increment; none is flexed after it.
             stop.store(true, Ordering::Relaxed);
             path.end_ahead();
@@ -378,7 +401,7 @@ impl Workspace {
         posed: &mut Posed,
         (moving, path): Motion<'_, '_>,
         (too_deep, start): (bool, Option<Posed>),
-        cancel: Option<&CancelCheck>,
+        watch: Watch<'_>,
     ) -> Result<Frame, SimError> {
         let largest = moving
             .iter()
@@ -390,12 +413,12 @@ impl Workspace {
         let along = steps.max(2);
         if too_deep {
             let carried = posed.contact.clone();
-            return self.move_in_steps(model, posed, (moving, path), along, carried, cancel);
+            return self.move_in_steps(model, posed, (moving, path), along, carried, watch);
         }
         // Going on from a frame in contact, from the state it carries (the same formulation
         // as its own steps: the pose again gives the frame again).
         let carried = posed.contact.clone();
-        match self.move_in_steps(model, posed, (moving, path), 1, carried, cancel) {
+        match self.move_in_steps(model, posed, (moving, path), 1, carried, watch) {
             // The one-step attempt did not settle: the keyframe in steps along the motion. If
             // that fails too, its error is the one returned (it failed at its first contact, in
             // its smallest step: the cause); the one-step error only says that the whole motion
@@ -403,7 +426,7 @@ impl Workspace {
             Err(SimError::Contact(_)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
-                self.move_in_steps(model, posed, (moving, path), along, carried, cancel)
+                self.move_in_steps(model, posed, (moving, path), along, carried, watch)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
                         for h in moving {
@@ -430,7 +453,7 @@ impl Workspace {
         (moving, path): Motion<'_, '_>,
         steps: usize,
         carried: Option<Vec<f64>>,
-        cancel: Option<&CancelCheck>,
+        (cancel, reached): Watch<'_>,
     ) -> Result<Frame, SimError> {
         // Whether the motion pressed a body: what it carries in from a frame in contact (the
         // flesh's contact displacements), or a step in contact.
@@ -480,6 +503,15 @@ impl Workspace {
                     let mut corrections = 0;
                     let mut unsettled = Unsettled::default();
                     if short.is_none() {
+                        if let Some(reached) = reached {
+                            let counts = Counts {
+                                steps: kept + touched,
+                                retries,
+                                corrections: 0,
+                                unsettled: Unsettled::default(),
+                            };
+                            show_reached(model, posed, (moving, path), &frame, counts, reached);
+                        }
                         (frame, corrections, unsettled) =
                             self.correct(model, posed, (moving, path), frame, pressed, cancel)?;
                     }
@@ -944,6 +976,30 @@ fn finish(
         posed.hands[*h].frame.stats = total;
     }
     posed.contact = carried_by(model, frame);
+}
+
+/// Shows `reached` the frame a motion reached at its pose, before its corrections, where it is
+/// in contact with force on a hand (else no correction follows): a copy ended as
+/// [`finish`] would end it with `counts`, its stresses computed; not shown where a value is not
+/// finite (the corrections then decide).
+fn show_reached(
+    model: &Model,
+    posed: &Posed,
+    (moving, path): Motion<'_, '_>,
+    frame: &Frame,
+    counts: Counts,
+    reached: &dyn Fn(&Frame),
+) {
+    if hand_contact_force(model, frame) <= 0.0 {
+        return;
+    }
+    let (mut posed, mut frame) = (posed.clone(), frame.clone());
+    finish(model, &mut posed, (moving, path), &mut frame, counts, None);
+    let shown = super::frame_stress::complete(model, &mut frame)
+        .and_then(|()| SimError::finite(model, frame));
+    if let Ok(frame) = shown {
+        reached(&frame);
+    }
 }
 
 /// Whether each dof is a hand's (their carried displacements are the flesh's contact

@@ -15,6 +15,9 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             ui.label("shown: a preview (the hands moved by skinning); its forces are being solved");
             return;
         }
+        if state.showing_settling() {
+            ui.label("shown: solved at the pose; its contact is being settled (a few per mille)");
+        }
     } else if state.shown.is_some() && state.status.error.is_none() {
         ui.label(RichText::new("shown frame is current").color(Color32::LIGHT_GREEN));
     } else if state.shown.is_some() {
