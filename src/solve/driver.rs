@@ -251,8 +251,34 @@ impl Workspace {
             .filter_map(|(b, _)| posed.hands.iter().find(|h| h.body == *b))
             .map(|h| (h.body, h.state.angles.clone()))
             .collect();
+        // With the skin kept out of itself, a keyframe closing the thumb and the fingers at once
+        // whose skin does not settle (the thumb folding over fingers still closing: the full
+        // fist stopped at 76.7 % with a crushed cell) goes again from its start with the fingers
+        // first and the thumb after them, as a hand makes a fist.
+        let stageable = model.flexion.self_contact.is_some()
+            && targets.iter().any(|(b, to)| {
+                posed.hands.iter().find(|h| h.body == *b).is_some_and(|h| {
+                    super::path::thumb_and_fingers_move(model, *b, &h.state.angles, to)
+                })
+            });
+        let start = stageable.then(|| posed.clone());
+        // Where that fails too, the first error stands: its share of the motion is of the
+        // straight path, which its advice (the keyframe short of that share) follows.
+        let result = match self.move_hands_as_asked(model, posed, targets, watch, false) {
+            Err(e @ (SimError::FleshCrushed { .. } | SimError::SelfContactUnsettled { .. }))
+                if start.is_some() =>
+            {
+                *posed = start.expect("kept above");
+                match self.move_hands_as_asked(model, posed, targets, watch, true) {
+                    Err(SimError::Cancelled) => Err(SimError::Cancelled),
+                    Err(_) => Err(e),
+                    ok => ok,
+                }
+            }
+            other => other,
+        };
         // The stresses of the frame kept only (its steps' were not needed).
-        self.move_hands_as_asked(model, posed, targets, watch)
+        result
             .and_then(|mut frame| super::frame_stress::complete(model, &mut frame).map(|()| frame))
             .and_then(|frame| SimError::finite(model, frame))
             .map_err(|e| keyframe_share(model, e, &from, targets))
@@ -266,6 +292,7 @@ impl Workspace {
         posed: &mut Posed,
         targets: &[(usize, Vec<f64>)],
         watch: Watch<'_>,
+        thumb_after_fingers: bool,
     ) -> Result<Frame, SimError> {
         let cancel = watch.0;
         let index = |body: usize| {
@@ -319,6 +346,7 @@ impl Workspace {
                 }
                 (hand.body, hand.state.clone(), to.clone(), far)
             }),
+            thumb_after_fingers,
         );
         let Some(plan) = path.ahead_plan() else {
             let too_deep = too_deep(posed);

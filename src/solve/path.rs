@@ -51,6 +51,13 @@ struct HandPath {
     far: [bool; PARTS],
     /// Knots after the start.
     count: usize,
+    /// The thumb after the fingers: the fraction of the keyframe at which the fingers (every
+    /// joint but the thumb's) have reached their angles and the thumb starts, and which joints
+    /// are the thumb's; `None`: every joint at once.
+    /// (the fingers' knots, the thumb's joints): the thumb starts at knot `fingers` (fraction
+    /// fingers / count), whose flesh chooses the FEM region of the thumb's knots as the
+    /// keyframe's start chooses the fingers' (as two keyframes would).
+    staged: Option<(usize, Vec<bool>)>,
     /// The flexed states solved so far: the start, then knot j at fraction j / `count`.
     knots: Vec<HandState>,
     /// What the knots' flexion cost (`None` before the first).
@@ -80,6 +87,9 @@ pub(super) struct AheadHand {
     angles: Vec<Vec<f64>>,
     far: [bool; PARTS],
     region_at: Vec<Vector3<f64>>,
+    /// The index in `angles` of the knot whose flexed flesh chooses the region of the knots
+    /// after it (the thumb's stage starting there), if it is among them.
+    region_after: Option<usize>,
 }
 
 /// Flexes the knots of `hands` one after the other by `flex`, in the order of their fractions
@@ -100,12 +110,16 @@ pub(super) fn flex_ahead(
         .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut last: Vec<HandState> = hands.iter().map(|h| h.start.clone()).collect();
+    let mut region: Vec<Vec<Vector3<f64>>> = hands.iter().map(|h| h.region_at.clone()).collect();
     for (_, i, j) in order {
         let h = &hands[i];
-        let flexed = flex(h.body, last[i].clone(), &h.angles[j], (h.far, &h.region_at));
+        let flexed = flex(h.body, last[i].clone(), &h.angles[j], (h.far, &region[i]));
         let failed = flexed.is_err();
         if let Ok((state, _)) = &flexed {
             last[i] = state.clone();
+            if h.region_after == Some(j) {
+                region[i] = state.positions.clone();
+            }
         }
         if to_path.send((h.k, flexed)).is_err() || failed {
             return;
@@ -116,28 +130,34 @@ pub(super) fn flex_ahead(
 impl FlexionPath {
     /// The path of each moving hand (body, angles from, angles to, its far parts) from `start`,
     /// its state at the keyframe's start; knots every `max_step_deg` of its largest motion.
+    /// `thumb_after_fingers`: where both the thumb and the fingers move, the fingers go first
+    /// and the thumb after them ([`staged_count`]).
     pub(super) fn new(
         model: &Model,
         moving: impl IntoIterator<Item = (usize, HandState, Vec<f64>, [bool; PARTS])>,
+        thumb_after_fingers: bool,
     ) -> FlexionPath {
+        let step = model.flexion.max_step_deg;
         let hands = moving
             .into_iter()
             .map(|(body, start, to, far)| {
-                let largest = start
-                    .angles
-                    .iter()
-                    .zip(&to)
-                    .map(|(a, b)| (b - a).abs())
-                    .fold(0.0, f64::max);
-                let count = (largest / model.flexion.max_step_deg - 1e-9)
-                    .ceil()
-                    .max(1.0) as usize;
+                let largest = largest_motion(&start.angles, &to, |_| true);
+                let count = knots_for(largest, step);
+                let thumb = thumb_dofs(model, body);
+                let staged = thumb_after_fingers
+                    .then(|| staged_count(&start.angles, &to, &thumb, step))
+                    .flatten();
+                let (count, staged) = match staged {
+                    Some((fingers, thumbs)) => (fingers + thumbs, Some((fingers, thumb))),
+                    None => (count, None),
+                };
                 HandPath {
                     body,
                     from: start.angles.clone(),
                     to,
                     far,
                     count,
+                    staged,
                     knots: vec![start],
                     stats: None,
                 }
@@ -160,15 +180,28 @@ impl FlexionPath {
             self.hands
                 .iter()
                 .enumerate()
-                .map(|(k, h)| AheadHand {
-                    k,
-                    body: h.body,
-                    start: h.knots.last().expect("the start").clone(),
-                    angles: (h.knots.len()..=h.count)
-                        .map(|j| h.angles_at(j as f64 / h.count as f64))
-                        .collect(),
-                    far: h.far,
-                    region_at: h.knots[0].positions.clone(),
+                .map(|(k, h)| {
+                    let first = h.knots.len();
+                    // The knot choosing the next one's region: already flexed, or flexed ahead
+                    // (then the knots after it take its flesh).
+                    let chooser = h.region_knot(first);
+                    let (region_at, region_after) = match h.staged.as_ref() {
+                        Some(&(fingers, _)) if fingers >= first => {
+                            (h.knots[0].positions.clone(), Some(fingers - first))
+                        }
+                        _ => (h.knots[chooser].positions.clone(), None),
+                    };
+                    AheadHand {
+                        k,
+                        body: h.body,
+                        start: h.knots.last().expect("the start").clone(),
+                        angles: (first..=h.count)
+                            .map(|j| h.angles_at(j as f64 / h.count as f64))
+                            .collect(),
+                        far: h.far,
+                        region_at,
+                        region_after,
+                    }
                 })
                 .collect(),
         )
@@ -205,7 +238,9 @@ impl FlexionPath {
 
     /// What the flexion of hand `k` (in the order given to [`FlexionPath::new`]) cost so far.
     pub(super) fn stats(&self, k: usize) -> KeyframeStats {
-        self.hands[k].stats.clone().unwrap_or_default()
+        let mut stats = self.hands[k].stats.clone().unwrap_or_default();
+        stats.thumb_after_fingers = self.hands[k].is_staged();
+        stats
     }
 
     /// Hand `k`'s state at fraction `f` of the keyframe: a knot's where `f` falls on one,
@@ -235,7 +270,7 @@ impl FlexionPath {
                         path.body,
                         start,
                         &angles,
-                        (path.far, &path.knots[0].positions),
+                        (path.far, &path.knots[path.region_knot(next)].positions),
                     )?
                 }
             };
@@ -265,17 +300,90 @@ impl FlexionPath {
     }
 }
 
+/// The largest change of the joints `which` picks from `from` to `to`, degrees.
+fn largest_motion(from: &[f64], to: &[f64], which: impl Fn(usize) -> bool) -> f64 {
+    from.iter()
+        .zip(to)
+        .enumerate()
+        .filter(|(i, _)| which(*i))
+        .map(|(_, (a, b))| (b - a).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Knots for a motion of `largest` degrees at most `step` apart (at least one).
+fn knots_for(largest: f64, step: f64) -> usize {
+    (largest / step - 1e-9).ceil().max(1.0) as usize
+}
+
+/// Which joints of hand body `body` are its thumb's.
+fn thumb_dofs(model: &Model, body: usize) -> Vec<bool> {
+    let hand = model.bodies[body].hand.as_deref().expect("a hand body");
+    hand.skeleton
+        .dofs
+        .iter()
+        .map(|d| d.name.starts_with("thumb."))
+        .collect()
+}
+
+/// The knots of a keyframe from `from` to `to` with the fingers first and the thumb after them
+/// (`thumb`: its joints), each stage at most `step` degrees a knot: (the fingers', the
+/// thumb's); `None` where only one of them moves.
+fn staged_count(from: &[f64], to: &[f64], thumb: &[bool], step: f64) -> Option<(usize, usize)> {
+    let fingers = largest_motion(from, to, |i| !thumb[i]);
+    let thumbs = largest_motion(from, to, |i| thumb[i]);
+    (fingers > 0.0 && thumbs > 0.0).then(|| (knots_for(fingers, step), knots_for(thumbs, step)))
+}
+
+/// Whether hand body `body` moving from `from` to `to` moves both its thumb and a finger (a
+/// keyframe [`FlexionPath::new`] can stage).
+pub(super) fn thumb_and_fingers_move(model: &Model, body: usize, from: &[f64], to: &[f64]) -> bool {
+    staged_count(
+        from,
+        to,
+        &thumb_dofs(model, body),
+        model.flexion.max_step_deg,
+    )
+    .is_some()
+}
+
 impl HandPath {
-    /// The joint angles at fraction `f` (the end's exactly at 1).
+    /// The joint angles at fraction `f` (the end's exactly at 1): every joint along its way
+    /// at once, or in two stages, the fingers over the first, then the thumb.
     fn angles_at(&self, f: f64) -> Vec<f64> {
         if f >= 1.0 - 1e-12 {
             return self.to.clone();
         }
+        let along = |i: usize| match &self.staged {
+            None => f,
+            Some((fingers, thumb)) => {
+                let split = *fingers as f64 / self.count as f64;
+                if thumb[i] {
+                    ((f - split) / (1.0 - split)).clamp(0.0, 1.0)
+                } else {
+                    (f / split).min(1.0)
+                }
+            }
+        };
         self.from
             .iter()
             .zip(&self.to)
-            .map(|(a, b)| a + (b - a) * f)
+            .enumerate()
+            .map(|(i, (a, b))| a + (b - a) * along(i))
             .collect()
+    }
+
+    /// Whether the thumb closes after the fingers on this path.
+    fn is_staged(&self) -> bool {
+        self.staged.is_some()
+    }
+
+    /// The knot whose flesh chooses the FEM region of knot `j`: the keyframe's start, or in the
+    /// thumb's stage the knot it starts from.
+    fn region_knot(&self, j: usize) -> usize {
+        match &self.staged {
+            Some((fingers, _)) if j > *fingers => *fingers,
+            _ => 0,
+        }
     }
 }
 
@@ -421,8 +529,8 @@ mod tests {
         };
         let asked = [(1, 1.0), (0, 1.0 / 3.0), (0, 1.0), (1, 0.5)];
         for fail_at in [None, Some(20.0)] {
-            let mut in_turn = FlexionPath::new(&model, hands());
-            let mut ahead = FlexionPath::new(&model, hands());
+            let mut in_turn = FlexionPath::new(&model, hands(), false);
+            let mut ahead = FlexionPath::new(&model, hands(), false);
             let plan = ahead.ahead_plan().expect("more than one knot to flex");
             let (to_path, from_ahead) = std::sync::mpsc::channel();
             let worker = std::thread::spawn(move || {

@@ -158,6 +158,11 @@ pub struct KeyframeStats {
     pub self_contacts: usize,
     /// The sum of their normal forces, N.
     pub self_contact_force: f64,
+    /// The keyframe's motion went in two stages, the fingers first and the thumb after them:
+    /// with the skin kept out of itself, the motion of both at once did not settle (the thumb
+    /// folding over fingers still closing; issue 16). Written only when true.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub thumb_after_fingers: bool,
     /// The keyframe ended short of its pose: how far it went and why (`None`: it reached it;
     /// not written then).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -211,6 +216,7 @@ impl KeyframeStats {
         self.relative_residual = self.relative_residual.max(step.relative_residual);
         self.contact_steps += step.contact_steps;
         self.pose_corrections += step.pose_corrections;
+        self.thumb_after_fingers |= step.thumb_after_fingers;
         if step.correction_failed.is_some() {
             self.correction_failed = step.correction_failed.clone();
         }
