@@ -51,12 +51,11 @@ struct HandPath {
     far: [bool; PARTS],
     /// Knots after the start.
     count: usize,
-    /// The thumb after the fingers: the fraction of the keyframe at which the fingers (every
-    /// joint but the thumb's) have reached their angles and the thumb starts, and which joints
-    /// are the thumb's; `None`: every joint at once.
-    /// (the fingers' knots, the thumb's joints): the thumb starts at knot `fingers` (fraction
-    /// fingers / count), whose flesh chooses the FEM region of the thumb's knots as the
-    /// keyframe's start chooses the fingers' (as two keyframes would).
+    /// The thumb after the fingers: (the fingers' knots, which joints are the thumb's). The
+    /// fingers (every joint but the thumb's) reach their angles at knot `fingers` (fraction
+    /// fingers / count), where the thumb starts; that knot's flesh chooses the FEM region of the
+    /// thumb's knots as the keyframe's start chooses the fingers' (as two keyframes would).
+    /// `None`: every joint at once.
     staged: Option<(usize, Vec<bool>)>,
     /// The flexed states solved so far: the start, then knot j at fraction j / `count`.
     knots: Vec<HandState>,
@@ -143,12 +142,14 @@ impl FlexionPath {
             .map(|(body, start, to, far)| {
                 let largest = largest_motion(&start.angles, &to, |_| true);
                 let count = knots_for(largest, step);
-                let thumb = thumb_dofs(model, body);
                 let staged = thumb_after_fingers
-                    .then(|| staged_count(&start.angles, &to, &thumb, step))
+                    .then(|| {
+                        let thumb = thumb_dofs(model, body);
+                        staged_count(&start.angles, &to, &thumb, step).map(|c| (c, thumb))
+                    })
                     .flatten();
                 let (count, staged) = match staged {
-                    Some((fingers, thumbs)) => (fingers + thumbs, Some((fingers, thumb))),
+                    Some(((fingers, thumbs), thumb)) => (fingers + thumbs, Some((fingers, thumb))),
                     None => (count, None),
                 };
                 HandPath {
