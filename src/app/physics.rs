@@ -99,11 +99,11 @@ impl Physics {
         // The frame the motion reached at the pose goes out while the corrections settle its
         // contact (drawn as a draft, marked as settling); the settled frame follows.
         let emit = std::cell::RefCell::new(emit);
-        let reached = |frame: &Frame| {
+        let reached = |frame: Frame| {
             if cancel.is_stale() {
                 return;
             }
-            if let Ok(mut solution) = deliver(job, &model, frame.clone(), started, None, false) {
+            if let Ok(mut solution) = deliver(job, &model, frame, started, None, false) {
                 solution.settling = true;
                 (emit.borrow_mut())(Ok(solution));
             }

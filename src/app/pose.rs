@@ -2,6 +2,7 @@
 //! limits without meshing anything), their angles, and the pose presets.
 
 use super::jobs::Pose;
+pub use crate::hand::digit_of;
 use crate::hand::{Side, Skeleton};
 use crate::scene::{HandSide, Scene, Shape};
 
@@ -34,11 +35,6 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
             _ => None,
         })
         .collect()
-}
-
-/// The digit a joint belongs to (the part of its name before the first dot).
-pub fn digit_of(joint: &str) -> &str {
-    joint.split('.').next().unwrap_or(joint)
 }
 
 /// A named pose preset.

@@ -35,8 +35,8 @@ pub use rig::RigJoints;
 pub use shape::{BuiltinSkin, SkinShape};
 pub use size::HandSize;
 pub use skeleton::{
-    cup_radius, long_bone_radius, relative_motion, Bone, BoneShape, JointDof, Pose, PoseError,
-    Side, Skeleton,
+    cup_radius, digit_of, long_bone_radius, relative_motion, Bone, BoneShape, JointDof, Pose,
+    PoseError, Side, Skeleton,
 };
 pub use skin::DisplaySkin;
 pub use skinning::{Blend, SkinningWeights};

@@ -45,7 +45,7 @@ pub fn thumb_over_fist() -> Pose {
 /// where flesh kept out of itself is crushed (docs/hand.md, "Self-contact").
 pub fn four_finger_fist() -> Pose {
     let mut pose = full_fist();
-    pose.retain(|joint, _| !joint.starts_with("thumb"));
+    pose.retain(|joint, _| super::digit_of(joint) != "thumb");
     pose.insert("little.pip".into(), 95.0);
     pose.insert("little.dip".into(), 60.0);
     pose

@@ -541,3 +541,9 @@ impl Skeleton {
 pub fn relative_motion(from: &[Isometry3<f64>], to: &[Isometry3<f64>]) -> Vec<Isometry3<f64>> {
     to.iter().zip(from).map(|(t, f)| t * f.inverse()).collect()
 }
+
+/// The digit a joint belongs to ("thumb", "index", …): the part of its name before the first
+/// dot.
+pub fn digit_of(joint: &str) -> &str {
+    joint.split('.').next().unwrap_or(joint)
+}

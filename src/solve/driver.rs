@@ -103,7 +103,7 @@ type Motion<'a, 'p> = (&'a [(usize, Vec<f64>, Vec<f64>)], &'p mut FlexionPath);
 /// What watches a keyframe being solved: its cancel check, and what is shown the frame its
 /// motion reached before the corrections at its pose settle the contact
 /// ([`Workspace::move_hands_showing`]).
-type Watch<'a> = (Option<&'a CancelCheck>, Option<&'a dyn Fn(&Frame)>);
+type Watch<'a> = (Option<&'a CancelCheck>, Option<&'a dyn Fn(Frame)>);
 
 /// Largest joint rotation between two contact steps of a keyframe in a scene with other bodies,
 /// degrees: the skin of a fingertip 8 cm from the joint moves ≈ 7 mm, within what one contact
@@ -232,7 +232,7 @@ impl Workspace {
         posed: &mut Posed,
         targets: &[(usize, Vec<f64>)],
         cancel: Option<&CancelCheck>,
-        reached: &dyn Fn(&Frame),
+        reached: &dyn Fn(Frame),
     ) -> Result<Frame, SimError> {
         self.move_hands_watched(model, posed, targets, (cancel, Some(reached)))
     }
@@ -988,6 +988,23 @@ fn finish(
     counts: Counts,
     short: Option<StoppedShort>,
 ) {
+    for (k, total) in keyframe_stats(posed, (moving, path), frame, &counts, short) {
+        posed.hands[moving[k].0].frame.stats = total;
+    }
+    posed.contact = carried_by(model, frame);
+}
+
+/// Each moving hand's cost of the keyframe (its flexion along `path`, the contact steps
+/// `counts`, where it stopped short), written into `frame`'s hands: (the hand's index in
+/// `moving`, its stats).
+fn keyframe_stats(
+    posed: &Posed,
+    (moving, path): Motion<'_, '_>,
+    frame: &mut Frame,
+    counts: &Counts,
+    short: Option<StoppedShort>,
+) -> Vec<(usize, KeyframeStats)> {
+    let mut out = Vec::new();
     for (k, (h, _, _)) in moving.iter().enumerate() {
         let body = posed.hands[*h].body;
         let mut total = path.stats(k);
@@ -1001,32 +1018,32 @@ fn finish(
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
             fh.stats = total.clone();
         }
-        posed.hands[*h].frame.stats = total;
+        out.push((k, total));
     }
-    posed.contact = carried_by(model, frame);
+    out
 }
 
 /// Shows `reached` the frame a motion reached at its pose, before its corrections, where it is
-/// in contact with force on a hand (else no correction follows): a copy ended as
-/// [`finish`] would end it with `counts`, its stresses computed; not shown where a value is not
-/// finite (the corrections then decide).
+/// in contact with force on a hand (else no correction follows): a copy with the hands' costs so
+/// far (`counts`, as [`finish`] writes them), its stresses computed; not shown where a value is
+/// not finite (the corrections then decide).
 fn show_reached(
     model: &Model,
     posed: &Posed,
     (moving, path): Motion<'_, '_>,
     frame: &Frame,
     counts: Counts,
-    reached: &dyn Fn(&Frame),
+    reached: &dyn Fn(Frame),
 ) {
     if hand_contact_force(model, frame) <= 0.0 {
         return;
     }
-    let (mut posed, mut frame) = (posed.clone(), frame.clone());
-    finish(model, &mut posed, (moving, path), &mut frame, counts, None);
+    let mut frame = frame.clone();
+    keyframe_stats(posed, (moving, path), &mut frame, &counts, None);
     let shown = super::frame_stress::complete(model, &mut frame)
         .and_then(|()| SimError::finite(model, frame));
     if let Ok(frame) = shown {
-        reached(&frame);
+        reached(frame);
     }
 }
 

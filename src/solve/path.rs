@@ -322,7 +322,7 @@ fn thumb_dofs(model: &Model, body: usize) -> Vec<bool> {
     hand.skeleton
         .dofs
         .iter()
-        .map(|d| d.name.starts_with("thumb."))
+        .map(|d| crate::hand::digit_of(&d.name) == "thumb")
         .collect()
 }
 
