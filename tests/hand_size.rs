@@ -8,7 +8,7 @@ use crate::common;
 
 use common::flexion::bone_reactions;
 use prehensile::fem::hex8::{cell_volume, scaled_jacobian};
-use prehensile::hand::{DisplaySkin, HandModel, HandSize, Side, SkinShape};
+use prehensile::hand::{DisplaySkin, HandForm, HandModel, HandSize, Side, SkinShape};
 
 /// The index's PIP flexed 90° from rest.
 const PIP_90: [(&str, f64); 1] = [("index.pip", 90.0)];
@@ -105,7 +105,7 @@ fn a_hand_scaled_alike_in_every_direction_feels_forces_scaled_by_its_size_square
 
 /// Over a skin's rest vertices: how many lie farther than `tolerance` from the skin's shape, of
 /// how many, the farthest (m), and the largest weight any vertex puts on a node.
-fn skin_fidelity(
+pub fn skin_fidelity(
     hand: &HandModel,
     shape: &SkinShape,
     skin: &DisplaySkin,
@@ -134,7 +134,7 @@ fn the_display_skin_lies_on_the_skins_shape_at_every_size() {
             let (hand, shape) = match HandSize::percentile(name) {
                 Some(size) => (
                     HandModel::sized(side, size, 1.0, None).unwrap(),
-                    SkinShape::sized(side, size.stretch()),
+                    SkinShape::sized(side, size.stretch(), HandForm::Simple),
                 ),
                 None => (HandModel::new(side, 1.0).unwrap(), SkinShape::new(side)),
             };

@@ -26,6 +26,7 @@ mod grasp_extremes;
 mod grasp_presets;
 mod grip_convergence;
 mod hand;
+mod hand_form;
 mod hand_import;
 mod hand_placement;
 mod hand_rig_export;

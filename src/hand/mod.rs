@@ -8,6 +8,7 @@
 pub mod anatomy;
 mod bone_mesh;
 mod embed;
+mod form;
 mod imported;
 mod lattice;
 mod mesh_skin;
@@ -26,6 +27,7 @@ mod stretch;
 pub mod synergy;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
+pub use form::HandForm;
 pub use imported::{RigError, RiggedHand};
 pub use lattice::{mesh_flesh, mesh_flesh_offset, FleshMesh, MeshingError, BASE_SPACING};
 pub use mesh_skin::{Located, MeshSkin, SkinMeshError};

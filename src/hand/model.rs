@@ -2,6 +2,7 @@
 //! pose and the flesh positions are state.
 
 use super::embed::Reach;
+use super::form::HandForm;
 use super::lattice::{mesh_flesh_offset, FleshMesh, MeshingError};
 use super::rig::RigJoints;
 use super::shape::SkinShape;
@@ -9,6 +10,7 @@ use super::size::HandSize;
 use super::skeleton::{Side, Skeleton};
 use super::skin::DisplaySkin;
 use super::skinning::SkinningWeights;
+use super::stretch::Stretch;
 use nalgebra::Vector3;
 
 /// Catmull–Clark levels of the display skin.
@@ -66,11 +68,30 @@ impl HandModel {
         resolution: f64,
         max_memory: Option<u64>,
     ) -> Result<HandModel, MeshingError> {
-        size.check().map_err(MeshingError::Size)?;
-        let stretch = size.stretch();
+        HandModel::built_in(side, Some(size), HandForm::Simple, resolution, max_memory)
+    }
+
+    /// The built-in hand of `form` ([`HandForm`]), of `size` (its own when `None`), refused,
+    /// naming the number, for a size that is not a human hand's.
+    pub fn built_in(
+        side: Side,
+        size: Option<HandSize>,
+        form: HandForm,
+        resolution: f64,
+        max_memory: Option<u64>,
+    ) -> Result<HandModel, MeshingError> {
+        let stretch = match size {
+            Some(size) => {
+                size.check().map_err(MeshingError::Size)?;
+                size.stretch()
+            }
+            None => Stretch::IDENTITY,
+        };
+        let mut skeleton = Skeleton::from_joints(side, &RigJoints::builtin_form(stretch, form));
+        skeleton.set_rest("thumb.cmc.abd", form.thumb_rest_abduction_deg());
         HandModel::build(
-            Skeleton::from_joints(side, &RigJoints::builtin_sized(stretch)),
-            SkinShape::sized(side, stretch),
+            skeleton,
+            SkinShape::sized(side, stretch, form),
             resolution,
             max_memory,
         )

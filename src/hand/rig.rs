@@ -4,6 +4,7 @@
 //! axes from either alike.
 
 use super::anatomy::{CARPUS, FINGERS, THUMB};
+use super::form::HandForm;
 use super::stretch::Stretch;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -27,7 +28,12 @@ pub struct RigJoints {
 impl RigJoints {
     /// The built-in adult hand's joints (`anatomy.rs`).
     pub fn builtin() -> RigJoints {
-        let d = Vector3::from(THUMB.direction).normalize();
+        RigJoints::builtin_of(HandForm::Simple)
+    }
+
+    /// The built-in hand's joints in `form` (the anatomical form's thumb at its natural rest).
+    fn builtin_of(form: HandForm) -> RigJoints {
+        let d = form.thumb_direction();
         let mut thumb = vec![Vector3::from(THUMB.cmc)];
         for len in THUMB.bones {
             let last = *thumb.last().unwrap();
@@ -62,7 +68,12 @@ impl RigJoints {
     /// The built-in hand's joints stretched to another size: joint points and the carpus by
     /// `stretch`, bone radii by its radial factor.
     pub fn builtin_sized(stretch: Stretch) -> RigJoints {
-        let mut joints = RigJoints::builtin();
+        RigJoints::builtin_form(stretch, HandForm::Simple)
+    }
+
+    /// [`RigJoints::builtin_sized`] in `form`.
+    pub fn builtin_form(stretch: Stretch, form: HandForm) -> RigJoints {
+        let mut joints = RigJoints::builtin_of(form);
         let (c, h, axes) = joints.carpus;
         joints.carpus = (
             stretch.apply(&c),

@@ -4,13 +4,14 @@
 //! with the skin) and thick on the palmar pads.
 
 use super::anatomy::{FINGERS, PALM, THUMB};
+use super::form::{Features, HandForm, SLAB_PAST_KNUCKLES, WAIST};
 use super::mesh_skin::MeshSkin;
 use super::skeleton::Side;
 use super::stretch::Stretch;
 use nalgebra::Vector3;
 
 /// Offset of a finger's skin axis from its bone axis towards the palm, m.
-const PALMAR_OFFSET: f64 = 0.0014;
+pub(super) const PALMAR_OFFSET: f64 = 0.0014;
 /// Flesh beyond the end of the distal phalanx, m.
 const TIP_PAD: f64 = 0.0035;
 /// Blending radius between the palm and each digit, m.
@@ -48,13 +49,18 @@ impl RoundCone {
         }
         ((x2 * a2 * il2).sqrt() + y * rr) * il2 - self.r0
     }
+
+    /// How much the skin narrows at `p`'s place along the cone, m: nothing at its ends,
+    /// (1 − [`WAIST`]) of the radius at its middle, smoothly between (sin²).
+    fn waist(&self, p: &Vector3<f64>) -> f64 {
+        let ba = self.b - self.a;
+        let t = ((p - self.a).dot(&ba) / ba.norm_squared()).clamp(0.0, 1.0);
+        let r = self.r0 + (self.r1 - self.r0) * t;
+        r * (1.0 - WAIST) * (std::f64::consts::PI * t).sin().powi(2)
+    }
 }
 
-/// Polynomial smooth minimum with blending radius `k`.
-fn smooth_min(a: f64, b: f64, k: f64) -> f64 {
-    let h = (k - (a - b).abs()).max(0.0) / k;
-    a.min(b) - h * h * k * 0.25
-}
+use super::form::smooth_min;
 
 /// The skin of a rest hand: the built-in hand's shape, or an imported skin mesh.
 #[derive(Clone, Debug)]
@@ -71,9 +77,9 @@ impl SkinShape {
         SkinShape::Builtin(BuiltinSkin::new(side))
     }
 
-    /// The built-in hand's skin stretched to another size.
-    pub fn sized(side: Side, stretch: Stretch) -> SkinShape {
-        SkinShape::Builtin(BuiltinSkin::sized(side, stretch))
+    /// The built-in hand's skin of `form`, stretched to another size.
+    pub fn sized(side: Side, stretch: Stretch, form: HandForm) -> SkinShape {
+        SkinShape::Builtin(BuiltinSkin::sized(side, stretch, form))
     }
 
     /// A point the flesh lattice's lines pass through (a right hand's frame), if the shape
@@ -121,16 +127,19 @@ pub struct BuiltinSkin {
     stretch: Stretch,
     digits: Vec<Vec<RoundCone>>,
     thenar: (Vector3<f64>, Vector3<f64>),
+    /// What the anatomical form adds (`None`: the simple form).
+    features: Option<Features>,
 }
 
 impl BuiltinSkin {
     /// The built-in hand's skin.
     pub fn new(side: Side) -> BuiltinSkin {
-        BuiltinSkin::sized(side, Stretch::IDENTITY)
+        BuiltinSkin::sized(side, Stretch::IDENTITY, HandForm::Simple)
     }
 
     /// The point the built-in hand's flesh lattice's lines pass through (a right hand's frame,
-    /// the anatomy tables' size): its skin's lower corner.
+    /// the anatomy tables' size): its simple form's skin's lower corner (the anatomical form's
+    /// too, so that both forms cut the joints' creases on the same lines).
     pub fn lattice_anchor() -> Vector3<f64> {
         BuiltinSkin::new(Side::Right).bounds().0
     }
@@ -145,11 +154,12 @@ impl BuiltinSkin {
         self.stretch
     }
 
-    /// The built-in hand's skin stretched from the anatomy tables' size by `stretch`.
-    pub fn sized(side: Side, stretch: Stretch) -> BuiltinSkin {
+    /// The built-in hand's skin of `form`, stretched from the anatomy tables' size by
+    /// `stretch`.
+    pub fn sized(side: Side, stretch: Stretch, form: HandForm) -> BuiltinSkin {
         let mut digits = Vec::new();
         // Thumb: from the thenar base along its three bones.
-        let d = Vector3::from(THUMB.direction).normalize();
+        let d = form.thumb_direction();
         let down = Vector3::new(0.0, 0.0, -PALMAR_OFFSET);
         let mut joints = vec![Vector3::from(THUMB.cmc)];
         for len in THUMB.bones {
@@ -170,13 +180,40 @@ impl BuiltinSkin {
             let radii = [f.skin[0], f.skin[0], f.skin[1], f.skin[2], f.skin[3]];
             digits.push(chain(&joints, &radii, Vector3::x(), down));
         }
-        // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal.
-        let c = Vector3::from(THUMB.cmc) + d * 0.022 + Vector3::new(0.004, -0.008, -0.006);
+        let features = (form == HandForm::Anatomical).then(|| {
+            let distal: Vec<_> = digits
+                .iter()
+                .enumerate()
+                .map(|(k, cones)| {
+                    let last: &RoundCone = cones.last().expect("a digit has cones");
+                    let palmar = if k == 0 {
+                        super::form::thumb_palmar(d)
+                    } else {
+                        -Vector3::z()
+                    };
+                    // To the skin's end, the round cone's last sphere beyond its axis.
+                    let dir = (last.b - last.a).normalize();
+                    (
+                        last.a,
+                        last.b + dir * last.r1,
+                        (last.r0 + last.r1) / 2.0,
+                        palmar,
+                    )
+                })
+                .collect();
+            Features::new(&joints_of_thumb(d), &distal)
+        });
+        // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal (where
+        // the metacarpal lies before the anatomical form's rest abduction: the muscles fill the
+        // palm's side the abducted thumb leaves).
+        let d0 = Vector3::from(THUMB.direction).normalize();
+        let c = Vector3::from(THUMB.cmc) + d0 * 0.022 + Vector3::new(0.004, -0.008, -0.006);
         BuiltinSkin {
             side,
             stretch,
             digits,
             thenar: (c, Vector3::new(0.024, 0.016, 0.010)),
+            features,
         }
     }
 
@@ -192,6 +229,9 @@ impl BuiltinSkin {
 
     /// Signed distance to the anatomy tables' right hand.
     fn reference_distance(&self, p: &Vector3<f64>) -> f64 {
+        if let Some(features) = &self.features {
+            return self.anatomical_distance(p, features);
+        }
         let p = *p;
         let palm = palm_distance(&p);
         let (c, r) = self.thenar;
@@ -207,6 +247,35 @@ impl BuiltinSkin {
             d = d.min(smooth_min(palm, dd, BLEND));
         }
         // The forearm is cut at the wrist.
+        d.max(PALM.wrist_x - p.x)
+    }
+
+    /// [`BuiltinSkin::reference_distance`] of the anatomical form.
+    fn anatomical_distance(&self, p: &Vector3<f64>, features: &Features) -> f64 {
+        let (c, r) = self.thenar;
+        let thenar = ((p - c).component_div(&r).norm() - 1.0) * r.min();
+        let (a, b, r0, r1) = features.web;
+        let web = RoundCone { a, b, r0, r1 }.distance(p);
+        let slab = slab_distance(p, 0.086 + SLAB_PAST_KNUCKLES, super::form::ROUNDING);
+        let palm = features.palm(p, slab, thenar, web, BLEND);
+        let mut d = f64::INFINITY;
+        for (k, digit) in self.digits.iter().enumerate() {
+            let n = digit.len();
+            let dd = digit
+                .iter()
+                .enumerate()
+                .map(|(i, cone)| {
+                    let d = cone.distance(p);
+                    // Each phalanx but the digit's first segment and its distal one.
+                    if i > 0 && i + 1 < n {
+                        d + cone.waist(p)
+                    } else {
+                        d
+                    }
+                })
+                .fold(f64::INFINITY, f64::min);
+            d = d.min(smooth_min(palm, features.digit(k, p, dd), BLEND));
+        }
         d.max(PALM.wrist_x - p.x)
     }
 
@@ -255,6 +324,10 @@ impl BuiltinSkin {
         let (c, r) = self.thenar;
         lo = lo.inf(&(c - r));
         hi = hi.sup(&(c + r));
+        for (a, b) in self.features.iter().flat_map(|f| f.bounds()) {
+            lo = lo.inf(&a);
+            hi = hi.sup(&b);
+        }
         lo.x = lo.x.max(PALM.wrist_x);
         let (lo, hi) = (self.stretch.apply(&lo), self.stretch.apply(&hi));
         let pad = Vector3::repeat(0.002);
@@ -294,11 +367,26 @@ fn chain(
 /// The palm: a slab from the wrist to the knuckles, tapering from the knuckles to the wrist,
 /// rounded at its edges.
 fn palm_distance(p: &Vector3<f64>) -> f64 {
+    slab_distance(p, 0.086, PALM.rounding)
+}
+
+/// The thumb's joints (CMC, MCP, IP, tip) at rest along `d`.
+fn joints_of_thumb(d: Vector3<f64>) -> Vec<Vector3<f64>> {
+    let mut joints = vec![Vector3::from(THUMB.cmc)];
+    for len in THUMB.bones {
+        let last = *joints.last().unwrap();
+        joints.push(last + d * len);
+    }
+    joints
+}
+
+/// The palm's slab: from the wrist to `x1`, tapering from the knuckles (x = 0.086 m) to the
+/// wrist, its edges rounded over `r`.
+fn slab_distance(p: &Vector3<f64>, x1: f64, r: f64) -> f64 {
+    let knuckles = 0.086;
     let x0 = PALM.wrist_x - 0.01;
-    let x1 = 0.086;
-    let t = ((p.x - PALM.wrist_x) / (x1 - PALM.wrist_x)).clamp(0.0, 1.0);
+    let t = ((p.x - PALM.wrist_x) / (knuckles - PALM.wrist_x)).clamp(0.0, 1.0);
     let half_w = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t;
-    let r = PALM.rounding;
     let center = Vector3::new((x0 + x1) / 2.0, -0.002, (PALM.dorsal - PALM.palmar) / 2.0);
     let half = Vector3::new((x1 - x0) / 2.0, half_w, (PALM.dorsal + PALM.palmar) / 2.0);
     let q = (p - center).abs() - (half - Vector3::repeat(r));

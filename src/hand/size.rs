@@ -202,7 +202,11 @@ mod tests {
             let size = HandSize::percentile(name).unwrap();
             size.check().unwrap();
             for side in [Side::Right, Side::Left] {
-                let got = measure(&BuiltinSkin::sized(side, size.stretch()));
+                let got = measure(&BuiltinSkin::sized(
+                    side,
+                    size.stretch(),
+                    super::HandForm::Simple,
+                ));
                 assert!(
                     (got.length - size.length).abs() < 1e-5
                         && (got.breadth - size.breadth).abs() < 1e-5,

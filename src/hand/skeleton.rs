@@ -153,6 +153,10 @@ pub struct JointDof {
     pub axis: Unit<Vector3<f64>>,
     /// Range, degrees.
     pub limits: Limits,
+    /// The angle at the skeleton's rest geometry, degrees (0 but for a rest pose that is not
+    /// the joints' zero: the anatomical hand's thumb, `HandForm`). Angles are counted from the
+    /// joints' zero; the bones move by the angle less this.
+    pub rest: f64,
 }
 
 /// A pose: joint angles by name, in degrees. Joints not named keep their previous angle.
@@ -233,6 +237,7 @@ impl Skeleton {
                 center,
                 axis: Unit::new_normalize(axis),
                 limits,
+                rest: 0.0,
             })
         };
 
@@ -454,9 +459,27 @@ impl Skeleton {
         names.join(", ")
     }
 
-    /// Joint angles of the rest pose (all zero, degrees).
+    /// Joint angles of the rest pose, degrees (all zero but where the skeleton rests
+    /// elsewhere: [`JointDof::rest`]).
     pub fn rest_angles(&self) -> Vec<f64> {
-        vec![0.0; self.dofs.len()]
+        self.dofs.iter().map(|d| d.rest).collect()
+    }
+
+    /// Sets joint `name`'s angle at the rest geometry, degrees ([`JointDof::rest`]).
+    ///
+    /// # Panics
+    /// If there is no such joint, or the angle is outside its range.
+    pub fn set_rest(&mut self, name: &str, angle: f64) {
+        let dof = self
+            .dofs
+            .iter_mut()
+            .find(|d| d.name == name)
+            .unwrap_or_else(|| panic!("no joint {name}"));
+        assert!(
+            (dof.limits.min..=dof.limits.max).contains(&angle),
+            "{name} rests at {angle}°, outside its range"
+        );
+        dof.rest = angle;
     }
 
     /// `angles` (one per dof, degrees) by joint name.
@@ -506,7 +529,7 @@ impl Skeleton {
         let mut local: Vec<Isometry3<f64>> = vec![Isometry3::identity(); self.bones.len()];
         for (dof, &angle) in self.dofs.iter().zip(angles) {
             let c = Translation3::from(dof.center);
-            let r = UnitQuaternion::from_axis_angle(&dof.axis, angle.to_radians());
+            let r = UnitQuaternion::from_axis_angle(&dof.axis, (angle - dof.rest).to_radians());
             let about_center = c * Isometry3::from_parts(Translation3::identity(), r) * c.inverse();
             local[dof.bone] *= about_center;
         }

@@ -10,7 +10,7 @@ use super::shapes::build_shape;
 use super::BodyModel;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::Material;
-use crate::hand::{HandModel, HandSize};
+use crate::hand::{HandForm, HandModel, HandSize};
 use crate::mesh::{boundary_facets, Facet, Mesh};
 use crate::scene::{HandSizeDef, Placement, Scene, Shape};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -92,8 +92,21 @@ pub fn bodies(
                 bones,
                 placement,
                 size,
+                form,
             } => {
                 let field = format!("{field}.shape.hand");
+                let form = match form.as_deref() {
+                    None => HandForm::Simple,
+                    Some(name) => HandForm::from_name(name).ok_or_else(|| {
+                        (
+                            format!("{field}.form"),
+                            format!(
+                                "unknown hand form \"{name}\": the forms are \"simple\" and \
+                                 \"anatomical\""
+                            ),
+                        )
+                    })?,
+                };
                 if bones.is_some() {
                     return Err((
                         field,
@@ -107,14 +120,17 @@ pub fn bodies(
                     .map(builtin_placement)
                     .transpose()
                     .map_err(|e| (format!("{field}.placement"), e))?;
-                let built = match size {
-                    None => HandModel::new_within((*side).into(), *resolution, memory.0),
-                    Some(size) => HandModel::sized(
-                        (*side).into(),
-                        hand_size(size).map_err(|e| (format!("{field}.size"), e))?,
-                        *resolution,
-                        memory.0,
-                    ),
+                let size = size
+                    .as_ref()
+                    .map(|size| hand_size(size).map_err(|e| (format!("{field}.size"), e)))
+                    .transpose()?;
+                let built = match (size, form) {
+                    (None, HandForm::Simple) => {
+                        HandModel::new_within((*side).into(), *resolution, memory.0)
+                    }
+                    (size, form) => {
+                        HandModel::built_in((*side).into(), size, form, *resolution, memory.0)
+                    }
                 };
                 let built = built.map_err(|e| (field, e.to_string()))?;
                 Some(Arc::new(match motion {
@@ -130,6 +146,18 @@ pub fn bodies(
                 return Err((
                     format!("{field}.shape.hand.size"),
                     "a hand read from `gltf` has its own size; scale it with `placement.scale`"
+                        .into(),
+                ))
+            }
+            Shape::Hand {
+                form: Some(_),
+                gltf: Some(_),
+                ..
+            } => {
+                return Err((
+                    format!("{field}.shape.hand.form"),
+                    "a hand read from `gltf` has its own form (its skin mesh); `form` is the \
+                     built-in hand's"
                         .into(),
                 ))
             }

@@ -452,6 +452,10 @@ pub enum Shape {
         /// `{ length, breadth }` in metres; the anatomy tables' own when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         size: Option<HandSizeDef>,
+        /// The built-in hand's form: `"simple"` (the default) or `"anatomical"` (the thumb at
+        /// its natural rest, the palm's arches and eminences, knuckles and pulps; docs/hand.md).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        form: Option<String>,
     },
     /// An explicit mesh: node coordinates and 8-node cells (VTK order; repeat nodes for prisms
     /// and tetrahedra).
