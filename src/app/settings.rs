@@ -29,6 +29,8 @@ pub struct SolverParams {
     pub resolution: f64,
     /// The built-in hands' size (`size` of their shape); the built-in hand's own when `None`.
     pub hand_size: Option<HandSizeDef>,
+    /// The built-in hands' form (`form` of their shape): `"simple"` or `"anatomical"`.
+    pub hand_form: crate::hand::HandForm,
     /// Contact method between hands and objects.
     pub contact: ContactMethodName,
     /// Fingers far from every object follow their bones by skinning (`[solver]
@@ -58,12 +60,23 @@ impl SolverParams {
             } => Some(size.clone()),
             _ => None,
         });
+        let hand_form = scene
+            .body
+            .iter()
+            .find_map(|b| match &b.shape {
+                Shape::Hand {
+                    gltf: None, form, ..
+                } => form.as_deref().and_then(crate::hand::HandForm::from_name),
+                _ => None,
+            })
+            .unwrap_or_default();
         SolverParams {
             tier,
             tolerance: 1e-8,
             max_step_deg: s.max_step_deg.unwrap_or(10.0),
             resolution,
             hand_size: hand_size.flatten(),
+            hand_form,
             contact: s.contact.unwrap_or_default(),
             skin_far_fingers: s.far_from_contact != Some(FarFromContact::Solve),
             self_contact: s.self_contact.unwrap_or(false),
@@ -91,12 +104,18 @@ impl SolverParams {
                 resolution,
                 gltf,
                 size,
+                form,
                 ..
             } = &mut b.shape
             {
                 *resolution = self.resolution;
                 if gltf.is_none() {
                     size.clone_from(&self.hand_size);
+                    // Written only when it differs from the scene's (its absence is "simple").
+                    let now = form.as_deref().and_then(crate::hand::HandForm::from_name);
+                    if now.unwrap_or_default() != self.hand_form {
+                        *form = Some(self.hand_form.name().to_string());
+                    }
                 }
             }
         }

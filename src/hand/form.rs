@@ -134,6 +134,19 @@ impl Ellipsoid {
     }
 }
 
+/// A digit's distal phalanx as its skin's round cone lays it (a right hand's frame).
+#[derive(Clone, Copy, Debug)]
+pub struct DistalPhalanx {
+    /// The skin axis at the DIP (the thumb's IP), m.
+    pub dip: Vector3<f64>,
+    /// Where the skin ends beyond the tip, on the axis, m.
+    pub tip: Vector3<f64>,
+    /// The skin's mean radius along it, m.
+    pub radius: f64,
+    /// Where its pad faces (unit, normal to the phalanx).
+    pub palmar: Vector3<f64>,
+}
+
 /// What the anatomical form adds to the simple skin (a right hand's frame, the anatomy
 /// tables' size).
 #[derive(Clone, Debug)]
@@ -149,13 +162,9 @@ pub struct Features {
 }
 
 impl Features {
-    /// The features of a hand whose thumb's joints are `thumb` (CMC, MCP, IP, tip) and whose
-    /// digits' skins have their distal phalanges from `dip` to `tip` (skin axis, thumb first),
-    /// of mean radius `radius`, their pads facing `palmar`.
-    pub fn new(
-        thumb: &[Vector3<f64>],
-        distal: &[(Vector3<f64>, Vector3<f64>, f64, Vector3<f64>)],
-    ) -> Features {
+    /// The features of a hand whose thumb's joints are `thumb` (CMC, MCP, IP, tip), with the
+    /// digits' distal phalanges `distal` (thumb first).
+    pub fn new(thumb: &[Vector3<f64>], distal: &[DistalPhalanx]) -> Features {
         let index = &FINGERS[0];
         let down = Vector3::new(0.0, 0.0, -super::shape::PALMAR_OFFSET);
         let web = (
@@ -178,7 +187,7 @@ impl Features {
             .collect();
         let pulps = distal
             .iter()
-            .map(|&(dip, tip, r, palmar)| pulp(dip, tip, r, palmar))
+            .map(|d| pulp(d.dip, d.tip, d.radius, d.palmar))
             .collect();
         Features {
             web,

@@ -4,7 +4,7 @@
 //! with the skin) and thick on the palmar pads.
 
 use super::anatomy::{FINGERS, PALM, THUMB};
-use super::form::{Features, HandForm, SLAB_PAST_KNUCKLES, WAIST};
+use super::form::{DistalPhalanx, Features, HandForm, SLAB_PAST_KNUCKLES, WAIST};
 use super::mesh_skin::MeshSkin;
 use super::skeleton::Side;
 use super::stretch::Stretch;
@@ -128,7 +128,7 @@ pub struct BuiltinSkin {
     digits: Vec<Vec<RoundCone>>,
     thenar: (Vector3<f64>, Vector3<f64>),
     /// What the anatomical form adds (`None`: the simple form).
-    features: Option<Features>,
+    features: Option<Box<Features>>,
 }
 
 impl BuiltinSkin {
@@ -193,15 +193,15 @@ impl BuiltinSkin {
                     };
                     // To the skin's end, the round cone's last sphere beyond its axis.
                     let dir = (last.b - last.a).normalize();
-                    (
-                        last.a,
-                        last.b + dir * last.r1,
-                        (last.r0 + last.r1) / 2.0,
+                    DistalPhalanx {
+                        dip: last.a,
+                        tip: last.b + dir * last.r1,
+                        radius: (last.r0 + last.r1) / 2.0,
                         palmar,
-                    )
+                    }
                 })
                 .collect();
-            Features::new(&joints_of_thumb(d), &distal)
+            Box::new(Features::new(&joints_of_thumb(d), &distal))
         });
         // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal (where
         // the metacarpal lies before the anatomical form's rest abduction: the muscles fill the

@@ -205,7 +205,7 @@ mod tests {
                 let got = measure(&BuiltinSkin::sized(
                     side,
                     size.stretch(),
-                    super::HandForm::Simple,
+                    crate::hand::HandForm::Simple,
                 ));
                 assert!(
                     (got.length - size.length).abs() < 1e-5

@@ -5,6 +5,7 @@ use super::super::settings::{tier_label, Tier};
 use super::super::state::ViewerState;
 use super::committed;
 use crate::hand::size::{ansur_ii, ANSUR_II};
+use crate::hand::HandForm;
 use crate::scene::{ContactMethodName, HandSizeDef};
 use egui::{DragValue, Slider};
 
@@ -89,6 +90,21 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             "the built-in hand stretched to an ANSUR II percentile of hand length (wrist \
              crease to the middle finger's tip) and breadth (across the knuckles); the flesh \
              is meshed again",
+        );
+    egui::ComboBox::from_label("hand form")
+        .selected_text(s.hand_form.name())
+        .show_ui(ui, |ui| {
+            for form in [HandForm::Simple, HandForm::Anatomical] {
+                done |= ui
+                    .selectable_value(&mut s.hand_form, form, form.name())
+                    .changed();
+            }
+        })
+        .response
+        .on_hover_text(
+            "the built-in hand's shape: simple (a rounded palm, round fingers) or anatomical \
+             (the thumb at its natural rest out of the palm, the palm's hollow and eminences, \
+             knuckles, pulps); the same bones and joint angles, the flesh meshed again",
         );
     if done {
         state.scene_changed = true;
