@@ -258,3 +258,32 @@ fn the_power_grasp_scene_solves_with_the_anatomical_hand() {
     println!("{} contacts, {force:.3} N", contact.contacts.len());
     assert!(force.is_finite() && force > 0.0);
 }
+
+/// The anatomical hand taken as a rig (its display skin at rest and its joints, turned 40° and
+/// moved, as `prehensile export-hand --form anatomical` writes it) is imported as a hand of its
+/// own: its thumb rests where the rig's does (26.8° out of the palm's plane), and flexed to index
+/// PIP 90° the bones that carry the flexion feel what the built-in anatomical hand's do, within
+/// the imported bones' sizing from the flesh (measured below).
+#[test]
+fn the_anatomical_hand_taken_as_a_rig_flexes_as_itself() {
+    use crate::hand_import::{placement, rig_of};
+    let builtin = anatomical(Side::Right, 1.0);
+    let imported = HandModel::from_rig(Side::Right, &rig_of(&builtin, &placement()), 1.0).unwrap();
+    let motion = placement();
+    let sk = &imported.skeleton;
+    let b = &sk.bones[sk.bone_index("thumb.metacarpal").unwrap()];
+    let d = motion
+        .inverse_transform_vector(&(b.end - b.start))
+        .normalize();
+    let out = d.z.abs().asin().to_degrees();
+    println!("imported: the thumb {out:.2}° out of the palm's plane at rest");
+    assert!((out - 26.8).abs() < 0.5, "{out}");
+    let (rb, ri) = (pip_90_reactions(&builtin), pip_90_reactions(&imported));
+    let largest = rb.iter().map(|r| r.norm()).fold(0.0, f64::max);
+    for name in ["index.proximal", "index.middle"] {
+        let k = builtin.skeleton.bone_index(name).unwrap();
+        let (a, i) = (rb[k].norm(), ri[k].norm());
+        println!("{name}: {a:.4} N built-in anatomical, {i:.4} N imported");
+        assert!((i - a).abs() < 0.05 * largest, "{name}: {i} against {a}");
+    }
+}

@@ -13,7 +13,7 @@ use prehensile::hand::rig_names::joint_keys;
 use prehensile::hand::{HandModel, RigError, RiggedHand, Side};
 
 /// Somewhere in a scene: turned 40° about (1, 2, 3) and moved.
-fn placement() -> Isometry3<f64> {
+pub fn placement() -> Isometry3<f64> {
     Isometry3::from_parts(
         Translation3::new(0.1, -0.2, 0.3),
         UnitQuaternion::from_axis_angle(
@@ -24,7 +24,7 @@ fn placement() -> Isometry3<f64> {
 }
 
 /// The rig of `hand` (its display skin at rest and its joints) moved by `motion`.
-fn rig_of(hand: &HandModel, motion: &Isometry3<f64>) -> RiggedHand {
+pub fn rig_of(hand: &HandModel, motion: &Isometry3<f64>) -> RiggedHand {
     let at = |p: Vector3<f64>| (motion * Point3::from(p)).coords;
     let sk = &hand.skeleton;
     let mut rig = RiggedHand::default();

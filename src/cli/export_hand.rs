@@ -5,7 +5,7 @@
 use crate::export::hand_rig::{bone_joints, rig_joints, write_hand_rig};
 use crate::export::rig_mesh::{rig_mesh, RigOptions, RigSkin};
 use crate::hand::rig_names::Convention;
-use crate::hand::{HandModel, HandSize, Side};
+use crate::hand::{HandForm, HandModel, HandSize, Side};
 use crate::model::hand_size;
 use crate::scene::HandSizeDef;
 use anyhow::{Context, Result};
@@ -51,6 +51,10 @@ pub struct ExportHandArgs {
     /// the built-in hand's own (0.1975 m) when absent.
     #[arg(long)]
     pub size: Option<String>,
+    /// The built-in hand's form: simple (the default) or anatomical (the thumb at its natural
+    /// rest, the palm's hollow and eminences, knuckles, pulps), as a scene's `form`.
+    #[arg(long, value_parser = ["simple", "anatomical"], default_value = "simple")]
+    pub form: String,
     /// The naming convention of the joint nodes.
     #[arg(long, value_enum, default_value = "mixamo")]
     pub convention: ConventionArg,
@@ -84,8 +88,9 @@ pub fn run(args: ExportHandArgs) -> Result<()> {
             RigSkin::Display
         },
     };
-    let hand = match &args.size {
-        None => HandModel::new(side, args.resolution).context("--resolution")?,
+    let form = HandForm::from_name(&args.form).expect("clap checks the form");
+    let size = match &args.size {
+        None => None,
         Some(text) => {
             // As a scene's `size`: a length (breadth in proportion) or a percentile's name.
             let def = match text.parse::<f64>() {
@@ -95,15 +100,21 @@ pub fn run(args: ExportHandArgs) -> Result<()> {
                 },
                 Err(_) => HandSizeDef::Percentile(text.clone()),
             };
-            let size = hand_size(&def).map_err(|_| {
+            Some(hand_size(&def).map_err(|_| {
                 anyhow::anyhow!(
                     "--size: \"{text}\" is neither a length in metres nor an ANSUR II \
                      percentile ({})",
                     HandSize::percentile_names()
                 )
-            })?;
-            HandModel::sized(side, size, args.resolution, None).context("--size/--resolution")?
+            })?)
         }
+    };
+    let hand = match (size, form) {
+        (None, HandForm::Simple) => {
+            HandModel::new(side, args.resolution).context("--resolution")?
+        }
+        (size, form) => HandModel::built_in(side, size, form, args.resolution, None)
+            .context("--size/--resolution")?,
     };
     write_hand_rig(&args.out, &hand, convention, &options)?;
     let joints = rig_joints(&hand, convention)?;

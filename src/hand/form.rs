@@ -162,11 +162,11 @@ pub struct Features {
 }
 
 impl Features {
-    /// The features of a hand whose thumb's joints are `thumb` (CMC, MCP, IP, tip), with the
-    /// digits' distal phalanges `distal` (thumb first).
-    pub fn new(thumb: &[Vector3<f64>], distal: &[DistalPhalanx]) -> Features {
+    /// The features of a hand whose thumb's joints are `thumb` (CMC, MCP, IP, tip), its skin's
+    /// axis `down` from them (the skin set palmar of the bones), with the digits' distal
+    /// phalanges `distal` (thumb first).
+    pub fn new(thumb: &[Vector3<f64>], down: Vector3<f64>, distal: &[DistalPhalanx]) -> Features {
         let index = &FINGERS[0];
-        let down = Vector3::new(0.0, 0.0, -super::shape::PALMAR_OFFSET);
         let web = (
             thumb[0] + (thumb[1] - thumb[0]) * 0.75 + down,
             // Beside the index's metacarpal head, not under it: the index flexing at its MCP

@@ -11,7 +11,7 @@ use super::stretch::Stretch;
 use nalgebra::Vector3;
 
 /// Offset of a finger's skin axis from its bone axis towards the palm, m.
-pub(super) const PALMAR_OFFSET: f64 = 0.0014;
+const PALMAR_OFFSET: f64 = 0.0014;
 /// Flesh beyond the end of the distal phalanx, m.
 const TIP_PAD: f64 = 0.0035;
 /// Blending radius between the palm and each digit, m.
@@ -201,7 +201,7 @@ impl BuiltinSkin {
                     }
                 })
                 .collect();
-            Box::new(Features::new(&joints_of_thumb(d), &distal))
+            Box::new(Features::new(&joints_of_thumb(d), down, &distal))
         });
         // The thenar eminence: an ellipsoid-like swelling palmar of the thumb metacarpal (where
         // the metacarpal lies before the anatomical form's rest abduction: the muscles fill the
