@@ -1,6 +1,10 @@
 //! The skinning tier (geometry only) on the default scene: skinning folds flesh at the palmar
 //! crease; frames without contact still solve (skinned flesh bears no stress, and nothing is
 //! NaN), and a frame with contact says that contact needs an FEM tier.
+//!
+//! The scene's hand in its simple form: skinning folds its flesh at the palmar crease by the
+//! first keyframe, which the contact step must refuse. The anatomical form's skinned flesh does
+//! not fold there (measured 2026-12-02: the keyframe solves), so it cannot show the refusal.
 
 use prehensile::headless::solve_scene;
 use prehensile::scene::{Scene, TierName};
@@ -9,6 +13,11 @@ fn scene(keys: usize) -> Scene {
     let mut scene = Scene::load(std::path::Path::new("assets/scenes/hand-and-ball.toml")).unwrap();
     scene.solver.tier = Some(TierName::Skinning);
     scene.keyframe.truncate(keys);
+    for body in &mut scene.body {
+        if let prehensile::scene::Shape::Hand { form, .. } = &mut body.shape {
+            *form = Some("simple".into());
+        }
+    }
     scene
 }
 

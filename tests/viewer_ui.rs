@@ -562,35 +562,42 @@ fn the_hand_size_menu_rebuilds_the_hand_at_that_size() {
 }
 
 /// The Solver panel's hand form menu writes the hand's `form` into the scene sent to the
-/// solver, and the hand built from it is the anatomical one: its thumb rests at
-/// `thumb.cmc.abd` = 20°, 26.8° out of the palm's plane, and the view's skin is the new flesh's.
+/// solver, and the hand built from it is of that form: the default scene's anatomical hand
+/// (its thumb resting at `thumb.cmc.abd` = 20°, 26.8° out of the palm's plane) turned simple
+/// (at 0°, 6.8°) and back.
 #[test]
-fn the_hand_form_menu_rebuilds_the_anatomical_hand() {
+fn the_hand_form_menu_rebuilds_the_hand_in_that_form() {
     use prehensile::scene::Shape;
     let (port, mut h) = answered();
-    let before = port.jobs().last().unwrap().scene_revision;
-    h.get_by_role_and_label(egui::Role::ComboBox, "hand form")
-        .click();
-    h.run_steps(2);
-    h.get_by_label("anatomical").click();
-    h.run_steps(2);
-    let job = port.jobs().last().unwrap().clone();
-    assert!(job.scene_revision > before, "a new model");
-    let form = job.scene.body.iter().find_map(|b| match &b.shape {
-        Shape::Hand { form, .. } => Some(form.clone()),
-        _ => None,
-    });
-    assert_eq!(form, Some(Some("anatomical".to_string())));
-    let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
-    let hand = model.bodies.iter().find_map(|b| b.hand.clone()).unwrap();
-    let sk = &hand.skeleton;
-    let abd = sk
-        .dofs
-        .iter()
-        .position(|d| d.name == "thumb.cmc.abd")
-        .unwrap();
-    assert_eq!(sk.rest_angles()[abd], 20.0);
-    let b = &sk.bones[sk.bone_index("thumb.metacarpal").unwrap()];
-    let out = (b.end - b.start).normalize().z.abs().asin().to_degrees();
-    assert!((out - 26.8).abs() < 0.1, "the thumb {out}° out of the palm");
+    let mut before = port.jobs().last().unwrap().scene_revision;
+    for (form, rest, out) in [("simple", 0.0, 6.8), ("anatomical", 20.0, 26.8)] {
+        h.get_by_role_and_label(egui::Role::ComboBox, "hand form")
+            .click();
+        h.run_steps(2);
+        h.get_by_label(form).click();
+        h.run_steps(2);
+        let job = port.jobs().last().unwrap().clone();
+        assert!(job.scene_revision > before, "{form}: a new model");
+        before = job.scene_revision;
+        let written = job.scene.body.iter().find_map(|b| match &b.shape {
+            Shape::Hand { form, .. } => Some(form.clone()),
+            _ => None,
+        });
+        assert_eq!(written, Some(Some(form.to_string())));
+        let model = prehensile::model::Model::build(&job.scene, "viewer").unwrap();
+        let hand = model.bodies.iter().find_map(|b| b.hand.clone()).unwrap();
+        let sk = &hand.skeleton;
+        let abd = sk
+            .dofs
+            .iter()
+            .position(|d| d.name == "thumb.cmc.abd")
+            .unwrap();
+        assert_eq!(sk.rest_angles()[abd], rest, "{form}");
+        let b = &sk.bones[sk.bone_index("thumb.metacarpal").unwrap()];
+        let angle = (b.end - b.start).normalize().z.abs().asin().to_degrees();
+        assert!(
+            (angle - out).abs() < 0.1,
+            "{form}: the thumb {angle}° out of the palm"
+        );
+    }
 }
