@@ -601,3 +601,44 @@ fn the_hand_form_menu_rebuilds_the_hand_in_that_form() {
         );
     }
 }
+
+/// The default scene's anatomical hand opens at its rest: the thumb's abduction slider reads
+/// 20° (the thumb at its natural rest, not moved back into the palm's plane by the first frame
+/// asked), and the Rest preset returns it there; the simple form's rest is 0°.
+#[test]
+fn the_anatomical_hand_opens_and_rests_with_its_thumb_at_its_natural_rest() {
+    for (form, rest) in [("anatomical", 20.0), ("simple", 0.0)] {
+        let mut scene = scene();
+        for body in &mut scene.body {
+            if let prehensile::scene::Shape::Hand { form: f, .. } = &mut body.shape {
+                *f = Some(form.into());
+            }
+        }
+        let port = FakePort::new();
+        let mut state = ViewerState::new(scene, "default", Box::new(port.clone())).unwrap();
+        state.timeline_solving = false;
+        let mut h = harness(state);
+        let abd = joint(h.state(), "thumb.cmc.abd");
+        let first = pose_jobs(&port)[0].clone();
+        assert_eq!(
+            pose_angle(&first, abd),
+            rest,
+            "{form}: the first frame asked"
+        );
+        port.answer_frame(first.version, 0.0, None);
+        h.step();
+        h.get_by_label("Power grasp").click();
+        h.step();
+        assert_eq!(
+            h.state().pose[0].1[abd],
+            35.0,
+            "{form}: the preset names it"
+        );
+        port.answer_frame(pose_jobs(&port).last().unwrap().version, 1.0, None);
+        h.step();
+        h.get_by_label("Rest").click();
+        h.step();
+        let last = pose_jobs(&port).last().unwrap().clone();
+        assert_eq!(pose_angle(&last, abd), rest, "{form}: Rest");
+    }
+}

@@ -3,7 +3,7 @@
 
 use super::jobs::Pose;
 pub use crate::hand::digit_of;
-use crate::hand::{Side, Skeleton};
+use crate::hand::{HandForm, Side, Skeleton};
 use crate::scene::{HandSide, Scene, Shape};
 
 /// A hand body of the scene.
@@ -13,7 +13,7 @@ pub struct HandInfo {
     pub body: usize,
     /// Body name.
     pub name: String,
-    /// Its skeleton (joint names and limits).
+    /// Its skeleton (joint names, limits and rests).
     pub skeleton: Skeleton,
 }
 
@@ -23,15 +23,26 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
         .body
         .iter()
         .enumerate()
-        .filter_map(|(b, def)| match def.shape {
-            Shape::Hand { side, .. } => Some(HandInfo {
-                body: b,
-                name: def.name.clone(),
-                skeleton: Skeleton::new(match side {
+        .filter_map(|(b, def)| match &def.shape {
+            Shape::Hand {
+                side, gltf, form, ..
+            } => {
+                let mut skeleton = Skeleton::new(match side {
                     HandSide::Right => Side::Right,
                     HandSide::Left => Side::Left,
-                }),
-            }),
+                });
+                // The built-in hand's form decides its rest pose (the anatomical thumb's).
+                let form = match (gltf, form) {
+                    (None, Some(name)) => HandForm::from_name(name).unwrap_or_default(),
+                    _ => HandForm::Simple,
+                };
+                skeleton.set_rest("thumb.cmc.abd", form.thumb_rest_abduction_deg());
+                Some(HandInfo {
+                    body: b,
+                    name: def.name.clone(),
+                    skeleton,
+                })
+            }
             _ => None,
         })
         .collect()
@@ -40,7 +51,7 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
 /// A named pose preset.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Preset {
-    /// Every joint at zero.
+    /// Every joint at its rest (0°, but 20° for the anatomical thumb's abduction).
     Rest,
     /// A closed fist: every finger at MCP 88°, PIP 105°, DIP 70°, the thumb across
     /// ([`crate::hand::full_fist`]).
@@ -74,7 +85,9 @@ impl Preset {
     /// is reached from rest in 10° increments without a crushed cell at resolution 1 (checked
     /// with `prehensile solve`: flesh volume change −0.89 % the full fist on the default
     /// scene's ball, +0.08 % pinch, −0.06 % power grasp).
-    fn angle(self, joint: &str) -> f64 {
+    /// `None`: the preset leaves the joint at its rest ([`crate::hand::JointDof::rest`]: 0° but
+    /// for the anatomical hand's thumb abduction).
+    fn angle(self, joint: &str) -> Option<f64> {
         let finger = |mcp: f64, pip: f64, dip: f64| match joint.rsplit('.').next() {
             Some("flex") => mcp,
             Some("pip") => pip,
@@ -90,13 +103,13 @@ impl Preset {
         };
         let is_thumb = digit_of(joint) == "thumb";
         match self {
-            Preset::Rest => 0.0,
-            Preset::Fist => crate::hand::full_fist().get(joint).copied().unwrap_or(0.0),
-            Preset::Pinch if is_thumb => thumb(20.0, 40.0, 15.0, 20.0),
-            Preset::Pinch if digit_of(joint) == "index" => finger(40.0, 45.0, 20.0),
-            Preset::Pinch => finger(10.0, 15.0, 5.0),
-            Preset::PowerGrasp if is_thumb => thumb(20.0, 35.0, 20.0, 15.0),
-            Preset::PowerGrasp => finger(45.0, 50.0, 30.0),
+            Preset::Rest => None,
+            Preset::Fist => crate::hand::full_fist().get(joint).copied(),
+            Preset::Pinch if is_thumb => Some(thumb(20.0, 40.0, 15.0, 20.0)),
+            Preset::Pinch if digit_of(joint) == "index" => Some(finger(40.0, 45.0, 20.0)),
+            Preset::Pinch => Some(finger(10.0, 15.0, 5.0)),
+            Preset::PowerGrasp if is_thumb => Some(thumb(20.0, 35.0, 20.0, 15.0)),
+            Preset::PowerGrasp => Some(finger(45.0, 50.0, 30.0)),
         }
     }
 
@@ -120,7 +133,7 @@ impl Preset {
                 .map(|(d, a)| {
                     let angle = match pose.get(&d.name) {
                         Some(set) => *set,
-                        None if (digit_of(&d.name) == "thumb") == thumb => 0.0,
+                        None if (digit_of(&d.name) == "thumb") == thumb => d.rest,
                         None => *a,
                     };
                     angle.clamp(d.limits.min, d.limits.max)
@@ -137,7 +150,11 @@ impl Preset {
         skeleton
             .dofs
             .iter()
-            .map(|d| self.angle(&d.name).clamp(d.limits.min, d.limits.max))
+            .map(|d| {
+                self.angle(&d.name)
+                    .unwrap_or(d.rest)
+                    .clamp(d.limits.min, d.limits.max)
+            })
             .collect()
     }
 }

@@ -4,7 +4,6 @@
 //! object and the penetration left, or why it stopped.
 
 use crate::app::pose::Preset;
-use crate::hand::{Side, Skeleton};
 use crate::headless::solve_scene;
 use crate::scene::{ContactMethodName, Scene, Shape, TierName, DEFAULT_SCENE};
 use std::fmt::Write;
@@ -41,7 +40,13 @@ pub struct GraspRow {
 /// The built-in default scene with one keyframe at time 1 to `preset` (what pressing the
 /// preset's button in the viewer asks for).
 pub fn preset_scene(preset: Preset) -> Scene {
-    let skeleton = Skeleton::new(Side::Right);
+    // The default scene's hand (its rest: the anatomical thumb's abduction).
+    let default = Scene::parse(DEFAULT_SCENE, "default.toml").expect("the default scene parses");
+    let skeleton = crate::app::pose::hands_of(&default)
+        .into_iter()
+        .next()
+        .expect("the default scene has a hand")
+        .skeleton;
     let angles = preset.angles(&skeleton);
     let pose: Vec<String> = skeleton
         .dofs
