@@ -2,10 +2,11 @@
 //!
 //! - **Simple** (the default): the rounded palm slab, fingers as tapered round cones, the thumb
 //!   resting nearly in the palm's plane.
-//! - **Anatomical**: the same skeleton and joint angles, with what an animator reads as a hand —
-//!   the thumb at its natural rest, abducted out of the palm ([`THUMB_REST_ABDUCTION_DEG`]); the
-//!   palm's distal edge along the knuckles' arc, its rims rounded, its front hollowed between the
-//!   thenar and hypothenar eminences; the first web space between thumb and index; the heads of
+//! - **Anatomical** (the default scene's): the same skeleton and joint angles, with what an
+//!   animator reads as a hand — the thumb at its natural rest, abducted out of the palm
+//!   ([`THUMB_REST_ABDUCTION_DEG`]); the palm's distal edge along the knuckles' arc, its rims
+//!   rounded, its front hollowed between the thenar and hypothenar eminences, its back domed
+//!   across (the transverse arch); the first web space between thumb and index; the heads of
 //!   the metacarpals standing out on the back (the knuckles); each finger's phalanges narrower
 //!   between their joints than at them; a pulp under each distal phalanx.
 //!
@@ -87,6 +88,51 @@ const FACE_BLEND: f64 = 0.008;
 const HOLLOW_BLEND: f64 = 0.006;
 /// The palm's rims' rounding in the anatomical form, m (the simple slab's: `PALM.rounding`).
 pub const ROUNDING: f64 = 0.009;
+
+/// The palm slab's midline across the hand (y, m) and the line of its knuckles (x, m).
+pub const SLAB_MID_Y: f64 = -0.002;
+pub const SLAB_KNUCKLES_X: f64 = 0.086;
+
+/// The back of the hand's rise at its middle (the dorsal side of the metacarpals' transverse
+/// arch: the middle and ring fingers' metacarpals stand higher than the index's and the little
+/// finger's), m. The front's side of the arch is the hollow ([`HOLLOW`]).
+pub const ARCH_RISE: f64 = 0.002;
+
+/// How far the anatomical form raises the back of the palm above the slab's flat face at
+/// (x, y), m: [`ARCH_RISE`] on the slab's midline, falling smoothly (as (1 − s²)², s across
+/// the flat face) to nothing where the rims begin to round, and rising from the wrist's cut.
+/// It only adds flesh: the bones' cover over the index's and little finger's metacarpals is the
+/// simple hand's.
+pub fn dorsal_rise(x: f64, y: f64) -> f64 {
+    let t = ((x - PALM.wrist_x) / (SLAB_KNUCKLES_X - PALM.wrist_x)).clamp(0.0, 1.0);
+    let flat = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t - ROUNDING;
+    let s = (y - SLAB_MID_Y) / flat;
+    let across = (1.0 - s * s).max(0.0);
+    // Rising from the wrist's cut, which stays flat-topped as the simple hand's (the cut's rim
+    // is a crease of the skin, where the display skin's projection would wander on a dome).
+    let u = ((x - PALM.wrist_x) / ARCH_FROM_WRIST).clamp(0.0, 1.0);
+    let along = u * u * (3.0 - 2.0 * u);
+    ARCH_RISE * across * across * along
+}
+
+/// Over how far from the wrist's cut the arch rises to its height, m.
+const ARCH_FROM_WRIST: f64 = 0.020;
+
+/// `p` taken into the flat slab: above the palm's front face, the thickness is scaled back by
+/// the rise (the slab's distance evaluated there is the arched slab's, to a factor within
+/// T / (T + [`ARCH_RISE`]) of 1, T the palm's thickness).
+pub fn unarched(p: &Vector3<f64>) -> Vector3<f64> {
+    let rise = dorsal_rise(p.x, p.y);
+    if rise == 0.0 || p.z <= -PALM.palmar {
+        return *p;
+    }
+    let thick = PALM.dorsal + PALM.palmar;
+    Vector3::new(
+        p.x,
+        p.y,
+        -PALM.palmar + (p.z + PALM.palmar) * thick / (thick + rise),
+    )
+}
 
 /// The hollow of the palm: an ellipsoid (centre, semi-axes, m) carved from the front between
 /// the eminences.
@@ -180,7 +226,11 @@ impl Features {
         let knuckles = FINGERS
             .iter()
             .map(|f| Ellipsoid {
-                c: Vector3::new(f.mcp[0] - 0.004, f.mcp[1], PALM.dorsal - 0.0035),
+                c: Vector3::new(
+                    f.mcp[0] - 0.004,
+                    f.mcp[1],
+                    PALM.dorsal - 0.0035 + dorsal_rise(f.mcp[0] - 0.004, f.mcp[1]),
+                ),
                 axes: [Vector3::x(), Vector3::y(), Vector3::z()],
                 r: Vector3::new(0.009, 0.6 * f.skin[0], 0.0045),
             })
@@ -218,12 +268,18 @@ impl Features {
     /// The features' boxes (for the skin's bounds).
     pub fn bounds(&self) -> impl Iterator<Item = (Vector3<f64>, Vector3<f64>)> + '_ {
         let fixed = [Ellipsoid::aligned(HYPOTHENAR)];
+        let half = PALM.half_width[1];
+        let arch = (
+            Vector3::new(PALM.wrist_x, SLAB_MID_Y - half, PALM.dorsal),
+            Vector3::new(SLAB_KNUCKLES_X, SLAB_MID_Y + half, PALM.dorsal + ARCH_RISE),
+        );
         self.pulps
             .iter()
             .chain(&self.knuckles)
             .copied()
             .chain(fixed)
             .map(|e| e.bounds())
+            .chain([arch])
     }
 }
 
@@ -265,7 +321,7 @@ pub fn thumb_palmar(d: Vector3<f64>) -> Vector3<f64> {
 fn knuckle_face(p: &Vector3<f64>) -> f64 {
     let [index, middle, little] = [&FINGERS[0], &FINGERS[1], &FINGERS[3]];
     let slope = (index.mcp[0] - little.mcp[0]) / (index.mcp[1] - little.mcp[1]);
-    (p.x - 0.086 - slope * (p.y - middle.mcp[1])) / (1.0 + slope * slope).sqrt()
+    (p.x - SLAB_KNUCKLES_X - slope * (p.y - middle.mcp[1])) / (1.0 + slope * slope).sqrt()
 }
 
 /// How far the anatomical palm's slab reaches past the knuckles' line, m (the knuckle face

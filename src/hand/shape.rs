@@ -4,7 +4,9 @@
 //! with the skin) and thick on the palmar pads.
 
 use super::anatomy::{FINGERS, PALM, THUMB};
-use super::form::{DistalPhalanx, Features, HandForm, SLAB_PAST_KNUCKLES, WAIST};
+use super::form::{
+    DistalPhalanx, Features, HandForm, SLAB_KNUCKLES_X, SLAB_MID_Y, SLAB_PAST_KNUCKLES, WAIST,
+};
 use super::mesh_skin::MeshSkin;
 use super::skeleton::Side;
 use super::stretch::Stretch;
@@ -256,7 +258,11 @@ impl BuiltinSkin {
         let thenar = ((p - c).component_div(&r).norm() - 1.0) * r.min();
         let (a, b, r0, r1) = features.web;
         let web = RoundCone { a, b, r0, r1 }.distance(p);
-        let slab = slab_distance(p, 0.086 + SLAB_PAST_KNUCKLES, super::form::ROUNDING);
+        let slab = slab_distance(
+            &super::form::unarched(p),
+            SLAB_KNUCKLES_X + SLAB_PAST_KNUCKLES,
+            super::form::ROUNDING,
+        );
         let palm = features.palm(p, slab, thenar, web, BLEND);
         let mut d = f64::INFINITY;
         for (k, digit) in self.digits.iter().enumerate() {
@@ -367,7 +373,7 @@ fn chain(
 /// The palm: a slab from the wrist to the knuckles, tapering from the knuckles to the wrist,
 /// rounded at its edges.
 fn palm_distance(p: &Vector3<f64>) -> f64 {
-    slab_distance(p, 0.086, PALM.rounding)
+    slab_distance(p, SLAB_KNUCKLES_X, PALM.rounding)
 }
 
 /// The thumb's joints (CMC, MCP, IP, tip) at rest along `d`.
@@ -383,11 +389,15 @@ fn joints_of_thumb(d: Vector3<f64>) -> Vec<Vector3<f64>> {
 /// The palm's slab: from the wrist to `x1`, tapering from the knuckles (x = 0.086 m) to the
 /// wrist, its edges rounded over `r`.
 fn slab_distance(p: &Vector3<f64>, x1: f64, r: f64) -> f64 {
-    let knuckles = 0.086;
+    let knuckles = SLAB_KNUCKLES_X;
     let x0 = PALM.wrist_x - 0.01;
     let t = ((p.x - PALM.wrist_x) / (knuckles - PALM.wrist_x)).clamp(0.0, 1.0);
     let half_w = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t;
-    let center = Vector3::new((x0 + x1) / 2.0, -0.002, (PALM.dorsal - PALM.palmar) / 2.0);
+    let center = Vector3::new(
+        (x0 + x1) / 2.0,
+        SLAB_MID_Y,
+        (PALM.dorsal - PALM.palmar) / 2.0,
+    );
     let half = Vector3::new((x1 - x0) / 2.0, half_w, (PALM.dorsal + PALM.palmar) / 2.0);
     let q = (p - center).abs() - (half - Vector3::repeat(r));
     q.sup(&Vector3::zeros()).norm() + q.max().min(0.0) - r
