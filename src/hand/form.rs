@@ -89,9 +89,16 @@ const HOLLOW_BLEND: f64 = 0.006;
 /// The palm's rims' rounding in the anatomical form, m (the simple slab's: `PALM.rounding`).
 pub const ROUNDING: f64 = 0.009;
 
-/// The palm slab's midline across the hand (y, m) and the line of its knuckles (x, m).
+/// The palm slab's midline across the hand (y), m.
 pub const SLAB_MID_Y: f64 = -0.002;
+/// The palm slab's line of its knuckles (x), m: where it stops tapering.
 pub const SLAB_KNUCKLES_X: f64 = 0.086;
+
+/// The palm slab's half-width at `x`, m: tapering from the knuckles' to the wrist's.
+pub fn slab_half_width(x: f64) -> f64 {
+    let t = ((x - PALM.wrist_x) / (SLAB_KNUCKLES_X - PALM.wrist_x)).clamp(0.0, 1.0);
+    PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t
+}
 
 /// The back of the hand's rise at its middle (the dorsal side of the metacarpals' transverse
 /// arch: the middle and ring fingers' metacarpals stand higher than the index's and the little
@@ -104,8 +111,7 @@ pub const ARCH_RISE: f64 = 0.002;
 /// It only adds flesh: the bones' cover over the index's and little finger's metacarpals is the
 /// simple hand's.
 pub fn dorsal_rise(x: f64, y: f64) -> f64 {
-    let t = ((x - PALM.wrist_x) / (SLAB_KNUCKLES_X - PALM.wrist_x)).clamp(0.0, 1.0);
-    let flat = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t - ROUNDING;
+    let flat = slab_half_width(x) - ROUNDING;
     let s = (y - SLAB_MID_Y) / flat;
     let across = (1.0 - s * s).max(0.0);
     // Rising from the wrist's cut, which stays flat-topped as the simple hand's (the cut's rim

@@ -5,7 +5,8 @@
 
 use super::anatomy::{FINGERS, PALM, THUMB};
 use super::form::{
-    DistalPhalanx, Features, HandForm, SLAB_KNUCKLES_X, SLAB_MID_Y, SLAB_PAST_KNUCKLES, WAIST,
+    slab_half_width, DistalPhalanx, Features, HandForm, SLAB_KNUCKLES_X, SLAB_MID_Y,
+    SLAB_PAST_KNUCKLES, WAIST,
 };
 use super::mesh_skin::MeshSkin;
 use super::skeleton::Side;
@@ -386,13 +387,11 @@ fn joints_of_thumb(d: Vector3<f64>) -> Vec<Vector3<f64>> {
     joints
 }
 
-/// The palm's slab: from the wrist to `x1`, tapering from the knuckles (x = 0.086 m) to the
-/// wrist, its edges rounded over `r`.
+/// The palm's slab: from the wrist to `x1`, tapering from the knuckles ([`SLAB_KNUCKLES_X`]) to
+/// the wrist ([`slab_half_width`]), its edges rounded over `r`.
 fn slab_distance(p: &Vector3<f64>, x1: f64, r: f64) -> f64 {
-    let knuckles = SLAB_KNUCKLES_X;
     let x0 = PALM.wrist_x - 0.01;
-    let t = ((p.x - PALM.wrist_x) / (knuckles - PALM.wrist_x)).clamp(0.0, 1.0);
-    let half_w = PALM.half_width[0] + (PALM.half_width[1] - PALM.half_width[0]) * t;
+    let half_w = slab_half_width(p.x);
     let center = Vector3::new(
         (x0 + x1) / 2.0,
         SLAB_MID_Y,
