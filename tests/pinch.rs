@@ -6,7 +6,7 @@
 //!
 //! That closed form is the flat pads' — the simple form's, whose pads meet the ball facing and
 //! each carry half the weight at the edge of friction: those tests build the simple hand. On the
-//! anatomical hand (the default) the pulps are rounder: the ball is held, the contact forces on
+//! anatomical hand (the default scene's) the pulps are rounder: the ball is held, the contact forces on
 //! it balance its weight, but the pads press about twice M·W/(2μ) (measured 2026-12-03: 0.54 and
 //! 0.59 N against 0.285 N at resolution 1): the rounded pulp meets the ball over fewer, tilted
 //! contact points, some at the edge of their friction cone before the whole pad is, so the
@@ -170,7 +170,7 @@ fn a_free_ball_pinched_is_held_by_pads_pressing_margin_times_its_weight_over_two
     );
 }
 
-/// The anatomical hand (the default form) pinches the free ball too, its pads' pulps on either
+/// The anatomical hand (the default scene's form) pinches the free ball too, its pads' pulps on either
 /// side of it (`ANATOMICAL_CENTRE`): held with the margin asked by the thumb and index alone, its
 /// weight balanced by their contact forces, every contact in its Coulomb cone, nothing through
 /// the skin (`common::held`); the pads share the grip within 20 % (gravity normal to the line

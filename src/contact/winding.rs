@@ -169,7 +169,7 @@ fn solid_angle(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> f64 {
 
 /// The vertices of a closed, outward-oriented surface that lie inside it — a surface passing
 /// through itself, as skin pressed into other flesh of the same body. Each vertex is looked at
-/// `off` outside its own side (along its normal, the mean of its triangles'; vertices with the
+/// each distance of `offs` outside its own side (inside at any of them: inside; one tree for all) (along its normal, the mean of its triangles'; vertices with the
 /// same `joined` representative — coinciding where the surface is split along a seam — share
 /// one normal): there its own skin does not count, and the winding number is ≈ 1 only if other
 /// parts of the surface enclose it. Vertices on no triangle are never inside.
@@ -177,7 +177,7 @@ pub fn vertices_inside_itself(
     triangles: &[[usize; 3]],
     positions: &[Vector3<f64>],
     joined: &[usize],
-    off: f64,
+    offs: &[f64],
 ) -> Vec<usize> {
     use rayon::prelude::*;
     assert_eq!(
@@ -196,9 +196,10 @@ pub fn vertices_inside_itself(
     (0..positions.len())
         .into_par_iter()
         .filter(|&v| {
-            normals[joined[v]]
-                .try_normalize(0.0)
-                .is_some_and(|n| tree.inside(&(positions[v] + n * off)))
+            normals[joined[v]].try_normalize(0.0).is_some_and(|n| {
+                offs.iter()
+                    .any(|off| tree.inside(&(positions[v] + n * *off)))
+            })
         })
         .collect()
 }
@@ -337,7 +338,7 @@ mod tests {
             cube(&mut p, &mut t, Vector3::zeros(), 1.0);
             cube(&mut p, &mut t, shift, size);
             let joined: Vec<usize> = (0..p.len()).collect();
-            let mut inside = vertices_inside_itself(&t, &p, &joined, 1e-3);
+            let mut inside = vertices_inside_itself(&t, &p, &joined, &[1e-3]);
             inside.sort_unstable();
             assert_eq!(inside, expected, "shift {shift:?}");
         }

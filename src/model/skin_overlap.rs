@@ -53,15 +53,12 @@ impl SkinOverlapCheck {
             met_at_rest: Vec::new(),
         };
         // Inside at rest, or all but: another digit's skin within `NEARLY_MET` outside it.
-        let mut at_rest = check.inside_flesh(hand, &hand.flesh.mesh.nodes);
-        at_rest.extend(vertices_inside_itself(
+        let at_rest = vertices_inside_itself(
             &check.triangles,
             &rest,
             &check.joined,
-            NEARLY_MET,
-        ));
-        at_rest.sort_unstable();
-        at_rest.dedup();
+            &[OFF_SIDE, NEARLY_MET],
+        );
         let near = edges.within(&at_rest, WEB);
         // (A vertex coinciding with a near one is near: the seam is crossed at no length.)
         check.met_at_rest = (0..rest.len()).map(|v| near.contains_key(&v)).collect();
@@ -73,7 +70,7 @@ impl SkinOverlapCheck {
     pub fn inside_flesh(&self, hand: &HandModel, nodes: &[Vector3<f64>]) -> Vec<usize> {
         let positions = hand.contact_skin.positions(nodes);
         let mut inside =
-            vertices_inside_itself(&self.triangles, &positions, &self.joined, OFF_SIDE);
+            vertices_inside_itself(&self.triangles, &positions, &self.joined, &[OFF_SIDE]);
         inside.sort_unstable();
         inside
     }
