@@ -159,7 +159,10 @@ impl FingerPress<'_> {
 }
 
 /// The audit's finger-press scenes (td_s30_*.toml, cap2.toml) without their table obstacle and
-/// keyframes, which [`FingerPress`] adds.
+/// keyframes, which [`FingerPress`] adds. The simple hand's, on which each advice's trigger was
+/// made to fail one precise way: on the anatomical form at resolution 0.5 the press to MCP 23.5°
+/// with a 0.5 mm search does not fail its correction, and its pulp's coarse tip leaves a skin
+/// point inside the flesh at MCP 21–30° (measured 2026-12-03; docs/hand.md, "Forms").
 const SCENE_FINGER_PRESS: &str = r#"
 [world]
 gravity = [0.0, 0.0, -9.81]
@@ -184,7 +187,7 @@ density = 1100.0
 [[body]]
 name = "hand"
 material = "flesh"
-shape = { hand = { side = "right", resolution = @RESOLUTION@ } }
+shape = { hand = { side = "right", form = "simple", resolution = @RESOLUTION@ } }
 pose = { "index.mcp.flex" = 20.0, "middle.mcp.flex" = -10.0, "ring.mcp.flex" = -10.0, "little.mcp.flex" = -10.0 }
 
 [[body]]

@@ -992,7 +992,11 @@ fn a_correction_at_the_pose_that_fails_is_reported_with_its_cause() {
     assert!(asset.contains(last) && asset.contains("resolution = 1.0 }"));
     let shallow = asset
         .replace(last, "pose = { \"index.mcp.flex\" = 23.5 }")
-        .replace("resolution = 1.0 }", "resolution = 0.5 }")
+        // The simple form's hand: the anatomical one's correction does not fail here.
+        .replace(
+            "resolution = 1.0 }",
+            "resolution = 0.5, form = \"simple\" }",
+        )
         .replace(
             "contact = \"lagrange\"\n",
             "contact = \"lagrange\"\ncontact_search = 0.0005\n",

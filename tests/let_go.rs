@@ -195,9 +195,12 @@ fn hand_made_grasps_press_harder(g: &prehensile::state::GraspOutcome) {
     );
 }
 
-/// The hand turned palm up (`placement = { rotation = [180, 0, 0] }`) with the ball on the
-/// cupped fingers, its stand above it: let go of, the ball settles onto the hand, which holds
-/// it. The search finds the least closing that holds it let go of; the frame shown is the ball
+/// The anatomical hand turned palm up (`placement = { rotation = [180, 0, 0] }`) with the ball on
+/// the cupped fingers, its stand above it: let go of, the ball settles onto the hand, which holds
+/// it. (The ball 3 mm lower than over the simple hand, into the anatomical palm's hollow: at the
+/// simple hand's height it rested on the fingers alone and held with margins of 1.16–1.22 along
+/// the synergies, against the 1.5 asked; here 2.30 at 4.0° past first contact, measured
+/// 2026-12-03.) The search finds the least closing that holds it let go of; the frame shown is the ball
 /// held by the hand alone: the contact forces on it (normal and friction) balance its weight
 /// (action = reaction, to what the stabilising springs may carry), every contact in its Coulomb
 /// cone, nothing through the skin, and the drift is its sinking into the soft flesh.
@@ -206,17 +209,17 @@ fn a_ball_let_go_of_in_the_upturned_hand_is_held_by_it_alone() {
     let text = scene("grasp = { object = \"ball\", preshape = \"power\" }")
         .replace(
             "resolution = 1.0 }",
-            "resolution = 1.0, placement = { rotation = [180.0, 0.0, 0.0] } }",
+            "resolution = 1.0, form = \"anatomical\", placement = { rotation = [180.0, 0.0, 0.0] } }",
         )
         .replace(
             "center = [0.065, 0.0, -0.065]",
-            "center = [0.065, 0.0, 0.056]",
+            "center = [0.065, 0.0, 0.053]",
         )
         .replace(
             "min = [0.055, -0.01, -0.101], max = [0.075, 0.01, -0.098]",
-            "min = [0.055, -0.01, 0.0895], max = [0.075, 0.01, 0.0925]",
+            "min = [0.055, -0.01, 0.0865], max = [0.075, 0.01, 0.0895]",
         );
-    assert!(text.contains("rotation = [180.0") && text.contains("0.0925"));
+    assert!(text.contains("rotation = [180.0") && text.contains("0.0895"));
     let scene = Scene::parse(&text, "grasp.toml").unwrap();
     let solved = solve_scene(&scene, "grasp.toml").unwrap_or_else(|e| panic!("{e}"));
     let frame = solved.frames.last().unwrap();

@@ -393,6 +393,9 @@ fn a_cancelled_nonlinear_keyframe_stops_at_a_balanced_increment() {
     assert!(max_distance(&state.positions, &direct.positions) < 1e-9);
 }
 
+/// The simple form at resolution 0.75: the anatomical one's PIP crease falls between the
+/// lattice's cells there (0.102 N against 0.442 N at PIP 30°, 4 skin points inside the flesh:
+/// docs/hand.md, "Forms"), which this test of the tier is not about.
 const HAND_SCENE: &str = r#"
 [solver]
 tier = "nonlinear"
@@ -405,7 +408,7 @@ poisson = 0.49
 [[body]]
 name = "hand"
 material = "flesh"
-shape = { hand = { side = "right", resolution = 0.75 } }
+shape = { hand = { side = "right", form = "simple", resolution = 0.75 } }
 
 [[keyframe]]
 time = 1.0

@@ -61,6 +61,17 @@ struct Trial {
     released: Option<Result<f64, String>>,
 }
 
+impl Trial {
+    /// The first of hand `body`'s bones past its threshold in this pose.
+    fn overload(&self, body: usize) -> Option<Overload> {
+        self.frame
+            .hands
+            .iter()
+            .find(|h| h.body == body)
+            .and_then(|h| h.overloads.first().cloned())
+    }
+}
+
 impl Workspace {
     /// Solves the grasp keyframe `key` (it has a `grasp`): the hand moves to the preshape, then
     /// closes on the object to the gentlest grip that holds it (module documentation). The
@@ -218,6 +229,7 @@ impl Workspace {
                 closing_deg: theta,
                 grip: t.grip,
                 margin: t.margin,
+                within_thresholds: t.overload(body).is_none(),
             });
             Ok(t)
         };
@@ -233,13 +245,7 @@ impl Workspace {
         };
         let holds = |t: &Trial| measure(t) >= target;
         let close_enough = |t: &Trial| measure(t) <= target * (1.0 + HOLD_TOLERANCE);
-        let overloaded = |t: &Trial| {
-            t.frame
-                .hands
-                .iter()
-                .find(|h| h.body == body)
-                .and_then(|h| h.overloads.first().cloned())
-        };
+        let overloaded = |t: &Trial| t.overload(body);
 
         // The preshape (every touching digit open: θ at its most negative) and what it grips.
         let start = judge(
@@ -259,6 +265,7 @@ impl Workspace {
                 closing_deg: 0.0,
                 grip: start.grip,
                 margin: start.margin,
+                within_thresholds: start.overload(body).is_none(),
             });
             let reason = short_as_posed(model, (body, grasp), &start, overloaded(&start));
             let touching = digits_touching(model, &start.frame, body);

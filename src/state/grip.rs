@@ -65,6 +65,9 @@ pub struct GripTrial {
     pub grip: f64,
     /// The friction margin against its weight (0 for a force hold).
     pub margin: f64,
+    /// Every bone's reaction within its threshold (`bone_thresholds`): a pose the search may
+    /// show.
+    pub within_thresholds: bool,
 }
 
 /// A hand's grip on an object in a frame.
