@@ -795,7 +795,7 @@ fn the_shipped_full_fist_in_one_keyframe_ends_where_its_two_keyframes_end() {
     // its one keyframe is not staged, so this fallback is not exercised there.
     let text = std::fs::read_to_string("assets/scenes/hand-full-fist.toml")
         .unwrap()
-        .replace("side = \"right\",", "side = \"right\", form = \"simple\",");
+        .replace("side = \"right\"", "side = \"right\", form = \"simple\"");
     assert!(text.contains("form = \"simple\""));
     let two = prehensile::scene::Scene::parse(&text, "hand-full-fist.toml").unwrap();
     let mut one = two.clone();

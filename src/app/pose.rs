@@ -34,7 +34,8 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
                 // The built-in hand's form decides its rest pose (the anatomical thumb's).
                 let form = match (gltf, form) {
                     (None, Some(name)) => HandForm::from_name(name).unwrap_or_default(),
-                    _ => HandForm::Simple,
+                    (None, None) => HandForm::default(),
+                    (Some(_), _) => HandForm::Simple,
                 };
                 skeleton.set_rest("thumb.cmc.abd", form.thumb_rest_abduction_deg());
                 Some(HandInfo {

@@ -51,9 +51,9 @@ pub struct ExportHandArgs {
     /// the built-in hand's own (0.1975 m) when absent.
     #[arg(long)]
     pub size: Option<String>,
-    /// The built-in hand's form: simple (the default) or anatomical (the thumb at its natural
-    /// rest, the palm's hollow and eminences, knuckles, pulps), as a scene's `form`.
-    #[arg(long, value_parser = ["simple", "anatomical"], default_value = "simple")]
+    /// The built-in hand's form: anatomical (the default: the thumb at its natural rest, the
+    /// palm's hollow and eminences, knuckles, pulps) or simple, as a scene's `form`.
+    #[arg(long, value_parser = ["simple", "anatomical"], default_value = "anatomical")]
     pub form: String,
     /// The naming convention of the joint nodes.
     #[arg(long, value_enum, default_value = "mixamo")]

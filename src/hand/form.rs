@@ -24,10 +24,11 @@ use nalgebra::{Unit, UnitQuaternion, Vector3};
 /// Which of the built-in hand's forms.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HandForm {
-    /// The rounded slab and round cones (the default).
-    #[default]
+    /// The rounded slab and round cones.
     Simple,
-    /// The thumb at its natural rest, the palm's arches and eminences, knuckles and pulps.
+    /// The thumb at its natural rest, the palm's arches and eminences, knuckles and pulps (the
+    /// default).
+    #[default]
     Anatomical,
 }
 

@@ -452,8 +452,8 @@ pub enum Shape {
         /// `{ length, breadth }` in metres; the anatomy tables' own when absent.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         size: Option<HandSizeDef>,
-        /// The built-in hand's form: `"simple"` (the default) or `"anatomical"` (the thumb at
-        /// its natural rest, the palm's arches and eminences, knuckles and pulps; docs/hand.md).
+        /// The built-in hand's form: `"anatomical"` (the default: the thumb at its natural rest,
+        /// the palm's arches and eminences, knuckles and pulps; docs/hand.md) or `"simple"`.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         form: Option<String>,
     },
