@@ -1,7 +1,7 @@
 """Re-export a rigged glTF through Blender's own importer and exporter, as an animator's round trip
 would: `blender -b --python tools/blender_reexport_rig.py -- in.glb out.gltf GLTF_EMBEDDED|GLB`.
-Made the fixtures tests/fixtures/blender-*.gl* (from `prehensile export-hand`, the simple
-form), which
+Made the fixtures tests/fixtures/blender-*.gl* (from `prehensile export-hand --form simple`,
+the simple form), which
 tests/hand_import.rs reads as Blender's output."""
 import bpy, sys
 import numpy
