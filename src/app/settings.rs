@@ -111,7 +111,8 @@ impl SolverParams {
                 *resolution = self.resolution;
                 if gltf.is_none() {
                     size.clone_from(&self.hand_size);
-                    // Written only when it differs from the scene's (its absence is "simple").
+                    // Written only when it differs from the scene's (its absence is the default form,
+                    // anatomical).
                     let now = form.as_deref().and_then(crate::hand::HandForm::from_name);
                     if now.unwrap_or_default() != self.hand_form {
                         *form = Some(self.hand_form.name().to_string());

@@ -40,7 +40,9 @@ pub struct HandModel {
 }
 
 impl HandModel {
-    /// Builds the hand of the given side at `resolution` (1 = default).
+    /// Builds the built-in hand's simple form ([`HandForm::Simple`]: the benches' and the
+    /// library's tests' hand; a scene's default is [`HandForm::Anatomical`], through
+    /// [`HandModel::built_in`]) of the given side at `resolution` (1 = default).
     pub fn new(side: Side, resolution: f64) -> Result<HandModel, MeshingError> {
         HandModel::new_within(side, resolution, None)
     }
