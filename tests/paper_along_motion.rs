@@ -27,7 +27,9 @@ const BOTH_WAYS: (&str, &str) = (
 /// contact region — the simple hand's finger press with `contact_change_tolerance` 10⁻⁹ m
 /// parts by 6.8·10⁻³ N of 3.65 N at its last keyframe (7.8·10⁻⁵ at 10⁻⁶), and the anatomical
 /// one's with `contact_region` 20 mm by 0.17 / 0.13 / 0.12 N of 2.4–4.1 N (3–7 %) at 10⁻⁹ m: the
-/// iteration's fixed point is not the exact method's there (2026-12-03, docs/contact.md).
+/// iteration's fixed point is not the exact method's there: its step 3 linearises rows again on
+/// each iterate's geometry (`solve_lagrange`'s refresh rounds); with them off in both methods
+/// the two agree to 10⁻⁸ (2026-12-03, docs/contact.md).
 fn scene(path: &str, edits: &[(&str, &str)]) -> Scene {
     let mut text = std::fs::read_to_string(path)
         .unwrap()
