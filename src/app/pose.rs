@@ -33,8 +33,11 @@ pub fn hands_of(scene: &Scene) -> Vec<HandInfo> {
                 });
                 // The built-in hand's form decides its rest pose (the anatomical thumb's).
                 let form = match (gltf, form) {
-                    (None, Some(name)) => HandForm::from_name(name).unwrap_or_default(),
-                    (None, None) => HandForm::default(),
+                    (None, form) => form
+                        .as_deref()
+                        .and_then(HandForm::from_name)
+                        .unwrap_or_default(),
+                    // An imported rig's thumb rests where the rig has it: no turn.
                     (Some(_), _) => HandForm::Simple,
                 };
                 skeleton.set_rest("thumb.cmc.abd", form.thumb_rest_abduction_deg());

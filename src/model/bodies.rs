@@ -96,7 +96,7 @@ pub fn bodies(
             } => {
                 let field = format!("{field}.shape.hand");
                 let form = match form.as_deref() {
-                    None => HandForm::Anatomical,
+                    None => HandForm::default(),
                     Some(name) => HandForm::from_name(name).ok_or_else(|| {
                         (
                             format!("{field}.form"),
