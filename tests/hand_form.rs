@@ -244,13 +244,10 @@ fn the_anatomical_hands_bone_reactions_balance_and_follow_the_simple_hands_under
 /// hand; here that the grasp converges with a finite, positive grip).
 #[test]
 fn the_power_grasp_scene_solves_with_the_anatomical_hand() {
-    let text = std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap();
-    let text = text.replacen(
-        "shape = { hand = { side = \"right\"",
-        "shape = { hand = { side = \"right\", form = \"anatomical\"",
-        1,
+    let text = crate::common::with_hand_form(
+        &std::fs::read_to_string("assets/scenes/hand-power-grasp.toml").unwrap(),
+        "anatomical",
     );
-    assert!(text.contains("form = \"anatomical\""));
     let scene = prehensile::scene::Scene::parse(&text, "power.toml").unwrap();
     let solved =
         prehensile::headless::solve_scene(&scene, "power.toml").unwrap_or_else(|e| panic!("{e}"));

@@ -31,10 +31,7 @@ const BOTH_WAYS: (&str, &str) = (
 /// each iterate's geometry (`solve_lagrange`'s refresh rounds); with them off in both methods
 /// the two agree to 10⁻⁸ (2026-12-03, docs/contact.md).
 fn scene(path: &str, edits: &[(&str, &str)]) -> Scene {
-    let mut text = std::fs::read_to_string(path)
-        .unwrap()
-        .replace("side = \"right\"", "side = \"right\", form = \"simple\"");
-    assert!(text.contains("form = \"simple\""), "{path}: a hand");
+    let mut text = common::with_hand_form(&std::fs::read_to_string(path).unwrap(), "simple");
     for (from, to) in edits {
         assert!(text.contains(from), "{path} has no {from}");
         text = text.replace(from, to);

@@ -793,10 +793,10 @@ fn full_fist_closes(resolution: f64, volume: f64) -> f64 {
 fn the_shipped_full_fist_in_one_keyframe_ends_where_its_two_keyframes_end() {
     // The simple form's: the anatomical hand's (the shipped scene's) straight path settles —
     // its one keyframe is not staged, so this fallback is not exercised there.
-    let text = std::fs::read_to_string("assets/scenes/hand-full-fist.toml")
-        .unwrap()
-        .replace("side = \"right\"", "side = \"right\", form = \"simple\"");
-    assert!(text.contains("form = \"simple\""));
+    let text = crate::common::with_hand_form(
+        &std::fs::read_to_string("assets/scenes/hand-full-fist.toml").unwrap(),
+        "simple",
+    );
     let two = prehensile::scene::Scene::parse(&text, "hand-full-fist.toml").unwrap();
     let mut one = two.clone();
     let thumb = one.keyframe.pop().unwrap().pose;

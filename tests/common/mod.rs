@@ -196,3 +196,18 @@ pub fn power_grasp_and_thumb_ip() -> (prehensile::headless::Solved, usize) {
         .unwrap();
     (solved, ip)
 }
+
+/// A scene's text with its right hand's `form` named (`"simple"` or `"anatomical"`): the
+/// shipped scenes leave it to the default. Panics when the text has no right hand.
+pub fn with_hand_form(text: &str, form: &str) -> String {
+    let named = text.replacen(
+        "side = \"right\"",
+        &format!("side = \"right\", form = \"{form}\""),
+        1,
+    );
+    assert!(
+        named != text,
+        "no right hand to give the form \"{form}\" in:\n{text}"
+    );
+    named
+}
