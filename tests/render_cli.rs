@@ -168,3 +168,53 @@ fn display_options_that_cannot_be_drawn_are_named() {
         assert!(stderr.contains(text), "{option} {value}: {stderr}");
     }
 }
+
+/// An image larger than the adapter reads back at once (here 12 000² pixels, 576 MB against
+/// lavapipe's 268 MB buffer), an --out that is not a PNG and an --all folder that is a file are
+/// refused before the scene is solved (the hand scene would take seconds), each naming what to
+/// change; nothing is written.
+#[test]
+fn sizes_and_outputs_that_cannot_be_written_are_refused_before_the_solve() {
+    let dir = scratch("refused");
+    let a_file = dir.join("a-file");
+    std::fs::write(&a_file, b"kept").unwrap();
+    let big = dir.join("big.png");
+    let jpg = dir.join("frame.jpg");
+    let cases: [(Vec<String>, &str); 3] = [
+        (
+            vec![
+                "--width".into(),
+                "12000".into(),
+                "--height".into(),
+                "12000".into(),
+                "--out".into(),
+                big.display().to_string(),
+            ],
+            "render a smaller image",
+        ),
+        (
+            vec!["--out".into(), jpg.display().to_string()],
+            "name the file .png",
+        ),
+        (
+            vec!["--all".into(), "--out".into(), a_file.display().to_string()],
+            "this is a file",
+        ),
+    ];
+    for (args, text) in cases {
+        let t = std::time::Instant::now();
+        let run = bin()
+            .args(["render", "assets/scenes/finger-press-ball.toml"])
+            .args(&args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(text), "{args:?}: {stderr}");
+        // The adapter is named once the scene is solved and drawn: refused before that.
+        assert!(!stderr.contains("adapter: "), "{args:?}: {stderr}");
+        println!("{args:?}: refused in {:.2} s", t.elapsed().as_secs_f64());
+    }
+    assert!(!big.exists() && !jpg.exists());
+    assert_eq!(std::fs::read(&a_file).unwrap(), b"kept");
+}

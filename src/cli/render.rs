@@ -88,6 +88,25 @@ pub fn run(args: RenderArgs) -> Result<()> {
             args.skin_opacity
         );
     }
+    if args.all {
+        if args.out.exists() && !args.out.is_dir() {
+            bail!(
+                "--out {}: with --all, --out is the folder receiving frame_0000.png, \
+                 frame_0001.png, …, and this is a file",
+                args.out.display()
+            );
+        }
+    } else if let Some(ext) = args.out.extension() {
+        if !ext.eq_ignore_ascii_case("png") {
+            bail!(
+                "--out {}: render writes PNG images; name the file .png",
+                args.out.display()
+            );
+        }
+    }
+    // The image size against the adapter, before the scene is solved.
+    let mut renderer = Renderer::new_headless()?;
+    renderer.check_size(args.width, args.height)?;
     let solved = solve_scene_file(&args.scene)?;
     let options = VisualOptions {
         overlay: args.overlay.into(),
@@ -115,7 +134,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
         }
         vec![k]
     };
-    let mut renderer = Renderer::new_headless()?;
     eprintln!("adapter: {}", renderer.adapter_summary());
     let path_of = |k: usize| -> PathBuf {
         if args.all {

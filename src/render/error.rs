@@ -42,6 +42,24 @@ pub enum RenderError {
         /// The adapter's largest 2D texture side.
         max: u32,
     },
+    /// The image is more pixels than the adapter can read back at once.
+    #[error(
+        "image size {width}×{height} is not possible: its {megabytes:.0} MB of pixels exceed \
+         the {max_megabytes:.0} MB the adapter reads back at once (at most about {side}×{side}; \
+         render a smaller image)"
+    )]
+    TooLarge {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// The read-back buffer it needs, MB.
+        megabytes: f64,
+        /// The adapter's largest buffer, MB.
+        max_megabytes: f64,
+        /// The side of the largest square image that fits.
+        side: u32,
+    },
     /// A draw list is malformed (an index out of range, scalars of the wrong length...).
     #[error("invalid draw list: {0}")]
     InvalidInput(String),

@@ -44,6 +44,8 @@ pub struct Renderer {
     queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
     max_side: u32,
+    /// The adapter's largest buffer, bytes (what an image is read back through).
+    max_buffer: u64,
     format: wgpu::TextureFormat,
     pipelines: Pipelines,
     /// The frame's pipelines with one sample per pixel, made at the first draft.
@@ -196,11 +198,13 @@ impl Renderer {
             ],
         });
         let max_side = device.limits().max_texture_dimension_2d;
+        let max_buffer = device.limits().max_buffer_size;
         Self {
             device,
             queue,
             info,
             max_side,
+            max_buffer,
             format,
             pipelines,
             draft: None,
@@ -277,12 +281,26 @@ impl Renderer {
         GpuScene::new(&self.gpu(), list)
     }
 
-    fn check_size(&self, width: u32, height: u32) -> Result<(), RenderError> {
+    /// Whether an image of `width`×`height` can be drawn and read back on this adapter.
+    pub fn check_size(&self, width: u32, height: u32) -> Result<(), RenderError> {
         if width == 0 || height == 0 || width > self.max_side || height > self.max_side {
             return Err(RenderError::Size {
                 width,
                 height,
                 max: self.max_side,
+            });
+        }
+        // The read-back buffer: rows padded to 256 bytes, four bytes a pixel.
+        let row = (u64::from(width) * 4).div_ceil(256) * 256;
+        let bytes = row * u64::from(height);
+        if bytes > self.max_buffer {
+            let side = ((self.max_buffer / 4) as f64).sqrt().floor() as u32 / 256 * 256;
+            return Err(RenderError::TooLarge {
+                width,
+                height,
+                megabytes: bytes as f64 / 1e6,
+                max_megabytes: self.max_buffer as f64 / 1e6,
+                side,
             });
         }
         Ok(())
@@ -676,7 +694,7 @@ impl Renderer {
             .map_err(|e| RenderError::Readback(e.to_string()))?
             .map_err(|e| RenderError::Readback(e.to_string()))?;
         self.take_errors()?;
-        let mut pixels = Vec::with_capacity((width * height * 4) as usize);
+        let mut pixels = Vec::with_capacity(width as usize * height as usize * 4);
         {
             let data = buffer
                 .get_mapped_range(..)

@@ -7,7 +7,7 @@ use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
 use super::path::{flex_ahead, FlexionPath, Parts};
-use super::proximity::{crushed_by_skinning, posed_deeper_than, PARTS};
+use super::proximity::{crushed_by_skinning, passes_deeper_than, posed_deeper_than, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
 use super::untouched::untouched_step;
@@ -316,20 +316,31 @@ impl Workspace {
         let start = has_objects.then(|| posed.clone());
         // A pose that skinning already puts deeper into a body than contact searches cannot be
         // solved in one step (that contact never finds the deepest skin): straight to steps.
-        // (Judged once the flexion ahead has started: it is 24 ms of skinning and inside tests
-        // at the Power grasp's start.)
+        // Nor a keyframe whose skin goes deeper than that on the way, at one of the poses the
+        // steps along it would take, whatever its end (a finger swung through a ball and out of
+        // it, which one step at the end would find touching nothing). (Judged once the flexion
+        // ahead has started: it is 24 ms of skinning and inside tests a pose, the end first.)
         let deep = start.is_some();
         let too_deep = |posed: &Posed| {
-            deep && moving.iter().any(|(h, _, to)| {
+            deep && moving.iter().any(|(h, from, to)| {
                 let hand = &posed.hands[*h];
-                posed_deeper_than(
-                    model,
-                    hand.body,
-                    &hand.state,
-                    to,
-                    model.contact.search_depth,
-                    posed.contact.as_deref(),
-                )
+                let carried = posed.contact.as_deref();
+                let depth = model.contact.search_depth;
+                let largest = from
+                    .iter()
+                    .zip(to)
+                    .map(|(a, b)| (b - a).abs())
+                    .fold(0.0, f64::max);
+                let samples = (largest / CONTACT_STEP_DEG).ceil() as usize;
+                posed_deeper_than(model, hand.body, &hand.state, to, depth, carried)
+                    || passes_deeper_than(
+                        model,
+                        hand.body,
+                        &hand.state,
+                        to,
+                        (depth, samples),
+                        carried,
+                    )
             })
         };
         // The hands' flexion over the keyframe, shared by both ways of solving its contact. A

@@ -13,7 +13,7 @@
 //! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
 //! palmar crease of a deep flexion) is solved by FEM all the same.
 
-use super::grasp::deepest_inside;
+use super::grasp::Insides;
 use crate::contact::{connected_pieces, ContactSurface, WindingTree};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::model::FleshMethod;
@@ -218,40 +218,125 @@ pub fn posed_deeper_than(
     depth: f64,
     carried: Option<&[f64]>,
 ) -> bool {
-    let b = &model.bodies[body];
-    let hand = b.hand.as_deref().expect("posed_deeper_than of a hand body");
-    let skin = &hand.contact_skin;
-    let mut nodes: Vec<usize> = (0..skin.vertex_count())
-        .flat_map(|v| skin.terms(v).map(|t| t.0))
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    let mut moved = skinned_to(model, hand, state, target, nodes.into_iter());
-    let mut positions = model.mesh.nodes.clone();
-    if let Some(u) = carried {
-        let at = |n: usize| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
-        for (n, p) in positions.iter_mut().enumerate() {
-            *p += at(n);
+    SkinProbe::new(model, body, state, carried).deeper_than(target, depth)
+}
+
+/// Whether the skin of hand body `body`, moved by skinning from `state` towards the joint
+/// angles `target` along the keyframe (the angles interpolated linearly), lies deeper than
+/// `depth` (m) inside another body at one of the `samples − 1` poses evenly between the two
+/// (the bodies and the flesh where `carried` puts them, as [`posed_deeper_than`]): a keyframe
+/// whose skin goes through a body on the way, whatever its end. Sampled as the contact steps
+/// along a motion are (one sample a step), so that a finger swung through a ball and out of it
+/// within one keyframe is not taken for a motion that touches nothing.
+pub fn passes_deeper_than(
+    model: &Model,
+    body: usize,
+    state: &HandState,
+    target: &[f64],
+    (depth, samples): (f64, usize),
+    carried: Option<&[f64]>,
+) -> bool {
+    if samples < 2 {
+        return false;
+    }
+    let probe = SkinProbe::new(model, body, state, carried);
+    (1..samples).any(|k| {
+        let f = k as f64 / samples as f64;
+        let angles: Vec<f64> = state
+            .angles
+            .iter()
+            .zip(target)
+            .map(|(a, b)| a + f * (b - a))
+            .collect();
+        probe.deeper_than(&angles, depth)
+    })
+}
+
+/// A hand's contact skin moved by skinning, asked how deep it lies in the other bodies: the
+/// bodies' closed surfaces made once (they do not move while the hand's pose is varied).
+struct SkinProbe<'a> {
+    model: &'a Model,
+    body: usize,
+    state: &'a HandState,
+    carried: Option<&'a [f64]>,
+    /// The contact skin's points' terms' flesh nodes (hand-local), sorted.
+    nodes: Vec<usize>,
+    /// The model's nodes where `carried` puts them.
+    positions: Vec<Vector3<f64>>,
+    insides: Insides,
+}
+
+impl<'a> SkinProbe<'a> {
+    fn new(
+        model: &'a Model,
+        body: usize,
+        state: &'a HandState,
+        carried: Option<&'a [f64]>,
+    ) -> SkinProbe<'a> {
+        let hand = model.bodies[body]
+            .hand
+            .as_deref()
+            .expect("a skin probe of a hand body");
+        let skin = &hand.contact_skin;
+        let mut nodes: Vec<usize> = (0..skin.vertex_count())
+            .flat_map(|v| skin.terms(v).map(|t| t.0))
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let mut positions = model.mesh.nodes.clone();
+        if let Some(u) = carried {
+            for (n, p) in positions.iter_mut().enumerate() {
+                *p += Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+            }
         }
-        for (i, p) in moved.iter_mut().enumerate() {
-            *p += at(b.nodes.start + i);
+        let objects: Vec<ContactSurface> = (0..model.bodies.len())
+            .filter(|&o| model.bodies[o].hand.is_none())
+            .map(|o| {
+                ContactSurface::from_quads_split_at(
+                    o,
+                    &model.bodies[o].exterior,
+                    &model.mesh.nodes,
+                    &positions,
+                )
+            })
+            .collect();
+        let insides = Insides::new(&objects, &positions);
+        SkinProbe {
+            model,
+            body,
+            state,
+            carried,
+            nodes,
+            positions,
+            insides,
         }
     }
-    // The skin's points numbered after the model's nodes.
-    positions.extend(skin.positions(&moved));
-    let objects: Vec<ContactSurface> = (0..model.bodies.len())
-        .filter(|&o| model.bodies[o].hand.is_none())
-        .map(|o| {
-            ContactSurface::from_quads_split_at(
-                o,
-                &model.bodies[o].exterior,
-                &model.mesh.nodes,
-                &positions,
-            )
-        })
-        .collect();
-    let points: Vec<usize> = (model.mesh.node_count()..positions.len()).collect();
-    deepest_inside(&objects, &points, &positions, depth).is_some()
+
+    /// Whether the skin moved by skinning to the joint angles `target` lies deeper than `depth`
+    /// inside another body.
+    fn deeper_than(&self, target: &[f64], depth: f64) -> bool {
+        let b = &self.model.bodies[self.body];
+        let hand = b.hand.as_deref().expect("a hand body");
+        let skin = &hand.contact_skin;
+        let mut moved = skinned_to(
+            self.model,
+            hand,
+            self.state,
+            target,
+            self.nodes.iter().copied(),
+        );
+        if let Some(u) = self.carried {
+            for (i, p) in moved.iter_mut().enumerate() {
+                let n = b.nodes.start + i;
+                *p += Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
+            }
+        }
+        // The skin's points numbered after the model's nodes.
+        let mut positions = self.positions.clone();
+        positions.extend(skin.positions(&moved));
+        let points: Vec<usize> = (self.model.mesh.node_count()..positions.len()).collect();
+        self.insides.deepest(&points, &positions, depth).is_some()
+    }
 }
 
 /// The flesh of `hand` in `state` with the nodes `nodes` moved by skinning to the joint angles
