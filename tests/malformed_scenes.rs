@@ -270,3 +270,32 @@ fn malformed_scenes_are_refused_naming_file_and_field() {
         files.len()
     );
 }
+
+/// A scene that never ends (`/dev/zero`) is refused at 16 MB, with its size said, instead of
+/// being read until the memory runs out (it was killed by the kernel at 23 GB, found by a
+/// hostile-input probe 2026-12-03); under the cases' 4 GiB address-space limit too.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_endless_scene_file_is_refused_at_its_size() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("endless-scene-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    let (out, log) = (dir.join("out"), dir.join("stderr.txt"));
+    let (ending, _) = solve_limited(
+        Path::new("/dev/zero"),
+        &out,
+        &log,
+        TIME_LIMIT,
+        ADDRESS_SPACE_LIMIT,
+    )
+    .unwrap();
+    let stderr = fs::read_to_string(&log).unwrap();
+    match ending {
+        Ending::Exited(status) => assert_eq!(status.code(), Some(1), "{stderr}"),
+        Ending::TimedOut => panic!("still reading after {TIME_LIMIT:?}: {stderr}"),
+    }
+    assert!(stderr.contains("/dev/zero"), "{stderr}");
+    assert!(stderr.contains("larger than 16 MB"), "{stderr}");
+    assert!(!out.exists());
+}

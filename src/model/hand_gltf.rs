@@ -11,6 +11,10 @@ use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// The largest glTF file (or buffer beside it) read, bytes: a rigged hand's skin and skeleton
+/// are a few megabytes.
+const MAX_GLTF_BYTES: u64 = 1_000_000_000;
+
 /// The rig in `path` for a hand of `side`: joints named in `bones` (joint key → node name) or
 /// recognised by their names, the skin mesh posed at rest, placed by `placement`. Errors name
 /// the file and what is wrong in it.
@@ -33,7 +37,8 @@ pub fn read_rigged_hand(
             "`placement.translation` and `placement.rotation` must be finite numbers".into(),
         );
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read \"{file}\": {e}"))?;
+    let bytes = crate::util::read::read_at_most(path, MAX_GLTF_BYTES)
+        .map_err(|e| format!("cannot read \"{file}\": {e}"))?;
     let gltf = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| format!("\"{file}\" is not a glTF 2.0 file: {e}"))?;
     let buffers = buffers(&gltf, path)?;
@@ -252,7 +257,7 @@ fn buffers(gltf: &gltf::Gltf, path: &Path) -> Result<Vec<Vec<u8>>, String> {
                         .map_err(|e| format!("\"{file}\": buffer {}: {e}", b.index()))
                 } else {
                     let beside = path.parent().unwrap_or(Path::new(".")).join(uri);
-                    std::fs::read(&beside).map_err(|e| {
+                    crate::util::read::read_at_most(&beside, MAX_GLTF_BYTES).map_err(|e| {
                         format!(
                             "\"{file}\": cannot read its buffer \"{}\": {e}",
                             beside.display()

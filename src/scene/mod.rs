@@ -22,12 +22,26 @@ pub const DEFAULT_SCENE: &str = include_str!("../../assets/scenes/hand-and-ball.
 /// scene before the viewer: the renderer's benchmark and image tests use it.
 pub const BALL_SCENE: &str = include_str!("../../assets/scenes/default.toml");
 
+/// The largest scene file read, bytes: a scene is a few kilobytes of TOML (a rig's table or
+/// many keyframes, some hundreds).
+pub const MAX_SCENE_BYTES: u64 = 16_000_000;
+
 impl Scene {
-    /// Reads and parses a scene file.
+    /// Reads and parses a scene file (refused beyond [`MAX_SCENE_BYTES`]).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|reason| SceneError::Io {
+        let io = |reason| SceneError::Io {
             file: path.display().to_string(),
             reason,
+        };
+        let bytes = crate::util::read::read_at_most(path, MAX_SCENE_BYTES).map_err(io)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            io(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "it is not UTF-8 text (byte {} is not), as a TOML scene is",
+                    e.utf8_error().valid_up_to()
+                ),
+            ))
         })?;
         Scene::parse(&text, &path.display().to_string())
     }

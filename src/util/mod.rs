@@ -4,5 +4,6 @@
 pub mod gltf_axes;
 pub mod near;
 pub mod number;
+pub mod read;
 pub mod timing;
 pub use number::readable;
