@@ -1349,3 +1349,35 @@ fn solve_in_address_space(scene: &Path, out: &Path, bytes: u64) -> Output {
     }
     command.output().unwrap()
 }
+
+#[test]
+fn an_ordering_above_max_memory_is_refused_before_it_runs() {
+    // 30³ cells (29 791 nodes, 86 k equations) under 190 MB: the model's build fits (its
+    // estimate ~176 MB), ordering its factor does not (~196 MB while it runs: the structure, the
+    // minimum-degree workspace, two symbolic factorizations side by side); the factor would
+    // need more again. A cube of 150³ cells, 10 M equations, was killed by the kernel at 24 GB
+    // while it ordered (found by a hostile-input probe, 2026-12-03): now refused there, with
+    // the share of the elements that fits.
+    let text = Bar {
+        thickness: 1.0,
+        cells: [30, 30, 30],
+        solver: "max_memory = \"190 MB\"",
+        rest: &tip_load([0.0, 0.0, -1.0]),
+        ..Bar::default()
+    }
+    .scene();
+    let stderr = refused("ordering_above_max_memory", &text);
+    assert!(
+        stderr.contains("ordering the sparse Cholesky factor of"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("([solver] max_memory)"), "{stderr}");
+    assert!(stderr.contains("at most "), "{stderr}");
+    #[cfg(target_os = "linux")]
+    {
+        let (code, stderr, peak) = solve_measured(&fresh("ordering_measured"), &text);
+        println!("peak resident memory of the refused run: {} MB", peak >> 20);
+        assert_eq!(code, Some(1), "{stderr}");
+        assert!(peak < 190_000_000, "peak {peak} B");
+    }
+}

@@ -63,6 +63,28 @@ pub enum SolveError {
     /// The factorization ran out of memory.
     #[error("sparse Cholesky failed: {0}")]
     Faer(String),
+    /// Ordering the factor would not fit in the memory the solve may take: refused before
+    /// it runs.
+    #[error(
+        "ordering the sparse Cholesky factor of {equations} equations takes about {} while it \
+         runs (its factor several times more), but {} is free ({limit}): use fewer elements — \
+         at most {:.0} % as many: a coarser mesh, fewer `cells`, a lower hand `resolution` — \
+         or {}",
+        super::memory::human(*needed),
+        super::memory::human(*available),
+        100.0 * super::memory::fewer_share(*available, *needed, 1.0),
+        .limit.remedy()
+    )]
+    OrderingTooBig {
+        /// Bytes the ordering would take.
+        needed: u64,
+        /// Bytes the solve may take.
+        available: u64,
+        /// What limits it.
+        limit: super::memory::BudgetSource,
+        /// NBEQ.
+        equations: usize,
+    },
     /// The factor would not fit in the memory the solve may take: refused before allocating.
     #[error(
         "the sparse Cholesky factor of {equations} equations needs about {} ({entries} \
@@ -315,7 +337,11 @@ impl PartitionedSolver {
             stats.order_carried = carried.is_some();
             self.analysis = Some(match carried {
                 Some(a) => a,
-                None => analyse(&k.pattern, partition, positions, self.ordering, &keys)?,
+                None => {
+                    let entries = k11_entries(&k.pattern, partition);
+                    ordering_within_budget(entries, partition.free_count())?;
+                    analyse(&k.pattern, partition, positions, self.ordering, &keys)?
+                }
             });
             stats.symbolic_ms = ms(t);
         }
@@ -457,6 +483,52 @@ fn within_budget(needed: u64, equations: usize, entries: usize) -> Result<(), So
                 limit,
                 equations,
                 entries,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Bytes the ordering and the symbolic analysis of K11 take while they run, a stored entry of
+/// its upper triangle: its structure and where each value is (8 B each), faer's minimum-degree
+/// workspace (about 2.2 words an entry), and the two symbolic factorizations that run side by
+/// side (`analyse`: minimum degree and nested dissection, each on a permuted copy, 2 words an
+/// entry). Measured: a cube of 100³ cells (3.0 M equations, 123 M entries) peaked at 10.1 GB,
+/// its model ≈ 3.5 GB of it.
+const ORDERING_BYTES_PER_ENTRY: u64 = 56;
+
+/// And an equation (permutations, elimination tree, counts, supernodes: 16 words).
+const ORDERING_BYTES_PER_EQUATION: u64 = 128;
+
+/// The stored entries of K11's upper triangle (the free rows and columns of `pattern`),
+/// counted without building it.
+fn k11_entries(pattern: &StiffnessPattern, partition: &DofPartition) -> u64 {
+    partition
+        .free
+        .iter()
+        .map(|&d| {
+            pattern.row_idx[pattern.col_ptr[d]..pattern.col_ptr[d + 1]]
+                .iter()
+                .filter(|&&r| partition.equation[r] != usize::MAX)
+                .count() as u64
+        })
+        .sum()
+}
+
+/// The ordering of `equations` equations with `entries` stored entries, refused before it runs
+/// where the memory budget does not leave what it takes (a cube of 150³ cells, 10 M equations,
+/// was killed by the kernel at 24 GB while it ordered, before its factor could be refused).
+fn ordering_within_budget(entries: u64, equations: usize) -> Result<(), SolveError> {
+    let needed = entries
+        .saturating_mul(ORDERING_BYTES_PER_ENTRY)
+        .saturating_add((equations as u64).saturating_mul(ORDERING_BYTES_PER_EQUATION));
+    if let Some((available, limit)) = super::memory::budget() {
+        if needed > available {
+            return Err(SolveError::OrderingTooBig {
+                needed,
+                available,
+                limit,
+                equations,
             });
         }
     }
