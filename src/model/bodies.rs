@@ -80,6 +80,7 @@ pub fn bodies(
     let mut cell_body = Vec::new();
     for (i, b) in scene.body.iter().enumerate() {
         let field = format!("body \"{}\" (body[{i}])", b.name);
+        super::names::named("body", &b.name).map_err(|m| (field.clone(), m))?;
         if bodies.iter().any(|o| o.name == b.name) {
             return Err((field, "a body of this name is defined twice".into()));
         }

@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 pub fn cameras(scene: &Scene) -> Result<Vec<CameraDef>, (String, String)> {
     for (i, c) in scene.camera.iter().enumerate() {
         let field = format!("camera \"{}\" (camera[{i}])", c.name);
+        super::names::named("camera", &c.name).map_err(|m| (field.clone(), m))?;
         if scene.camera[..i].iter().any(|o| o.name == c.name) {
             return Err((field, "a camera of this name is defined twice".into()));
         }

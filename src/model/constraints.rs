@@ -29,6 +29,7 @@ pub fn constraints(
     let mut constraints: Vec<ConstraintModel> = Vec::new();
     for (i, c) in scene.constraint.iter().enumerate() {
         let field = format!("constraint \"{}\" (constraint[{i}])", c.name);
+        super::names::named("constraint", &c.name).map_err(|m| (field.clone(), m))?;
         if constraints.iter().any(|o| o.name == c.name) {
             return Err((field, "a constraint of this name is defined twice".into()));
         }

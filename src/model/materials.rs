@@ -16,6 +16,7 @@ pub fn materials(scene: &Scene) -> Result<Vec<Material>, (String, String)> {
     let mut materials = Vec::new();
     for (i, m) in scene.material.iter().enumerate() {
         let field = format!("material \"{}\" (material[{i}])", m.name);
+        super::names::named("material", &m.name).map_err(|m| (field.clone(), m))?;
         if scene.material[..i].iter().any(|o| o.name == m.name) {
             return Err((field, "a material of this name is defined twice".into()));
         }

@@ -16,6 +16,7 @@ mod keyframes;
 mod loads;
 mod materials;
 mod memory_estimate;
+mod names;
 mod obstacles;
 mod probes;
 mod refinement;

@@ -11,6 +11,7 @@ pub fn obstacles(scene: &Scene) -> Result<Vec<(String, Obstacle)>, (String, Stri
     let mut obstacles = Vec::new();
     for (i, o) in scene.obstacle.iter().enumerate() {
         let field = format!("obstacle \"{}\" (obstacle[{i}])", o.name);
+        super::names::named("obstacle", &o.name).map_err(|m| (field.clone(), m))?;
         if scene.obstacle[..i].iter().any(|p| p.name == o.name) {
             return Err((field, "an obstacle of this name is defined twice".into()));
         }

@@ -17,6 +17,7 @@ pub fn probes(
     let mut probes = Vec::new();
     for (i, p) in scene.probe.iter().enumerate() {
         let field = format!("probe \"{}\" (probe[{i}])", p.name);
+        super::names::named("probe", &p.name).map_err(|m| (field.clone(), m))?;
         if probes.iter().any(|o: &ProbeModel| o.name == p.name) {
             return Err((field, "a probe of this name is defined twice".into()));
         }

@@ -127,6 +127,39 @@ pub fn plain_message(message: &str) -> String {
         out.push(c);
         rest = &rest[c.len_utf8()..];
     }
+    // The primitive types a number is read into.
+    const NUMBERS: [(&str, &str); 12] = [
+        ("usize", "a whole number, 0 or more"),
+        ("u64", "a whole number, 0 or more"),
+        ("u32", "a whole number, 0 or more"),
+        ("u16", "a whole number, 0 or more"),
+        ("u8", "a whole number, 0 or more"),
+        ("isize", "a whole number"),
+        ("i64", "a whole number"),
+        ("i32", "a whole number"),
+        ("f64", "a number"),
+        ("f32", "a number"),
+        ("bool", "true or false"),
+        ("char", "a single character"),
+    ];
+    for (ty, plain) in NUMBERS {
+        let pattern = format!("expected {ty}");
+        let mut told = String::with_capacity(out.len());
+        let mut rest = out.as_str();
+        while let Some(at) = rest.find(&pattern) {
+            let after = &rest[at + pattern.len()..];
+            told.push_str(&rest[..at]);
+            if after.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_') {
+                told.push_str(&pattern);
+            } else {
+                told.push_str("expected ");
+                told.push_str(plain);
+            }
+            rest = after;
+        }
+        told.push_str(rest);
+        out = told;
+    }
     out
 }
 
@@ -147,6 +180,18 @@ mod tests {
         assert_eq!(
             plain_message("data did not match any variant of untagged enum PreshapeDef"),
             "the value has none of the forms this field accepts"
+        );
+        assert_eq!(
+            plain_message("invalid type: floating point `10.5`, expected usize"),
+            "invalid type: floating point `10.5`, expected a whole number, 0 or more"
+        );
+        assert_eq!(
+            plain_message("invalid type: string \"1e6\", expected f64"),
+            "invalid type: string \"1e6\", expected a number"
+        );
+        assert_eq!(
+            plain_message("invalid type: integer `1`, expected bool"),
+            "invalid type: integer `1`, expected true or false"
         );
         assert_eq!(
             plain_message("unknown field `yung`, expected one of `name`, `young`"),
