@@ -512,6 +512,19 @@ fn the_grasp_is_realisable_on_the_ball_and_not_on_the_stiff_bowl() {
     assert!(h.contact.contains_key("ring"));
 }
 
+/// The index MCP flexion's place among the joint angles of hand body `body`.
+fn index_mcp(solved: &prehensile::headless::Solved, body: usize) -> usize {
+    solved.model.bodies[body]
+        .hand
+        .as_ref()
+        .unwrap()
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "index.mcp.flex")
+        .unwrap()
+}
+
 /// The finger press of finger-press-ball.toml with its last keyframe at MCP 40° (and `edit`
 /// applied to the text), solved as `name`: it reaches MCP 40° (asserted).
 fn pressed_to_40(name: &str, edit: impl Fn(String) -> String) -> prehensile::headless::Solved {
@@ -529,15 +542,7 @@ fn pressed_to_40(name: &str, edit: impl Fn(String) -> String) -> prehensile::hea
         "{name}: {:?}",
         h.stats.stopped_short
     );
-    let mcp = solved.model.bodies[0]
-        .hand
-        .as_ref()
-        .unwrap()
-        .skeleton
-        .dofs
-        .iter()
-        .position(|d| d.name == "index.mcp.flex")
-        .unwrap();
+    let mcp = index_mcp(&solved, 0);
     assert!(
         (h.angles[mcp] - 40.0).abs() < 1e-9,
         "{name}: MCP {}°",
@@ -670,15 +675,7 @@ fn pressed_towards(mcp: f64) -> (f64, bool, f64) {
     let solved = prehensile::headless::solve_scene(&scene, &name).unwrap();
     let last = solved.frames.last().unwrap();
     let h = &last.hands[0];
-    let joint = solved.model.bodies[h.body]
-        .hand
-        .as_ref()
-        .unwrap()
-        .skeleton
-        .dofs
-        .iter()
-        .position(|d| d.name == "index.mcp.flex")
-        .unwrap();
+    let joint = index_mcp(&solved, h.body);
     let stopped = h
         .stats
         .stopped_short

@@ -141,8 +141,14 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                 .and_then(|n| n.checked_mul(*layers))
                 .and_then(|n| n.checked_mul(6));
             if *cells == 0 || *layers == 0 || count.is_none_or(|n| n > MAX_CELLS) {
+                // The field at fault: the one that is zero, else the larger share of the count.
+                let field = if *layers == 0 || (*cells != 0 && *layers > 6 * *cells) {
+                    ".shell.layers"
+                } else {
+                    ".shell.cells"
+                };
                 return Err((
-                    ".shell.cells".into(),
+                    field.into(),
                     format!(
                         "shell cells = {cells} and layers = {layers} must be at least 1 (and make \
                          at most {MAX_CELLS} elements)"

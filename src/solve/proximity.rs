@@ -115,12 +115,7 @@ pub fn far_parts(
     // jump over a thin shell and its margins). The skin moves along arcs, whose chords the
     // end-to-end displacement bounds from below; over 90° an arc is 1.11× its chord.
     let skin_at = |f: f64, out: &mut Vec<Vector3<f64>>| {
-        let angles: Vec<f64> = state
-            .angles
-            .iter()
-            .zip(target)
-            .map(|(a, b)| a + f * (b - a))
-            .collect();
+        let angles = angles_between(&state.angles, target, f);
         let motion = state.motion_to(&hand.skeleton.transforms(&angles));
         hand.weights.apply(
             model.flexion.blend,
@@ -242,14 +237,14 @@ pub fn passes_deeper_than(
     let probe = SkinProbe::new(model, body, state, carried);
     (1..samples).any(|k| {
         let f = k as f64 / samples as f64;
-        let angles: Vec<f64> = state
-            .angles
-            .iter()
-            .zip(target)
-            .map(|(a, b)| a + f * (b - a))
-            .collect();
-        probe.deeper_than(&angles, depth)
+        probe.deeper_than(&angles_between(&state.angles, target, f), depth)
     })
+}
+
+/// The joint angles a fraction `f` of the way from `from` to `to` (interpolated linearly, as
+/// flexion interpolates a keyframe's).
+fn angles_between(from: &[f64], to: &[f64], f: f64) -> Vec<f64> {
+    from.iter().zip(to).map(|(a, b)| a + f * (b - a)).collect()
 }
 
 /// A hand's contact skin moved by skinning, asked how deep it lies in the other bodies: the
