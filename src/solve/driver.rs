@@ -7,7 +7,7 @@ use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, ContactCache};
 use super::path::{flex_ahead, FlexionPath, Parts};
-use super::proximity::{crushed_by_skinning, passes_deeper_than, posed_deeper_than, PARTS};
+use super::proximity::{crushed_by_skinning, deeper_on_the_way, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
 use super::untouched::untouched_step;
@@ -326,21 +326,8 @@ impl Workspace {
                 let hand = &posed.hands[*h];
                 let carried = posed.contact.as_deref();
                 let depth = model.contact.search_depth;
-                let largest = from
-                    .iter()
-                    .zip(to)
-                    .map(|(a, b)| (b - a).abs())
-                    .fold(0.0, f64::max);
-                let samples = (largest / CONTACT_STEP_DEG).ceil() as usize;
-                posed_deeper_than(model, hand.body, &hand.state, to, depth, carried)
-                    || passes_deeper_than(
-                        model,
-                        hand.body,
-                        &hand.state,
-                        to,
-                        (depth, samples),
-                        carried,
-                    )
+                let samples = contact_steps(largest_change(from, to));
+                deeper_on_the_way(model, hand.body, &hand.state, to, (depth, samples), carried)
             })
         };
         // The hands' flexion over the keyframe, shared by both ways of solving its contact. A
@@ -444,9 +431,9 @@ impl Workspace {
     ) -> Result<Frame, SimError> {
         let largest = moving
             .iter()
-            .flat_map(|(_, from, to)| from.iter().zip(to).map(|(a, b)| (b - a).abs()))
+            .map(|(_, from, to)| largest_change(from, to))
             .fold(0.0, f64::max);
-        let steps = (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize;
+        let steps = contact_steps(largest);
         // Retried along the motion in at least two steps: a keyframe shorter than one step
         // (a degree of flexion against a thin wall) may need halving too.
         let along = steps.max(2);
@@ -875,6 +862,20 @@ impl Workspace {
             &mut self.contact,
         )
     }
+}
+
+/// The largest change of a joint angle from `from` to `to`, degrees.
+fn largest_change(from: &[f64], to: &[f64]) -> f64 {
+    from.iter()
+        .zip(to)
+        .map(|(a, b)| (b - a).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The contact steps of at most [`CONTACT_STEP_DEG`] a motion whose joints change by at most
+/// `largest` degrees goes in along its path (at least one).
+fn contact_steps(largest: f64) -> usize {
+    (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize
 }
 
 /// Flexes hand body `b` from `state` to `target` (a knot of [`FlexionPath`]: the parts `far`

@@ -13,6 +13,7 @@ mod gas;
 mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
+mod insides;
 mod let_go;
 mod linear_factor;
 mod paper_roles;

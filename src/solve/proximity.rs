@@ -13,7 +13,7 @@
 //! cell (det J at a Gauss point falling below [`CRUSH_RATIO`] of its value now, as at the
 //! palmar crease of a deep flexion) is solved by FEM all the same.
 
-use super::grasp::Insides;
+use super::insides::Insides;
 use crate::contact::{connected_pieces, ContactSurface, WindingTree};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::model::FleshMethod;
@@ -218,12 +218,13 @@ pub fn posed_deeper_than(
 
 /// Whether the skin of hand body `body`, moved by skinning from `state` towards the joint
 /// angles `target` along the keyframe (the angles interpolated linearly), lies deeper than
-/// `depth` (m) inside another body at one of the `samples − 1` poses evenly between the two
-/// (the bodies and the flesh where `carried` puts them, as [`posed_deeper_than`]): a keyframe
-/// whose skin goes through a body on the way, whatever its end. Sampled as the contact steps
-/// along a motion are (one sample a step), so that a finger swung through a ball and out of it
-/// within one keyframe is not taken for a motion that touches nothing.
-pub fn passes_deeper_than(
+/// `depth` (m) inside another body at its end or at one of the `samples − 1` poses evenly
+/// between (the bodies and the flesh where `carried` puts them, as [`posed_deeper_than`]): a
+/// keyframe whose skin goes through a body on the way, whatever its end. Sampled as the contact
+/// steps along a motion are (one sample a step), so that a finger swung through a ball and out
+/// of it within one keyframe is not taken for a motion that touches nothing. The end is looked
+/// at first; the bodies' surfaces are made once for all the poses.
+pub fn deeper_on_the_way(
     model: &Model,
     body: usize,
     state: &HandState,
@@ -231,14 +232,12 @@ pub fn passes_deeper_than(
     (depth, samples): (f64, usize),
     carried: Option<&[f64]>,
 ) -> bool {
-    if samples < 2 {
-        return false;
-    }
     let probe = SkinProbe::new(model, body, state, carried);
-    (1..samples).any(|k| {
-        let f = k as f64 / samples as f64;
-        probe.deeper_than(&angles_between(&state.angles, target, f), depth)
-    })
+    probe.deeper_than(target, depth)
+        || (1..samples).any(|k| {
+            let f = k as f64 / samples as f64;
+            probe.deeper_than(&angles_between(&state.angles, target, f), depth)
+        })
 }
 
 /// The joint angles a fraction `f` of the way from `from` to `to` (interpolated linearly, as
