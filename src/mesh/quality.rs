@@ -36,7 +36,13 @@ pub fn scaled_jacobian(corners: &[Vector3<f64>; 8]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The longest edge of a hexahedron over its shortest.
+/// An edge shorter than this share of an element's longest is collapsed (its two corners one).
+pub const COLLAPSED: f64 = 1e-9;
+
+/// The longest edge of a hexahedron over its shortest, the edges a degenerate element (a prism
+/// or a tetrahedron written as a hexahedron) collapses to a point left out — those shorter than
+/// [`COLLAPSED`] of the longest: a corner merged by arithmetic is seldom exactly the same point
+/// (infinite where every edge is collapsed).
 pub fn aspect_ratio(corners: &[Vector3<f64>; 8]) -> f64 {
     const EDGES: [[usize; 2]; 12] = [
         [0, 1],
@@ -54,8 +60,16 @@ pub fn aspect_ratio(corners: &[Vector3<f64>; 8]) -> f64 {
     ];
     let lengths = EDGES.map(|[a, b]| (corners[a] - corners[b]).norm());
     let longest = lengths.iter().copied().fold(0.0, f64::max);
-    let shortest = lengths.iter().copied().fold(f64::INFINITY, f64::min);
-    longest / shortest
+    let shortest = lengths
+        .iter()
+        .copied()
+        .filter(|&l| l > COLLAPSED * longest)
+        .fold(f64::INFINITY, f64::min);
+    if shortest.is_finite() {
+        longest / shortest
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// The smallest scaled Jacobian and the largest aspect ratio over the cells of a mesh.
@@ -88,5 +102,20 @@ mod tests {
         }
         let (jac, _) = mesh_quality(&sheared);
         assert!((jac - 0.5f64.sqrt()).abs() < 1e-12, "{jac}");
+    }
+
+    /// A prism written as a hexahedron (its top face's back edge collapsed): the collapsed edge
+    /// is no edge, so the aspect is that of the edges it has; a flat box's is its flatness.
+    #[test]
+    fn a_collapsed_edge_is_no_edge_of_the_aspect() {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::new(1.0, 1.0, 1.0), [1, 1, 1]);
+        let mut corners = mesh.cell_coords(0);
+        // VTK order: 4–7 the top face; collapse 6 onto 7 (the edge 6–7 vanishes).
+        corners[6] = corners[7];
+        let aspect = aspect_ratio(&corners);
+        // Longest edge left: the top's diagonal 5–6 (√2), shortest 1.
+        assert!((aspect - 2f64.sqrt()).abs() < 1e-12, "{aspect}");
+        let flat = box_mesh(Vector3::zeros(), Vector3::new(1.0, 1.0, 1e-7), [1, 1, 1]);
+        assert!((aspect_ratio(&flat.cell_coords(0)) - 1e7).abs() < 1e-3);
     }
 }

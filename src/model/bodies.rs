@@ -11,7 +11,7 @@ use super::BodyModel;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
 use crate::fem::Material;
 use crate::hand::{HandForm, HandModel, HandSize};
-use crate::mesh::{boundary_facets, Facet, Mesh};
+use crate::mesh::{aspect_ratio, boundary_facets, Facet, Mesh};
 use crate::scene::{HandSizeDef, Placement, Scene, Shape};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use std::path::Path;
@@ -40,16 +40,76 @@ fn builtin_placement(placement: &Placement) -> Result<Isometry3<f64>, String> {
         ));
     }
     let r = placement.rotation;
-    if !r.iter().all(|x| x.is_finite()) {
-        return Err(format!(
-            "`placement.rotation` must be finite angles in degrees, got {r:?}"
-        ));
-    }
+    check_rotation(&r)?;
     let [rx, ry, rz] = r.map(f64::to_radians);
     Ok(Isometry3::from_parts(
         Translation3::from(Vector3::from(t)),
         UnitQuaternion::from_euler_angles(rx, ry, rz),
     ))
+}
+
+/// Largest ratio of an element's longest edge to its shortest: the stiffness along and across
+/// such an element differ by about its square (a shell wall of 10⁻¹⁰ m on a 35 mm ball, ≈ 10⁸,
+/// failed its factorization as if it could move freely; 10⁶ still solves).
+const MAX_ASPECT: f64 = 1.0e6;
+
+/// Smallest element a scene can hold, m: below it the volumes (size³) underflow toward zero
+/// and the scene is not in metres.
+const MIN_ELEMENT: f64 = 1.0e-9;
+
+/// A body's nodes within [`MAX_PLACEMENT`] of the origin and its elements at least
+/// [`MIN_ELEMENT`] across (their longest edge).
+fn check_extent(mesh: &Mesh) -> Result<(), String> {
+    if let Some((n, p)) = mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.iter().all(|x| x.abs() <= MAX_PLACEMENT))
+    {
+        return Err(format!(
+            "node {n} lies at [{}] m, beyond {MAX_PLACEMENT} m from the origin: the scene is in \
+             metres (a hand is about 0.2 m long)",
+            p.iter()
+                .map(|&x| crate::util::readable(x))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    for c in 0..mesh.cells.len() {
+        let corners = mesh.cell_coords(c);
+        let size = corners
+            .iter()
+            .flat_map(|a| corners.iter().map(move |b| (a - b).norm()))
+            .fold(0.0, f64::max);
+        if size.is_nan() || size < MIN_ELEMENT {
+            return Err(format!(
+                "element {c} is {} m across, smaller than {} m: the scene is in metres \
+                 (a hand is about 0.2 m long)",
+                crate::util::readable(size),
+                crate::util::readable(MIN_ELEMENT)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Largest placement angle either way, degrees: a turn more is the same placement, and far
+/// beyond it the angle's round-off exceeds a degree (1e20° is a random direction).
+pub(crate) const MAX_ROTATION_DEG: f64 = 360.0;
+
+/// A placement's rotation: finite angles in degrees, each within ±[`MAX_ROTATION_DEG`].
+pub(crate) fn check_rotation(r: &[f64; 3]) -> Result<(), String> {
+    if r.iter()
+        .all(|x| x.is_finite() && x.abs() <= MAX_ROTATION_DEG)
+    {
+        Ok(())
+    } else {
+        Err(format!(
+            "`placement.rotation` must be finite angles in degrees, each within \
+             ±{MAX_ROTATION_DEG}° (about x, y, z), got [{}]",
+            r.map(crate::util::readable).join(", ")
+        ))
+    }
 }
 
 /// All bodies meshed one after the other.
@@ -214,14 +274,30 @@ pub fn bodies(
             memory,
             &field,
         )?;
+        check_extent(&body_mesh).map_err(|m| (format!("{field}.shape"), m))?;
         for (c, _) in body_mesh.cells.iter().enumerate() {
-            let rel = relative_min_jacobian(&body_mesh.cell_coords(c));
+            let corners = body_mesh.cell_coords(c);
+            let rel = relative_min_jacobian(&corners);
             if rel.is_nan() || rel <= 1e-12 {
                 return Err((
                     format!("{field}.shape"),
                     format!(
                         "element {c} is inverted or has zero volume (smallest det J / size³ = \
                          {rel:.3e})"
+                    ),
+                ));
+            }
+            let aspect = aspect_ratio(&corners);
+            if aspect.is_nan() || aspect > MAX_ASPECT {
+                return Err((
+                    format!("{field}.shape"),
+                    format!(
+                        "element {c} is {} times longer than it is thick (at most {}): its \
+                         stiffness along and across differs by the square of that, beyond what \
+                         double precision solves; make the part thicker, or its cells less \
+                         flat (more cells along it: a box's or a shell's `cells`)",
+                        crate::util::readable(aspect),
+                        crate::util::readable(MAX_ASPECT)
                     ),
                 ));
             }

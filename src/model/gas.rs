@@ -56,6 +56,17 @@ impl GasCavity {
                 "gas = true: the selected surface encloses no volume ({signed:e} m³)"
             ));
         }
+        // The boundary facets' normals point out of the body's material: into a cavity the
+        // facets enclose (the enclosed volume then counts negative), away from the material
+        // when they wrap the body itself (a shell's outer surface, a solid's boundary).
+        if signed > 0.0 {
+            return Err(format!(
+                "gas = true: the selected surface wraps the body's own material ({} m³), not a \
+                 cavity inside it: select the surface that bounds the cavity (surface = \"inner\" \
+                 of a shell), or remove `gas` for a plain pressure",
+                crate::util::readable(signed)
+            ));
+        }
         let mut unit_load = vec![0.0; 3 * mesh.node_count()];
         add_pressure(&mut unit_load, mesh, &facets, 1.0);
         Ok(GasCavity {
@@ -129,5 +140,35 @@ impl GasCavity {
         let mut unit = vec![0.0; 3 * mesh.node_count()];
         add_pressure(&mut unit, mesh, &self.facets, 1.0);
         unit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{boundary_facets, box_mesh};
+
+    /// A body's own boundary wraps its material, not a cavity: refused, naming the volume. The
+    /// same facets facing inwards (as a wall around a cube of air would) enclose 1 m³.
+    #[test]
+    fn only_a_surface_facing_into_what_it_encloses_is_a_cavity() {
+        let mesh = box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [2, 2, 2]);
+        let outward = boundary_facets(&mesh);
+        let err = GasCavity::new("air".into(), 0, &mesh, outward.clone(), 1e3, 1e5).unwrap_err();
+        assert!(
+            err.contains("wraps the body's own material (1 m³)"),
+            "{err}"
+        );
+        let inward = outward
+            .into_iter()
+            .map(|mut f| {
+                f.nodes.reverse();
+                f
+            })
+            .collect();
+        let cavity = GasCavity::new("air".into(), 0, &mesh, inward, 1e3, 1e5).unwrap();
+        assert!((cavity.rest_volume - 1.0).abs() < 1e-12);
+        let rest = &mesh.nodes;
+        assert!((cavity.volume(rest, &vec![0.0; 3 * rest.len()]) - 1.0).abs() < 1e-12);
     }
 }

@@ -32,11 +32,10 @@ pub fn read_rigged_hand(
             placement.scale
         ));
     }
-    if !finite(&placement.translation) || !finite(&placement.rotation) {
-        return Err(
-            "`placement.translation` and `placement.rotation` must be finite numbers".into(),
-        );
+    if !finite(&placement.translation) {
+        return Err("`placement.translation` must be finite numbers".into());
     }
+    super::bodies::check_rotation(&placement.rotation)?;
     let bytes = crate::util::read::read_at_most(path, MAX_GLTF_BYTES)
         .map_err(|e| format!("cannot read \"{file}\": {e}"))?;
     let gltf = gltf::Gltf::from_slice(&bytes)

@@ -46,9 +46,10 @@ pub fn refinement(
         return Err((
             "size",
             format!(
-                "size = {size} m must be a finite length from {:e} m to the touched radius \
-                 {touched} m",
-                SMALLEST_SIZE_OF_RADIUS * touched
+                "size = {} m must be a finite length from {} m to the touched radius {} m",
+                crate::util::readable(size),
+                crate::util::readable(SMALLEST_SIZE_OF_RADIUS * touched),
+                crate::util::readable(touched)
             ),
         ));
     }

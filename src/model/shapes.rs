@@ -103,7 +103,7 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                             format!(
                                 "cells = {cells} refined to size = {} m make more than \
                                  {MAX_CELLS} elements (about {}): {}",
-                                refine.size,
+                                crate::util::readable(refine.size),
                                 count.map_or("more than 2^64".into(), |n| n.to_string()),
                                 within_cap(count_at, (refine.size, *radius), *cells, MAX_CELLS)
                             ),
@@ -191,7 +191,7 @@ pub fn build_shape(shape: &Shape) -> Result<Mesh, (String, String)> {
                             format!(
                                 "cells = {cells} and layers = {layers} refined to size = {} m \
                                  make more than {MAX_CELLS} elements (about {}): {}",
-                                refine.size,
+                                crate::util::readable(refine.size),
                                 count.map_or("more than 2^64".into(), |n| n.to_string()),
                                 within_cap(
                                     count_at,
@@ -256,7 +256,10 @@ fn within_cap(
                 hi = mid;
             }
         }
-        options.push(format!("cells = {lo} or fewer (at size = {size} m)"));
+        options.push(format!(
+            "cells = {lo} or fewer (at size = {} m)",
+            crate::util::readable(size)
+        ));
     }
     match options.len() {
         0 => "no size or cell count brings it under the cap alone: both, or a smaller body".into(),

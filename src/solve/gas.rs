@@ -131,10 +131,14 @@ mod tests {
     use crate::mesh::{boundary_facets, box_mesh};
     use nalgebra::Vector3;
 
-    /// A cavity of 1 m³ (a unit cube's boundary) at gauge 0 Pa, ambient 1e5 Pa.
+    /// A cavity of 1 m³ (a unit cube's boundary, its facets turned to face into it as a wall
+    /// around it would) at gauge 0 Pa, ambient 1e5 Pa.
     fn cube_cavity() -> GasCavity {
         let mesh = box_mesh(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]);
-        let facets = boundary_facets(&mesh);
+        let mut facets = boundary_facets(&mesh);
+        for f in &mut facets {
+            f.nodes.reverse();
+        }
         GasCavity::new("air".into(), 0, &mesh, facets, 0.0, 1e5).unwrap()
     }
 
