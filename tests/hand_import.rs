@@ -494,3 +494,173 @@ fn bad_rig_files_and_placements_are_named() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The JSON and the binary chunk of a GLB file.
+fn glb_parts(bytes: &[u8]) -> (serde_json::Value, Vec<u8>) {
+    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+    let json_len = word(12);
+    let json = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let bin_at = 20 + json_len;
+    let bin_len = word(bin_at);
+    (json, bytes[bin_at + 8..bin_at + 8 + bin_len].to_vec())
+}
+
+/// A GLB file of `json` and the binary chunk `bin` (its length as given: a buffer cut short
+/// stays short).
+fn glb_of(json: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
+    let mut text = serde_json::to_vec(json).unwrap();
+    while !text.len().is_multiple_of(4) {
+        text.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let total = 12 + 8 + text.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    for w in [
+        0x4654_6C67u32,
+        2,
+        total as u32,
+        text.len() as u32,
+        0x4E4F_534A,
+    ] {
+        out.extend(w.to_le_bytes());
+    }
+    out.extend(&text);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(0x004E_4942u32.to_le_bytes());
+    out.extend(&bin);
+    out
+}
+
+/// Damaged rig files (found by a hostile-input probe, 2026-12-03): a node its own child hung
+/// the reader; a stride shorter than its element and indices of floats panicked inside the
+/// glTF reader; a binary chunk cut short was read as "no indices" and triangulated anew; two
+/// joints named on one node were told as a resolution too coarse. Each is now refused naming
+/// the node or accessor; a buffer named with a percent-encoded space is found.
+#[test]
+fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
+    let dir = std::env::temp_dir().join(format!("prehensile-damaged-rigs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/blender-mixamo-right.glb");
+    let (json, bin) = glb_parts(&std::fs::read(&fixture).unwrap());
+    let primitive = json["meshes"][0]["primitives"][0].clone();
+    let position_view = json["accessors"]
+        [primitive["attributes"]["POSITION"].as_u64().unwrap() as usize]["bufferView"]
+        .as_u64()
+        .unwrap() as usize;
+    let indices = primitive["indices"].as_u64().unwrap() as usize;
+    let leaf = json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n.get("children").is_none() && n.get("mesh").is_none())
+        .unwrap();
+    type Damage = Box<dyn Fn(&mut serde_json::Value, &mut Vec<u8>)>;
+    let cases: Vec<(&str, Damage, &str)> = vec![
+        (
+            "own child",
+            Box::new(move |j, _| j["nodes"][leaf]["children"] = serde_json::json!([leaf])),
+            "a glTF node has one parent at most",
+        ),
+        (
+            "short stride",
+            Box::new(move |j, _| j["bufferViews"][position_view]["byteStride"] = 4.into()),
+            "byteStride 4 does not hold its 12-byte elements",
+        ),
+        (
+            "float indices",
+            Box::new(move |j, _| j["accessors"][indices]["componentType"] = 5126.into()),
+            "(indices of mesh",
+        ),
+        (
+            "cut short",
+            Box::new(|_, b| b.truncate(b.len() / 2)),
+            "past the",
+        ),
+    ];
+    for (what, damage, expected) in cases {
+        let (mut j, mut b) = (json.clone(), bin.clone());
+        damage(&mut j, &mut b);
+        std::fs::write(dir.join("damaged.glb"), glb_of(&j, &b)).unwrap();
+        let e = solved_reactions(
+            &dir,
+            &flexed_scene("gltf = \"damaged.glb\", side = \"right\", resolution = 0.5"),
+        )
+        .unwrap_err();
+        assert!(e.contains("damaged.glb\""), "{what}: {e}");
+        assert!(e.contains(expected), "{what}: {e}");
+    }
+    // Two joints named on one node.
+    std::fs::write(dir.join("whole.glb"), glb_of(&json, &bin)).unwrap();
+    let e = solved_reactions(
+        &dir,
+        &flexed_scene(
+            "gltf = \"whole.glb\", side = \"right\", resolution = 0.5, \
+             bones = { \"index.middle\" = \"mixamorig:RightHandIndex3\" }",
+        ),
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("index.middle") && e.contains("lie 0.000 mm apart"),
+        "{e}"
+    );
+    // A .gltf whose buffer's file name has a space, written percent-encoded as URIs are.
+    let mut j = json.clone();
+    j["buffers"][0]["uri"] = "my%20hand.bin".into();
+    std::fs::write(dir.join("my hand.bin"), &bin).unwrap();
+    std::fs::write(dir.join("spaced.gltf"), serde_json::to_vec(&j).unwrap()).unwrap();
+    let bones = solved_reactions(
+        &dir,
+        &flexed_scene("gltf = \"spaced.gltf\", side = \"right\", resolution = 0.5"),
+    )
+    .unwrap();
+    assert!(bones.iter().any(|(_, f)| *f > 0.0));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A rig named `animation.glb` in the folder the solve writes to was replaced by the solve's
+/// own animation (found by a hostile-input probe, 2026-12-03): the solve is now refused before
+/// it runs, naming the file, and the rig is kept byte for byte; into another folder it solves.
+#[test]
+fn a_solve_does_not_write_over_the_rig_it_reads() {
+    let dir = std::env::temp_dir().join(format!("prehensile-rig-kept-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/blender-mixamo-right.glb");
+    let rig = std::fs::read(&fixture).unwrap();
+    std::fs::write(dir.join("animation.glb"), &rig).unwrap();
+    std::fs::write(
+        dir.join("scene.toml"),
+        flexed_scene("gltf = \"animation.glb\", side = \"right\", resolution = 0.5"),
+    )
+    .unwrap();
+    let solve = |out: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_prehensile"))
+            .arg("solve")
+            .arg(dir.join("scene.toml"))
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let refused = solve(&dir);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("animation.glb\" there") && stderr.contains("would replace it"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(dir.join("animation.glb")).unwrap(), rig);
+    assert!(!dir.join("report.json").exists());
+    let elsewhere = solve(&dir.join("out"));
+    assert!(
+        elsewhere.status.success(),
+        "{}",
+        String::from_utf8_lossy(&elsewhere.stderr)
+    );
+    assert_eq!(std::fs::read(dir.join("animation.glb")).unwrap(), rig);
+    std::fs::remove_dir_all(&dir).ok();
+}

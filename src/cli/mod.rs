@@ -331,6 +331,8 @@ fn run() -> Result<()> {
             },
         )?,
         Some(Command::Solve { scene, out, vtu }) => {
+            let parsed = crate::scene::Scene::load(&scene)?;
+            crate::headless::refuse_writing_over_inputs(&parsed, &scene, &out)?;
             let solved = solve_scene_file(&scene)?;
             let encoding = match vtu {
                 VtuArg::Binary => VtuEncoding::Binary,

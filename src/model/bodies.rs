@@ -40,7 +40,7 @@ fn builtin_placement(placement: &Placement) -> Result<Isometry3<f64>, String> {
         ));
     }
     let r = placement.rotation;
-    check_rotation(&r)?;
+    super::check::rotation(&r)?;
     let [rx, ry, rz] = r.map(f64::to_radians);
     Ok(Isometry3::from_parts(
         Translation3::from(Vector3::from(t)),
@@ -91,25 +91,6 @@ fn check_extent(mesh: &Mesh) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// Largest placement angle either way, degrees: a turn more is the same placement, and far
-/// beyond it the angle's round-off exceeds a degree (1e20° is a random direction).
-pub(crate) const MAX_ROTATION_DEG: f64 = 360.0;
-
-/// A placement's rotation: finite angles in degrees, each within ±[`MAX_ROTATION_DEG`].
-pub(crate) fn check_rotation(r: &[f64; 3]) -> Result<(), String> {
-    if r.iter()
-        .all(|x| x.is_finite() && x.abs() <= MAX_ROTATION_DEG)
-    {
-        Ok(())
-    } else {
-        Err(format!(
-            "`placement.rotation` must be finite angles in degrees, each within \
-             ±{MAX_ROTATION_DEG}° (about x, y, z), got [{}]",
-            r.map(crate::util::readable).join(", ")
-        ))
-    }
 }
 
 /// All bodies meshed one after the other.

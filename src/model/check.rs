@@ -13,3 +13,22 @@ pub fn list(names: &[&str]) -> String {
         names.join(", ")
     }
 }
+
+/// Largest placement angle either way, degrees: a turn more is the same placement, and far
+/// beyond it the angle's round-off exceeds a degree (1e20° is a random direction).
+pub const MAX_ROTATION_DEG: f64 = 360.0;
+
+/// A placement's rotation: finite angles in degrees, each within ±[`MAX_ROTATION_DEG`].
+pub fn rotation(r: &[f64; 3]) -> Result<(), String> {
+    if r.iter()
+        .all(|x| x.is_finite() && x.abs() <= MAX_ROTATION_DEG)
+    {
+        Ok(())
+    } else {
+        Err(format!(
+            "`placement.rotation` must be finite angles in degrees, each within \
+             ±{MAX_ROTATION_DEG}° (about x, y, z), got [{}]",
+            r.map(crate::util::readable).join(", ")
+        ))
+    }
+}

@@ -3,10 +3,12 @@
 //! Z-up as Blender's importer does ((x, y, z) → (x, −z, y)), then placed (scale, rotation,
 //! translation) where the scene says.
 
+use super::gltf_checks::{check_accessor, check_chains, check_hierarchy};
 use crate::hand::rig_names::{joint_keys, normalized, recognise, Convention, CONVENTIONS};
 use crate::hand::{RiggedHand, Side};
 use crate::scene::Placement;
 use crate::util::gltf_axes::from_gltf_axes;
+use gltf::accessor::{DataType, Dimensions};
 use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -35,12 +37,14 @@ pub fn read_rigged_hand(
     if !finite(&placement.translation) {
         return Err("`placement.translation` must be finite numbers".into());
     }
-    super::bodies::check_rotation(&placement.rotation)?;
+    super::check::rotation(&placement.rotation)?;
     let bytes = crate::util::read::read_at_most(path, MAX_GLTF_BYTES)
         .map_err(|e| format!("cannot read \"{file}\": {e}"))?;
     let gltf = gltf::Gltf::from_slice(&bytes)
         .map_err(|e| format!("\"{file}\" is not a glTF 2.0 file: {e}"))?;
     let buffers = buffers(&gltf, path)?;
+    let name = file.to_string();
+    check_hierarchy(&gltf.document, &name)?;
     let world = world_matrices(&gltf.document);
 
     // The joints.
@@ -72,6 +76,12 @@ pub fn read_rigged_hand(
                 found()
             ));
         };
+        if let Some((other, _)) = joint_node.iter().find(|(_, &m)| m == *n) {
+            return Err(format!(
+                "`bones` names the node \"{name}\" for both \"{other}\" and \"{key}\": each \
+                 joint is a node of its own"
+            ));
+        }
         joint_node.insert(key.clone(), *n);
     }
     // The others by name, in the convention that recognises the most of them.
@@ -102,6 +112,13 @@ pub fn read_rigged_hand(
             place(Vector3::new(m[(0, 3)], m[(1, 3)], m[(2, 3)])),
         );
     }
+    let node_name = |key: &str| {
+        joint_node
+            .get(key)
+            .and_then(|&n| names.iter().find(|(m, _)| *m == n))
+            .map_or(String::new(), |(_, s)| s.clone())
+    };
+    check_chains(&rig.joints, &node_name, &name)?;
     let missing: Vec<&String> = keys
         .iter()
         .filter(|k| crate::hand::rig_names::required(k) && !rig.joints.contains_key(*k))
@@ -144,7 +161,37 @@ pub fn read_rigged_hand(
         })
         .ok_or_else(|| format!("\"{file}\" has no mesh: the hand's skin is needed"))?;
     let mesh = candidate.mesh().unwrap();
+    let mesh_name = mesh.name().unwrap_or("");
+    // Morph targets at a weight other than 0 are part of the rest shape, which is read
+    // without them.
+    if let Some(w) = mesh.weights().filter(|w| w.iter().any(|&x| x != 0.0)) {
+        return Err(format!(
+            "\"{file}\": mesh \"{mesh_name}\" rests with its morph targets at weights {w:?}, \
+             which the hand does not apply: apply them to the mesh (Blender: apply the shape \
+             keys) or set their weights to 0 before exporting"
+        ));
+    }
     let skin = candidate.skin();
+    if let Some(s) = &skin {
+        if let Some(ibm) = s.inverse_bind_matrices() {
+            check_accessor(
+                &ibm,
+                "the skin's inverse bind matrices",
+                &[(DataType::F32, Dimensions::Mat4)],
+                &buffers,
+                &name,
+            )?;
+            let joints = s.joints().count();
+            if ibm.count() < joints {
+                return Err(format!(
+                    "\"{file}\": the skin's inverse bind matrices (accessor {}) are {} for its {joints} \
+                     joints",
+                    ibm.index(),
+                    ibm.count()
+                ));
+            }
+        }
+    }
     // Skinning matrices at rest: joint world × inverse bind.
     let skinning: Option<Vec<Matrix4<f64>>> = skin.as_ref().map(|s| {
         let ibm: Vec<Matrix4<f64>> = match s
@@ -168,9 +215,37 @@ pub fn read_rigged_hand(
                 primitive.mode()
             ));
         }
+        let what = |semantic: &str| format!("{semantic} of mesh \"{mesh_name}\" primitive {p}");
+        let Some(position_accessor) = primitive.get(&gltf::Semantic::Positions) else {
+            continue;
+        };
+        check_accessor(
+            &position_accessor,
+            &what("POSITION"),
+            &[(DataType::F32, Dimensions::Vec3)],
+            &buffers,
+            &name,
+        )?;
+        if let Some(a) = primitive.get(&gltf::Semantic::Joints(0)) {
+            let types = [DataType::U8, DataType::U16].map(|d| (d, Dimensions::Vec4));
+            check_accessor(&a, &what("JOINTS_0"), &types, &buffers, &name)?;
+        }
+        if let Some(a) = primitive.get(&gltf::Semantic::Weights(0)) {
+            let types = [DataType::F32, DataType::U8, DataType::U16].map(|d| (d, Dimensions::Vec4));
+            check_accessor(&a, &what("WEIGHTS_0"), &types, &buffers, &name)?;
+        }
+        if let Some(a) = primitive.indices() {
+            let types =
+                [DataType::U8, DataType::U16, DataType::U32].map(|d| (d, Dimensions::Scalar));
+            check_accessor(&a, &what("indices"), &types, &buffers, &name)?;
+        }
         let reader = primitive.reader(|b| buffers.get(b.index()).map(|v| &v[..]));
         let Some(positions) = reader.read_positions() else {
-            continue;
+            return Err(format!(
+                "\"{file}\": the {} (accessor {}) cannot be read",
+                what("POSITION"),
+                position_accessor.index()
+            ));
         };
         let positions: Vec<[f32; 3]> = positions.collect();
         let joints: Option<Vec<[u16; 4]>> = reader.read_joints(0).map(|j| j.into_u16().collect());
@@ -209,9 +284,16 @@ pub fn read_rigged_hand(
             rig.vertices.push(place(Vector3::new(at.x, at.y, at.z)));
         }
         let count = positions.len() as u32;
-        let indices: Vec<u32> = match reader.read_indices() {
-            Some(i) => i.into_u32().collect(),
-            None => (0..count).collect(),
+        let indices: Vec<u32> = match (reader.read_indices(), primitive.indices()) {
+            (Some(i), _) => i.into_u32().collect(),
+            (None, None) => (0..count).collect(),
+            (None, Some(a)) => {
+                return Err(format!(
+                    "\"{file}\": the {} (accessor {}) cannot be read",
+                    what("indices"),
+                    a.index()
+                ))
+            }
         };
         if let Some(bad) = indices.iter().find(|&&i| i >= count) {
             return Err(format!(
@@ -255,7 +337,12 @@ fn buffers(gltf: &gltf::Gltf, path: &Path) -> Result<Vec<Vec<u8>>, String> {
                     base64::decode(encoded)
                         .map_err(|e| format!("\"{file}\": buffer {}: {e}", b.index()))
                 } else {
-                    let beside = path.parent().unwrap_or(Path::new(".")).join(uri);
+                    // A URI reference: "my%20hand.bin" is the file "my hand.bin".
+                    let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
+                    let beside = path
+                        .parent()
+                        .unwrap_or(Path::new("."))
+                        .join(decoded.as_ref());
                     crate::util::read::read_at_most(&beside, MAX_GLTF_BYTES).map_err(|e| {
                         format!(
                             "\"{file}\": cannot read its buffer \"{}\": {e}",

@@ -9,6 +9,7 @@ mod constraints;
 mod convert;
 mod flexion_settings;
 mod gas;
+mod gltf_checks;
 mod grasp;
 mod hand_gltf;
 mod input_warnings;
