@@ -27,8 +27,6 @@ pub struct GasCavity {
     pub ambient: f64,
     /// The cavity's volume in the mesh as given (rest), m³.
     pub rest_volume: f64,
-    /// +1 or −1: the sign that makes the facets' enclosed volume positive.
-    orientation: f64,
     /// The consistent nodal load of a unit gauge pressure on the facets (N per Pa), over every
     /// dof: the load is p·a (equation (4), the surface term RS).
     pub unit_load: Vec<f64>,
@@ -75,8 +73,7 @@ impl GasCavity {
             facets,
             rest_gauge: gauge,
             ambient,
-            rest_volume: signed.abs(),
-            orientation: signed.signum(),
+            rest_volume: -signed,
             unit_load,
         })
     }
@@ -96,7 +93,9 @@ impl GasCavity {
                 displacement[3 * n + 2],
             )
         };
-        self.orientation * enclosed_volume(&self.facets, |n| rest[n] + u(n))
+        // The facets face into the cavity (checked when it was made): their enclosed volume
+        // counts negative.
+        -enclosed_volume(&self.facets, |n| rest[n] + u(n))
     }
 
     /// The volume of the cavity after a step `step` from the displacements `carried` (both

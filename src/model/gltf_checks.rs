@@ -9,15 +9,16 @@ use gltf::accessor::{DataType, Dimensions};
 
 /// The node hierarchy is a set of trees: no node has two parents, none is its own ancestor.
 pub fn check_hierarchy(doc: &gltf::Document, file: &str) -> Result<(), String> {
-    let count = doc.nodes().count();
+    let nodes: Vec<gltf::Node> = doc.nodes().collect();
+    let count = nodes.len();
     let name = |n: usize| {
-        doc.nodes()
-            .nth(n)
-            .and_then(|node| node.name().map(|s| format!(" (\"{s}\")")))
+        nodes[n]
+            .name()
+            .map(|s| format!(" (\"{s}\")"))
             .unwrap_or_default()
     };
     let mut parent: Vec<Option<usize>> = vec![None; count];
-    for node in doc.nodes() {
+    for node in &nodes {
         for child in node.children() {
             let c = child.index();
             if let Some(p) = parent[c] {
@@ -37,9 +38,7 @@ pub fn check_hierarchy(doc: &gltf::Document, file: &str) -> Result<(), String> {
     let mut stack: Vec<usize> = (0..count).filter(|&n| parent[n].is_none()).collect();
     while let Some(n) = stack.pop() {
         reached[n] = true;
-        if let Some(node) = doc.nodes().nth(n) {
-            stack.extend(node.children().map(|c| c.index()));
-        }
+        stack.extend(nodes[n].children().map(|c| c.index()));
     }
     if let Some(n) = reached.iter().position(|r| !r) {
         return Err(format!(
