@@ -612,6 +612,60 @@ fn the_command_line_writes_the_file_whole_and_refuses_a_bad_resolution() {
         "{error}"
     );
     assert!(!dir.join("bad.glb").exists());
+    // An --out that is a folder or not named .glb: refused before the hand is built (which
+    // took 1.7 s first), the cause said once (it was told twice).
+    let folder = dir.join("folder.glb");
+    std::fs::create_dir_all(&folder).unwrap();
+    let gltf = dir.join("hand.gltf");
+    for (out, text) in [
+        (&folder, "this is a folder; give the .glb file's path"),
+        (
+            &gltf,
+            "export-hand writes binary glTF (.glb); name the file .glb",
+        ),
+    ] {
+        let t = std::time::Instant::now();
+        let bad = run(&["--out", out.to_str().unwrap()]);
+        let error = String::from_utf8_lossy(&bad.stderr).to_string();
+        assert_eq!(bad.status.code(), Some(1), "{error}");
+        assert!(error.contains("--out"), "{error}");
+        assert_eq!(error.matches(text).count(), 1, "{error}");
+        println!(
+            "{}: refused in {:.2} s",
+            out.display(),
+            t.elapsed().as_secs_f64()
+        );
+    }
+    assert!(folder.is_dir() && !gltf.exists());
+    // A write that fails once the hand is built (a file where a folder must be): its cause told
+    // once.
+    let under_a_file = out.join("hand.glb");
+    let bad = run(&[
+        "--out",
+        under_a_file.to_str().unwrap(),
+        "--resolution",
+        "0.5",
+        "--contact-skin",
+    ]);
+    let error = String::from_utf8_lossy(&bad.stderr).to_string();
+    assert_eq!(bad.status.code(), Some(1), "{error}");
+    assert_eq!(error.matches("cannot write").count(), 1, "{error}");
+    assert_eq!(error.matches("(os error").count(), 1, "{error}");
+    // Any case of .glb is a .glb.
+    let upper = dir.join("upper.GLB");
+    let ok = run(&[
+        "--out",
+        upper.to_str().unwrap(),
+        "--resolution",
+        "0.5",
+        "--contact-skin",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(upper.is_file());
     let unknown = run(&["--out", "x.glb", "--convention", "blender"]);
     assert_eq!(unknown.status.code(), Some(2), "clap's usage error");
     // A hand of the 50th-percentile woman: her hand length from the wrist's cut to the middle

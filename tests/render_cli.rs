@@ -151,13 +151,17 @@ fn display_options_that_cannot_be_drawn_are_named() {
         ("--scale", "inf", "--scale inf"),
         ("--skin-opacity", "nan", "--skin-opacity NaN"),
         ("--skin-opacity", "1.5", "--skin-opacity 1.5"),
+        // Out of the documented range (0 to 1000): 1e30 drew only the sky and the legend, with
+        // exit 0.
+        ("--scale", "1e30", "--scale 1.000e30"),
+        ("--scale", "-1", "--scale -1"),
+        ("--scale", "1001", "between 0 (undeformed) and 1000"),
     ] {
         let run = bin()
             .args([
                 "render",
                 "assets/scenes/block-press.toml",
-                option,
-                value,
+                &format!("{option}={value}"),
                 "--out",
                 "unused.png",
             ])
@@ -166,6 +170,10 @@ fn display_options_that_cannot_be_drawn_are_named() {
         let stderr = String::from_utf8_lossy(&run.stderr);
         assert_eq!(run.status.code(), Some(1), "{option} {value}: {stderr}");
         assert!(stderr.contains(text), "{option} {value}: {stderr}");
+        assert!(
+            !stderr.contains("adapter: "),
+            "refused before the solve: {stderr}"
+        );
     }
 }
 
@@ -217,4 +225,73 @@ fn sizes_and_outputs_that_cannot_be_written_are_refused_before_the_solve() {
     }
     assert!(!big.exists() && !jpg.exists());
     assert_eq!(std::fs::read(&a_file).unwrap(), b"kept");
+}
+
+/// `--all` into a folder an earlier, longer run wrote: the folder ends holding exactly the new
+/// frames (frame_0002.png of the three-frame run is gone), as `solve` replaces its own outputs;
+/// files that are no rendered frame (the user's, a solve's report) stay.
+#[test]
+fn all_frames_replace_an_earlier_longer_run() {
+    let dir = scratch("stale");
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    std::fs::write(dir.join("report.json"), "{}").unwrap();
+    std::fs::write(dir.join("frame_0000.vtu"), "a solve's").unwrap();
+    let render = |scene: &str| {
+        let run = bin()
+            .args(["render", scene, "--all", "--width", "48", "--height", "32"])
+            .arg("--out")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{scene}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    };
+    let frames = || {
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".png"))
+            .collect();
+        names.sort();
+        names
+    };
+    render("assets/scenes/finger-press-ball.toml");
+    assert_eq!(
+        frames(),
+        ["frame_0000.png", "frame_0001.png", "frame_0002.png"]
+    );
+    render("assets/scenes/block-press.toml");
+    assert_eq!(frames(), ["frame_0000.png"], "the stale frames are gone");
+    assert_eq!(std::fs::read(dir.join("notes.txt")).unwrap(), b"mine");
+    assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"{}");
+    assert_eq!(
+        std::fs::read(dir.join("frame_0000.vtu")).unwrap(),
+        b"a solve's"
+    );
+    let image = image::open(dir.join("frame_0000.png")).unwrap();
+    assert_eq!((image.width(), image.height()), (48, 32));
+}
+
+/// `--out` naming a folder without `--all`: refused before the scene is solved (it rendered for
+/// seconds first), saying so once.
+#[test]
+fn a_folder_as_the_png_is_refused_before_the_solve() {
+    let dir = scratch("folder-out");
+    let run = bin()
+        .args(["render", "assets/scenes/finger-press-ball.toml", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.matches("this is a folder").count(), 1, "{stderr}");
+    assert!(stderr.contains("--all"), "{stderr}");
+    assert!(
+        !stderr.contains("adapter: "),
+        "refused before the solve: {stderr}"
+    );
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
 }

@@ -9,6 +9,7 @@ mod accuracy;
 mod advice_followed;
 mod analytic;
 mod architecture;
+mod bench_cli;
 mod contact;
 mod contact_drag;
 mod contact_report;

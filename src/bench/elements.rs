@@ -10,6 +10,7 @@ use crate::fem::solve::{FillOrdering, PartitionedSolver};
 use crate::fem::{DofPartition, Material};
 use crate::mesh::{box_mesh, Mesh};
 use crate::util::timing::ms;
+use anyhow::Context;
 use nalgebra::Vector3;
 use std::sync::Arc;
 use std::time::Instant;
@@ -75,18 +76,23 @@ impl Cantilever {
 
     /// Linear solve with element `kind`; the displacement vector.
     pub fn solve_linear(&self, kind: ElementKind) -> Vec<f64> {
+        self.try_solve_linear(kind).expect("the cantilever solves")
+    }
+
+    /// [`Self::solve_linear`], or why it failed.
+    pub fn try_solve_linear(&self, kind: ElementKind) -> anyhow::Result<Vec<f64>> {
         let pattern = Arc::new(StiffnessPattern::new(&self.mesh));
-        let k = assemble_kind(&pattern, &self.mesh, &self.materials, kind).expect("assembly");
-        PartitionedSolver::new(FillOrdering::Auto)
+        let k = assemble_kind(&pattern, &self.mesh, &self.materials, kind)
+            .map_err(|e| anyhow::anyhow!("element {} is inverted or flat", e.cell))?;
+        Ok(PartitionedSolver::new(FillOrdering::Auto)
             .solve(
                 &k,
                 &self.partition,
                 &self.prescribed,
                 &self.loads,
                 &self.mesh.nodes,
-            )
-            .expect("solve")
-            .displacement
+            )?
+            .displacement)
     }
 }
 
@@ -114,20 +120,25 @@ pub struct ElementRow {
     pub nonlinear: (f64, f64, usize),
 }
 
-/// Measures each resolution.
-pub fn element_rows(resolutions: &[usize]) -> Vec<ElementRow> {
+/// Measures each resolution (elements through the thickness, at least 1); a mesh that cannot be
+/// solved is the error, naming it.
+pub fn element_rows(resolutions: &[usize]) -> anyhow::Result<Vec<ElementRow>> {
     let exact = timoshenko_tip(0.3, TIP_FORCE);
     resolutions
         .iter()
         .map(|&k| {
+            if k == 0 {
+                anyhow::bail!("--resolutions 0: the cantilever needs at least 1 element through its thickness");
+            }
             let c = cantilever(k, 0.3, TIP_FORCE);
-            let timed = |kind| {
+            let context = || format!("--resolutions {k}: the {}×{k}×{k} cantilever", 8 * k);
+            let timed = |kind| -> anyhow::Result<(f64, f64)> {
                 let t = Instant::now();
-                let u = c.solve_linear(kind);
-                (c.tip(&u) / exact - 1.0, ms(t))
+                let u = c.try_solve_linear(kind).with_context(context)?;
+                Ok((c.tip(&u) / exact - 1.0, ms(t)))
             };
-            let hex8 = timed(ElementKind::Hex8);
-            let incompatible = timed(ElementKind::IncompatibleModes);
+            let hex8 = timed(ElementKind::Hex8)?;
+            let incompatible = timed(ElementKind::IncompatibleModes)?;
             let t = Instant::now();
             let sol = solve_nonlinear(
                 &c.mesh,
@@ -137,19 +148,19 @@ pub fn element_rows(resolutions: &[usize]) -> Vec<ElementRow> {
                 &c.loads,
                 &NewtonSettings::default(),
             )
-            .expect("nonlinear solve");
+            .with_context(context)?;
             let nonlinear = (
                 c.tip(&sol.displacement) / exact - 1.0,
                 ms(t),
                 sol.iterations(),
             );
-            ElementRow {
+            Ok(ElementRow {
                 k,
                 elements: c.mesh.cell_count(),
                 hex8,
                 incompatible,
                 nonlinear,
-            }
+            })
         })
         .collect()
 }

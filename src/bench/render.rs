@@ -58,7 +58,8 @@ fn default_scene_list(aspect: f32) -> (DrawList, Camera) {
     (lists.into_iter().next().expect("one frame"), camera)
 }
 
-/// A closed sphere-like grid of `n × 2n` quads (radius 5 cm), as triangles.
+/// A closed sphere-like grid of `n × 2n` quads (radius 5 cm), as triangles (`n` at least 1:
+/// none is empty).
 pub fn sphere_surface(n: usize) -> Surface {
     let (rings, segs) = (n, 2 * n);
     let mut positions = Vec::new();
@@ -135,7 +136,11 @@ pub fn update_rows(
             surfaces: vec![surface.clone()],
             ..Default::default()
         };
-        let bounds = list.bounds().expect("not empty");
+        let Some(bounds) = list.bounds() else {
+            return Err(RenderError::InvalidInput(format!(
+                "{label}: nothing to draw"
+            )));
+        };
         let camera = Camera::preset("three-quarter", &bounds, w as f32 / h as f32).expect("preset");
         let mut scene = renderer.upload(&list)?;
         renderer.render_scene_to_rgba(&mut scene, &camera, w, h)?;

@@ -6,6 +6,7 @@ use crate::fem::solve::{FillOrdering, PartitionedSolver};
 use crate::model::Model;
 use crate::scene::Scene;
 use crate::util::timing::ms;
+use anyhow::Context;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -67,8 +68,13 @@ displacement = {{ z = -0.01 }}
     )
 }
 
-/// Runs the solver benchmark for each size.
-pub fn solver_rows(sizes: &[usize], ordering: FillOrdering, repeats: usize) -> Vec<SolverRow> {
+/// Runs the solver benchmark for each size; a size whose model cannot be built or solved (too
+/// many elements, not enough memory) is the error, naming it.
+pub fn solver_rows(
+    sizes: &[usize],
+    ordering: FillOrdering,
+    repeats: usize,
+) -> anyhow::Result<Vec<SolverRow>> {
     let name = match ordering {
         FillOrdering::Auto => "auto",
         FillOrdering::NestedDissection => "nested_dissection",
@@ -76,59 +82,70 @@ pub fn solver_rows(sizes: &[usize], ordering: FillOrdering, repeats: usize) -> V
     };
     let mut rows = Vec::new();
     for &n in sizes {
-        reset_peak_memory();
-        let scene = Scene::parse(&cube_scene(n, name), "bench").expect("bench scene");
-        let model = Model::build(&scene, "bench").expect("bench model");
-        // The pattern again, timed (the model built its own).
-        let t = Instant::now();
-        let pattern = Arc::new(StiffnessPattern::new(&model.mesh));
-        let pattern_ms = ms(t);
-        let mut assembly_ms = f64::INFINITY;
-        let mut k = None;
-        for _ in 0..repeats.max(1) {
-            let t = Instant::now();
-            k = Some(assemble(&pattern, &model.mesh, &model.cell_materials).expect("assemble"));
-            assembly_ms = assembly_ms.min(ms(t));
-        }
-        let k = k.unwrap();
-        let mut solver = PartitionedSolver::new(ordering);
-        let first = solver
-            .solve(
-                &k,
-                &model.partition,
-                &model.prescribed,
-                &model.load_vector,
-                &model.mesh.nodes,
-            )
-            .expect("solve");
-        let doubled: Vec<f64> = model.prescribed.iter().map(|v| 2.0 * v).collect();
-        let t = Instant::now();
-        let second = solver
-            .solve(
-                &k,
-                &model.partition,
-                &doubled,
-                &model.load_vector,
-                &model.mesh.nodes,
-            )
-            .expect("second solve");
-        let resolve_ms = ms(t);
-        rows.push(SolverRow {
-            n,
-            elements: model.mesh.cell_count(),
-            free_dofs: first.stats.free_dofs,
-            pattern_ms,
-            assembly_ms,
-            symbolic_ms: first.stats.symbolic_ms,
-            factorization_ms: first.stats.factorization_ms,
-            solve_ms: first.stats.solve_ms,
-            resolve_ms,
-            reused: second.stats.symbolic_reused,
-            factor_nnz: first.stats.factor_nnz,
-            peak_mib: peak_memory_mib(),
-        });
+        let row = solver_row(n, name, ordering, repeats)
+            .with_context(|| format!("--sizes {n}: the cube of {n}×{n}×{n} cells"))?;
+        rows.push(row);
     }
-    rows
+    Ok(rows)
+}
+
+/// One size of [`solver_rows`].
+fn solver_row(
+    n: usize,
+    name: &str,
+    ordering: FillOrdering,
+    repeats: usize,
+) -> anyhow::Result<SolverRow> {
+    reset_peak_memory();
+    let scene = Scene::parse(&cube_scene(n, name), "bench")?;
+    let model = Model::build(&scene, "bench")?;
+    // The pattern again, timed (the model built its own).
+    let t = Instant::now();
+    let pattern = Arc::new(StiffnessPattern::new(&model.mesh));
+    let pattern_ms = ms(t);
+    let mut assembly_ms = f64::INFINITY;
+    let mut k = None;
+    for _ in 0..repeats.max(1) {
+        let t = Instant::now();
+        k = Some(
+            assemble(&pattern, &model.mesh, &model.cell_materials)
+                .map_err(|e| anyhow::anyhow!("element {} is inverted or flat", e.cell))?,
+        );
+        assembly_ms = assembly_ms.min(ms(t));
+    }
+    let k = k.expect("one assembly at least");
+    let mut solver = PartitionedSolver::new(ordering);
+    let first = solver.solve(
+        &k,
+        &model.partition,
+        &model.prescribed,
+        &model.load_vector,
+        &model.mesh.nodes,
+    )?;
+    let doubled: Vec<f64> = model.prescribed.iter().map(|v| 2.0 * v).collect();
+    let t = Instant::now();
+    let second = solver.solve(
+        &k,
+        &model.partition,
+        &doubled,
+        &model.load_vector,
+        &model.mesh.nodes,
+    )?;
+    let resolve_ms = ms(t);
+    Ok(SolverRow {
+        n,
+        elements: model.mesh.cell_count(),
+        free_dofs: first.stats.free_dofs,
+        pattern_ms,
+        assembly_ms,
+        symbolic_ms: first.stats.symbolic_ms,
+        factorization_ms: first.stats.factorization_ms,
+        solve_ms: first.stats.solve_ms,
+        resolve_ms,
+        reused: second.stats.symbolic_reused,
+        factor_nnz: first.stats.factor_nnz,
+        peak_mib: peak_memory_mib(),
+    })
 }
 
 /// Formats rows as a Markdown table.

@@ -8,9 +8,9 @@ use crate::hand::rig_names::Convention;
 use crate::hand::{HandForm, HandModel, HandSize, Side};
 use crate::model::hand_size;
 use crate::scene::HandSizeDef;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The `--side` values.
 #[derive(Clone, Copy, ValueEnum)]
@@ -37,7 +37,8 @@ pub enum ConventionArg {
 /// What to export (the `export-hand` subcommand's arguments).
 #[derive(clap::Args)]
 pub struct ExportHandArgs {
-    /// The .glb file written (a temporary file beside it, renamed when complete).
+    /// The .glb file written (a temporary file beside it, renamed when complete); its name
+    /// must end in .glb: the file is binary glTF, not a .gltf's JSON.
     #[arg(long)]
     pub out: PathBuf,
     /// Which hand.
@@ -70,6 +71,7 @@ pub struct ExportHandArgs {
 
 /// Builds the hand, writes the file and says what it holds.
 pub fn run(args: ExportHandArgs) -> Result<()> {
+    check_out(&args.out)?;
     let side = match args.side {
         SideArg::Right => Side::Right,
         SideArg::Left => Side::Left,
@@ -135,5 +137,26 @@ pub fn run(args: ExportHandArgs) -> Result<()> {
             ""
         }
     );
+    Ok(())
+}
+
+/// `--out`, checked before the hand is built (seconds): a name ending in `.glb` (any case), not
+/// a folder.
+fn check_out(out: &Path) -> Result<()> {
+    let glb = out
+        .extension()
+        .is_some_and(|ext| ext.eq_ignore_ascii_case("glb"));
+    if !glb {
+        bail!(
+            "--out {}: export-hand writes binary glTF (.glb); name the file .glb",
+            out.display()
+        );
+    }
+    if out.is_dir() {
+        bail!(
+            "--out {}: this is a folder; give the .glb file's path",
+            out.display()
+        );
+    }
     Ok(())
 }

@@ -23,6 +23,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
 mod export_hand;
+mod ranges;
 mod render;
 use export_hand::ExportHandArgs;
 use render::{OverlayArg, RenderArgs};
@@ -112,30 +113,45 @@ enum VtuArg {
 enum BenchCommand {
     /// Assembly, factorization, solve and peak memory on an n×n×n cube.
     Solver {
-        /// Cells per edge, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "10,20,30,40")]
+        /// Cells per edge, 1 to 170 (n³ within a body's 5 000 000 elements), comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "10,20,30,40",
+            value_parser = ranges::count(ranges::CUBE_CELLS)
+        )]
         sizes: Vec<usize>,
         /// Fill-reducing ordering.
         #[arg(long, default_value = "auto", value_parser = ordering_parser())]
         ordering: FillOrdering,
-        /// Assembly repetitions (the best time is kept).
-        #[arg(long, default_value_t = 3)]
+        /// Assembly repetitions (the best time is kept), at least 1.
+        #[arg(long, default_value_t = 3, value_parser = ranges::positive)]
         repeats: usize,
     },
     /// Cantilever tip error against Timoshenko and time: hex8, incompatible modes, nonlinear.
     Elements {
-        /// Elements through the thickness (mesh 8k × k × k), comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "1,2,4")]
+        /// Elements through the thickness (mesh 8k × k × k), 1 to 16, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1,2,4",
+            value_parser = ranges::count(ranges::CANTILEVER_CELLS)
+        )]
         resolutions: Vec<usize>,
     },
     /// Index finger flexed 0° → 90° at the PIP in 10° increments: FEM (local and whole-hand
     /// regions) and skinning, per mesh resolution.
     Hand {
-        /// Mesh resolutions, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "0.75,1,1.25,1.5")]
+        /// Mesh resolutions, 0.5 to 4, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "0.75,1,1.25,1.5",
+            value_parser = ranges::hand_resolution
+        )]
         resolutions: Vec<f64>,
         /// Skip the whole-hand FEM region above this resolution.
-        #[arg(long, default_value_t = 1.25)]
+        #[arg(long, default_value_t = 1.25, value_parser = ranges::finite)]
         whole_limit: f64,
     },
     /// Contact methods (Lagrange active set, the paper's iteration) on the same scenes:
@@ -148,9 +164,14 @@ enum BenchCommand {
             default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/bowl-grasp.toml"
         )]
         scenes: Vec<String>,
-        /// Coulomb friction coefficients to solve each scene with again (Lagrange), comma
-        /// separated.
-        #[arg(long, value_delimiter = ',', default_value = "0.5")]
+        /// Coulomb friction coefficients (at least 0) to solve each scene with again
+        /// (Lagrange), comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "0.5",
+            value_parser = ranges::friction
+        )]
         friction: Vec<f64>,
     },
     /// The grasps a user meets: the viewer's presets on the default scene and the shipped grasp
@@ -168,8 +189,13 @@ enum BenchCommand {
             default_value = "assets/scenes/finger-press-ball.toml,assets/scenes/finger-press-sealed-ball.toml,assets/scenes/hand-grasp-ball.toml,assets/scenes/hand-power-grasp.toml,assets/scenes/bowl-grasp.toml"
         )]
         scenes: Vec<String>,
-        /// Hand mesh resolutions, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "1")]
+        /// Hand mesh resolutions, 0.5 to 4, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1",
+            value_parser = ranges::hand_resolution
+        )]
         resolutions: Vec<f64>,
         /// Tiers (skinning, linear, incremental, corotational, nonlinear), comma separated.
         #[arg(long, value_delimiter = ',', default_value = "corotational")]
@@ -182,8 +208,13 @@ enum BenchCommand {
     /// index PIP to 110°, the middle finger adducted onto the ring finger, a full fist, per hand
     /// resolution — time, increments, factorizations, the points held and their force.
     SelfContact {
-        /// Hand mesh resolutions, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "1,1.5")]
+        /// Hand mesh resolutions, 0.5 to 4, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1,1.5",
+            value_parser = ranges::hand_resolution
+        )]
         resolutions: Vec<f64>,
     },
     /// The gentlest grip from preshape to grip (grasp keyframes): per grasp and hand resolution,
@@ -198,8 +229,13 @@ enum BenchCommand {
             default_value = "power,assets/scenes/hand-gentle-grip.toml"
         )]
         grasps: Vec<String>,
-        /// Hand mesh resolutions, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "1")]
+        /// Hand mesh resolutions, 0.5 to 4, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1",
+            value_parser = ranges::hand_resolution
+        )]
         resolutions: Vec<f64>,
     },
     /// Modelling only what a scene requires: the grasp animation solved as by default (FEM near
@@ -243,8 +279,8 @@ enum BenchCommand {
     /// a slider change to the new frame on screen (default scene, headless); then the Power
     /// grasp preset and a finger in contact dragged by 2° at a time, with where the time goes.
     Viewer {
-        /// Slider changes measured per tier (free fingers).
-        #[arg(long, default_value_t = 5)]
+        /// Slider changes measured per tier (free fingers), at least 1.
+        #[arg(long, default_value_t = 5, value_parser = ranges::positive)]
         changes: usize,
         /// Changes of a finger in contact after the Power grasp preset (0: skip that part).
         #[arg(long, default_value_t = 8)]
@@ -255,11 +291,17 @@ enum BenchCommand {
     },
     /// Headless 1280×720 frame time and the per-frame cost of updating a deformed mesh.
     Render {
-        /// Frames averaged per measurement.
-        #[arg(long, default_value_t = 10)]
+        /// Frames averaged per measurement, at least 1.
+        #[arg(long, default_value_t = 10, value_parser = ranges::positive)]
         frames: usize,
-        /// Bigger spheres (n × 2n quads) for the update cost, comma separated.
-        #[arg(long, value_delimiter = ',', default_value = "100,300")]
+        /// Bigger spheres (n × 2n quads, n from 1 to 1000) for the update cost, comma
+        /// separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "100,300",
+            value_parser = ranges::count(ranges::SPHERE_RINGS)
+        )]
         spheres: Vec<usize>,
     },
 }
@@ -363,7 +405,7 @@ fn run() -> Result<()> {
                     "solver benchmark: unit cube, bottom clamped, top pressed; ordering {ordering:?}; {} threads",
                     rayon::current_num_threads()
                 );
-                let rows = solver_rows(&sizes, ordering, repeats);
+                let rows = solver_rows(&sizes, ordering, repeats)?;
                 print!("{}", solver_table(&rows));
             }
             BenchCommand::Elements { resolutions } => {
@@ -371,7 +413,7 @@ fn run() -> Result<()> {
                     "element benchmark: cantilever 8×1×1 m, E = 1 MPa, ν = 0.3, tip load 1 N; {} threads",
                     rayon::current_num_threads()
                 );
-                print!("{}", element_table(&element_rows(&resolutions)));
+                print!("{}", element_table(&element_rows(&resolutions)?));
             }
             BenchCommand::Hand {
                 resolutions,
@@ -381,7 +423,7 @@ fn run() -> Result<()> {
                     "hand benchmark: index PIP 0° → 90° in 10° increments (linear tier: keyframes every 15°); {} threads",
                     rayon::current_num_threads()
                 );
-                print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)));
+                print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)?));
             }
             BenchCommand::Contact { scenes, friction } => {
                 println!(
@@ -481,7 +523,7 @@ fn run() -> Result<()> {
                     rayon::current_num_threads()
                 );
                 if !grasp_only {
-                    print!("{}", crate::bench::viewer::run(changes.max(1))?);
+                    print!("{}", crate::bench::viewer::run(changes)?);
                 }
                 if drags > 0 || grasp_only {
                     println!();
@@ -489,7 +531,6 @@ fn run() -> Result<()> {
                 }
             }
             BenchCommand::Render { frames, spheres } => {
-                let frames = frames.max(1);
                 let t = std::time::Instant::now();
                 let mut renderer = Renderer::new_headless()?;
                 let renderer_ms = ms(t);

@@ -1,6 +1,7 @@
 //! `prehensile render`: solve a scene and write PNG images of its frames, without a window.
 
-use crate::export::png::write_png_atomic;
+use crate::export::output::{OutputSet, Outputs};
+use crate::export::png::{png_bytes, write_png_atomic};
 use crate::headless::solve_scene_file;
 use crate::headless::{draw_lists, scene_camera};
 use crate::present::{Overlay, VisualOptions};
@@ -9,6 +10,11 @@ use anyhow::{bail, Context, Result};
 use clap::ValueEnum;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
+
+/// `--scale`: 0 draws the bodies undeformed, 1 at true scale, above 1 exaggerated — up to 1000
+/// (a hand's displacements, its motion included, are far out of the picture well before that;
+/// 1e30 drew nothing but the sky).
+pub const DISPLACEMENT_SCALE: std::ops::RangeInclusive<f64> = 0.0..=1000.0;
 
 /// The `--overlay` values.
 #[derive(Clone, Copy, ValueEnum)]
@@ -43,6 +49,7 @@ pub struct RenderArgs {
     /// The scene (TOML).
     pub scene: PathBuf,
     /// The PNG file, or with --all the folder receiving frame_0000.png, frame_0001.png, ...
+    /// (replacing the frames an earlier --all left there; other files stay).
     #[arg(long)]
     pub out: PathBuf,
     /// The frame to render (default 0).
@@ -63,7 +70,8 @@ pub struct RenderArgs {
     /// What colours the bodies or is drawn over them.
     #[arg(long, value_enum, default_value = "stress")]
     pub overlay: OverlayArg,
-    /// Displacements are multiplied by this for display.
+    /// Displacements are multiplied by this for display: 0 (undeformed) to 1000 (exaggerated);
+    /// 1 = true scale.
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
     /// Also draw the edges of the simulation mesh.
@@ -76,10 +84,13 @@ pub struct RenderArgs {
 
 pub fn run(args: RenderArgs) -> Result<()> {
     // Checked before the solve: a display option that cannot be drawn is the option's error.
-    if !args.scale.is_finite() {
+    if !DISPLACEMENT_SCALE.contains(&args.scale) {
         bail!(
-            "--scale {}: the displacement scale must be a finite number",
-            args.scale
+            "--scale {}: the displacement scale must be a number between {} (undeformed) and {} \
+             (exaggerated a thousand times; 1 = true scale)",
+            crate::util::number::readable(args.scale),
+            DISPLACEMENT_SCALE.start(),
+            DISPLACEMENT_SCALE.end()
         );
     }
     if !(args.skin_opacity.is_finite() && (0.0..=1.0).contains(&args.skin_opacity)) {
@@ -96,10 +107,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 args.out.display()
             );
         }
-    } else if let Some(ext) = args.out.extension() {
-        if !ext.eq_ignore_ascii_case("png") {
+    } else {
+        if let Some(ext) = args.out.extension() {
+            if !ext.eq_ignore_ascii_case("png") {
+                bail!(
+                    "--out {}: render writes PNG images; name the file .png",
+                    args.out.display()
+                );
+            }
+        }
+        if args.out.is_dir() {
             bail!(
-                "--out {}: render writes PNG images; name the file .png",
+                "--out {}: this is a folder; give the PNG file's path (or --all to write every \
+                 frame into the folder)",
                 args.out.display()
             );
         }
@@ -135,42 +155,42 @@ pub fn run(args: RenderArgs) -> Result<()> {
         vec![k]
     };
     eprintln!("adapter: {}", renderer.adapter_summary());
-    let path_of = |k: usize| -> PathBuf {
-        if args.all {
-            args.out.join(format!("frame_{k:04}.png"))
-        } else {
-            args.out.clone()
-        }
-    };
-    let bar = if args.all {
-        let bar = ProgressBar::new(frames.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} frames {elapsed}")
-                .expect("valid template"),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    if !args.all {
+        let image = renderer
+            .render_to_rgba(&lists[frames[0]], &camera, args.width, args.height)
+            .with_context(|| format!("rendering frame {}", frames[0]))?;
+        write_png(&args.out, &image)?;
+        println!("wrote {}", args.out.display());
+        return Ok(());
+    }
+    // Every frame into the folder as one set (as `solve` writes its own): the frames of an
+    // earlier, longer run that this one lacks are removed; files other than rendered frames
+    // (a solve's report and VTUs, the user's) stay.
+    let mut set = OutputSet::of(&args.out, Outputs::FrameImages)
+        .with_context(|| format!("--out {}", args.out.display()))?;
+    let bar = ProgressBar::new(frames.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} frames {elapsed}")
+            .expect("valid template"),
+    );
     for &k in &frames {
         let image = renderer
             .render_to_rgba(&lists[k], &camera, args.width, args.height)
             .with_context(|| format!("rendering frame {k}"))?;
-        let path = path_of(k);
-        write_png(&path, &image)?;
+        let name = format!("frame_{k:04}.png");
+        png_bytes(&image)
+            .and_then(|bytes| set.write(&name, &bytes))
+            .with_context(|| format!("writing {}", args.out.join(&name).display()))?;
         bar.inc(1);
-        if !args.all {
-            println!("wrote {}", path.display());
-        }
     }
+    set.commit()
+        .with_context(|| format!("writing into {}", args.out.display()))?;
     bar.finish_and_clear();
-    if args.all {
-        println!(
-            "wrote {} frame(s) into {}",
-            frames.len(),
-            args.out.display()
-        );
-    }
+    println!(
+        "wrote {} frame(s) into {}",
+        frames.len(),
+        args.out.display()
+    );
     Ok(())
 }
 

@@ -52,13 +52,14 @@ pub enum RigError {
     /// The file would exceed glTF's 4 GiB.
     #[error("the rigged hand would take {0} bytes, beyond glTF's 4 GiB limit")]
     TooLarge(usize),
-    /// The file could not be written.
-    #[error("cannot write {path}: {source}")]
+    /// The file could not be written. (The cause is told in the message, not as the error's
+    /// source: a chain printed whole, `{:#}`, would tell it twice.)
+    #[error("cannot write {path}: {cause}")]
     Io {
         /// The file.
         path: PathBuf,
         /// The cause.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
 }
 
@@ -256,8 +257,8 @@ pub fn write_hand_rig(
     options: &RigOptions,
 ) -> Result<(), RigError> {
     let bytes = hand_rig_glb(hand, convention, options)?;
-    write_bytes_atomic(path, &bytes).map_err(|source| RigError::Io {
+    write_bytes_atomic(path, &bytes).map_err(|cause| RigError::Io {
         path: path.to_path_buf(),
-        source,
+        cause,
     })
 }

@@ -15,7 +15,9 @@
 //!
 //! Either way the new set replaces the previous one as a whole: files of an earlier write that
 //! the new set does not have are gone, so no frame of an older run is left beside the new ones.
-//! Other files in the folder are left alone.
+//! Other files in the folder are left alone. A set may own fewer of the program's names
+//! ([`Outputs`]): `render --all`'s frames replace rendered frames only, a solve's report and
+//! VTUs beside them stay.
 
 mod swap;
 
@@ -46,6 +48,36 @@ pub fn is_output_name(name: &str) -> bool {
         && number.bytes().all(|b| b.is_ascii_digit())
 }
 
+/// Whether `name` is a frame `render --all` writes: `frame_` followed by a four-digit (or longer)
+/// frame number and `.png`.
+pub fn is_frame_image_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|rest| rest.strip_suffix(".png"))
+        .is_some_and(|number| number.len() >= 4 && number.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Which of a folder's files a set replaces: those it writes, and those of the same kind an
+/// earlier write left there (gone when the new set lacks them). The rest is the user's: kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outputs {
+    /// Every name this program gives its outputs ([`is_output_name`]) and every name the
+    /// folder's manifest lists: a solve's folder, the viewer's exports.
+    All,
+    /// Rendered frames only ([`is_frame_image_name`]; `prehensile render --all`): a solve's
+    /// report, VTUs and OBJs in the same folder are left as they are.
+    FrameImages,
+}
+
+impl Outputs {
+    /// Whether `name` is one of the files a set of this kind writes.
+    fn names(self, name: &str) -> bool {
+        match self {
+            Outputs::All => is_output_name(name),
+            Outputs::FrameImages => is_frame_image_name(name),
+        }
+    }
+}
+
 /// Files to be written together into one folder.
 pub struct OutputSet {
     /// The folder as the caller named it (the paths returned).
@@ -58,12 +90,19 @@ pub struct OutputSet {
     /// The folders were exchanged: the staging folder's path holds the old set.
     exchanged: bool,
     names: Vec<String>,
+    /// Which files of the folder the set replaces.
+    outputs: Outputs,
 }
 
 impl OutputSet {
     /// Prepares to write into `dir` (created if missing, with its parents). Completes or removes
     /// what earlier writes into it left when their process ended before they finished.
     pub fn new(dir: &Path) -> std::io::Result<Self> {
+        Self::of(dir, Outputs::All)
+    }
+
+    /// [`Self::new`] for a set replacing only the `outputs` of the folder.
+    pub fn of(dir: &Path, outputs: Outputs) -> std::io::Result<Self> {
         // A name that is already something else than a folder (a file, a link to nothing or to
         // itself) is told as such, not as the creation's "file exists".
         if std::fs::symlink_metadata(dir).is_ok() {
@@ -103,13 +142,15 @@ impl OutputSet {
             beside,
             exchanged: false,
             names: Vec::new(),
+            outputs,
         })
     }
 
     /// Writes one file into the staging folder. `name` must be one this program gives its
-    /// outputs ([`is_output_name`]): a later write recognises its files by their names.
+    /// outputs of the set's kind ([`is_output_name`], [`Outputs`]): a later write recognises its
+    /// files by their names.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> std::io::Result<()> {
-        if !is_output_name(name) {
+        if !self.outputs.names(name) {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::InvalidInput,
                 format!("{name} is not a name of this program's outputs"),
@@ -145,7 +186,7 @@ impl OutputSet {
         std::fs::write(self.staging.join(MANIFEST), manifest)?;
         let written = self.names.iter().map(|n| self.dir.join(n)).collect();
         let exchanged = match exchange && self.beside {
-            true => swap::exchange(&self.real, &self.staging, &self.names)?,
+            true => swap::exchange(&self.real, &self.staging, &self.names, self.outputs)?,
             false => None,
         };
         if let Some(permissions) = exchanged {
@@ -154,7 +195,7 @@ impl OutputSet {
             // What could not be moved stays there for the next write's recovery. The new
             // folder then takes the old one's permissions.
             self.exchanged = true;
-            if swap::carry_over(&self.staging, &self.real) {
+            if swap::carry_over(&self.staging, &self.real, self.outputs) {
                 std::fs::remove_dir_all(&self.staging)?;
             }
             std::fs::set_permissions(&self.real, permissions)?;
@@ -181,17 +222,22 @@ impl OutputSet {
         std::fs::remove_dir_all(&self.staging)
     }
 
-    /// The files of the folder an earlier write left that the new set does not replace.
+    /// The files of the set's kind an earlier write left in the folder that the new set does
+    /// not replace.
     fn stale(&self) -> std::io::Result<Vec<String>> {
         let listed = manifest_names(&self.real);
-        let mut stale: Vec<String> = listed.into_iter().collect();
+        let mut stale: Vec<String> = listed
+            .iter()
+            .filter(|n| is_ours(n, &listed, self.outputs))
+            .cloned()
+            .collect();
         for entry in std::fs::read_dir(&self.real)? {
             let entry = entry?;
             if !entry.file_type()?.is_file() {
                 continue;
             }
             if let Some(name) = entry.file_name().to_str() {
-                if is_output_name(name) {
+                if self.outputs.names(name) {
                     stale.push(name.to_string());
                 }
             }
@@ -214,9 +260,11 @@ fn manifest_names(dir: &Path) -> Vec<String> {
 }
 
 /// Whether the entry `name` of a folder whose manifest lists `listed` was written by this
-/// program (an output, the manifest): the rest is the user's.
-fn is_ours(name: &str, listed: &[String]) -> bool {
-    name == MANIFEST || is_output_name(name) || listed.iter().any(|n| n == name)
+/// program as `outputs` (an output of that kind, the manifest): the rest is the user's.
+fn is_ours(name: &str, listed: &[String], outputs: Outputs) -> bool {
+    name == MANIFEST
+        || outputs.names(name)
+        || (outputs == Outputs::All && listed.iter().any(|n| n == name))
 }
 
 /// Creates `path` as an empty folder (emptied if it was there).
@@ -486,6 +534,41 @@ mod tests {
         }
         assert_eq!(std::fs::read(root.join("afile")).unwrap(), b"mine");
         let _ = std::fs::remove_dir_all(&root);
+    }
+
+    /// A set of rendered frames replaces the frames of an earlier, longer one and nothing else:
+    /// a solve's report and VTUs in the same folder stay, both ways of committing.
+    #[test]
+    fn frame_images_replace_frame_images_only() {
+        for exchange in [true, false] {
+            let root = scratch(&format!("frames-{exchange}"));
+            let dir = root.join("out");
+            write_set(&dir, 1, 2, exchange);
+            let frames = |n: usize| {
+                let mut set = OutputSet::of(&dir, Outputs::FrameImages).unwrap();
+                for i in 0..n {
+                    set.write(&format!("frame_{i:04}.png"), b"png").unwrap();
+                }
+                assert!(set.write("report.json", b"{}").is_err(), "not a frame");
+                set.commit_as(exchange).unwrap();
+            };
+            frames(3);
+            frames(1);
+            assert_eq!(
+                listing(&dir),
+                [
+                    MANIFEST,
+                    "frame_0000.png",
+                    "frame_0000.vtu",
+                    "frame_0001.vtu",
+                    "report.json"
+                ],
+                "exchange {exchange}"
+            );
+            assert_eq!(std::fs::read(dir.join("frame_0001.vtu")).unwrap(), b"1");
+            assert_eq!(listing(&root), ["out"], "nothing left beside the folder");
+            let _ = std::fs::remove_dir_all(&root);
+        }
     }
 
     #[test]

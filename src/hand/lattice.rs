@@ -104,7 +104,7 @@ pub enum MeshingError {
         /// The resolution asked for.
         resolution: f64,
     },
-    /// Bad resolution.
+    /// Bad resolution (outside [`RESOLUTIONS`]).
     #[error("resolution must be a number between 0.5 and 4, got {0}")]
     Resolution(f64),
     /// A size that is not a human hand's.
@@ -146,7 +146,7 @@ pub fn check_memory(
     resolution: f64,
     max_memory: Option<u64>,
 ) -> Result<(), MeshingError> {
-    if !(0.5..=4.0).contains(&resolution) {
+    if !RESOLUTIONS.contains(&resolution) {
         return Err(MeshingError::Resolution(resolution));
     }
     let Some((available, limit)) = crate::fem::memory::budget_with(max_memory) else {
@@ -195,6 +195,10 @@ pub fn check_memory(
         },
     })
 }
+
+/// The resolutions a hand is meshed at (a scene's `resolution`, the benches' and `export-hand`'s
+/// `--resolution`): 0.5 (a lattice spacing of 6.4 mm) to 4 (0.8 mm).
+pub const RESOLUTIONS: std::ops::RangeInclusive<f64> = 0.5..=4.0;
 
 /// Base lattice spacing at resolution 1, m.
 pub const BASE_SPACING: f64 = 0.0032;
@@ -282,7 +286,7 @@ pub fn mesh_flesh_offset(
     resolution: f64,
     offset: Vector3<f64>,
 ) -> Result<FleshMesh, MeshingError> {
-    if !(0.5..=4.0).contains(&resolution) {
+    if !RESOLUTIONS.contains(&resolution) {
         return Err(MeshingError::Resolution(resolution));
     }
     let h = BASE_SPACING / resolution;

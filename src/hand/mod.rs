@@ -29,7 +29,9 @@ pub mod synergy;
 pub use bone_mesh::{bone_surface, TriangleSurface};
 pub use form::HandForm;
 pub use imported::{RigError, RiggedHand};
-pub use lattice::{mesh_flesh, mesh_flesh_offset, FleshMesh, MeshingError, BASE_SPACING};
+pub use lattice::{
+    mesh_flesh, mesh_flesh_offset, FleshMesh, MeshingError, BASE_SPACING, RESOLUTIONS,
+};
 pub use mesh_skin::{Located, MeshSkin, SkinMeshError};
 pub use model::{HandModel, CONTACT_SKIN_LEVELS, SKIN_LEVELS};
 pub use poses::{four_finger_fist, full_fist, thumb_over_fist};

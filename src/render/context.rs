@@ -90,9 +90,9 @@ impl GpuContext {
                 ..Default::default()
             })
             .await
-            .map_err(|source| RenderError::Device {
+            .map_err(|cause| RenderError::Device {
                 adapter: info.name.clone(),
-                source,
+                cause,
             })?;
         Ok(Self {
             device,

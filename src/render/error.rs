@@ -18,13 +18,14 @@ pub enum RenderError {
         /// What wgpu said.
         hint: String,
     },
-    /// The adapter refused to create a device.
-    #[error("the graphics adapter \"{adapter}\" refused to create a device: {source}")]
+    /// The adapter refused to create a device. (The cause is in the message, not the error's
+    /// source: a chain printed whole, `{:#}`, would tell it twice.)
+    #[error("the graphics adapter \"{adapter}\" refused to create a device: {cause}")]
     Device {
         /// The adapter's name.
         adapter: String,
         /// Why.
-        source: wgpu::RequestDeviceError,
+        cause: wgpu::RequestDeviceError,
     },
     /// The GPU reported an error (validation, out of memory, lost device).
     #[error("the GPU reported an error: {0}")]

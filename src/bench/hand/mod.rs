@@ -60,8 +60,15 @@ pub(crate) const FLESH: Material = Material {
     density: 1050.0,
 };
 
-fn run_or_panic(hand: &HandModel, settings: FlexionSettings) -> (HandState, KeyframeStats) {
-    run(hand, settings).expect("flexion")
+/// [`run`], its failure the benchmark's error (naming the resolution and the case).
+fn run_or_stop(
+    hand: &HandModel,
+    settings: FlexionSettings,
+    (resolution, case): (f64, &str),
+) -> anyhow::Result<(HandState, KeyframeStats)> {
+    run(hand, settings).map_err(|e| {
+        anyhow::anyhow!("--resolutions {resolution}: the index flexion ({case}) failed: {e}")
+    })
 }
 
 /// Index PIP 0° → 90° in one keyframe, or the error.
@@ -95,33 +102,45 @@ pub(crate) fn distances(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> (f64, f64) {
     (max, rms)
 }
 
-/// Runs the benchmark; the whole-hand region is skipped above `whole_limit` resolution.
-pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
+/// Runs the benchmark; the whole-hand region is skipped above `whole_limit` resolution. A
+/// resolution the hand cannot be built at (outside [`crate::hand::RESOLUTIONS`], beyond the
+/// memory free) or flexed at is the error, naming it.
+pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> anyhow::Result<Vec<HandRow>> {
     let mut rows = Vec::new();
     for &resolution in resolutions {
         let t = Instant::now();
-        let hand = HandModel::new(Side::Right, resolution).expect("hand model");
+        let hand = HandModel::new(Side::Right, resolution)
+            .map_err(|e| anyhow::anyhow!("--resolutions {resolution}: {e}"))?;
         let build_ms = ms(t);
         let attached = hand.flesh.node_bone.iter().filter(|b| b.is_some()).count();
-        let (fem, local) = run_or_panic(&hand, FlexionSettings::default());
+        let at = |case| (resolution, case);
+        let (fem, local) = run_or_stop(&hand, FlexionSettings::default(), at("local region"))?;
         let nonlinear = nonlinear_row(&hand, resolution, &(fem.clone(), local.clone()));
-        let whole = (resolution <= whole_limit).then(|| {
-            run_or_panic(
-                &hand,
-                FlexionSettings {
-                    region: FleshRegion::Whole,
-                    ..Default::default()
-                },
-            )
-            .1
-        });
+        let whole = match resolution <= whole_limit {
+            true => Some(
+                run_or_stop(
+                    &hand,
+                    FlexionSettings {
+                        region: FleshRegion::Whole,
+                        ..Default::default()
+                    },
+                    at("whole hand"),
+                )?
+                .1,
+            ),
+            false => None,
+        };
         let skinning = |blend| FlexionSettings {
             methods: [FleshMethod::Skinning; 6],
             blend,
             ..Default::default()
         };
-        let (dq, dq_stats) = run_or_panic(&hand, skinning(Blend::DualQuaternion));
-        let (lb, lb_stats) = run_or_panic(&hand, skinning(Blend::Linear));
+        let (dq, dq_stats) = run_or_stop(
+            &hand,
+            skinning(Blend::DualQuaternion),
+            at("dual-quaternion skinning"),
+        )?;
+        let (lb, lb_stats) = run_or_stop(&hand, skinning(Blend::Linear), at("linear skinning"))?;
         let skin = |s: &HandState| hand.skin.positions(&s.positions);
         let fem_skin = skin(&fem);
         let v0 = HandState::rest(&hand).flesh_volume(&hand);
@@ -146,7 +165,7 @@ pub fn hand_rows(resolutions: &[f64], whole_limit: f64) -> Vec<HandRow> {
             nonlinear,
         });
     }
-    rows
+    Ok(rows)
 }
 
 /// The two Markdown tables: speed, and skinning against FEM.

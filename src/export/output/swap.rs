@@ -2,7 +2,7 @@
 //! `renameat2(RENAME_EXCHANGE)`), the user's entries carried from the old folder to the new, and
 //! the recovery of a write stopped half-way.
 
-use super::{abandoned_staging, is_ours, manifest_names};
+use super::{abandoned_staging, is_ours, manifest_names, Outputs};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -44,7 +44,7 @@ fn same_device(_: &Path, _: &Path) -> bool {
     false
 }
 
-/// Links the user's files of `real` (not the program's, not named in `names`) into `staging`
+/// Links the user's files of `real` (not the program's `outputs`, not named in `names`) into `staging`
 /// and exchanges the two folders. Returns the permissions `real` had (for the caller to give
 /// the new folder once the user's entries are carried over: a read-only folder would refuse
 /// them), or `None` when the exchange is not possible here (nothing was moved; the caller
@@ -53,6 +53,7 @@ pub(super) fn exchange(
     real: &Path,
     staging: &Path,
     names: &[String],
+    outputs: Outputs,
 ) -> std::io::Result<Option<std::fs::Permissions>> {
     let permissions = std::fs::metadata(real)?.permissions();
     let listed = manifest_names(real);
@@ -61,7 +62,7 @@ pub(super) fn exchange(
         let name = entry.file_name();
         if name
             .to_str()
-            .is_some_and(|n| is_ours(n, &listed) || names.iter().any(|m| m == n))
+            .is_some_and(|n| is_ours(n, &listed, outputs) || names.iter().any(|m| m == n))
         {
             continue;
         }
@@ -114,10 +115,11 @@ fn rename_exchange(_: &Path, _: &Path) -> bool {
     false
 }
 
-/// Moves the user's entries of folder `old` (not the program's, by `old`'s own manifest) that
-/// `real` does not hold into `real`; where both hold one by a name but not the same file, the
-/// one modified last stays. True when every one of the user's entries is in `real`.
-pub(super) fn carry_over(old: &Path, real: &Path) -> bool {
+/// Moves the user's entries of folder `old` (not the program's `outputs`, by `old`'s own
+/// manifest) that `real` does not hold into `real`; where both hold one by a name but not the
+/// same file, the one modified last stays. True when every one of the user's entries is in
+/// `real`.
+pub(super) fn carry_over(old: &Path, real: &Path, outputs: Outputs) -> bool {
     let listed = manifest_names(old);
     let Ok(entries) = std::fs::read_dir(old) else {
         return false;
@@ -125,7 +127,7 @@ pub(super) fn carry_over(old: &Path, real: &Path) -> bool {
     let mut all = true;
     for entry in entries.flatten() {
         let name = entry.file_name();
-        if name.to_str().is_some_and(|n| is_ours(n, &listed)) {
+        if name.to_str().is_some_and(|n| is_ours(n, &listed, outputs)) {
             continue;
         }
         let (from, to) = (entry.path(), real.join(&name));
@@ -167,7 +169,9 @@ pub(super) fn recover(real: &Path) {
     prefix.push(name);
     prefix.push(".staging-");
     for folder in abandoned_staging(parent, prefix.as_encoded_bytes()) {
-        if carry_over(&folder, real) {
+        // Which kind of set the stopped write was is not known: the user's entries are those
+        // that are no output of this program's at all.
+        if carry_over(&folder, real, Outputs::All) {
             let _ = std::fs::remove_dir_all(folder);
         }
     }

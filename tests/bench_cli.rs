@@ -1,0 +1,139 @@
+//! `prehensile bench` through the real binary: every numeric option out of range is refused as
+//! the arguments are parsed (clap's exit 2, naming the option and its range), never a panic or
+//! an abort after minutes of work (found by a hostile-input probe); and the benches' library
+//! entries return an error for what cannot be built or solved instead of panicking.
+
+use prehensile::fem::solve::FillOrdering;
+use std::process::Command;
+
+fn bench(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_prehensile"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .arg("bench")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn numbers_out_of_range_are_refused_naming_the_option_and_its_range() {
+    let cases: &[(&[&str], &str, &str)] = &[
+        (
+            &["solver", "--sizes", "0", "--repeats", "1"],
+            "--sizes",
+            "from 1 to 170",
+        ),
+        (
+            &["solver", "--sizes", "100000", "--repeats", "1"],
+            "--sizes",
+            "from 1 to 170",
+        ),
+        (
+            &["solver", "--sizes", "2", "--repeats", "0"],
+            "--repeats",
+            "at least 1",
+        ),
+        (
+            &["elements", "--resolutions", "0"],
+            "--resolutions",
+            "from 1 to 16",
+        ),
+        (
+            &["elements", "--resolutions", "100000"],
+            "--resolutions",
+            "from 1 to 16",
+        ),
+        (
+            &["hand", "--resolutions", "0"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["hand", "--resolutions", "nan"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["hand", "--resolutions", "99"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["hand", "--whole-limit", "nan"],
+            "--whole-limit",
+            "not a finite number",
+        ),
+        (
+            &["grasp", "--resolutions", "1,5"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["self-contact", "--resolutions", "0"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["gentle", "--resolutions", "inf"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (&["contact", "--friction=-1"], "--friction", "at least 0"),
+        (
+            &["contact", "--friction", "nan"],
+            "--friction",
+            "at least 0",
+        ),
+        (
+            &["render", "--frames", "1", "--spheres", "0"],
+            "--spheres",
+            "from 1 to 1000",
+        ),
+        (&["render", "--frames", "0"], "--frames", "at least 1"),
+        (&["viewer", "--changes", "0"], "--changes", "at least 1"),
+    ];
+    for (args, option, range) in cases {
+        let t = std::time::Instant::now();
+        let run = bench(args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(option), "{args:?}: {stderr}");
+        assert!(stderr.contains(range), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        // Refused as parsed: no bench started (each prints its heading first).
+        assert!(run.stdout.is_empty(), "{args:?}");
+        assert!(t.elapsed().as_secs_f64() < 10.0, "{args:?}");
+    }
+}
+
+/// The smallest sizes in range run and print their table.
+#[test]
+fn the_smallest_sizes_run() {
+    for args in [
+        &["solver", "--sizes", "1,2", "--repeats", "1"][..],
+        &["elements", "--resolutions", "1"][..],
+    ] {
+        let run = bench(args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{args:?}: {stderr}");
+        let table = String::from_utf8_lossy(&run.stdout);
+        assert!(table.contains("|---|"), "{args:?}: {table}");
+    }
+}
+
+/// Called as a library, a size that cannot be built is an error naming it, not a panic.
+#[test]
+fn the_library_entries_return_errors() {
+    let e = prehensile::bench::solver::solver_rows(&[0], FillOrdering::Auto, 1).unwrap_err();
+    assert!(format!("{e:#}").contains("--sizes 0"), "{e:#}");
+    let e = prehensile::bench::elements::element_rows(&[0]).unwrap_err();
+    assert!(format!("{e:#}").contains("--resolutions 0"), "{e:#}");
+    for bad in [0.0, f64::NAN, 99.0] {
+        let e = prehensile::bench::hand::hand_rows(&[bad], 0.0).unwrap_err();
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("resolution must be a number between 0.5 and 4"),
+            "{text}"
+        );
+    }
+}
