@@ -10,7 +10,7 @@ use parry3d_f64::math::Vec3;
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::TriMesh;
 use prehensile::hand::rig_names::joint_keys;
-use prehensile::hand::{HandModel, RigError, RiggedHand, Side};
+use prehensile::hand::{HandForm, HandModel, RigError, RiggedHand, Side};
 
 /// Somewhere in a scene: turned 40° about (1, 2, 3) and moved.
 pub fn placement() -> Isometry3<f64> {
@@ -173,6 +173,109 @@ fn the_builtin_left_hand_taken_as_a_rig_flexes_as_itself() {
     compare(Side::Left);
 }
 
+/// A rig whose geometry is the other side's under this side's joint names — a left hand taken as
+/// a right one, or any rig reflected (a negative scale) — is refused: built, its palm would be
+/// taken for its back and its fingers flex backwards (the probe of 2026-12-03: the index middle
+/// phalanx's reaction [0.348, 0.023, +0.726] N against the right hand's [−0.595, 0.016, −0.274]
+/// N). Two reflections are a rotation: a left hand reflected is a right hand, taken and flexed
+/// as the built-in right hand. Digits named for other digits are refused too.
+#[test]
+fn a_rig_of_the_other_sides_geometry_is_refused_and_a_reflected_one_of_this_side_taken() {
+    let reflect = |rig: &RiggedHand| {
+        let m = |p: &Vector3<f64>| Vector3::new(-p.x, p.y, p.z);
+        RiggedHand {
+            joints: rig.joints.iter().map(|(k, p)| (k.clone(), m(p))).collect(),
+            vertices: rig.vertices.iter().map(m).collect(),
+            triangles: rig.triangles.clone(),
+        }
+    };
+    for form in [HandForm::Simple, HandForm::Anatomical] {
+        let hand = |side| HandModel::built_in(side, None, form, 0.75, None).unwrap();
+        let (right, left) = (hand(Side::Right), hand(Side::Left));
+        let right_rig = rig_of(&right, &placement());
+        let left_rig = rig_of(&left, &placement());
+        // The thumb's last joint lies 15.1 mm (simple) or 40.3 mm (anatomical) behind the
+        // knuckles' plane, as far as it lies in front of it on the right hand.
+        let behind = |result: Result<HandModel, RigError>, what: &str| match result {
+            Err(RigError::Mirrored { behind_mm, .. }) => {
+                println!("{form:?}, {what}: the thumb {behind_mm:.1} mm behind");
+                assert!(behind_mm > 10.0, "{form:?}, {what}: {behind_mm} mm");
+            }
+            other => panic!("{form:?}, {what}: {:?}", other.map(|_| ())),
+        };
+        behind(
+            HandModel::from_rig(Side::Right, &left_rig, 0.75),
+            "left as right",
+        );
+        behind(
+            HandModel::from_rig(Side::Left, &right_rig, 0.75),
+            "right as left",
+        );
+        behind(
+            HandModel::from_rig(Side::Right, &reflect(&right_rig), 0.75),
+            "right reflected",
+        );
+        // Index and little named the other way round: the thumb lies beyond the "index".
+        let mut swapped = right_rig.clone();
+        for part in ["metacarpal", "proximal", "middle", "distal", "tip"] {
+            let (a, b) = (format!("index.{part}"), format!("little.{part}"));
+            let (pa, pb) = (swapped.joints[&a], swapped.joints[&b]);
+            swapped.joints.insert(a, pb);
+            swapped.joints.insert(b, pa);
+        }
+        match HandModel::from_rig(Side::Right, &swapped, 0.75) {
+            Err(e @ RigError::ThumbAcross { .. }) => println!("{form:?}, swapped: {e}"),
+            other => panic!(
+                "{form:?}, index and little swapped: {:?}",
+                other.map(|_| ())
+            ),
+        }
+        // The left hand reflected is a right hand: the right hand's rig taken as itself, moved
+        // by the rotation `reflect ∘ placement ∘ mirror in y ∘ placement⁻¹` (the built-in left
+        // hand is the right one mirrored in y) — its joints' centres and axes moved with it, so
+        // its fingers flex towards the palm — and every bone's reaction the same (to 10⁻⁴ of
+        // the largest; measured 1.2·10⁻⁶).
+        let taken = HandModel::from_rig(Side::Right, &reflect(&left_rig), 0.75).unwrap();
+        let same = HandModel::from_rig(Side::Right, &right_rig, 0.75).unwrap();
+        let motion = |p: Vector3<f64>| {
+            let h = (placement().inverse() * Point3::from(p)).coords;
+            let q = (placement() * Point3::new(h.x, -h.y, h.z)).coords;
+            Vector3::new(-q.x, q.y, q.z)
+        };
+        let linear = |a: Vector3<f64>| motion(a) - motion(Vector3::zeros());
+        let mut worst: f64 = 0.0;
+        for (a, b) in same.skeleton.dofs.iter().zip(&taken.skeleton.dofs) {
+            assert_eq!(a.name, b.name);
+            worst = worst.max((motion(a.center) - b.center).norm());
+            let axis = linear(a.axis.into_inner());
+            assert!(
+                axis.dot(&b.axis) > 1.0 - 1e-9,
+                "{form:?} {}: {axis:?} against {:?}",
+                a.name,
+                b.axis
+            );
+        }
+        assert!(worst < 1e-9, "{form:?}: a joint centre {:.2e} m off", worst);
+        let pose = [("index.pip", 60.0)];
+        let (rs, ri) = (bone_reactions(&same, &pose), bone_reactions(&taken, &pose));
+        let largest = rs.iter().copied().fold(0.0, f64::max);
+        let b = right.skeleton.bone_index("index.middle").unwrap();
+        println!(
+            "{form:?}: joints within {worst:.1e} m; index.middle {:.4} N the right rig, {:.4} N \
+             the left reflected",
+            rs[b], ri[b]
+        );
+        assert!(rs[b] > 0.25 * largest, "{form:?}: {rs:?}");
+        for (bone, (a, b)) in right.skeleton.bones.iter().zip(rs.iter().zip(&ri)) {
+            assert!(
+                (a - b).abs() < 1e-4 * largest,
+                "{form:?} {}: {b} N against {a} N",
+                bone.name
+            );
+        }
+    }
+}
+
 /// Refined (resolution 1.5, the lattice's cells at the skin smaller and thinner), the imported
 /// display skin still lies on the rig's skin: a vertex whose control quad's cell and the cells
 /// around it reach it only with extrapolation weights beyond the bound is embedded in a cell
@@ -204,8 +307,18 @@ fn a_rig_without_a_fingers_joints_or_with_a_holed_palm_is_refused_saying_so() {
         e.to_string(),
         "the rig has no joint for ring.middle, ring.distal"
     );
-    // The right hand's rig declared a left hand: its palm's thickness says so.
+    // The right hand's rig declared a left hand: its thumb lies in front of the palm, behind it
+    // as a left hand's.
     let rig = rig_of(&builtin, &Isometry3::identity());
+    let e = HandModel::from_rig(Side::Left, &rig, 0.75).unwrap_err();
+    assert!(matches!(e, RigError::Mirrored { .. }), "{e:?}");
+    // With its thumb's last joints moved into the knuckles' plane (as some rigs rest a thumb),
+    // the palm's thickness says so.
+    let mut rig = rig_of(&builtin, &Isometry3::identity());
+    let knuckles_z = (rig.joints["index.proximal"].z + rig.joints["little.proximal"].z) / 2.0;
+    for key in ["thumb.distal", "thumb.tip"] {
+        rig.joints.get_mut(key).unwrap().z = knuckles_z;
+    }
     let e = HandModel::from_rig(Side::Left, &rig, 0.75).unwrap_err();
     println!("{e}");
     let RigError::Side {
@@ -558,6 +671,12 @@ fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
         .iter()
         .position(|n| n.get("children").is_none() && n.get("mesh").is_none())
         .unwrap();
+    let wrist = json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n["name"] == "mixamorig:RightHand")
+        .unwrap();
     type Damage = Box<dyn Fn(&mut serde_json::Value, &mut Vec<u8>)>;
     let cases: Vec<(&str, Damage, &str)> = vec![
         (
@@ -579,6 +698,11 @@ fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
             "cut short",
             Box::new(|_, b| b.truncate(b.len() / 2)),
             "past the",
+        ),
+        (
+            "reflected",
+            Box::new(move |j, _| j["nodes"][wrist]["scale"] = serde_json::json!([-1.0, 1.0, 1.0])),
+            "mm behind the plane of its knuckles",
         ),
     ];
     for (what, damage, expected) in cases {

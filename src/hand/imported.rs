@@ -88,7 +88,7 @@ pub enum RigError {
     #[error(
         "as a {side} hand the rig's palm would be {back_mm:.1} mm thick behind the metacarpals and \
          {front_mm:.1} mm in front of them (a palm is thicker in front): is it a hand of the \
-         other side? Set `side` to the rig's"
+         other side? {MIRRORED_ADVICE}"
     )]
     Side {
         /// The side asked for.
@@ -97,6 +97,30 @@ pub enum RigError {
         back_mm: f64,
         /// Flesh in front (palmar for that side), mm.
         front_mm: f64,
+    },
+    /// The thumb on the back of the hand: the rig is the other side's geometry under this side's
+    /// names.
+    #[error(
+        "as a {side} hand the rig's thumb lies {behind_mm:.1} mm behind the plane of its knuckles, \
+         on the back of the hand (a thumb rests in front of the palm): the rig is a hand of the \
+         other side, or mirrored (a negative scale on one of its nodes), or its digits' names are \
+         swapped. {MIRRORED_ADVICE}"
+    )]
+    Mirrored {
+        /// The side asked for.
+        side: String,
+        /// How far behind the knuckles' plane the thumb's last joint lies, mm.
+        behind_mm: f64,
+    },
+    /// The thumb on the little finger's side of the index finger.
+    #[error(
+        "the rig's thumb MCP joint lies {across_mm:.1} mm on the little finger's side of the index \
+         finger's MCP joint (a thumb is beside the index finger): are the digits' joints named \
+         for other digits? Name each digit's nodes for its own digit"
+    )]
+    ThumbAcross {
+        /// How far towards the little finger of the index MCP the thumb's MCP lies, mm.
+        across_mm: f64,
     },
     /// A lattice too large for the memory.
     #[error(
@@ -118,6 +142,23 @@ pub enum RigError {
 /// digit (metacarpal first): the built-in hand's ratios (its bones against its skin), so that an
 /// imported hand's bones fill its fingers as the built-in hand's fill its own.
 const SHAFT_OF_FLESH: [[f64; 4]; 2] = [[0.40, 0.41, 0.39, 0.0], [0.32, 0.475, 0.453, 0.426]];
+
+/// What to do with a rig whose geometry is the other side's: the side is read from its nodes'
+/// names, so renaming alone or setting `side` alone does not fix it.
+const MIRRORED_ADVICE: &str = "A rig's side is read from its node names: undo the mirroring \
+     (a scale of -1 on a node), or give a left hand a left hand's node names and `side = \"left\"` \
+     (a right hand likewise)";
+
+/// How far behind the knuckles' plane, over the wrist-to-knuckle length, the thumb's last joint
+/// may lie before the rig is taken for the other side's (the built-in hand's thumb lies 15 mm
+/// (simple form) and 40 mm (anatomical) in front of it, 0.15 and 0.41 of that length; a thumb in
+/// the palm's plane, as some rigs rest it, lies on it).
+const THUMB_BEHIND: f64 = 0.05;
+
+/// How far to the little finger's side of the index MCP, over the wrist-to-knuckle length, the
+/// thumb's MCP may lie (the built-in hand's lies 24 mm (simple) and 21 mm (anatomical), 0.25 and
+/// 0.22 of that length, on the thumb's side).
+const THUMB_ACROSS: f64 = 0.1;
 
 /// The most lattice cells (inside the skin or not) an imported hand's flesh is meshed from:
 /// four times the built-in hand's box at resolution 4 (≈ 4 M).
@@ -171,6 +212,7 @@ impl HandModel {
         if !(0.08..=0.4).contains(&length) {
             return Err(RigError::Size { length_m: length });
         }
+        check_chirality(side, &joint, scale)?;
         let vertices: Vec<Vector3<f64>> = rig
             .vertices
             .iter()
@@ -310,6 +352,41 @@ fn check_side(skin: &MeshSkin, side: Side, mid: Vector3<f64>, scale: f64) -> Res
                 front_mm: front * 1e3,
             });
         }
+    }
+    Ok(())
+}
+
+/// The rig's handedness from its skeleton alone: the thumb rests in front of the palm, not on
+/// its back, and beside the index finger, not beyond it. A rig of the other side's geometry under
+/// this side's names (a left hand renamed, or any rig under a negative scale) would otherwise be
+/// built with its palm taken for its back, and flex backwards; the palm's thickness
+/// (`check_side`) does not tell the anatomical hand's sides apart.
+fn check_chirality(
+    side: Side,
+    joint: &impl Fn(&str) -> Option<Vector3<f64>>,
+    scale: f64,
+) -> Result<(), RigError> {
+    let j = |k: &str| joint(k).expect("the required joints are there");
+    let length = WRIST_TO_MIDDLE_MCP * scale;
+    // Towards the thumb: +y for a right hand, -y for a left one (the hand frame is a right
+    // hand's mirrored).
+    let towards_thumb = match side {
+        Side::Right => 1.0,
+        Side::Left => -1.0,
+    };
+    let across = towards_thumb * (j("index.proximal").y - j("thumb.proximal").y);
+    if across > THUMB_ACROSS * length {
+        return Err(RigError::ThumbAcross {
+            across_mm: across * 1e3,
+        });
+    }
+    let knuckles_z = (j("index.proximal").z + j("little.proximal").z) / 2.0;
+    let behind = j("thumb.distal").z - knuckles_z;
+    if behind > THUMB_BEHIND * length {
+        return Err(RigError::Mirrored {
+            side: format!("{side:?}").to_lowercase(),
+            behind_mm: behind * 1e3,
+        });
     }
     Ok(())
 }
