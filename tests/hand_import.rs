@@ -524,6 +524,19 @@ fn imperfect_rigs_are_mended_or_refused_saying_what() {
         off * 1e3
     );
     assert!(off < 0.0015, "{:.2} mm", off * 1e3);
+    // At its skin, it is moved without a word; 5 mm farther out, the move is told (a scene's
+    // warning), naming the joint.
+    assert!(mended.mended.is_empty(), "{:?}", mended.mended);
+    *rig.joints.get_mut("index.middle").unwrap() += Vector3::new(0.0, 0.0, 0.005);
+    let told = HandModel::from_rig(Side::Right, &rig, 0.75).unwrap();
+    println!("{:?}", told.mended);
+    assert_eq!(told.mended.len(), 1, "{:?}", told.mended);
+    assert!(
+        told.mended[0].contains("joint \"index.middle\"")
+            && told.mended[0].contains("mm outside its finger's skin"),
+        "{:?}",
+        told.mended
+    );
     let tip = |h: &HandModel| {
         let b = h.skeleton.bone_index("middle.distal").unwrap();
         h.skeleton.bones[b].end
@@ -665,6 +678,12 @@ fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
         .as_u64()
         .unwrap() as usize;
     let indices = primitive["indices"].as_u64().unwrap() as usize;
+    let position =
+        &json["accessors"][primitive["attributes"]["POSITION"].as_u64().unwrap() as usize];
+    let position_at = json["bufferViews"][position_view]["byteOffset"]
+        .as_u64()
+        .unwrap_or(0) as usize
+        + position["byteOffset"].as_u64().unwrap_or(0) as usize;
     let leaf = json["nodes"]
         .as_array()
         .unwrap()
@@ -698,6 +717,16 @@ fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
             "cut short",
             Box::new(|_, b| b.truncate(b.len() / 2)),
             "past the",
+        ),
+        (
+            "stray vertex",
+            Box::new(move |_, b| {
+                for k in 0..3 {
+                    let at = position_at + 4 * k;
+                    b[at..at + 4].copy_from_slice(&5.0f32.to_le_bytes());
+                }
+            }),
+            "the skin mesh reaches",
         ),
         (
             "reflected",
@@ -742,6 +771,99 @@ fn damaged_rig_files_are_refused_naming_the_node_or_accessor() {
     )
     .unwrap();
     assert!(bones.iter().any(|(_, f)| *f > 0.0));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `json` with a node put first (every reference to a node moved up by one).
+fn with_first_node(json: &serde_json::Value, node: serde_json::Value) -> serde_json::Value {
+    let mut j = json.clone();
+    let up = |v: &mut serde_json::Value| *v = (v.as_u64().unwrap() + 1).into();
+    for n in j["nodes"].as_array_mut().unwrap() {
+        if let Some(children) = n.get_mut("children") {
+            children.as_array_mut().unwrap().iter_mut().for_each(up);
+        }
+    }
+    for scene in j["scenes"].as_array_mut().unwrap() {
+        scene["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .iter_mut()
+            .for_each(up);
+    }
+    for skin in j["skins"].as_array_mut().unwrap() {
+        skin["joints"]
+            .as_array_mut()
+            .unwrap()
+            .iter_mut()
+            .for_each(up);
+        if let Some(root) = skin.get_mut("skeleton") {
+            up(root);
+        }
+    }
+    if let Some(animations) = j.get_mut("animations") {
+        for a in animations.as_array_mut().unwrap() {
+            for c in a["channels"].as_array_mut().unwrap() {
+                if let Some(n) = c["target"].get_mut("node") {
+                    up(n);
+                }
+            }
+        }
+    }
+    j["nodes"].as_array_mut().unwrap().insert(0, node);
+    j["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(0.into());
+    j
+}
+
+/// A node named as a joint before the joint itself (the probe's decoy, 80 mm off the finger):
+/// the first of the name was taken, and told as a joint outside the skin; the skin's joint is
+/// now taken before a node no skin is bound to, and the hand flexes as without the decoy. Two
+/// skin joints of one name are refused, naming both.
+#[test]
+fn a_node_named_as_a_joint_beside_the_joint_itself_is_not_taken_for_it() {
+    let dir = std::env::temp_dir().join(format!("prehensile-decoy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/blender-mixamo-right.glb");
+    let (json, bin) = glb_parts(&std::fs::read(&fixture).unwrap());
+    let scene = |file: &str| {
+        flexed_scene(&format!(
+            "gltf = \"{file}\", side = \"right\", resolution = 0.5"
+        ))
+    };
+    std::fs::write(dir.join("whole.glb"), glb_of(&json, &bin)).unwrap();
+    let whole = solved_reactions(&dir, &scene("whole.glb")).unwrap();
+    let decoy = with_first_node(
+        &json,
+        serde_json::json!({"name": "mixamorig:RightHandIndex2", "translation": [0.13, 0.05, -0.03]}),
+    );
+    std::fs::write(dir.join("decoy.glb"), glb_of(&decoy, &bin)).unwrap();
+    let taken = solved_reactions(&dir, &scene("decoy.glb")).unwrap();
+    assert_eq!(whole.len(), taken.len());
+    for ((bone, a), (_, b)) in whole.iter().zip(&taken) {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs().max(1e-3),
+            "{bone}: {b} N against {a} N"
+        );
+    }
+    // The decoy made a joint of the skin too: two candidates alike.
+    let mut both = decoy.clone();
+    both["skins"][0]["joints"]
+        .as_array_mut()
+        .unwrap()
+        .push(0.into());
+    let ibm = both["skins"][0]["inverseBindMatrices"].as_u64().unwrap() as usize;
+    let count = both["accessors"][ibm]["count"].as_u64().unwrap();
+    both["accessors"][ibm]["count"] = (count + 1).into();
+    std::fs::write(dir.join("both.glb"), glb_of(&both, &bin)).unwrap();
+    let e = solved_reactions(&dir, &scene("both.glb")).unwrap_err();
+    assert!(
+        e.contains("node 0 (\"mixamorig:RightHandIndex2\") and node")
+            && e.contains("are both named as the joint index.middle"),
+        "{e}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -122,6 +122,23 @@ pub enum RigError {
         /// How far towards the little finger of the index MCP the thumb's MCP lies, mm.
         across_mm: f64,
     },
+    /// A skin reaching far beyond a hand.
+    #[error(
+        "the skin mesh reaches {reach_mm:.1} mm from the wrist joint, at {at}, {times:.1} times \
+         the hand's length ({length_mm:.1} mm from the wrist to the middle finger's tip): a stray \
+         vertex, or more than a hand in the mesh. Mend the vertex, or export the hand's skin \
+         alone (a forearm is cut at the wrist)"
+    )]
+    Reach {
+        /// The skin's point farthest from the wrist (scene).
+        at: Located,
+        /// How far it is from the wrist joint, mm.
+        reach_mm: f64,
+        /// The hand's length, mm.
+        length_mm: f64,
+        /// Their ratio.
+        times: f64,
+    },
     /// A lattice too large for the memory.
     #[error(
         "the hand's lattice at this resolution would span {cells:.3e} cells; a resolution of \
@@ -160,12 +177,21 @@ const THUMB_BEHIND: f64 = 0.05;
 /// 0.22 of that length, on the thumb's side).
 const THUMB_ACROSS: f64 = 0.1;
 
+/// How far the skin (distal of the wrist's cut) may reach from the wrist joint, over the hand's
+/// length from the wrist to the middle finger's tip (the built-in hand's skin reaches 1.02 times
+/// it; fingers spread, a thumb abducted, a palm turned by the rig's rest pose stay well within 2).
+const MAX_REACH: f64 = 2.0;
+
 /// The most lattice cells (inside the skin or not) an imported hand's flesh is meshed from:
 /// four times the built-in hand's box at resolution 4 (≈ 4 M).
 const MAX_LATTICE: f64 = 1.6e7;
 
 /// Flesh beyond the end of the distal phalanx at the built-in hand's size, m.
 const TIP_PAD: f64 = 0.0035;
+
+/// How far outside its finger's skin a rig's joint may lie, at the built-in hand's size, before
+/// its move into the finger is told, m.
+const OUTSIDE_TOLD: f64 = 0.001;
 
 /// Where a joint sits across its finger: its distance from the back over the finger's thickness.
 const JOINT_DEPTH: f64 = 0.42;
@@ -228,6 +254,15 @@ impl HandModel {
             (joint("middle.proximal").unwrap() + wrist) / 2.0,
             scale,
         )?;
+        let (far, reach) = skin.farthest_from(&wrist);
+        if reach > MAX_REACH * length {
+            return Err(RigError::Reach {
+                at: Located(to_scene(far)),
+                reach_mm: reach * 1e3,
+                length_mm: length * 1e3,
+                times: reach / length,
+            });
+        }
         check_lattice(&skin, resolution)?;
 
         // Joints in the hand frame, of a right hand (a left one mirrored in y).
@@ -236,14 +271,30 @@ impl HandModel {
             Side::Left => Vector3::new(p.x, -p.y, p.z),
         };
         let mut digits: [Vec<Vector3<f64>>; 5] = Default::default();
+        let mut moved = Vec::new();
         for (d, name) in DIGITS.iter().enumerate() {
-            digits[d] = digit_joints(&skin, d, name, &joint, scale).map_err(|(key, p)| {
-                RigError::JointOutside {
-                    key,
-                    at: Located(to_scene(p)),
-                }
-            })?;
+            digits[d] =
+                digit_joints(&skin, d, name, &joint, scale, &mut moved).map_err(|(key, p)| {
+                    RigError::JointOutside {
+                        key,
+                        at: Located(to_scene(p)),
+                    }
+                })?;
         }
+        let mended: Vec<String> = moved
+            .into_iter()
+            .map(|(key, from, to, outside)| {
+                format!(
+                    "the rig's joint \"{key}\" at {} lies {:.1} mm outside its finger's skin: \
+                     taken {:.1} mm from there, inside the finger at {} (is the joint where the \
+                     rig's finger bends?)",
+                    Located(to_scene(from)),
+                    outside * 1e3,
+                    (to - from).norm() * 1e3,
+                    Located(to_scene(to)),
+                )
+            })
+            .collect();
         let shafts = digits
             .clone()
             .map(|points| shafts_of(&skin, &points, scale));
@@ -262,7 +313,9 @@ impl HandModel {
             resolution,
             max_memory,
         )?;
-        Ok(hand.placed(&frame))
+        let mut hand = hand.placed(&frame);
+        hand.mended = mended;
+        Ok(hand)
     }
 
     /// The hand moved rigidly by `motion` (from its own frame to the scene's).
@@ -395,12 +448,26 @@ fn check_chirality(
 /// times the built-in hand's at resolution 4.
 fn check_lattice(skin: &MeshSkin, resolution: f64) -> Result<(), RigError> {
     let (lo, hi) = skin.bounds();
-    let h = super::BASE_SPACING / resolution;
-    let lattice: f64 = (hi - lo).iter().map(|e| (e / h).ceil() + 1.0).product();
+    let cells = |resolution: f64| -> f64 {
+        let h = super::BASE_SPACING / resolution;
+        (hi - lo).iter().map(|e| (e / h).ceil() + 1.0).product()
+    };
+    let lattice = cells(resolution);
     if lattice > MAX_LATTICE {
+        // The largest resolution that fits, by bisection on the count itself (a cube-root guess
+        // can miss: the count is of whole cells).
+        let (mut fits, mut not) = (0.0, resolution);
+        for _ in 0..50 {
+            let mid = (fits + not) / 2.0;
+            if cells(mid) <= MAX_LATTICE {
+                fits = mid;
+            } else {
+                not = mid;
+            }
+        }
         return Err(RigError::TooFine {
             cells: lattice,
-            resolution: resolution * (MAX_LATTICE / lattice).cbrt(),
+            resolution: (fits * 100.0).floor() / 100.0,
         });
     }
     Ok(())
@@ -416,6 +483,7 @@ fn digit_joints(
     name: &str,
     joint: &impl Fn(&str) -> Option<Vector3<f64>>,
     scale: f64,
+    moved: &mut Vec<(String, Vector3<f64>, Vector3<f64>, f64)>,
 ) -> Result<Vec<Vector3<f64>>, (String, Vector3<f64>)> {
     let wrist = joint("wrist").unwrap();
     let parts: &[&str] = if d == 0 {
@@ -436,7 +504,14 @@ fn digit_joints(
             p
         } else {
             let previous = points.last().copied().unwrap_or(wrist);
-            centred(skin, p, p - previous, scale).ok_or((key, p))?
+            let q = centred(skin, p, p - previous, scale).ok_or((key.clone(), p))?;
+            // A joint outside its finger by more than a millimetre (at the built-in hand's
+            // size) is told: a rig's joints sit inside their fingers.
+            let outside = skin.distance(&p);
+            if outside > OUTSIDE_TOLD * scale {
+                moved.push((key, p, q, outside));
+            }
+            q
         };
         points.push(p);
     }

@@ -273,6 +273,18 @@ impl MeshSkin {
         (self.lo, self.hi)
     }
 
+    /// The skin's point farthest from `p` (a vertex of its mesh), and how far it is, m.
+    pub fn farthest_from(&self, p: &Vector3<f64>) -> (Vector3<f64>, f64) {
+        self.mesh
+            .vertices()
+            .iter()
+            .map(|&v| {
+                let v = na(v);
+                (v, (v - p).norm())
+            })
+            .fold((*p, 0.0), |a, b| if b.1 > a.1 { b } else { a })
+    }
+
     /// Distance from `p` along unit `dir` to where the ray first crosses the mesh, m.
     pub fn ray(&self, p: &Vector3<f64>, dir: &Vector3<f64>, max: f64) -> Option<f64> {
         self.mesh

@@ -37,6 +37,9 @@ pub struct HandModel {
     pub weights: SkinningWeights,
     /// The resolution it was meshed at.
     pub resolution: f64,
+    /// What building it changed of its input that the user should be told (an imported rig's
+    /// joint found outside its finger and moved into it); empty for the built-in hand.
+    pub mended: Vec<String>,
 }
 
 impl HandModel {
@@ -158,6 +161,7 @@ impl HandModel {
             contact_skin,
             weights,
             resolution,
+            mended: Vec::new(),
         })
     }
 

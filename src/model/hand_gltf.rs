@@ -64,25 +64,63 @@ pub fn read_rigged_hand(
         let list: Vec<&str> = names.iter().map(|(_, s)| s.as_str()).collect();
         list.join(", ")
     };
+    // Nodes of one name: a skin's joint is taken before a node no skin is bound to; two
+    // candidates alike are refused (the first of them was taken, silently).
+    let skin_joints: std::collections::BTreeSet<usize> = gltf
+        .document
+        .skins()
+        .flat_map(|s| s.joints().map(|j| j.index()).collect::<Vec<_>>())
+        .collect();
+    let pick = |key: &str, candidates: Vec<usize>| -> Result<Option<usize>, String> {
+        let bound: Vec<usize> = candidates
+            .iter()
+            .copied()
+            .filter(|n| skin_joints.contains(n))
+            .collect();
+        let among = if bound.is_empty() { candidates } else { bound };
+        match among.as_slice() {
+            [] => Ok(None),
+            [n] => Ok(Some(*n)),
+            [a, b, ..] => {
+                let named = |n: &usize| {
+                    let s = names.iter().find(|(m, _)| m == n).map_or("", |(_, s)| s);
+                    format!("node {n} (\"{s}\")")
+                };
+                Err(format!(
+                    "\"{file}\": {} and {} are both named as the joint {key}{}: rename one, or \
+                     name the joint's node in `bones`",
+                    named(a),
+                    named(b),
+                    if skin_joints.contains(a) {
+                        ", and both are joints of a skin"
+                    } else {
+                        ""
+                    }
+                ))
+            }
+        }
+    };
     let mut joint_node: BTreeMap<String, usize> = BTreeMap::new();
     for (key, name) in bones {
-        let Some((n, _)) = names
+        let candidates: Vec<usize> = names
             .iter()
-            .find(|(_, s)| s == name || normalized(s) == normalized(name))
-        else {
+            .filter(|(_, s)| s == name || normalized(s) == normalized(name))
+            .map(|(n, _)| *n)
+            .collect();
+        let Some(n) = pick(key, candidates)? else {
             return Err(format!(
                 "`bones.\"{key}\"` names the node \"{name}\", which \"{file}\" does not have; its \
                  nodes are: {}",
                 found()
             ));
         };
-        if let Some((other, _)) = joint_node.iter().find(|(_, &m)| m == *n) {
+        if let Some((other, _)) = joint_node.iter().find(|(_, &m)| m == n) {
             return Err(format!(
                 "`bones` names the node \"{name}\" for both \"{other}\" and \"{key}\": each \
                  joint is a node of its own"
             ));
         }
-        joint_node.insert(key.clone(), *n);
+        joint_node.insert(key.clone(), n);
     }
     // The others by name, in the convention that recognises the most of them.
     let recognised: Vec<(usize, Convention, String)> = names
@@ -100,8 +138,17 @@ pub fn read_rigged_hand(
         })
         .max_by_key(|hits| hits.len())
         .unwrap_or_default();
+    let mut by_key: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for (key, n) in best {
-        joint_node.entry(key).or_insert(n);
+        by_key.entry(key).or_default().push(n);
+    }
+    for (key, candidates) in by_key {
+        if joint_node.contains_key(&key) {
+            continue;
+        }
+        if let Some(n) = pick(&key, candidates)? {
+            joint_node.insert(key, n);
+        }
     }
     let place = placed(placement);
     let mut rig = RiggedHand::default();

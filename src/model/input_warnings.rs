@@ -24,7 +24,22 @@ pub fn input_warnings(
     let mut out = locking_warnings(scene, bodies, cell_materials, element, nonlinear);
     out.extend(far_point_warnings(scene, bodies, mesh));
     out.extend(obstacle_friction_warning(scene, bodies));
+    out.extend(mended_hand_warnings(bodies));
     out
+}
+
+/// What building a hand changed of its rig (a joint outside its finger moved into it), said
+/// per hand body.
+fn mended_hand_warnings(bodies: &[BodyModel]) -> Vec<String> {
+    bodies
+        .iter()
+        .filter_map(|b| b.hand.as_ref().map(|h| (b, h)))
+        .flat_map(|(b, h)| {
+            h.mended
+                .iter()
+                .map(move |note| format!("body \"{}\": {note}", b.name))
+        })
+        .collect()
 }
 
 /// Friction asked for against obstacles in a scene without hands, whose static frame solves
