@@ -87,8 +87,8 @@ pub fn read_rigged_hand(
                     format!("node {n} (\"{s}\")")
                 };
                 Err(format!(
-                    "\"{file}\": {} and {} are both named as the joint {key}{}: rename one, or \
-                     name the joint's node in `bones`",
+                    "\"{file}\": {} and {} are both named as the joint {key}{}: rename one of \
+                     them (a file of two such hands: export the one hand alone)",
                     named(a),
                     named(b),
                     if skin_joints.contains(a) {
