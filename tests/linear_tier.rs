@@ -302,6 +302,7 @@ fn the_viewer_keeps_the_linear_factor_between_changes() {
                 pose: vec![(hands[0].body, target)],
                 start: None,
             },
+            ahead: Default::default(),
         };
         let mut out: Vec<Result<Solution, Failure>> = Vec::new();
         let cancel = Cancel::new(Arc::new(AtomicU64::new(version)), version);

@@ -409,3 +409,90 @@ fn a_touching_finger_dragged_shows_its_frame_solved_at_the_pose_while_the_contac
         );
     }
 }
+
+/// What the viewer shows after Power grasp, and after the thumb's IP is then dragged by 2°:
+/// pressed as soon as the scene is shown, or once the solver thread went idle (it solves the
+/// presets ahead meanwhile). Whether a preview came first, the preset's frame, the dragged one.
+fn power_grasp_then_drag(
+    after_idle: bool,
+) -> (
+    bool,
+    prehensile::app::jobs::Solution,
+    prehensile::app::jobs::Solution,
+) {
+    let mut h = common::viewer::default_viewer();
+    wait_for_pose(&mut h);
+    let start = Instant::now();
+    while after_idle && !h.state().solver_idle() {
+        h.step();
+        assert!(start.elapsed() < Duration::from_secs(900), "never idle");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    h.get_by_label("Power grasp").click();
+    let (preview, _) = wait_for_pose(&mut h);
+    let preset = h.state().shown.as_ref().unwrap().solution.clone();
+    let ip = h.state().hands[0]
+        .skeleton
+        .dofs
+        .iter()
+        .position(|d| d.name == "thumb.ip")
+        .unwrap();
+    h.state_mut().pose[0].1[ip] += 2.0;
+    h.state_mut().pose_edited();
+    wait_for_pose(&mut h);
+    let dragged = h.state().shown.as_ref().unwrap().solution.clone();
+    (preview.is_some(), preset, dragged)
+}
+
+/// A preset pressed once the solver thread went idle was solved ahead (its flexion knot by
+/// knot, then its contact steps, from the pose shown): it is shown at once, with no preview,
+/// and it is the frame the preset gives pressed at once — the grip, every bone's reaction, the
+/// ball's displacement to 10⁻⁹ of the largest — and the finger dragged after it goes on from
+/// the same state (the same grip). Nothing a user sees depends on whether the solver had time.
+#[test]
+fn a_preset_solved_ahead_while_the_solver_was_idle_is_the_preset_solved_when_pressed() {
+    let (cold_preview, cold, cold_drag) = power_grasp_then_drag(false);
+    let (warm_preview, warm, warm_drag) = power_grasp_then_drag(true);
+    assert!(cold_preview, "pressed at once: a preview while it solves");
+    assert!(!warm_preview, "solved ahead: shown at once");
+    let ahead = |s: &prehensile::app::jobs::Solution| s.frame.hands[0].stats.solved_ahead;
+    assert!(!ahead(&cold) && ahead(&warm) && !ahead(&warm_drag));
+    assert!(warm.frame.hands[0].stats.knots_flexed_ahead > 0);
+    let grip =
+        |s: &prehensile::app::jobs::Solution| s.frame.contact.as_ref().unwrap().normal_force();
+    let close = |a: f64, b: f64, scale: f64, what: &str| {
+        assert!((a - b).abs() <= 1e-9 * scale, "{what}: {a} against {b}");
+    };
+    close(grip(&cold), grip(&warm), grip(&cold), "the preset's grip");
+    close(
+        grip(&cold_drag),
+        grip(&warm_drag),
+        grip(&cold_drag),
+        "the drag's grip",
+    );
+    println!(
+        "Power grasp: {:.6} N pressed at once, {:.6} N solved ahead; dragged: {:.6} / {:.6} N",
+        grip(&cold),
+        grip(&warm),
+        grip(&cold_drag),
+        grip(&warm_drag)
+    );
+    let (r0, r1) = (
+        &cold.frame.hands[0].bone_reactions,
+        &warm.frame.hands[0].bone_reactions,
+    );
+    let largest = r0.iter().map(|r| r.norm()).fold(0.0, f64::max);
+    assert!(largest > 0.0);
+    for (a, b) in r0.iter().zip(r1) {
+        close(a.norm(), b.norm(), largest, "a bone's reaction");
+        assert!((a - b).norm() <= 1e-9 * largest);
+    }
+    let (u0, u1) = (
+        &cold.frame.solution.displacement,
+        &warm.frame.solution.displacement,
+    );
+    let most = u0.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    for (a, b) in u0.iter().zip(u1) {
+        close(*a, *b, most, "a displacement");
+    }
+}

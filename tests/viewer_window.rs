@@ -203,6 +203,7 @@ fn a_stale_job_is_cancelled_between_increments_and_the_next_goes_on() {
             pose: vec![(hands[0].body, target.to_vec())],
             start: None,
         },
+        ahead: Default::default(),
     };
     let mut physics = Physics::new();
     let run = |physics: &mut Physics, job: &Job, cancel: &Cancel| {

@@ -25,6 +25,21 @@ pub struct Job {
     pub visual: VisualOptions,
     /// What to compute.
     pub target: Target,
+    /// What the window may ask next, which the solver may solve ahead while it has nothing to
+    /// do.
+    pub ahead: Ahead,
+}
+
+/// The poses the window offers next (its presets, from the pose asked), and where a pose job
+/// would start from after this job: solved ahead while the solver has nothing to do
+/// (`solve::Workspace::anticipate`, `solve::Workspace::solve_ahead`), taken when asked.
+#[derive(Clone, Default)]
+pub struct Ahead {
+    /// The poses, the likeliest first.
+    pub poses: Vec<Pose>,
+    /// The frame the next pose job would start from (the timeline's frame shown, which a
+    /// timeline job leaves shown); `None`: the hands where this job leaves them.
+    pub start: Option<Arc<Frame>>,
 }
 
 /// What a job computes.

@@ -32,7 +32,19 @@ pub struct Physics {
     last_frame: Option<Arc<Frame>>,
     /// The model's first keyframe prepared ahead ([`Workspace::prepare`]).
     prepared: bool,
+    /// The poses the last job's window offers next (its presets), flexed ahead while idle
+    /// ([`Workspace::anticipate`]) from where the next pose job will start: the hands held, or
+    /// `ahead_from` (the timeline's frame shown: [`super::jobs::Ahead`]).
+    ahead: Vec<super::jobs::Pose>,
+    ahead_from: Option<Arc<Frame>>,
+    /// The poses of `ahead` flexed ahead.
+    anticipated: bool,
 }
+
+/// How long the solver waits with nothing to do before it flexes the presets ahead: a pause in
+/// the editing, not the gap between two slider steps (a knot of the whole hand, once begun,
+/// holds the next job up to ≈ 200 ms).
+const PAUSE: std::time::Duration = std::time::Duration::from_millis(700);
 
 fn error(e: impl std::fmt::Display) -> Failure {
     Failure::Error(e.to_string())
@@ -69,7 +81,7 @@ impl Physics {
         start: Option<&'a Arc<Frame>>,
     ) -> Result<(Arc<Model>, Option<&'a Arc<Frame>>), Failure> {
         let model = self.ensure_model(job)?;
-        let start = start.filter(|s| s.solution.displacement.len() == 3 * model.mesh.node_count());
+        let start = start.filter(|s| starts(&model, s));
         if let Some(start) = start {
             self.hands = Posed::of_frame(&model, start);
         }
@@ -86,9 +98,14 @@ impl Physics {
     ) -> Result<Solution, Failure> {
         let started = Instant::now();
         let (model, start) = self.prepare(job, start)?;
+        // A pose solved ahead (a preset, while the solver was idle) is shown at once: no preview.
+        let solved_ahead = self
+            .workspace
+            .as_ref()
+            .is_some_and(|w| w.has_solved_ahead(&self.hands, pose));
         if let Some(from) = start
             .or(self.last_frame.as_ref())
-            .filter(|_| !cancel.is_stale())
+            .filter(|_| !cancel.is_stale() && !solved_ahead)
         {
             if let Some(preview) = preview(job, &model, from, pose, started) {
                 emit(Ok(preview));
@@ -191,9 +208,7 @@ impl Physics {
     ) -> Result<(), Failure> {
         let model = self.ensure_model(job)?;
         let mut hands = match start {
-            Some(f) if f.solution.displacement.len() == 3 * model.mesh.node_count() => {
-                Posed::of_frame(&model, f)
-            }
+            Some(f) if starts(&model, f) => Posed::of_frame(&model, f),
             _ => Posed::rest(&model),
         };
         for (i, pose) in poses.iter().enumerate() {
@@ -211,6 +226,11 @@ impl Physics {
         }
         Ok(())
     }
+}
+
+/// Whether `frame` is of `model` (a job starts from it then).
+fn starts(model: &Model, frame: &Frame) -> bool {
+    frame.solution.displacement.len() == 3 * model.mesh.node_count()
 }
 
 /// `frame` of `model` as the window takes it, with its draw list: a preview's drawn with the
@@ -272,6 +292,9 @@ impl Solve for Physics {
             self.hands = self.last_good.clone();
             self.dirty = false;
         }
+        self.ahead = job.ahead.poses.clone();
+        self.ahead_from = job.ahead.start.clone();
+        self.anticipated = false;
         match &job.target {
             Target::Pose { pose, start } => {
                 let solved = self.pose(job, pose, start.as_ref(), cancel, emit);
@@ -295,14 +318,43 @@ impl Solve for Physics {
 
     /// Once per model, the first keyframe's memory acquired ahead; a failure (a factor beyond
     /// the memory budget) is left for that keyframe to report.
+    /// Then, after a pause in the editing ([`PAUSE`]), the presets the window offers flexed
+    /// ahead from where the next pose job will start ([`Workspace::anticipate`]), and then
+    /// solved whole ([`Workspace::solve_ahead`]).
     fn idle(&mut self, cancel: &Cancel) {
-        if self.prepared || self.dirty {
+        if self.dirty {
             return;
         }
         let (Some(model), Some(workspace)) = (self.model.clone(), self.workspace.as_mut()) else {
             return;
         };
-        let _ = workspace.prepare(&model, &self.hands, Some(&stale(cancel)));
-        self.prepared = !cancel.is_stale();
+        if !self.prepared {
+            let _ = workspace.prepare(&model, &self.hands, Some(&stale(cancel)));
+            self.prepared = !cancel.is_stale();
+        }
+        if !self.prepared || self.anticipated || self.ahead.is_empty() {
+            return;
+        }
+        let waited = Instant::now();
+        while waited.elapsed() < PAUSE {
+            if cancel.is_stale() {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        let posed = match self.ahead_from.as_ref().filter(|f| starts(&model, f)) {
+            Some(frame) => Posed::of_frame(&model, frame),
+            None => self.hands.clone(),
+        };
+        let check = stale(cancel);
+        workspace.anticipate(&model, &posed, &self.ahead, Some(&check));
+        // Then each preset's keyframe whole, its contact solved: taken at once when pressed.
+        for pose in &self.ahead {
+            if cancel.is_stale() {
+                return;
+            }
+            workspace.solve_ahead(&model, &posed, pose, Some(&check));
+        }
+        self.anticipated = !cancel.is_stale();
     }
 }

@@ -163,6 +163,43 @@ impl Preset {
     }
 }
 
+/// What pressing `preset` asks from `pose` (every hand of `hands` at once): the first pose,
+/// and the pose of its last stage ([`Preset::stages`]; the first again when it has one).
+pub fn preset_poses(
+    preset: Preset,
+    hands: &[HandInfo],
+    pose: &Pose,
+    self_contact: bool,
+) -> (Pose, Pose) {
+    let mut first = pose.clone();
+    let mut last = pose.clone();
+    for (h, ((_, angles), (_, later))) in hands.iter().zip(first.iter_mut().zip(last.iter_mut())) {
+        let mut stages = preset.stages(&h.skeleton, angles, self_contact).into_iter();
+        *angles = stages.next().unwrap_or_default();
+        *later = stages.last().unwrap_or_else(|| angles.clone());
+    }
+    (first, last)
+}
+
+/// The poses the presets would ask first from `pose`, but those it is at already, the
+/// nearest first (by the largest joint change): what the solver may flex ahead while it waits.
+pub fn preset_poses_ahead(hands: &[HandInfo], pose: &Pose, self_contact: bool) -> Vec<Pose> {
+    let change = |to: &Pose| {
+        pose.iter()
+            .zip(to)
+            .flat_map(|((_, a), (_, b))| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+            .fold(0.0, f64::max)
+    };
+    let mut ahead: Vec<(f64, Pose)> = Preset::ALL
+        .iter()
+        .map(|&p| preset_poses(p, hands, pose, self_contact).0)
+        .map(|to| (change(&to), to))
+        .filter(|(c, _)| *c > 0.0)
+        .collect();
+    ahead.sort_by(|a, b| a.0.total_cmp(&b.0));
+    ahead.into_iter().map(|(_, to)| to).collect()
+}
+
 /// The pose of every hand at rest.
 pub fn rest_pose(hands: &[HandInfo]) -> Pose {
     hands

@@ -290,12 +290,26 @@ impl ViewerState {
     fn submit(&mut self, target: Target) -> u64 {
         let version = self.next_version;
         self.next_version += 1;
+        let ahead = super::jobs::Ahead {
+            poses: super::pose::preset_poses_ahead(
+                &self.hands,
+                &self.pose,
+                self.solver.self_contact,
+            ),
+            // A timeline job leaves the frame shown as it is; the other jobs replace it with
+            // theirs, the hands where they leave them.
+            start: match &target {
+                Target::Timeline { .. } => self.start_frame(),
+                _ => None,
+            },
+        };
         self.port.submit(Job {
             version,
             scene: Arc::new(self.scene.clone()),
             scene_revision: self.scene_revision,
             visual: self.display.visual(),
             target,
+            ahead,
         });
         self.in_flight = Some(version);
         version

@@ -261,6 +261,7 @@ mod tests {
                 pose: Vec::new(),
                 start: None,
             },
+            ahead: Default::default(),
         }
     }
 

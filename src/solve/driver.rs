@@ -33,6 +33,8 @@ pub struct Workspace {
     pub(super) caches: Vec<(usize, FlexionCaches)>,
     /// What the contact steps keep from one to the next (their solver, the nodes held).
     pub(super) contact: ContactCache,
+    /// Keyframes solved ahead while the solver was idle ([`Workspace::solve_ahead`]).
+    pub(super) solved_ahead: Vec<super::anticipate::SolvedAhead>,
 }
 
 /// A hand body where the driver left it: its state, and its part of the last frame.
@@ -188,6 +190,7 @@ impl Workspace {
             still,
             caches: Vec::new(),
             contact: ContactCache::new(model.ordering),
+            solved_ahead: Vec::new(),
         })
     }
 
@@ -245,6 +248,9 @@ impl Workspace {
         targets: &[(usize, Vec<f64>)],
         watch: Watch<'_>,
     ) -> Result<Frame, SimError> {
+        if let Some(frame) = self.take_solved_ahead(posed, targets) {
+            return Ok(frame);
+        }
         // Where each moving hand starts the keyframe from, for a flexion error's share.
         let from: Vec<(usize, Vec<f64>)> = targets
             .iter()
@@ -295,20 +301,7 @@ impl Workspace {
         thumb_after_fingers: bool,
     ) -> Result<Frame, SimError> {
         let cancel = watch.0;
-        let index = |body: usize| {
-            posed
-                .hands
-                .iter()
-                .position(|h| h.body == body)
-                .expect("targets name hand bodies")
-        };
-        let moving: Vec<(usize, Vec<f64>, Vec<f64>)> = targets
-            .iter()
-            .map(|(b, target)| {
-                let h = index(*b);
-                (h, posed.hands[h].state.angles.clone(), target.clone())
-            })
-            .collect();
+        let moving = moving_hands(posed, targets);
         let has_objects = model.bodies.iter().any(|b| b.hand.is_none());
         // The keyframe in one step first (its contact linearised about the flexed pose and what
         // the last frame carried): exact where the pose brings the skin just onto the bodies. Where that
@@ -333,19 +326,7 @@ impl Workspace {
         // The hands' flexion over the keyframe, shared by both ways of solving its contact. A
         // part that skinning would crush over the whole keyframe is solved in each of its
         // increments, although no increment alone would crush it.
-        let mut path = FlexionPath::new(
-            model,
-            moving.iter().map(|(h, _, to)| {
-                let hand = &posed.hands[*h];
-                let mut far = far_parts_of(model, hand.body, &hand.state, to);
-                let crushed = crushed_parts_of(model, hand.body, &hand.state, to);
-                for (f, c) in far.iter_mut().zip(crushed) {
-                    *f &= !c;
-                }
-                (hand.body, hand.state.clone(), to.clone(), far)
-            }),
-            thumb_after_fingers,
-        );
+        let mut path = flexion_path(model, posed, &moving, thumb_after_fingers);
         let Some(plan) = path.ahead_plan() else {
             let too_deep = too_deep(posed);
             self.know_untouched_motion(model, has_objects);
@@ -878,10 +859,53 @@ fn contact_steps(largest: f64) -> usize {
     (largest / CONTACT_STEP_DEG).ceil().max(1.0) as usize
 }
 
+/// The hands `targets` moves (their index in `posed.hands`, the angles they start from, their
+/// targets).
+pub(super) fn moving_hands(
+    posed: &Posed,
+    targets: &[(usize, Vec<f64>)],
+) -> Vec<(usize, Vec<f64>, Vec<f64>)> {
+    targets
+        .iter()
+        .map(|(b, target)| {
+            let h = posed
+                .hands
+                .iter()
+                .position(|h| h.body == *b)
+                .expect("targets name hand bodies");
+            (h, posed.hands[h].state.angles.clone(), target.clone())
+        })
+        .collect()
+}
+
+/// The flexion of the hands `moving` ([`moving_hands`]) over a keyframe from `posed`: knots
+/// every `max_step_deg`, the parts far from every other body over the whole keyframe left to
+/// skinning (but not those skinning would crush).
+pub(super) fn flexion_path(
+    model: &Model,
+    posed: &Posed,
+    moving: &[(usize, Vec<f64>, Vec<f64>)],
+    thumb_after_fingers: bool,
+) -> FlexionPath {
+    FlexionPath::new(
+        model,
+        moving.iter().map(|(h, _, to)| {
+            let hand = &posed.hands[*h];
+            let mut far = far_parts_of(model, hand.body, &hand.state, to);
+            let crushed = crushed_parts_of(model, hand.body, &hand.state, to);
+            for (f, c) in far.iter_mut().zip(crushed) {
+                *f &= !c;
+            }
+            (hand.body, hand.state.clone(), to.clone(), far)
+        }),
+        thumb_after_fingers,
+    )
+}
+
 /// Flexes hand body `b` from `state` to `target` (a knot of [`FlexionPath`]: the parts `far`
 /// left to skinning, its FEM region chosen on the flesh at `region_at`), with the flexion caches
 /// of `caches` (taken for the hand and put back): the state reached and what it cost.
-fn flex_hand(
+pub(super) fn flex_hand(
     (model, caches, cancel): (
         &Model,
         &mut Vec<(usize, FlexionCaches)>,
@@ -892,6 +916,13 @@ fn flex_hand(
     target: &[f64],
     (far, region_at): Parts<'_>,
 ) -> Result<(HandState, KeyframeStats), SimError> {
+    if let Some(kept) = caches
+        .iter()
+        .find(|(cb, _)| *cb == b)
+        .and_then(|(_, c)| c.knots.get((&state, target, far, region_at)))
+    {
+        return Ok(kept);
+    }
     let mut stepper = hand_stepper(model, caches, b);
     if let Some(cancel) = cancel {
         stepper = stepper.with_cancel(cancel.clone());

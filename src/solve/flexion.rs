@@ -83,6 +83,8 @@ pub struct FlexionCaches {
     /// keyframes moving the same joints, solve the same (building the full hand's took 19–36 ms
     /// a knot).
     region: Option<(Vec<bool>, SubProblem)>,
+    /// Knots flexed ahead while the solver was idle, for a keyframe that may come next.
+    pub(super) knots: super::knot_memo::KnotMemo,
 }
 
 impl FlexionCaches {
@@ -92,6 +94,7 @@ impl FlexionCaches {
             solver: PartitionedSolver::new(ordering),
             linear: None,
             region: None,
+            knots: Default::default(),
         }
     }
 }

@@ -62,7 +62,34 @@ pub struct ContactCache {
     pub(super) untouched: Option<Option<UntouchedStep>>,
 }
 
+/// What a keyframe's contact steps hand to the next keyframe's besides the hands' states (the
+/// nodes held, the forces transferred, where a let-go object is anchored): what a keyframe
+/// solved ahead starts from and leaves ([`super::anticipate`]). Not the solver's caches.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Carried {
+    held: Vec<usize>,
+    transferred: Vec<f64>,
+    anchor: Option<Vec<f64>>,
+}
+
 impl ContactCache {
+    /// What the next keyframe's contact steps would start from; `None` where an object's
+    /// springs keep what they carried beyond their share (`unheld`: letting go of an object).
+    pub(super) fn carried(&self) -> Option<Carried> {
+        self.unheld.is_none().then(|| Carried {
+            held: self.held.clone(),
+            transferred: self.transferred.clone(),
+            anchor: self.anchor.clone(),
+        })
+    }
+
+    /// Goes on from `carried` (a [`Self::carried`]).
+    pub(super) fn restore(&mut self, carried: Carried) {
+        self.held = carried.held;
+        self.transferred = carried.transferred;
+        self.anchor = carried.anchor;
+    }
+
     /// Nothing kept yet; factorizations ordered by `ordering`.
     pub fn new(ordering: FillOrdering) -> ContactCache {
         ContactCache {

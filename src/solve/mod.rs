@@ -1,6 +1,7 @@
 //! The one keyframe driver and what it runs (flexion per tier, statics, contact); its workspace.
 //! May import model, state, the kernels and util.
 
+mod anticipate;
 mod compose;
 mod corotated;
 mod crossing;
@@ -14,6 +15,7 @@ mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
 mod insides;
+mod knot_memo;
 mod let_go;
 mod linear_factor;
 mod paper_roles;

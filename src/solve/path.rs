@@ -177,35 +177,38 @@ impl FlexionPath {
         if self.hands.iter().all(|h| h.count - (h.knots.len() - 1) < 2) {
             return None;
         }
-        Some(
-            self.hands
-                .iter()
-                .enumerate()
-                .map(|(k, h)| {
-                    let first = h.knots.len();
-                    // The knot choosing the next one's region: already flexed, or flexed ahead
-                    // (then the knots after it take its flesh).
-                    let chooser = h.region_knot(first);
-                    let (region_at, region_after) = match h.staged.as_ref() {
-                        Some(&(fingers, _)) if fingers >= first => {
-                            (h.knots[0].positions.clone(), Some(fingers - first))
-                        }
-                        _ => (h.knots[chooser].positions.clone(), None),
-                    };
-                    AheadHand {
-                        k,
-                        body: h.body,
-                        start: h.knots.last().expect("the start").clone(),
-                        angles: (first..=h.count)
-                            .map(|j| h.angles_at(j as f64 / h.count as f64))
-                            .collect(),
-                        far: h.far,
-                        region_at,
-                        region_after,
+        Some(self.knots_to_flex())
+    }
+
+    /// Every knot still to flex, as [`flex_ahead`] takes them.
+    pub(super) fn knots_to_flex(&self) -> Vec<AheadHand> {
+        self.hands
+            .iter()
+            .enumerate()
+            .map(|(k, h)| {
+                let first = h.knots.len();
+                // The knot choosing the next one's region: already flexed, or flexed ahead
+                // (then the knots after it take its flesh).
+                let chooser = h.region_knot(first);
+                let (region_at, region_after) = match h.staged.as_ref() {
+                    Some(&(fingers, _)) if fingers >= first => {
+                        (h.knots[0].positions.clone(), Some(fingers - first))
                     }
-                })
-                .collect(),
-        )
+                    _ => (h.knots[chooser].positions.clone(), None),
+                };
+                AheadHand {
+                    k,
+                    body: h.body,
+                    start: h.knots.last().expect("the start").clone(),
+                    angles: (first..=h.count)
+                        .map(|j| h.angles_at(j as f64 / h.count as f64))
+                        .collect(),
+                    far: h.far,
+                    region_at,
+                    region_after,
+                }
+            })
+            .collect()
     }
 
     /// Takes the knots [`flex_ahead`] sends on `from` (planned by

@@ -167,6 +167,19 @@ pub struct KeyframeStats {
     /// not written then).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stopped_short: Option<StoppedShort>,
+    /// Knots of the flexion taken from the work the solver did ahead while it was idle (the
+    /// viewer's pose presets, flexed from the pose shown): their times and factorizations were
+    /// spent then and are not counted here. Written only when some were.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub knots_flexed_ahead: usize,
+    /// The whole keyframe was solved ahead, while the solver was idle (the viewer's pose
+    /// presets), and taken when asked: its times were spent then. Written only when true.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub solved_ahead: bool,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// A keyframe whose motion ended before its pose: the frame is the last state the solve could
@@ -225,6 +238,7 @@ impl KeyframeStats {
             self.unsettled_motion = step.unsettled_motion.clone();
         }
         self.contact_retries += step.contact_retries;
+        self.knots_flexed_ahead += step.knots_flexed_ahead;
         // The flexion's end is the later step's.
         if step.increments_taken > 0 {
             self.self_contacts = step.self_contacts;

@@ -1,6 +1,6 @@
 //! Joints: a slider per joint angle within its limits, grouped by digit; presets; reset.
 
-use super::super::pose::{digit_of, Preset};
+use super::super::pose::{digit_of, preset_poses, Preset};
 use super::super::state::ViewerState;
 use egui::{CollapsingHeader, Slider};
 
@@ -15,17 +15,9 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         for p in Preset::ALL {
             if ui.button(p.label()).clicked() {
-                let self_contact = state.solver.self_contact;
-                let mut then = state.pose.clone();
-                for (h, ((_, angles), (_, later))) in state
-                    .hands
-                    .iter()
-                    .zip(state.pose.iter_mut().zip(then.iter_mut()))
-                {
-                    let mut stages = p.stages(&h.skeleton, angles, self_contact).into_iter();
-                    *angles = stages.next().unwrap_or_default();
-                    *later = stages.last().unwrap_or_else(|| angles.clone());
-                }
+                let (first, then) =
+                    preset_poses(p, &state.hands, &state.pose, state.solver.self_contact);
+                state.pose = first;
                 state.staged = (then != state.pose).then(|| (state.pose.clone(), then));
                 state.pose_changed = true;
             }
