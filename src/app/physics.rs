@@ -112,6 +112,9 @@ impl Physics {
             }
         }
         let workspace = self.workspace.as_mut().expect("built with the model");
+        if let Some(frame) = workspace.take_solved_ahead(&mut self.hands, pose) {
+            return self.delivered(job, &model, Ok(frame), started, false);
+        }
         self.dirty = true;
         // The frame the motion reached at the pose goes out while the corrections settle its
         // contact (drawn as a draft, marked as settling); the settled frame follows.
@@ -335,10 +338,13 @@ impl Solve for Physics {
         if !self.prepared || self.anticipated || self.ahead.is_empty() {
             return;
         }
-        let waited = Instant::now();
+        let mut waited = Instant::now();
         while waited.elapsed() < PAUSE {
             if cancel.is_stale() {
                 return;
+            }
+            if cancel.is_held() {
+                waited = Instant::now();
             }
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
@@ -346,7 +352,11 @@ impl Solve for Physics {
             Some(frame) => Posed::of_frame(&model, frame),
             None => self.hands.clone(),
         };
-        let check = stale(cancel);
+        // Asked in every increment: waits there while the user moves something.
+        let check: CancelCheck = {
+            let c = cancel.clone();
+            Arc::new(move || c.wait_then_is_stale())
+        };
         workspace.anticipate(&model, &posed, &self.ahead, Some(&check));
         // Then each preset's keyframe whole, its contact solved: taken at once when pressed.
         for pose in &self.ahead {

@@ -282,6 +282,11 @@ impl ViewerState {
         !self.computing() && self.port.idle()
     }
 
+    /// Holds the solver's idle work while `moving` (see [`SolverPort::hold_idle_work`]).
+    pub fn hold_idle_work(&self, moving: bool) {
+        self.port.hold_idle_work(moving);
+    }
+
     /// The version of the newest job submitted (0 before any).
     pub fn latest_version(&self) -> u64 {
         self.next_version - 1

@@ -22,6 +22,12 @@ pub trait SolverPort {
     fn idle(&self) -> bool {
         true
     }
+    /// Holds the solver's idle work (what it does ahead) while `held`: the user is moving
+    /// something (a slider, the camera), and the window's frames and its software renderer
+    /// want the cores. Jobs are not held.
+    fn hold_idle_work(&self, held: bool) {
+        let _ = held;
+    }
 }
 
 /// Tells a running job whether a newer one has been submitted.
@@ -29,17 +35,44 @@ pub trait SolverPort {
 pub struct Cancel {
     latest: Arc<AtomicU64>,
     version: u64,
+    /// Set while the idle work is to wait ([`SolverPort::hold_idle_work`]).
+    held: Option<Arc<AtomicBool>>,
 }
 
 impl Cancel {
     /// A token for job `version` against the shared latest version.
     pub fn new(latest: Arc<AtomicU64>, version: u64) -> Self {
-        Cancel { latest, version }
+        Cancel {
+            latest,
+            version,
+            held: None,
+        }
     }
 
     /// `true` once a newer job was submitted.
     pub fn is_stale(&self) -> bool {
         self.latest.load(Ordering::Acquire) != self.version
+    }
+
+    /// Waits while the idle work is held ([`SolverPort::hold_idle_work`]) and no newer job
+    /// came; then whether one came ([`Self::is_stale`]). The check of idle work.
+    pub fn wait_then_is_stale(&self) -> bool {
+        while self
+            .held
+            .as_ref()
+            .is_some_and(|h| h.load(Ordering::Acquire))
+            && !self.is_stale()
+        {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        self.is_stale()
+    }
+
+    /// Whether the idle work is held now.
+    pub fn is_held(&self) -> bool {
+        self.held
+            .as_ref()
+            .is_some_and(|h| h.load(Ordering::Acquire))
     }
 }
 
@@ -73,6 +106,8 @@ struct Shared {
     /// Set (under `slot`'s lock) when a job is submitted, cleared (under it too) once the
     /// thread has run it and its idle work with no job waiting.
     working: AtomicBool,
+    /// The idle work held ([`SolverPort::hold_idle_work`]).
+    held: Arc<AtomicBool>,
 }
 
 /// The solver thread and its mailbox.
@@ -92,6 +127,7 @@ impl ThreadSolver {
             stop: AtomicBool::new(false),
             latest: Arc::new(AtomicU64::new(0)),
             working: AtomicBool::new(false),
+            held: Arc::new(AtomicBool::new(false)),
         });
         let (tx, results) = channel();
         let inner = shared.clone();
@@ -204,7 +240,8 @@ fn idle(shared: &Shared, solve: &mut impl Solve) {
     if waiting() || shared.stop.load(Ordering::Acquire) {
         return;
     }
-    let cancel = Cancel::new(shared.latest.clone(), shared.latest.load(Ordering::Acquire));
+    let mut cancel = Cancel::new(shared.latest.clone(), shared.latest.load(Ordering::Acquire));
+    cancel.held = Some(shared.held.clone());
     let _ = catch_unwind(AssertUnwindSafe(|| solve.idle(&cancel)));
     let slot = shared.slot.lock().unwrap_or_else(|e| e.into_inner());
     if slot.is_none() {
@@ -229,6 +266,10 @@ impl SolverPort for ThreadSolver {
 
     fn idle(&self) -> bool {
         !self.shared.working.load(Ordering::Acquire)
+    }
+
+    fn hold_idle_work(&self, held: bool) {
+        self.shared.held.store(held, Ordering::Release);
     }
 }
 
@@ -290,6 +331,56 @@ mod tests {
             }
             self.log.lock().unwrap().push("idle done".into());
         }
+    }
+
+    /// Its idle work checks in once (as a knot's increment would) and says when it got past.
+    struct Checker {
+        log: Arc<Mutex<Vec<String>>>,
+    }
+
+    impl Solve for Checker {
+        fn run(&mut self, job: &Job, _: &Cancel, _: &mut dyn FnMut(Result<Solution, Failure>)) {
+            self.log
+                .lock()
+                .unwrap()
+                .push(format!("job {}", job.version));
+        }
+
+        fn idle(&mut self, cancel: &Cancel) {
+            let stale = cancel.wait_then_is_stale();
+            self.log.lock().unwrap().push(format!("checked: {stale}"));
+        }
+    }
+
+    /// While the window holds the idle work (a slider or the camera moved), the idle work waits
+    /// at its next check; released, it goes on; a job arriving while it is held ends it.
+    #[test]
+    fn held_idle_work_waits_until_released_or_a_job_comes() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let mut port = ThreadSolver::spawn(Checker { log: log.clone() }, Arc::new(|| {}));
+        port.hold_idle_work(true);
+        port.submit(job(1));
+        wait_until("job 1 run", || log.lock().unwrap().len() == 1);
+        std::thread::sleep(Duration::from_millis(100));
+        assert_eq!(*log.lock().unwrap(), ["job 1"], "held: not past its check");
+        assert!(!port.idle());
+        port.hold_idle_work(false);
+        wait_until("idle", || port.idle());
+        assert_eq!(*log.lock().unwrap(), ["job 1", "checked: false"]);
+        // Held again, then a job: the check answers stale at once, the job runs.
+        port.hold_idle_work(true);
+        port.submit(job(2));
+        wait_until("job 2 run", || log.lock().unwrap().len() == 3);
+        // (Its idle work then waits at its check.)
+        std::thread::sleep(Duration::from_millis(100));
+        port.submit(job(3));
+        wait_until("job 3 run", || log.lock().unwrap().len() == 5);
+        assert_eq!(
+            *log.lock().unwrap(),
+            ["job 1", "checked: false", "job 2", "checked: true", "job 3"]
+        );
+        port.hold_idle_work(false);
+        wait_until("idle", || port.idle());
     }
 
     fn wait_until(what: &str, mut done: impl FnMut() -> bool) {

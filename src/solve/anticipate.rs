@@ -7,23 +7,13 @@
 //! ([`super::driver::flex_hand`]): the same computation from the same state, so the same result.
 //! Its contact steps are solved as before.
 
-use super::driver::{flex_hand, flexion_path, moving_hands, Posed, Workspace};
+use super::driver::{flex_hand, flexion_path, moving_hands, Posed, SolvedAhead, Workspace};
 use super::flexion::CancelCheck;
-use super::grasp::Carried;
 use super::knot_memo::{same_bits, same_points, same_state, KnotMemo};
 use super::path::{flex_ahead, Parts};
 use super::SimError;
 use crate::model::Model;
 use crate::state::{Frame, HandState};
-
-/// A keyframe solved ahead: where it started (the hands, what the contact carried), its
-/// targets, and where it ended (the hands, what the contact carries on, the frame).
-pub(super) struct SolvedAhead {
-    from: (Posed, Carried),
-    targets: Vec<(usize, Vec<f64>)>,
-    to: (Posed, Carried),
-    frame: Frame,
-}
 
 /// The most keyframes kept solved ahead (the viewer has four presets).
 const SOLVED_AHEAD: usize = 4;
@@ -103,7 +93,7 @@ impl Workspace {
 impl Workspace {
     /// Solves ahead the keyframe from `posed` to `targets` (its flexion taken from knots flexed
     /// ahead where [`Workspace::anticipate`] kept them) and keeps its frame for when it is asked
-    /// ([`Workspace::move_hands`] from the same hands and contact, to the same targets): the
+    /// ([`Workspace::take_solved_ahead`] from the same hands and contact, to the same targets): the
     /// workspace goes on from where it was, as if it had not been solved. Returns whether it was
     /// kept: not where the keyframe fails, is cancelled (`cancel`), would not fit the memory
     /// kept for it, or an object is being let go of.
@@ -161,9 +151,10 @@ impl Workspace {
         })
     }
 
-    /// The frame of the keyframe from `posed` to `targets` if it was solved ahead: `posed` and
-    /// the contact carried then go on from where it ended.
-    pub(super) fn take_solved_ahead(
+    /// The frame of the keyframe from `posed` to `targets` if it was solved ahead (and kept
+    /// no longer): `posed` and the contact carried go on from where it ended, as if
+    /// [`Workspace::move_hands`] had solved it now.
+    pub fn take_solved_ahead(
         &mut self,
         posed: &mut Posed,
         targets: &[(usize, Vec<f64>)],

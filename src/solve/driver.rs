@@ -5,7 +5,7 @@
 
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
-use super::grasp::{frame_with_hands, ContactCache};
+use super::grasp::{frame_with_hands, Carried, ContactCache};
 use super::path::{flex_ahead, FlexionPath, Parts};
 use super::proximity::{crushed_by_skinning, deeper_on_the_way, PARTS};
 use super::statics::{solve_static, solve_static_alone};
@@ -34,7 +34,17 @@ pub struct Workspace {
     /// What the contact steps keep from one to the next (their solver, the nodes held).
     pub(super) contact: ContactCache,
     /// Keyframes solved ahead while the solver was idle ([`Workspace::solve_ahead`]).
-    pub(super) solved_ahead: Vec<super::anticipate::SolvedAhead>,
+    pub(super) solved_ahead: Vec<SolvedAhead>,
+}
+
+/// A keyframe solved ahead (src/solve/anticipate.rs): where it started (the hands, what the
+/// contact carried), its targets, and where it ended (the hands, what the contact carries on,
+/// the frame).
+pub(super) struct SolvedAhead {
+    pub(super) from: (Posed, Carried),
+    pub(super) targets: Vec<(usize, Vec<f64>)>,
+    pub(super) to: (Posed, Carried),
+    pub(super) frame: Frame,
 }
 
 /// A hand body where the driver left it: its state, and its part of the last frame.
@@ -248,9 +258,6 @@ impl Workspace {
         targets: &[(usize, Vec<f64>)],
         watch: Watch<'_>,
     ) -> Result<Frame, SimError> {
-        if let Some(frame) = self.take_solved_ahead(posed, targets) {
-            return Ok(frame);
-        }
         // Where each moving hand starts the keyframe from, for a flexion error's share.
         let from: Vec<(usize, Vec<f64>)> = targets
             .iter()

@@ -24,6 +24,10 @@ impl ViewerState {
     /// Draws the whole window into `ui` and acts on the edits: one frame of the viewer.
     pub fn ui(&mut self, ui: &mut egui::Ui) {
         let dt = ui.input(|i| i.stable_dt).clamp(0.0, 0.25) as f64;
+        // Something held or scrolled (a slider, the camera): the solver's work ahead waits.
+        let moving =
+            ui.input(|i| i.pointer.any_down() || i.smooth_scroll_delta != egui::Vec2::ZERO);
+        self.hold_idle_work(moving);
         self.step(dt);
         Panel::bottom("timeline")
             .resizable(false)
