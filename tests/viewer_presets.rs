@@ -431,6 +431,13 @@ fn power_grasp_then_drag(
     h.get_by_label("Power grasp").click();
     let (preview, _) = wait_for_pose(&mut h);
     let preset = h.state().shown.as_ref().unwrap().solution.clone();
+    h.step();
+    assert_eq!(
+        h.query_by_label("solved while the solver was idle")
+            .is_some(),
+        after_idle,
+        "the Status panel says whether the preset was solved ahead"
+    );
     let ip = h.state().hands[0]
         .skeleton
         .dofs

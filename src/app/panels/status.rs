@@ -90,6 +90,20 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         ui.label("increments / factorizations");
         ui.label(format!("{increments} / {factorizations}"));
         ui.end_row();
+        // A preset solved ahead while the solver had nothing to do: its costs were spent then.
+        let knots: usize = hands.iter().map(|h| h.stats.knots_flexed_ahead).sum();
+        if hands.iter().any(|h| h.stats.solved_ahead) {
+            ui.label("done ahead");
+            ui.label("solved while the solver was idle").on_hover_text(
+                "the solver solves the presets ahead after a pause in the editing: the same \
+                 computation from the same pose, shown at once when pressed",
+            );
+            ui.end_row();
+        } else if knots > 0 {
+            ui.label("done ahead");
+            ui.label(format!("{knots} flexion knots flexed while idle"));
+            ui.end_row();
+        }
         let far: Vec<&str> = hands
             .iter()
             .flat_map(|h| h.stats.far_digits.iter().map(String::as_str))
