@@ -307,9 +307,11 @@ mod tests {
     }
 
     /// Runs nothing for a job; its idle work lasts until a job arrives or a second passed,
-    /// and says which.
+    /// and says which — or, `checks`, checks in once (as a knot's increment would) and says
+    /// when it got past.
     struct Idler {
         log: Arc<Mutex<Vec<String>>>,
+        checks: bool,
     }
 
     impl Solve for Idler {
@@ -321,6 +323,11 @@ mod tests {
         }
 
         fn idle(&mut self, cancel: &Cancel) {
+            if self.checks {
+                let stale = cancel.wait_then_is_stale();
+                self.log.lock().unwrap().push(format!("checked: {stale}"));
+                return;
+            }
             let start = Instant::now();
             while start.elapsed() < Duration::from_secs(1) {
                 if cancel.is_stale() {
@@ -333,31 +340,18 @@ mod tests {
         }
     }
 
-    /// Its idle work checks in once (as a knot's increment would) and says when it got past.
-    struct Checker {
-        log: Arc<Mutex<Vec<String>>>,
-    }
-
-    impl Solve for Checker {
-        fn run(&mut self, job: &Job, _: &Cancel, _: &mut dyn FnMut(Result<Solution, Failure>)) {
-            self.log
-                .lock()
-                .unwrap()
-                .push(format!("job {}", job.version));
-        }
-
-        fn idle(&mut self, cancel: &Cancel) {
-            let stale = cancel.wait_then_is_stale();
-            self.log.lock().unwrap().push(format!("checked: {stale}"));
-        }
-    }
-
     /// While the window holds the idle work (a slider or the camera moved), the idle work waits
     /// at its next check; released, it goes on; a job arriving while it is held ends it.
     #[test]
     fn held_idle_work_waits_until_released_or_a_job_comes() {
         let log = Arc::new(Mutex::new(Vec::new()));
-        let mut port = ThreadSolver::spawn(Checker { log: log.clone() }, Arc::new(|| {}));
+        let mut port = ThreadSolver::spawn(
+            Idler {
+                log: log.clone(),
+                checks: true,
+            },
+            Arc::new(|| {}),
+        );
         port.hold_idle_work(true);
         port.submit(job(1));
         wait_until("job 1 run", || log.lock().unwrap().len() == 1);
@@ -394,7 +388,13 @@ mod tests {
     #[test]
     fn idle_work_runs_after_a_job_and_stops_for_the_next() {
         let log = Arc::new(Mutex::new(Vec::new()));
-        let mut port = ThreadSolver::spawn(Idler { log: log.clone() }, Arc::new(|| {}));
+        let mut port = ThreadSolver::spawn(
+            Idler {
+                log: log.clone(),
+                checks: false,
+            },
+            Arc::new(|| {}),
+        );
         assert!(port.idle(), "nothing submitted yet");
         port.submit(job(1));
         assert!(!port.idle(), "working from the submission on");
