@@ -14,6 +14,7 @@ mod hold;
 mod lagrange;
 mod obstacle;
 mod paper;
+mod patch;
 mod point;
 mod pressure;
 mod problem;
@@ -31,6 +32,7 @@ pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};
 pub use lagrange::{solve_lagrange, solve_with_obstacles, RUNAWAY};
 pub use obstacle::Obstacle;
 pub use paper::solve_paper;
+pub use patch::patch_pressure;
 pub use point::{
     held_nodes, transferred_forces, Adhesion, ContactError, ContactMethod, ContactPoint,
     ContactResult, ContactSettings, ContactSummary, ContactTimes, Master, PairSides, Relaxation,

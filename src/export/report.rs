@@ -182,6 +182,11 @@ pub struct ContactReport {
     pub max_penetration: f64,
     /// Largest contact pressure, Pa: on the bodies' surface nodes and on the hands' skin.
     pub max_pressure: f64,
+    /// Largest contact pressure on the hands' skin read over a patch 3.2 mm in radius
+    /// (`state::TACTILE_PATCH_RADIUS`: the press of the skin within that distance facing the
+    /// same way, over its area), Pa: the peak that converges under refinement, where
+    /// `max_pressure` is one vertex's force over its own area. 0 without a hand.
+    pub max_patch_pressure: f64,
     /// Time of the contact iterations, ms.
     pub contact_ms: f64,
     /// Where the time of the contact frame went, ms.
@@ -263,6 +268,13 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
                 crate::state::skin_pressure(model, frame, h.body).unwrap_or_default()
             }))
             .fold(0.0, f64::max),
+        max_patch_pressure: frame
+            .hands
+            .iter()
+            .flat_map(|h| {
+                crate::state::skin_patch_pressure(model, frame, h.body).unwrap_or_default()
+            })
+            .fold(0.0, f64::max),
         contact_ms: c.contact_ms,
         times: c.times.clone(),
     })
@@ -328,8 +340,13 @@ pub struct SelfContactReport {
     /// vertex's heaviest node), N; parts with none left out. Each press is felt on both sides:
     /// these sum to twice `force`.
     pub parts: BTreeMap<String, f64>,
-    /// Largest pressure of the press on the display skin, Pa.
+    /// Largest pressure of the press on the display skin, Pa: a vertex's force over its own
+    /// area (node-to-facet forces are spiky where the skins first meet: it reads where, not how
+    /// much; it does not converge under refinement).
     pub max_pressure: f64,
+    /// Largest pressure of the press read over a patch 3.2 mm in radius
+    /// (`state::TACTILE_PATCH_RADIUS`), on the contact skin, Pa: the peak to read as how much.
+    pub max_patch_pressure: f64,
 }
 
 /// The self-contact entry of hand frame `h` (`None` when its skin presses nowhere on itself).
@@ -356,6 +373,10 @@ fn self_contact_report(model: &Model, h: &crate::state::HandFrame) -> Option<Sel
             .map(|(name, f)| (name.to_string(), f))
             .collect(),
         max_pressure,
+        max_patch_pressure: crate::state::self_contact_patch_pressure(model, h)
+            .unwrap_or_default()
+            .into_iter()
+            .fold(0.0, f64::max),
     })
 }
 

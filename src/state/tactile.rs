@@ -3,7 +3,7 @@
 //! fingertip on the palm, fingers side by side: `HandFrame::self_contact`, felt on both sides).
 
 use super::Frame;
-use crate::contact::{nodal_pressure_with, Master};
+use crate::contact::{nodal_pressure_with, patch_pressure, Master};
 use crate::model::Model;
 
 /// Contact pressure at every node (Pa, 0 off contact), over the boundary facets of all bodies;
@@ -71,6 +71,64 @@ pub fn self_contact_skin_pressure(model: &Model, h: &super::HandFrame) -> Option
     let mut force = h.self_contact.clone();
     force.resize(hand.contact_skin.vertex_count(), 0.0);
     Some(on_display_skin(hand, &h.positions, &force))
+}
+
+/// The radius of the tactile map's patches (m): the pressure a patch of skin this wide reads
+/// (`contact::patch_pressure`), the peak the reports give beside the vertices' own. The hand
+/// lattice's base spacing (3.2 mm, the spacing at resolution 1, `hand::lattice`): a patch every
+/// resolution resolves, about the fingertip's tactile acuity (two points 2–3 mm apart felt as
+/// two) and a pressure-mapping film's sensel.
+pub const TACTILE_PATCH_RADIUS: f64 = 3.2e-3;
+
+/// The press of other bodies and of the skin on itself at hand `body`'s contact skin vertices,
+/// read over patches of [`TACTILE_PATCH_RADIUS`] (Pa; 0 off contact; `None` without contact on
+/// this hand's skin): the pressure that converges under refinement where the vertices' own
+/// (`contact_skin_pressure`) peaks at single points.
+pub fn skin_patch_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
+    let hand = model.bodies[body].hand.as_deref()?;
+    let force = contact_skin_forces(model, frame, body)?;
+    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
+    Some(on_patches(hand, positions, &force))
+}
+
+/// The press of hand frame `h`'s skin on itself alone, over patches (as [`skin_patch_pressure`]);
+/// `None` where it presses nowhere.
+pub fn self_contact_patch_pressure(model: &Model, h: &super::HandFrame) -> Option<Vec<f64>> {
+    let hand = model.bodies[h.body].hand.as_deref()?;
+    if !h.presses_itself() {
+        return None;
+    }
+    let mut force = h.self_contact.clone();
+    force.resize(hand.contact_skin.vertex_count(), 0.0);
+    Some(on_patches(hand, &h.positions, &force))
+}
+
+/// The normal forces `force` at the contact skin's vertices (N) read over patches, on the
+/// contact skin deformed with the flesh at `positions`: each vertex's area a quarter of its
+/// quads', its normal theirs (area-weighted).
+fn on_patches(
+    hand: &crate::hand::HandModel,
+    positions: &[nalgebra::Vector3<f64>],
+    force: &[f64],
+) -> Vec<f64> {
+    let skin = &hand.contact_skin;
+    let at = skin.positions(positions);
+    let mut area = vec![0.0; at.len()];
+    let mut normal = vec![nalgebra::Vector3::zeros(); at.len()];
+    for q in &skin.quads {
+        let p = q.map(|v| at[v as usize]);
+        let n = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1]));
+        for &v in q {
+            area[v as usize] += 0.25 * n.norm();
+            normal[v as usize] += n;
+        }
+    }
+    for n in &mut normal {
+        *n = n
+            .try_normalize(0.0)
+            .unwrap_or_else(nalgebra::Vector3::zeros);
+    }
+    patch_pressure(&at, &normal, &area, force, TACTILE_PATCH_RADIUS)
 }
 
 /// The normal forces `force` at the contact skin's vertices (N) as a pressure on the display
