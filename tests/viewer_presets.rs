@@ -208,12 +208,28 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
         );
         let grip: f64 = contact.contacts.iter().map(|c| c.force).sum();
         assert!(grip > 1.0, "{preset}: {grip} N");
+        // The status panel reads the press's peak over 3.2 mm patches of skin (the frame's,
+        // made on the solver thread): an area-weighted mean of the skin's nodal pressures, so
+        // no more than one point's peak, and a grip of a few newtons over the pads reads kPa.
+        let peaks = shown.tactile.expect("the press on the skin");
+        assert_eq!(
+            Some(peaks),
+            prehensile::state::tactile_peaks(&shown.model, &shown.frame)
+        );
+        assert!(
+            peaks.patch > 1e3 && peaks.patch <= peaks.vertex && peaks.patch < 1e6,
+            "{preset}: {peaks:?}"
+        );
+        let text = format!("{:.1} kPa over 3.2 mm", peaks.patch * 1e-3);
         println!(
             "{preset}: {} contacts, {grip:.2} N, {:.1e} m left, solved in {:.0} ms",
             contact.contacts.len(),
             contact.max_penetration,
             shown.solve_ms
         );
+        h.step();
+        h.get_by_label("skin pressure");
+        h.get_by_label(&text);
     }
     // Rest: the hand opens, the ball is released and springs back to its static frame.
     h.get_by_label("Rest").click();

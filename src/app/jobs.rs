@@ -97,6 +97,9 @@ pub struct Solution {
     /// the pose settle its contact (`solve::Workspace::move_hands_showing`): shown while they
     /// run, drawn as a draft; the settled frame follows.
     pub settling: bool,
+    /// The peaks of the press on the hands' skin (`state::tactile_peaks`, made on the solver
+    /// thread with the draw list); `None` for a preview or where no skin is pressed.
+    pub tactile: Option<crate::state::TactilePeaks>,
 }
 
 /// Why a job produced no frame.

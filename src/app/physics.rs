@@ -253,6 +253,11 @@ fn deliver(
         SkinDetail::Full
     };
     let list = draw_list_with(model, &frame, &job.visual, detail).map_err(error)?;
+    let tactile = if preview {
+        None
+    } else {
+        crate::state::tactile_peaks(model, &frame)
+    };
     Ok(Solution {
         model: model.clone(),
         frame: Arc::new(frame),
@@ -262,6 +267,7 @@ fn deliver(
         visual: job.visual,
         preview,
         settling: false,
+        tactile,
     })
 }
 

@@ -116,5 +116,6 @@ pub fn tiny_solution(x: f32, timeline_frame: Option<usize>) -> Solution {
         visual: VisualOptions::default(),
         preview: false,
         settling: false,
+        tactile: None,
     }
 }

@@ -17,6 +17,7 @@ pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};
 pub use hand::{blend_forces, HandState, KeyframeStats, StoppedShort, UnsettledMotion};
 pub use tactile::{
     contact_pressure, contact_skin_pressure, self_contact_patch_pressure,
-    self_contact_skin_pressure, skin_patch_pressure, skin_pressure, TACTILE_PATCH_RADIUS,
+    self_contact_skin_pressure, skin_patch_pressure, skin_pressure, tactile_peaks, TactilePeaks,
+    TACTILE_PATCH_RADIUS,
 };
 pub use validity::{largest_strains, small_strain_warnings, STRAIN_WARNING};

@@ -103,6 +103,40 @@ pub fn self_contact_patch_pressure(model: &Model, h: &super::HandFrame) -> Optio
     Some(on_patches(hand, &h.positions, &force))
 }
 
+/// The peaks of a frame's press on its hands' skins (other bodies' and the skin's own), Pa.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TactilePeaks {
+    /// Over patches of [`TACTILE_PATCH_RADIUS`]: how much (converges under refinement).
+    pub patch: f64,
+    /// At one contact-skin vertex, its force over its own area: where the skins first meet.
+    pub vertex: f64,
+}
+
+/// The peaks of the press on `frame`'s hands' contact skins; `None` where no hand's skin is
+/// pressed.
+pub fn tactile_peaks(model: &Model, frame: &Frame) -> Option<TactilePeaks> {
+    let mut out: Option<TactilePeaks> = None;
+    for h in &frame.hands {
+        let (Some(patch), Some(vertex)) = (
+            skin_patch_pressure(model, frame, h.body),
+            contact_skin_pressure(model, frame, h.body),
+        ) else {
+            continue;
+        };
+        let peak = |v: Vec<f64>| v.into_iter().fold(0.0, f64::max);
+        let (patch, vertex) = (peak(patch), peak(vertex));
+        if vertex > 0.0 {
+            let o = out.get_or_insert(TactilePeaks {
+                patch: 0.0,
+                vertex: 0.0,
+            });
+            o.patch = o.patch.max(patch);
+            o.vertex = o.vertex.max(vertex);
+        }
+    }
+    out
+}
+
 /// The normal forces `force` at the contact skin's vertices (N) read over patches, on the
 /// contact skin deformed with the flesh at `positions`: each vertex's area a quarter of its
 /// quads', its normal theirs (area-weighted).

@@ -153,6 +153,23 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             }
         }
         ui.end_row();
+        if let Some(peaks) = &shown.solution.tactile {
+            ui.label("skin pressure");
+            ui.label(format!(
+                "{:.1} kPa over {:.1} mm",
+                peaks.patch * 1e-3,
+                crate::state::TACTILE_PATCH_RADIUS * 1e3
+            ))
+            .on_hover_text(format!(
+                "the press on the hands' skin (other bodies' and its own), its peak read over \
+                 patches of skin {:.1} mm in radius: how much, converged under refinement; at a \
+                 single point of the skin {:.1} kPa (where the skins first meet; it grows as the \
+                 mesh is refined)",
+                crate::state::TACTILE_PATCH_RADIUS * 1e3,
+                peaks.vertex * 1e-3
+            ));
+            ui.end_row();
+        }
         if let Some(gas) = crate::state::cavity_state(model, frame) {
             // The sealed air of a gas cavity: squeezing raises its pressure (p·V constant).
             ui.label(format!("air \"{}\"", gas.load));
