@@ -19,7 +19,7 @@ use std::collections::HashMap;
 /// each vertex's position, unit outward normal (a zero normal faces nowhere: only the vertex
 /// itself joins its patch), area (m²) and normal force (N), over a patch of radius `radius` (m,
 /// positive and finite, else the nodal map F/A). Vertices at non-finite positions join no
-/// patch but their own.
+/// patch but their own; a force or an area that is not finite counts as none.
 pub fn patch_pressure(
     positions: &[Vector3<f64>],
     normals: &[Vector3<f64>],
@@ -32,6 +32,10 @@ pub fn patch_pressure(
         normals.len() == n && area.len() == n && force.len() == n,
         "one normal, area and force per vertex"
     );
+    // A force or an area that is not a finite number counts as none.
+    let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
+    let force: Vec<f64> = force.iter().map(|&f| finite(f)).collect();
+    let area: Vec<f64> = area.iter().map(|&a| finite(a)).collect();
     let nodal = |v: usize| {
         if area[v] > 0.0 {
             force[v] / area[v]
@@ -215,5 +219,14 @@ mod tests {
             let p = patch_pressure(&points, &normals, &area, &force, radius);
             assert_eq!(p, vec![1e6, 1e6, 0.0], "radius {radius}");
         }
+        let p = patch_pressure(
+            &[Vector3::zeros(), Vector3::new(1e-3, 0.0, 0.0)],
+            &[Vector3::z(); 2],
+            &[1e-6, f64::INFINITY],
+            &[f64::NAN, 2e-6],
+            3e-3,
+        );
+        // (Each patch holds both: the second's force over the first's area.)
+        assert_eq!(p, vec![2.0, 2.0]);
     }
 }
