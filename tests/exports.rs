@@ -86,6 +86,11 @@ for kind in ["binary", "ascii"]:
     skin = meshio.read("{dir}/%s/skin_{last:04}.vtu" % kind)
     assert skin.cells[0].type == "quad" and np.isfinite(skin.point_data["contact_pressure"]).all()
     assert skin.point_data["contact_pressure"].max() > 0, kind
+    # Over 3.2 mm patches: area-weighted means of the vertices' pressures, so positive where
+    # they are and never above their peak.
+    patch = skin.point_data["contact_patch_pressure"]
+    assert np.isfinite(patch).all() and (patch >= 0).all(), kind
+    assert 0 < patch.max() <= skin.point_data["contact_pressure"].max() * (1 + 1e-12), kind
 print("largest difference", worst)
 "#,
         dir = dir.display()

@@ -96,14 +96,17 @@ pub fn bones_vtu(model: &Model, frame: &Frame, encoding: VtuEncoding) -> Option<
 
 /// A VTU of every hand's contact skin (the smooth skin at the lattice's resolution, the surface
 /// the contact acts on) in the frame's deformed state, quads, with the point data
-/// `contact_pressure` (Pa: the tactile map on the skin, 0 off contact) and the cell data
-/// `hand` (the body index); `None` without hands.
+/// `contact_pressure` (Pa: the tactile map on the skin, each vertex's force over its own area,
+/// 0 off contact) and `contact_patch_pressure` (Pa: the same press read over patches of skin
+/// 3.2 mm in radius, `state::TACTILE_PATCH_RADIUS`: the map that converges under refinement),
+/// and the cell data `hand` (the body index); `None` without hands.
 pub fn skin_vtu(model: &Model, frame: &Frame, encoding: VtuEncoding) -> Option<Vec<u8>> {
     if frame.hands.is_empty() {
         return None;
     }
     let mut points = Vec::new();
     let mut pressure = Vec::new();
+    let mut patch = Vec::new();
     let mut quads: Vec<[usize; 4]> = Vec::new();
     let mut owner = Vec::new();
     for h in &frame.hands {
@@ -113,6 +116,10 @@ pub fn skin_vtu(model: &Model, frame: &Frame, encoding: VtuEncoding) -> Option<V
         points.extend(skin.positions(&h.positions));
         pressure.extend(
             crate::state::contact_skin_pressure(model, frame, h.body)
+                .unwrap_or_else(|| vec![0.0; skin.vertex_count()]),
+        );
+        patch.extend(
+            crate::state::skin_patch_pressure(model, frame, h.body)
                 .unwrap_or_else(|| vec![0.0; skin.vertex_count()]),
         );
         for q in &skin.quads {
@@ -128,6 +135,8 @@ pub fn skin_vtu(model: &Model, frame: &Frame, encoding: VtuEncoding) -> Option<V
     grid.point_active = "Scalars=\"contact_pressure\"".into();
     grid.point_data
         .push(DataArray::f64("contact_pressure", 1, pressure));
+    grid.point_data
+        .push(DataArray::f64("contact_patch_pressure", 1, patch));
     grid.cell_active = "Scalars=\"hand\"".into();
     grid.cell_data.push(DataArray::i32("hand", owner));
     Some(grid.to_bytes(encoding))
