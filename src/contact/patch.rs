@@ -114,8 +114,8 @@ fn for_neighbours(cubes: &HashMap<[i64; 3], Vec<usize>>, c: [i64; 3], mut f: imp
 mod tests {
     use super::*;
 
-    /// A flat square of side `side` in the plane z = `z`, facing `normal`, in `cells`² cells:
-    /// its vertices and their areas (a quarter of each cell they belong to).
+    /// A flat square of side `side` in the plane z = `z`, in `cells`² cells: its vertices and
+    /// their areas (a quarter of each cell they belong to).
     fn plate(side: f64, cells: usize, z: f64) -> (Vec<Vector3<f64>>, Vec<f64>) {
         let h = side / cells as f64;
         let mut points = Vec::new();
