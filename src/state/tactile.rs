@@ -55,22 +55,53 @@ pub fn contact_pressure(model: &Model, frame: &Frame) -> Option<Vec<f64>> {
 /// exported integrates over the display skin to the contact's normal force. `None` without
 /// contact on this hand's skin.
 pub fn skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
-    let hand = model.bodies[body].hand.as_deref()?;
-    let force = contact_skin_forces(model, frame, body)?;
-    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
-    Some(on_display_skin(hand, positions, &force))
+    let p = pressed_skin(model, frame, body)?;
+    Some(on_display_skin(p.hand, p.positions, &p.force))
 }
 
 /// The press of hand frame `h`'s skin on itself alone, on its display skin (Pa at each display
 /// vertex, as [`skin_pressure`]); `None` where it presses nowhere.
 pub fn self_contact_skin_pressure(model: &Model, h: &super::HandFrame) -> Option<Vec<f64>> {
+    let (hand, force) = pressed_by_itself(model, h)?;
+    Some(on_display_skin(hand, &h.positions, &force))
+}
+
+/// A hand's skin as pressed in a frame.
+struct PressedSkin<'a> {
+    /// The hand.
+    hand: &'a crate::hand::HandModel,
+    /// Its flesh's nodes in the frame.
+    positions: &'a [nalgebra::Vector3<f64>],
+    /// The normal force at each of its contact skin's vertices, N.
+    force: Vec<f64>,
+}
+
+/// Hand `body`'s skin as pressed in `frame` (`contact_skin_forces`: other bodies' press and its
+/// own); `None` without contact on its skin.
+fn pressed_skin<'a>(model: &'a Model, frame: &'a Frame, body: usize) -> Option<PressedSkin<'a>> {
+    let hand = model.bodies[body].hand.as_deref()?;
+    let force = contact_skin_forces(model, frame, body)?;
+    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
+    Some(PressedSkin {
+        hand,
+        positions,
+        force,
+    })
+}
+
+/// Hand frame `h`'s model and the force of its skin's press on itself at each contact skin
+/// vertex; `None` where it presses nowhere.
+fn pressed_by_itself<'a>(
+    model: &'a Model,
+    h: &super::HandFrame,
+) -> Option<(&'a crate::hand::HandModel, Vec<f64>)> {
     let hand = model.bodies[h.body].hand.as_deref()?;
     if !h.presses_itself() {
         return None;
     }
     let mut force = h.self_contact.clone();
     force.resize(hand.contact_skin.vertex_count(), 0.0);
-    Some(on_display_skin(hand, &h.positions, &force))
+    Some((hand, force))
 }
 
 /// The radius of the tactile map's patches (m): the pressure a patch of skin this wide reads
@@ -85,21 +116,14 @@ pub const TACTILE_PATCH_RADIUS: f64 = 3.2e-3;
 /// this hand's skin): the pressure that converges under refinement where the vertices' own
 /// (`contact_skin_pressure`) peaks at single points.
 pub fn skin_patch_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
-    let hand = model.bodies[body].hand.as_deref()?;
-    let force = contact_skin_forces(model, frame, body)?;
-    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
-    Some(on_patches(hand, positions, &force))
+    let p = pressed_skin(model, frame, body)?;
+    Some(on_patches(p.hand, p.positions, &p.force))
 }
 
 /// The press of hand frame `h`'s skin on itself alone, over patches (as [`skin_patch_pressure`]);
 /// `None` where it presses nowhere.
 pub fn self_contact_patch_pressure(model: &Model, h: &super::HandFrame) -> Option<Vec<f64>> {
-    let hand = model.bodies[h.body].hand.as_deref()?;
-    if !h.presses_itself() {
-        return None;
-    }
-    let mut force = h.self_contact.clone();
-    force.resize(hand.contact_skin.vertex_count(), 0.0);
+    let (hand, force) = pressed_by_itself(model, h)?;
     Some(on_patches(hand, &h.positions, &force))
 }
 
@@ -145,23 +169,7 @@ fn on_patches(
     positions: &[nalgebra::Vector3<f64>],
     force: &[f64],
 ) -> Vec<f64> {
-    let skin = &hand.contact_skin;
-    let at = skin.positions(positions);
-    let mut area = vec![0.0; at.len()];
-    let mut normal = vec![nalgebra::Vector3::zeros(); at.len()];
-    for q in &skin.quads {
-        let p = q.map(|v| at[v as usize]);
-        let n = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1]));
-        for &v in q {
-            area[v as usize] += 0.25 * n.norm();
-            normal[v as usize] += n;
-        }
-    }
-    for n in &mut normal {
-        *n = n
-            .try_normalize(0.0)
-            .unwrap_or_else(nalgebra::Vector3::zeros);
-    }
+    let (at, area, normal) = contact_skin_areas(hand, positions);
     patch_pressure(&at, &normal, &area, force, TACTILE_PATCH_RADIUS)
 }
 
@@ -187,20 +195,40 @@ fn on_display_skin(
 /// vertex's quarter of the adjacent quads on the deformed skin. `None` without contact on this
 /// hand's skin.
 pub fn contact_skin_pressure(model: &Model, frame: &Frame, body: usize) -> Option<Vec<f64>> {
-    let hand = model.bodies[body].hand.as_deref()?;
-    let force = contact_skin_forces(model, frame, body)?;
-    let positions = &frame.hands.iter().find(|h| h.body == body)?.positions;
+    let p = pressed_skin(model, frame, body)?;
+    let (_, area, _) = contact_skin_areas(p.hand, p.positions);
+    Some(per_area(&p.force, &area))
+}
+
+/// Hand `hand`'s contact skin deformed with its flesh at `positions`: each vertex's position,
+/// its area (a quarter of each of its quads') and its unit normal (its quads', area-weighted;
+/// zero where they cancel).
+fn contact_skin_areas(
+    hand: &crate::hand::HandModel,
+    positions: &[nalgebra::Vector3<f64>],
+) -> (
+    Vec<nalgebra::Vector3<f64>>,
+    Vec<f64>,
+    Vec<nalgebra::Vector3<f64>>,
+) {
     let skin = &hand.contact_skin;
     let at = skin.positions(positions);
-    let mut area = vec![0.0; force.len()];
+    let mut area = vec![0.0; at.len()];
+    let mut normal = vec![nalgebra::Vector3::zeros(); at.len()];
     for q in &skin.quads {
         let p = q.map(|v| at[v as usize]);
-        let a = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1])).norm();
+        let n = 0.5 * (p[2] - p[0]).cross(&(p[3] - p[1]));
         for &v in q {
-            area[v as usize] += 0.25 * a;
+            area[v as usize] += 0.25 * n.norm();
+            normal[v as usize] += n;
         }
     }
-    Some(per_area(&force, &area))
+    for n in &mut normal {
+        *n = n
+            .try_normalize(0.0)
+            .unwrap_or_else(nalgebra::Vector3::zeros);
+    }
+    (at, area, normal)
 }
 
 /// The normal contact force at each vertex of hand `body`'s contact skin, N: as the slave, or
