@@ -12,8 +12,8 @@
 //! smaller than the patch reads its force over the patch's area. Opposite sides of a fold (the
 //! two sides of a crease, both pressed) are kept apart by their normals.
 
+use crate::util::near::NearPoints;
 use nalgebra::Vector3;
-use std::collections::HashMap;
 
 /// The patch pressure p̄ at every vertex (Pa; 0 where no force lies within the patch), from
 /// each vertex's position, unit outward normal (a zero normal faces nowhere: only the vertex
@@ -46,30 +46,21 @@ pub fn patch_pressure(
     if !(radius > 0.0 && radius.is_finite()) {
         return (0..n).map(nodal).collect();
     }
-    // Vertices in cubes of the radius' side: a patch lies in the 27 cubes around its centre.
-    let cube = |x: &Vector3<f64>| -> Option<[i64; 3]> {
-        let c = x.map(|a| (a / radius).floor());
-        c.iter()
-            .all(|a| a.is_finite() && a.abs() < 1e15)
-            .then(|| [c.x as i64, c.y as i64, c.z as i64])
+    // A vertex at a position that is not finite is in no patch but its own.
+    let placed = |v: usize| {
+        positions[v]
+            .iter()
+            .all(|a| a.is_finite() && a.abs() < 1e15 * radius)
     };
-    let mut cubes: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-    for (v, x) in positions.iter().enumerate() {
-        if let Some(c) = cube(x) {
-            cubes.entry(c).or_default().push(v);
-        }
-    }
+    let near = NearPoints::new(positions, radius);
     // Only patches that hold a force need the search.
     let mut pressed = vec![false; n];
-    for (v, x) in positions.iter().enumerate() {
+    for v in 0..n {
         if force[v] != 0.0 {
             pressed[v] = true;
-            let Some(c) = cube(x) else { continue };
-            for_neighbours(&cubes, c, |u| {
-                if (positions[u] - x).norm() <= radius {
-                    pressed[u] = true;
-                }
-            });
+            if placed(v) {
+                near.for_each_within(&positions[v], |u| pressed[u] = true);
+            }
         }
     }
     (0..n)
@@ -77,13 +68,12 @@ pub fn patch_pressure(
             if !pressed[v] {
                 return 0.0;
             }
-            let Some(c) = cube(&positions[v]) else {
+            if !placed(v) {
                 return nodal(v);
-            };
-            let (mut f, mut a) = (0.0, 0.0);
-            for_neighbours(&cubes, c, |u| {
-                let near = (positions[u] - positions[v]).norm() <= radius;
-                if u == v || (near && normals[u].dot(&normals[v]) > 0.0) {
+            }
+            let (mut f, mut a) = (force[v], area[v]);
+            near.for_each_within(&positions[v], |u| {
+                if u != v && normals[u].dot(&normals[v]) > 0.0 {
                     f += force[u];
                     a += area[u];
                 }
@@ -95,19 +85,6 @@ pub fn patch_pressure(
             }
         })
         .collect()
-}
-
-/// Calls `f` for every vertex in the 27 cubes around cube `c`.
-fn for_neighbours(cubes: &HashMap<[i64; 3], Vec<usize>>, c: [i64; 3], mut f: impl FnMut(usize)) {
-    for dx in -1..=1 {
-        for dy in -1..=1 {
-            for dz in -1..=1 {
-                if let Some(vs) = cubes.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
-                    vs.iter().for_each(|&u| f(u));
-                }
-            }
-        }
-    }
 }
 
 #[cfg(test)]

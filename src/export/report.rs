@@ -268,13 +268,7 @@ fn contact_report(model: &Model, frame: &Frame) -> Option<ContactReport> {
                 crate::state::skin_pressure(model, frame, h.body).unwrap_or_default()
             }))
             .fold(0.0, f64::max),
-        max_patch_pressure: frame
-            .hands
-            .iter()
-            .flat_map(|h| {
-                crate::state::skin_patch_pressure(model, frame, h.body).unwrap_or_default()
-            })
-            .fold(0.0, f64::max),
+        max_patch_pressure: crate::state::tactile_peaks(model, frame).map_or(0.0, |p| p.patch),
         contact_ms: c.contact_ms,
         times: c.times.clone(),
     })

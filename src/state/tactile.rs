@@ -141,14 +141,20 @@ pub struct TactilePeaks {
 pub fn tactile_peaks(model: &Model, frame: &Frame) -> Option<TactilePeaks> {
     let mut out: Option<TactilePeaks> = None;
     for h in &frame.hands {
-        let (Some(patch), Some(vertex)) = (
-            skin_patch_pressure(model, frame, h.body),
-            contact_skin_pressure(model, frame, h.body),
-        ) else {
+        // The skin's forces, areas and normals once for both maps.
+        let Some(p) = pressed_skin(model, frame, h.body) else {
             continue;
         };
+        let (at, area, normal) = contact_skin_areas(p.hand, p.positions);
         let peak = |v: Vec<f64>| v.into_iter().fold(0.0, f64::max);
-        let (patch, vertex) = (peak(patch), peak(vertex));
+        let vertex = peak(per_area(&p.force, &area));
+        let patch = peak(patch_pressure(
+            &at,
+            &normal,
+            &area,
+            &p.force,
+            TACTILE_PATCH_RADIUS,
+        ));
         if vertex > 0.0 {
             let o = out.get_or_insert(TactilePeaks {
                 patch: 0.0,
