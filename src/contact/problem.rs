@@ -199,6 +199,16 @@ impl ContactProblem<'_> {
                 continue;
             }
             let surface = &self.surfaces[pair.surface];
+            // On its own surface a point meets only facets its path over the step passed
+            // through or that it lay on where the step started: those whose swept boxes its
+            // path's box meets, grown by how far beside it they may lie (far fewer than lie
+            // within the search depth of where it is).
+            let swept = pair.own.as_ref().map(|o| {
+                (
+                    surface.swept_hierarchy(self.positions, &current),
+                    o.reach_beside_path(),
+                )
+            });
             // The slave surface's normals on the reference geometry (the positions the
             // surfaces were made from).
             let normals = pair
@@ -237,7 +247,27 @@ impl ContactProblem<'_> {
                 // The facet the node is pushed out of, among those `skip` leaves, if it is behind
                 // one by more than `threshold` (and less than the search depth).
                 let met = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
-                    let nearest = bvh.project(&current[node], &current, own, skip)?;
+                    let nearest = match &swept {
+                        Some((swept, reach)) => {
+                            let x = &current[node];
+                            let from = &self.positions[node];
+                            let grow = Vector3::repeat(*reach);
+                            let (lo, hi) = (x.inf(from) - grow, x.sup(from) + grow);
+                            // Within the search depth of where it is, as the facets the
+                            // hierarchy of the current positions holds.
+                            let depth = settings.search_depth;
+                            let within = |t: &[usize; 3]| {
+                                let c = t.map(|m| current[m]);
+                                let (a, b) =
+                                    (c[0].inf(&c[1]).inf(&c[2]), c[0].sup(&c[1]).sup(&c[2]));
+                                (0..3).all(|i| x[i] >= a[i] - depth && x[i] <= b[i] + depth)
+                            };
+                            swept.project_near(x, (&lo, &hi), &current, own, |t| {
+                                !within(t) || skip(t)
+                            })?
+                        }
+                        None => bvh.project(&current[node], &current, own, skip)?,
+                    };
                     // In front of the nearest facet's plane, but nearest to its edge or
                     // corner: inside after all where the surface folds into a pit there. (Not
                     // on a body's own surface: its creases are not closed pits.)

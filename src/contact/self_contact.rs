@@ -144,6 +144,13 @@ impl OwnNeighbourhood {
         }
     }
 
+    /// How far beside a point's path over a step a facet it meets may lie where the step
+    /// started (m): it lay on it, behind it by no more than `touching`, beside it by no more
+    /// than a quarter of the radius ([`Self::met_over_step`]).
+    pub fn reach_beside_path(&self) -> f64 {
+        self.touching + 0.25 * self.radius
+    }
+
     /// Whether the point at `point` (outward normal `normal`) lay on the facet `corners`:
     /// facing it, behind its plane by no more than `touching`, and over it (as
     /// [`Self::over`]: a point held on a facet may have slid a little past its edge).
@@ -153,6 +160,15 @@ impl OwnNeighbourhood {
         normal: &Vector3<f64>,
         corners: &[Vector3<f64>; 3],
     ) -> bool {
+        // Farther from the facet's box than it may lie behind and beside it: not on it.
+        let reach = self.reach_beside_path();
+        let (lo, hi) = (
+            corners[0].inf(&corners[1]).inf(&corners[2]),
+            corners[0].sup(&corners[1]).sup(&corners[2]),
+        );
+        if (0..3).any(|i| point[i] < lo[i] - reach || point[i] > hi[i] + reach) {
+            return false;
+        }
         let Some(q) = project_on_triangle(point, corners) else {
             return false;
         };

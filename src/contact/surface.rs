@@ -199,6 +199,30 @@ impl ContactSurface {
     }
 }
 
+impl ContactSurface {
+    /// Its bounding-volume hierarchy over the boxes the facets sweep from `start` to `now`
+    /// (each corner moving straight): what a point's path over a step may meet
+    /// ([`SurfaceBvh::project_near`]).
+    pub fn swept_hierarchy(&self, start: &[Vector3<f64>], now: &[Vector3<f64>]) -> SurfaceBvh<'_> {
+        let boxes: Vec<Aabb> = self
+            .triangles
+            .iter()
+            .map(|t| {
+                let (mut lo, mut hi) = (start[t[0]], start[t[0]]);
+                for &c in t {
+                    lo = lo.inf(&start[c]).inf(&now[c]);
+                    hi = hi.sup(&start[c]).sup(&now[c]);
+                }
+                Aabb::new(Vec3::new(lo.x, lo.y, lo.z), Vec3::new(hi.x, hi.y, hi.z))
+            })
+            .collect();
+        SurfaceBvh {
+            surface: self,
+            bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+        }
+    }
+}
+
 /// A surface with its bounding-volume hierarchy at one set of positions.
 pub struct SurfaceBvh<'a> {
     surface: &'a ContactSurface,
@@ -218,24 +242,28 @@ impl SurfaceBvh<'_> {
     ) -> Option<Projection> {
         let mut best: Option<Projection> = None;
         self.for_each_facet(x, positions, skip, |p, proj| {
-            // Nearest first; on a tie (a node on an edge or a corner, as close to two facets),
-            // the facet that faces it most.
-            let better = match &best {
-                None => true,
-                Some(b) => {
-                    let tie = (proj.distance - b.distance).abs()
-                        <= 1e-9 * (proj.distance.max(b.distance) + (p[1] - p[0]).norm());
-                    if tie {
-                        match prefer {
-                            Some(m) => proj.normal.dot(m) < b.normal.dot(m),
-                            None => false,
-                        }
-                    } else {
-                        proj.distance < b.distance
-                    }
-                }
-            };
-            if better {
+            if nearer(&proj, best.as_ref(), (p[1] - p[0]).norm(), prefer) {
+                best = Some(proj);
+            }
+        });
+        best
+    }
+
+    /// As [`Self::project`], over the facets whose box meets the box `lo`–`hi` instead of
+    /// those whose box contains `x` (a hierarchy of swept boxes, [`ContactSurface::swept_hierarchy`],
+    /// and a point's path: the facets it may have met over the step).
+    pub fn project_near(
+        &self,
+        x: &Vector3<f64>,
+        (lo, hi): (&Vector3<f64>, &Vector3<f64>),
+        positions: &[Vector3<f64>],
+        prefer: Option<&Vector3<f64>>,
+        skip: impl Fn(&[usize; 3]) -> bool,
+    ) -> Option<Projection> {
+        let query = Aabb::new(Vec3::new(lo.x, lo.y, lo.z), Vec3::new(hi.x, hi.y, hi.z));
+        let mut best: Option<Projection> = None;
+        self.for_each_facet_in(&query, x, positions, skip, |p, proj| {
+            if nearer(&proj, best.as_ref(), (p[1] - p[0]).norm(), prefer) {
                 best = Some(proj);
             }
         });
@@ -249,10 +277,23 @@ impl SurfaceBvh<'_> {
         x: &Vector3<f64>,
         positions: &[Vector3<f64>],
         skip: impl Fn(&[usize; 3]) -> bool,
-        mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
+        f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
         let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
-        for leaf in self.bvh.intersect_aabb(&q) {
+        self.for_each_facet_in(&q, x, positions, skip, f)
+    }
+
+    /// Calls `f` with the corners and the projection of `x` of every facet whose box meets
+    /// `query` and that `skip` leaves.
+    fn for_each_facet_in(
+        &self,
+        query: &Aabb,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        skip: impl Fn(&[usize; 3]) -> bool,
+        mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
+    ) {
+        for leaf in self.bvh.intersect_aabb(query) {
             let nodes = self.surface.triangles[leaf as usize];
             if skip(&nodes) {
                 continue;
@@ -308,6 +349,32 @@ impl SurfaceBvh<'_> {
             .then_some(deepest)
             .flatten()
             .filter(|d| d.gap < 0.0)
+    }
+}
+
+/// Whether `proj` is nearer than `best`: nearest first; on a tie (a node on an edge or a corner,
+/// as close to two facets; `edge`: a length of the facet, for the round-off), the facet that
+/// faces `prefer` (the point's own normal) most.
+fn nearer(
+    proj: &Projection,
+    best: Option<&Projection>,
+    edge: f64,
+    prefer: Option<&Vector3<f64>>,
+) -> bool {
+    match best {
+        None => true,
+        Some(b) => {
+            let tie =
+                (proj.distance - b.distance).abs() <= 1e-9 * (proj.distance.max(b.distance) + edge);
+            if tie {
+                match prefer {
+                    Some(m) => proj.normal.dot(m) < b.normal.dot(m),
+                    None => false,
+                }
+            } else {
+                proj.distance < b.distance
+            }
+        }
     }
 }
 
@@ -406,6 +473,51 @@ pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The hierarchy of swept boxes holds a facet wherever it passed over a step: a path that
+    /// met its sweep finds it (the nearest of those `skip` leaves, as [`SurfaceBvh::project`]
+    /// finds it among the facets near a point), a path beside the sweep does not.
+    #[test]
+    fn a_swept_hierarchy_finds_the_facets_a_path_may_have_met() {
+        // Two unit triangles facing +z, side by side along x; both rise from z = 0 to z = 1.
+        let start = vec![
+            Vector3::new(0.0, 0.0, 0.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(0.0, 1.0, 0.0),
+            Vector3::new(3.0, 0.0, 0.0),
+            Vector3::new(4.0, 0.0, 0.0),
+            Vector3::new(3.0, 1.0, 0.0),
+        ];
+        let now: Vec<Vector3<f64>> = start.iter().map(|p| p + Vector3::z()).collect();
+        let surface = ContactSurface::new(0, vec![[0, 1, 2], [3, 4, 5]], &start);
+        let swept = surface.swept_hierarchy(&start, &now);
+        // A still point at z = 0.5 over the first: the first's sweep passed it.
+        let x = Vector3::new(0.2, 0.2, 0.5);
+        let found = swept
+            .project_near(&x, (&x, &x), &now, None, |_| false)
+            .unwrap();
+        assert_eq!(found.nodes, [0, 1, 2]);
+        assert!((found.gap + 0.5).abs() < 1e-12, "{found:?}");
+        // Neither facet when it is skipped... the other one only if the path reaches it.
+        let first = |t: &[usize; 3]| t[0] == 0;
+        assert!(swept
+            .project_near(&x, (&x, &x), &now, None, first)
+            .is_none());
+        let to = Vector3::new(3.2, 0.2, 0.5);
+        let near = swept
+            .project_near(&to, (&x, &to), &now, None, first)
+            .unwrap();
+        assert_eq!(near.nodes, [3, 4, 5]);
+        // Above every sweep, or beside both: nothing.
+        let above = Vector3::new(0.2, 0.2, 1.5);
+        assert!(swept
+            .project_near(&above, (&above, &above), &now, None, |_| false)
+            .is_none());
+        let beside = Vector3::new(1.8, 0.5, 0.5);
+        assert!(swept
+            .project_near(&beside, (&beside, &beside), &now, None, |_| false)
+            .is_none());
+    }
 
     /// Two triangles sharing the edge 0–1 along x, the second folded down by `fold` degrees
     /// about it: nodes 0, 1 on the edge, 2 on the flat side (y < 0), 3 on the folded side.

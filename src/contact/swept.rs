@@ -24,6 +24,18 @@ pub fn passes_through(
     start: &[Vector3<f64>; 3],
     end: &[Vector3<f64>; 3],
 ) -> Option<f64> {
+    // The point stays in its path's box, the triangle in its corners' swept box: apart, they
+    // never meet (most facets near a point, cheaply).
+    let (lo, hi) = (p[0].inf(p[1]), p[0].sup(p[1]));
+    let (mut tlo, mut thi) = (start[0], start[0]);
+    for c in start.iter().chain(end) {
+        tlo = tlo.inf(c);
+        thi = thi.sup(c);
+    }
+    let slack = 1e-6 * (thi - tlo).amax();
+    if (0..3).any(|i| lo[i] > thi[i] + slack || hi[i] < tlo[i] - slack) {
+        return None;
+    }
     let (a0, da) = (start[0], end[0] - start[0]);
     let (e1, de1) = (start[1] - a0, (end[1] - end[0]) - (start[1] - a0));
     let (e2, de2) = (start[2] - a0, (end[2] - end[0]) - (start[2] - a0));
@@ -45,7 +57,13 @@ pub fn passes_through(
         return None;
     }
     // Monotone pieces of [0, 1]: split where f' = 3k3 t² + 2k2 t + k1 vanishes.
-    let mut cuts = vec![0.0];
+    let (mut cuts, mut count) = ([0.0; 4], 1);
+    let mut cut = |t: f64| {
+        if t > 0.0 && t < 1.0 {
+            cuts[count] = t;
+            count += 1;
+        }
+    };
     let (qa, qb, qc) = (3.0 * k[3], 2.0 * k[2], k[1]);
     if qa.abs() > 1e-14 * scale {
         let disc = qb * qb - 4.0 * qa * qc;
@@ -53,16 +71,14 @@ pub fn passes_through(
             let s = disc.sqrt();
             let mut r = [(-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa)];
             r.sort_by(f64::total_cmp);
-            cuts.extend(r.into_iter().filter(|t| *t > 0.0 && *t < 1.0));
+            r.into_iter().for_each(&mut cut);
         }
     } else if qb.abs() > 1e-14 * scale {
-        let t = -qc / qb;
-        if t > 0.0 && t < 1.0 {
-            cuts.push(t);
-        }
+        cut(-qc / qb);
     }
-    cuts.push(1.0);
-    for w in cuts.windows(2) {
+    cuts[count] = 1.0;
+    count += 1;
+    for w in cuts[..count].windows(2) {
         let (mut lo, mut hi) = (w[0], w[1]);
         let (flo, fhi) = (f(lo), f(hi));
         // A fall through zero on this piece (front to back); touching zero at its start counts.
@@ -96,7 +112,9 @@ fn inside(x: &Vector3<f64>, t: &[Vector3<f64>; 3]) -> bool {
     let (d11, d12, d22) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
     let (d1q, d2q) = (e1.dot(&q), e2.dot(&q));
     let det = d11 * d22 - d12 * d12;
-    if det <= 0.0 {
+    // A sliver (its corners in a line, to round-off) has no inside: its weights would be
+    // round-off, and take points far off it.
+    if det <= 1e-12 * d11 * d22 {
         return false;
     }
     let v = (d22 * d1q - d12 * d2q) / det;
@@ -151,6 +169,42 @@ mod tests {
         // A point beyond the turning triangle's reach is not met.
         let far = v(0.1, 0.8, 0.8);
         assert!(passes_through([&far, &far], &flat(), &end).is_none());
+    }
+
+    /// A sliver — two corners coinciding to round-off, as where a split skin's seam vertices
+    /// meet — has no inside: its weights are round-off (here 0, 0: "at its first corner") and
+    /// took a point 14 mm from it as passing through it (measured on the hand's skin).
+    #[test]
+    fn a_sliver_is_passed_through_by_nothing() {
+        let seam = [
+            v(
+                0.07417617434452912,
+                -0.01876104239298431,
+                -0.017491644524492103,
+            ),
+            v(
+                0.07259962671363271,
+                -0.018366977706266028,
+                -0.01749175252458943,
+            ),
+            v(
+                0.0725996267136327,
+                -0.018366977706266024,
+                -0.01749175252458943,
+            ),
+        ];
+        let far = v(
+            0.06309855501524515,
+            -0.02732014069309691,
+            -0.016654095830110988,
+        );
+        assert!(!inside(&far, &seam));
+        // A proper triangle still has its inside, to its edges.
+        assert!(inside(&v(0.2, 0.2, 0.0), &flat()) && inside(&v(0.5, 0.0, 0.0), &flat()));
+        assert!(!inside(&v(0.6, 0.6, 0.0), &flat()));
+        // Far from a triangle's sweep: nothing (the boxes alone tell).
+        let p = [&v(5.0, 5.0, 1.0), &v(5.0, 5.0, -1.0)];
+        assert!(passes_through(p, &flat(), &flat()).is_none());
     }
 
     /// The cubic's three roots: a point crossing the plane three times (the triangle moving
