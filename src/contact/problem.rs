@@ -185,12 +185,13 @@ impl ContactProblem<'_> {
             PairSides::ObjectNodes => pair.primary,
             PairSides::SkinNodes => !pair.primary,
         };
-        // Hierarchies of the surfaces some wanted pair projects onto.
+        // Hierarchies of the surfaces some wanted pair projects onto (on its own surface a
+        // pair searches the facets' swept boxes instead, below).
         let hierarchies: Vec<Option<SurfaceBvh>> = (0..self.surfaces.len())
             .map(|s| {
                 self.pairs
                     .iter()
-                    .any(|p| p.surface == s && wanted(p))
+                    .any(|p| p.surface == s && wanted(p) && p.own.is_none())
                     .then(|| self.surfaces[s].hierarchy(&current, settings.search_depth))
             })
             .collect();
@@ -227,9 +228,11 @@ impl ContactProblem<'_> {
                 };
                 // Inside or outside: the side of the nearest facet of all. The facet it is
                 // pushed out of: the nearest of those that face it.
-                let bvh = hierarchies[pair.surface]
-                    .as_ref()
-                    .expect("a wanted surface");
+                let bvh = || {
+                    hierarchies[pair.surface]
+                        .as_ref()
+                        .expect("a wanted pair on another body's surface")
+                };
                 let own = normals.as_ref().and_then(|m| m.get(&node));
                 // Its own facets, and on its own surface its neighbourhood, are not met.
                 let apart = |t: &[usize; 3]| {
@@ -244,10 +247,10 @@ impl ContactProblem<'_> {
                                 })
                         })
                 };
-                // The facet the node is pushed out of, among those `skip` leaves, if it is behind
-                // one by more than `threshold` (and less than the search depth).
-                let met = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
-                    let nearest = match &swept {
+                // The nearest facet `skip` leaves: on its own surface, among those its path
+                // may have met (a facet not met over the step is one `skip` leaves out).
+                let nearest_left = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
+                    match &swept {
                         Some((swept, reach)) => {
                             let x = &current[node];
                             let from = &self.positions[node];
@@ -264,15 +267,21 @@ impl ContactProblem<'_> {
                             };
                             swept.project_near(x, (&lo, &hi), &current, own, |t| {
                                 !within(t) || skip(t)
-                            })?
+                            })
                         }
-                        None => bvh.project(&current[node], &current, own, skip)?,
-                    };
+                        None => bvh().project(&current[node], &current, own, skip),
+                    }
+                };
+                // The facet the node is pushed out of, among those `skip` leaves, if it is behind
+                // one by more than `threshold` (and less than the search depth).
+                let met = |skip: &dyn Fn(&[usize; 3]) -> bool| -> Option<Projection> {
+                    let nearest = nearest_left(skip)?;
                     // In front of the nearest facet's plane, but nearest to its edge or
                     // corner: inside after all where the surface folds into a pit there. (Not
                     // on a body's own surface: its creases are not closed pits.)
                     let nearest = if nearest.gap >= threshold && pair.own.is_none() {
-                        bvh.behind_feature(&current[node], &current, &nearest, skip)
+                        bvh()
+                            .behind_feature(&current[node], &current, &nearest, skip)
                             .filter(|behind| behind.gap < threshold)?
                     } else if nearest.gap >= threshold {
                         return None;
@@ -291,9 +300,8 @@ impl ContactProblem<'_> {
                         nearest
                     } else {
                         let band = nearest.distance + 0.1 * settings.search_depth;
-                        let alternative = bvh
-                            .project(&current[node], &current, own, |t| skip(t) || !facing(t))
-                            .filter(|p| p.distance <= band);
+                        let alternative =
+                            nearest_left(&|t| skip(t) || !facing(t)).filter(|p| p.distance <= band);
                         match alternative {
                             Some(p) => p,
                             None if nearest.gap >= 0.0 => return None,
