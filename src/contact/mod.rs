@@ -7,6 +7,7 @@
 //! stiffness factorization, with Coulomb friction; the tactile map; and whether a grip's forces hold an object (`hold.rs`).
 
 mod along_surface;
+mod bounds;
 mod coulomb;
 mod embedded;
 mod exterior;
@@ -26,6 +27,7 @@ mod swept;
 mod winding;
 
 pub use along_surface::SurfaceEdges;
+pub use bounds::Bounds;
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
 pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};

@@ -2,6 +2,7 @@
 //! touch what (nodes against rigid obstacles, nodes of one body against the facets of another),
 //! with the detection shared by the contact methods.
 
+use super::bounds::Bounds;
 use super::embedded::EmbeddedPoints;
 use super::obstacle::Obstacle;
 use super::point::{ContactSettings, Master, PairSides};
@@ -253,21 +254,15 @@ impl ContactProblem<'_> {
                     match &swept {
                         Some((swept, reach)) => {
                             let x = &current[node];
-                            let from = &self.positions[node];
-                            let grow = Vector3::repeat(*reach);
-                            let (lo, hi) = (x.inf(from) - grow, x.sup(from) + grow);
+                            let path = Bounds::of([x, &self.positions[node]]).grown(*reach);
                             // Within the search depth of where it is, as the facets the
                             // hierarchy of the current positions holds.
-                            let depth = settings.search_depth;
                             let within = |t: &[usize; 3]| {
-                                let c = t.map(|m| current[m]);
-                                let (a, b) =
-                                    (c[0].inf(&c[1]).inf(&c[2]), c[0].sup(&c[1]).sup(&c[2]));
-                                (0..3).all(|i| x[i] >= a[i] - depth && x[i] <= b[i] + depth)
+                                Bounds::of(t.map(|m| &current[m]))
+                                    .grown(settings.search_depth)
+                                    .holds(x)
                             };
-                            swept.project_near(x, (&lo, &hi), &current, own, |t| {
-                                !within(t) || skip(t)
-                            })
+                            swept.project_near(x, &path, &current, own, |t| !within(t) || skip(t))
                         }
                         None => bvh().project(&current[node], &current, own, skip),
                     }

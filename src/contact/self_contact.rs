@@ -31,6 +31,7 @@
 //! the same methods as contact between bodies.
 
 use super::along_surface::SurfaceEdges;
+use super::bounds::Bounds;
 use super::surface::{project_on_triangle, Projection};
 use super::swept::passes_through;
 use nalgebra::Vector3;
@@ -94,7 +95,7 @@ impl OwnNeighbourhood {
     /// within a quarter of the neighbourhood's radius.
     fn over(&self, q: &Projection) -> bool {
         let along = (q.distance * q.distance - q.gap * q.gap).max(0.0).sqrt();
-        along <= 0.25 * self.radius
+        along <= self.beside()
     }
 
     /// Whether the point at `point` may meet the facet with corners `corners` (current
@@ -148,7 +149,13 @@ impl OwnNeighbourhood {
     /// started (m): it lay on it, behind it by no more than `touching`, beside it by no more
     /// than a quarter of the radius ([`Self::met_over_step`]).
     pub fn reach_beside_path(&self) -> f64 {
-        self.touching + 0.25 * self.radius
+        self.touching + self.beside()
+    }
+
+    /// How far past a facet's edge a point may lie and still lie over it ([`Self::over`]): a
+    /// quarter of the neighbourhood's radius, m.
+    fn beside(&self) -> f64 {
+        0.25 * self.radius
     }
 
     /// Whether the point at `point` (outward normal `normal`) lay on the facet `corners`:
@@ -161,12 +168,10 @@ impl OwnNeighbourhood {
         corners: &[Vector3<f64>; 3],
     ) -> bool {
         // Farther from the facet's box than it may lie behind and beside it: not on it.
-        let reach = self.reach_beside_path();
-        let (lo, hi) = (
-            corners[0].inf(&corners[1]).inf(&corners[2]),
-            corners[0].sup(&corners[1]).sup(&corners[2]),
-        );
-        if (0..3).any(|i| point[i] < lo[i] - reach || point[i] > hi[i] + reach) {
+        if !Bounds::of(corners)
+            .grown(self.reach_beside_path())
+            .holds(point)
+        {
             return false;
         }
         let Some(q) = project_on_triangle(point, corners) else {

@@ -5,9 +5,9 @@
 //! h_i (the interpolation functions at C, so that a force R_C is shared as R_i = h_i·R_C) and the
 //! facet normal n_F.
 
+use super::bounds::Bounds;
 use nalgebra::Vector3;
 use parry3d_f64::bounding_volume::Aabb;
-use parry3d_f64::math::Vec3;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use std::collections::HashMap;
 
@@ -179,43 +179,27 @@ impl ContactSurface {
 
     /// A hierarchy over the triangles at `positions`, each box grown by `margin` (m).
     pub fn hierarchy(&self, positions: &[Vector3<f64>], margin: f64) -> SurfaceBvh<'_> {
-        let boxes: Vec<Aabb> = self
+        let boxes = self
             .triangles
             .iter()
-            .map(|t| {
-                let p = t.map(|n| positions[n]);
-                let lo = p[0].inf(&p[1]).inf(&p[2]);
-                let hi = p[0].sup(&p[1]).sup(&p[2]);
-                Aabb::new(
-                    Vec3::new(lo.x - margin, lo.y - margin, lo.z - margin),
-                    Vec3::new(hi.x + margin, hi.y + margin, hi.z + margin),
-                )
-            })
-            .collect();
-        SurfaceBvh {
-            surface: self,
-            bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
-        }
+            .map(|t| Bounds::of(t.map(|n| &positions[n])).grown(margin));
+        self.over_boxes(boxes)
     }
-}
 
-impl ContactSurface {
     /// Its bounding-volume hierarchy over the boxes the facets sweep from `start` to `now`
     /// (each corner moving straight): what a point's path over a step may meet
     /// ([`SurfaceBvh::project_near`]).
     pub fn swept_hierarchy(&self, start: &[Vector3<f64>], now: &[Vector3<f64>]) -> SurfaceBvh<'_> {
-        let boxes: Vec<Aabb> = self
+        let boxes = self
             .triangles
             .iter()
-            .map(|t| {
-                let (mut lo, mut hi) = (start[t[0]], start[t[0]]);
-                for &c in t {
-                    lo = lo.inf(&start[c]).inf(&now[c]);
-                    hi = hi.sup(&start[c]).sup(&now[c]);
-                }
-                Aabb::new(Vec3::new(lo.x, lo.y, lo.z), Vec3::new(hi.x, hi.y, hi.z))
-            })
-            .collect();
+            .map(|t| Bounds::of(t.iter().flat_map(|&c| [&start[c], &now[c]])));
+        self.over_boxes(boxes)
+    }
+
+    /// A hierarchy over one box per facet.
+    fn over_boxes(&self, boxes: impl Iterator<Item = Bounds>) -> SurfaceBvh<'_> {
+        let boxes: Vec<Aabb> = boxes.map(|b| b.aabb()).collect();
         SurfaceBvh {
             surface: self,
             bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
@@ -249,18 +233,18 @@ impl SurfaceBvh<'_> {
         best
     }
 
-    /// As [`Self::project`], over the facets whose box meets the box `lo`–`hi` instead of
+    /// As [`Self::project`], over the facets whose box meets the box `near` instead of
     /// those whose box contains `x` (a hierarchy of swept boxes, [`ContactSurface::swept_hierarchy`],
     /// and a point's path: the facets it may have met over the step).
     pub fn project_near(
         &self,
         x: &Vector3<f64>,
-        (lo, hi): (&Vector3<f64>, &Vector3<f64>),
+        near: &Bounds,
         positions: &[Vector3<f64>],
         prefer: Option<&Vector3<f64>>,
         skip: impl Fn(&[usize; 3]) -> bool,
     ) -> Option<Projection> {
-        let query = Aabb::new(Vec3::new(lo.x, lo.y, lo.z), Vec3::new(hi.x, hi.y, hi.z));
+        let query = near.aabb();
         let mut best: Option<Projection> = None;
         self.for_each_facet_in(&query, x, positions, skip, |p, proj| {
             if nearer(&proj, best.as_ref(), (p[1] - p[0]).norm(), prefer) {
@@ -279,7 +263,7 @@ impl SurfaceBvh<'_> {
         skip: impl Fn(&[usize; 3]) -> bool,
         f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
-        let q = Aabb::new(Vec3::new(x.x, x.y, x.z), Vec3::new(x.x, x.y, x.z));
+        let q = Bounds::of([x]).aabb();
         self.for_each_facet_in(&q, x, positions, skip, f)
     }
 
@@ -494,28 +478,30 @@ mod tests {
         // A still point at z = 0.5 over the first: the first's sweep passed it.
         let x = Vector3::new(0.2, 0.2, 0.5);
         let found = swept
-            .project_near(&x, (&x, &x), &now, None, |_| false)
+            .project_near(&x, &Bounds::of([&x, &x]), &now, None, |_| false)
             .unwrap();
         assert_eq!(found.nodes, [0, 1, 2]);
         assert!((found.gap + 0.5).abs() < 1e-12, "{found:?}");
         // Neither facet when it is skipped... the other one only if the path reaches it.
         let first = |t: &[usize; 3]| t[0] == 0;
         assert!(swept
-            .project_near(&x, (&x, &x), &now, None, first)
+            .project_near(&x, &Bounds::of([&x, &x]), &now, None, first)
             .is_none());
         let to = Vector3::new(3.2, 0.2, 0.5);
         let near = swept
-            .project_near(&to, (&x, &to), &now, None, first)
+            .project_near(&to, &Bounds::of([&x, &to]), &now, None, first)
             .unwrap();
         assert_eq!(near.nodes, [3, 4, 5]);
         // Above every sweep, or beside both: nothing.
         let above = Vector3::new(0.2, 0.2, 1.5);
         assert!(swept
-            .project_near(&above, (&above, &above), &now, None, |_| false)
+            .project_near(&above, &Bounds::of([&above, &above]), &now, None, |_| false)
             .is_none());
         let beside = Vector3::new(1.8, 0.5, 0.5);
         assert!(swept
-            .project_near(&beside, (&beside, &beside), &now, None, |_| false)
+            .project_near(&beside, &Bounds::of([&beside, &beside]), &now, None, |_| {
+                false
+            })
             .is_none());
     }
 

@@ -10,6 +10,7 @@
 //! of the other side of a fold has not passed through it; skin that went through it has,
 //! whichever way the two faced where the step started.
 
+use super::bounds::Bounds;
 use nalgebra::Vector3;
 
 /// Barycentric slack at a crossing: a point passing through an edge shared by two triangles
@@ -26,14 +27,8 @@ pub fn passes_through(
 ) -> Option<f64> {
     // The point stays in its path's box, the triangle in its corners' swept box: apart, they
     // never meet (most facets near a point, cheaply).
-    let (lo, hi) = (p[0].inf(p[1]), p[0].sup(p[1]));
-    let (mut tlo, mut thi) = (start[0], start[0]);
-    for c in start.iter().chain(end) {
-        tlo = tlo.inf(c);
-        thi = thi.sup(c);
-    }
-    let slack = 1e-6 * (thi - tlo).amax();
-    if (0..3).any(|i| lo[i] > thi[i] + slack || hi[i] < tlo[i] - slack) {
+    let swept = Bounds::of(start.iter().chain(end));
+    if !Bounds::of(p).meets(&swept.grown(1e-6 * swept.largest_side())) {
         return None;
     }
     let (a0, da) = (start[0], end[0] - start[0]);
