@@ -199,6 +199,72 @@ fn an_overflowing_displacement_is_named_as_the_cause() {
     assert_eq!(output.status.code(), Some(0), "{stderr}");
 }
 
+/// The same block under `[world] gravity` of 1e300 m/s²: its weight overflows the stresses,
+/// and the error names the gravity and the weight, not only the material. A displacement that
+/// solves but overflows glTF's 32-bit floats (1e39 m) stops the writing: the results folder the
+/// run created is removed again, not left empty.
+#[test]
+fn an_overflowing_gravity_is_named_and_a_failed_write_leaves_no_folder() {
+    let block = "[[material]]\nname = \"rubber\"\nyoung = 1.0e6\npoisson = 0.3\n\
+                 density = 1100.0\n\
+                 [[body]]\nname = \"block\"\nmaterial = \"rubber\"\n\
+                 shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], cells = [2, 2, 2] } }\n\
+                 [[constraint]]\nname = \"base\"\nbody = \"block\"\nwhere = { face = \"z-\" }\n\
+                 displacement = [0.0, 0.0, 0.0]\n";
+    let text = format!("[world]\ngravity = [0.0, 0.0, -1.0e300]\n{block}");
+    let (output, stderr, out) = solve_text(&fresh("overflow_gravity"), &text);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("[world] gravity = [0.000e0, 0.000e0, -1.000e300] m/s² weighs")
+            && stderr.contains("-1.100e303] N in all"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "{:?}", names(&out));
+    let text = format!(
+        "{block}[[constraint]]\nname = \"press\"\nbody = \"block\"\nwhere = {{ face = \"z+\" }}\n\
+         displacement = {{ z = -1.0e39 }}\n"
+    );
+    let (output, stderr, out) = solve_text(&fresh("overflow_f32"), &text);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("32-bit floats"), "{stderr}");
+    assert!(!out.exists(), "left {:?}", names(&out));
+}
+
+/// The nonlinear tier pressing a 1 m block by 1.5 m: Newton gives way part of the way; the error
+/// says how far it came and the press that reaches, and that press, asked for, solves.
+#[test]
+fn a_nonlinear_press_too_deep_says_how_far_it_came_and_that_advice_works() {
+    let text = "[solver]\ntier = \"nonlinear\"\n\
+                [[material]]\nname = \"rubber\"\nyoung = 1.0e6\npoisson = 0.3\n\
+                [[body]]\nname = \"block\"\nmaterial = \"rubber\"\n\
+                shape = { box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], cells = [2, 2, 2] } }\n\
+                [[constraint]]\nname = \"base\"\nbody = \"block\"\nwhere = { face = \"z-\" }\n\
+                displacement = [0.0, 0.0, 0.0]\n\
+                [[constraint]]\nname = \"press\"\nbody = \"block\"\nwhere = { face = \"z+\" }\n\
+                displacement = { z = -1.5 }\n";
+    let (output, stderr, out) = solve_text(&fresh("nonlinear_press_deep"), text);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!out.exists(), "{:?}", names(&out));
+    let reached = stderr
+        .split("Equilibrium was found up to ")
+        .nth(1)
+        .and_then(|r| r.split(" %").next())
+        .and_then(|p| p.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no share reached in: {stderr}"));
+    assert!(reached > 0.0 && reached < 100.0, "{stderr}");
+    assert!(
+        stderr.contains("constraint \"press\" prescribes 1.500e0 m"),
+        "{stderr}"
+    );
+    // The advice followed: 95 % of the press that was reached.
+    let press = 1.5 * 0.95 * reached / 100.0;
+    let (output, stderr, _) = solve_text(
+        &fresh("nonlinear_press_followed"),
+        &text.replace("-1.5", &format!("-{press}")),
+    );
+    assert_eq!(output.status.code(), Some(0), "{press} m: {stderr}");
+}
+
 #[test]
 fn a_value_that_overflows_stops_the_solve_naming_it_and_nothing_is_written() {
     // A load of 1e160 N: the displacements of 1e154 m overflow in the stresses (squares).

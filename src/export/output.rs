@@ -89,6 +89,10 @@ pub struct OutputSet {
     beside: bool,
     /// The folders were exchanged: the staging folder's path holds the old set.
     exchanged: bool,
+    /// The folders this set created (the output folder and the parents it lacked), deepest
+    /// first: removed again, if still empty, when the set is abandoned (a run that fails
+    /// leaves no empty folder behind); cleared once committed.
+    created: Vec<PathBuf>,
     names: Vec<String>,
     /// Which files of the folder the set replaces.
     outputs: Outputs,
@@ -120,6 +124,12 @@ impl OutputSet {
                 }
             }
         }
+        let created: Vec<PathBuf> = dir
+            .ancestors()
+            .filter(|d| !d.as_os_str().is_empty())
+            .take_while(|d| std::fs::symlink_metadata(d).is_err())
+            .map(Path::to_path_buf)
+            .collect();
         std::fs::create_dir_all(dir)?;
         let real = std::fs::canonicalize(dir)?;
         swap::recover(&real);
@@ -141,6 +151,7 @@ impl OutputSet {
             staging,
             beside,
             exchanged: false,
+            created,
             names: Vec::new(),
             outputs,
         })
@@ -170,6 +181,13 @@ impl OutputSet {
 
     /// [`Self::commit`], exchanging the folders only when `exchange` (and possible).
     fn commit_as(mut self, exchange: bool) -> std::io::Result<Vec<PathBuf>> {
+        let written = self.commit_staged(exchange)?;
+        self.created.clear();
+        Ok(written)
+    }
+
+    /// [`Self::commit_as`]'s work.
+    fn commit_staged(&mut self, exchange: bool) -> std::io::Result<Vec<PathBuf>> {
         // A name the folder holds as something else than a file (a folder) would stop the
         // renames halfway, old and new files mixed: refused before any is moved.
         for name in &self.names {
@@ -319,6 +337,13 @@ impl Drop for OutputSet {
         if !self.exchanged {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
+        // The folders it created, if nothing else went into them (`remove_dir` removes only
+        // an empty folder).
+        for d in &self.created {
+            if std::fs::remove_dir(d).is_err() {
+                break;
+            }
+        }
     }
 }
 
@@ -350,6 +375,34 @@ mod tests {
         assert!(mine.join("frame_0000.vtu").exists());
         assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"{}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A set abandoned before its commit (the run failed while writing) removes the folders it
+    /// created for the results, if nothing else went into them; one committed keeps them, and
+    /// a folder that was there before stays.
+    #[test]
+    fn an_abandoned_set_leaves_no_empty_folder_it_created() {
+        let top = std::env::temp_dir().join(format!("prehensile-created-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&top);
+        std::fs::create_dir_all(&top).unwrap();
+        let dir = top.join("a").join("b");
+        let mut set = OutputSet::new(&dir).unwrap();
+        set.write("report.json", b"{}").unwrap();
+        assert!(dir.is_dir());
+        drop(set);
+        assert!(!top.join("a").exists(), "the folders it made are gone");
+        assert!(top.is_dir(), "the folder that was there stays");
+        // Something of the user's put in meanwhile: that folder stays.
+        let set = OutputSet::new(&dir).unwrap();
+        std::fs::write(top.join("a").join("notes.txt"), "mine").unwrap();
+        drop(set);
+        assert!(!dir.exists() && top.join("a").join("notes.txt").exists());
+        // Committed: kept.
+        let mut set = OutputSet::new(&dir).unwrap();
+        set.write("report.json", b"{}").unwrap();
+        set.commit().unwrap();
+        assert_eq!(std::fs::read(dir.join("report.json")).unwrap(), b"{}");
+        let _ = std::fs::remove_dir_all(&top);
     }
 
     /// A fresh folder under the temporary folder for test `tag`.

@@ -155,9 +155,14 @@ fn span(offset: usize, count: usize, stride: usize, element: usize) -> Option<us
         .checked_add(offset)
 }
 
+/// A joint farther from the wrist than this many times the median joint's distance lies off
+/// the hand (a fingertip is about 2.5 times the median: the metacarpal heads lie halfway).
+const OUTLIER: f64 = 20.0;
+
 /// Each digit's joints, from the wrist out, ever farther from the wrist and apart: two joints
 /// at one point (one node named for both, or a transform collapsing a direction) or a chain
-/// named backwards made a lattice whose bones held no flesh, told as a resolution too coarse.
+/// named backwards made a lattice whose bones held no flesh, told as a resolution too coarse;
+/// and no joint far off the others (a node's transform off by a huge translation or scale).
 /// `node(key)`: the name of the node a joint was read from.
 pub fn check_chains(
     joints: &std::collections::BTreeMap<String, nalgebra::Vector3<f64>>,
@@ -172,6 +177,29 @@ pub fn check_chains(
         .values()
         .map(|p| (p - wrist).norm())
         .fold(0.0, f64::max);
+    // One joint far beyond the others (a node's transform off by a huge translation or
+    // scale) makes that length scale meaningless: told as such, naming it.
+    let mut distances: Vec<(f64, &String)> = joints
+        .iter()
+        .filter(|(k, _)| k.as_str() != "wrist")
+        .map(|(k, p)| ((p - wrist).norm(), k))
+        .collect();
+    distances.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if let (Some(&(median, _)), Some(&(farthest, key))) =
+        (distances.get(distances.len() / 2), distances.last())
+    {
+        if median > 0.0 && farthest > OUTLIER * median {
+            return Err(format!(
+                "\"{file}\": joint {key} (node \"{}\") lies {:.3e} mm from the wrist, {:.3e} \
+                 times as far as the hand's joints lie from it (median {:.3e} mm): its node's \
+                 transform (or a parent's) moves or scales it far off the hand",
+                node(key),
+                farthest * 1e3,
+                farthest / median,
+                median * 1e3
+            ));
+        }
+    }
     let keys = crate::hand::rig_names::joint_keys();
     let digit = |k: &str| k.split('.').next().unwrap_or("").to_string();
     let mut previous: Option<&str> = None;
@@ -212,7 +240,49 @@ pub fn check_chains(
 
 #[cfg(test)]
 mod tests {
-    use super::span;
+    use super::{check_chains, span};
+    use nalgebra::Vector3;
+    use std::collections::BTreeMap;
+
+    /// A hand's joints: each digit along its own direction from the wrist, 20 mm apart.
+    fn joints() -> BTreeMap<String, Vector3<f64>> {
+        let mut out = BTreeMap::new();
+        out.insert("wrist".to_string(), Vector3::zeros());
+        for key in crate::hand::rig_names::joint_keys().into_iter().skip(1) {
+            let digit = ["thumb", "index", "middle", "ring", "little"]
+                .iter()
+                .position(|d| key.starts_with(d))
+                .unwrap() as f64;
+            let k = ["metacarpal", "proximal", "middle", "distal", "tip"]
+                .iter()
+                .position(|p| key.ends_with(p))
+                .unwrap() as f64;
+            let direction = Vector3::new(1.0, 0.2 * (digit - 2.0), 0.0).normalize();
+            out.insert(key, direction * 0.02 * (k + 1.0));
+        }
+        out
+    }
+
+    #[test]
+    fn a_joint_far_off_the_hand_is_named_as_such_and_collapsed_ones_as_collapsed() {
+        let node = |k: &str| format!("node of {k}");
+        assert!(check_chains(&joints(), &node, "hand.glb").is_ok());
+        // The index tip moved 1e30 m away: named as far off, not as collapsed.
+        let mut far = joints();
+        far.insert("index.tip".into(), Vector3::new(1e30, 0.0, 0.0));
+        let e = check_chains(&far, &node, "hand.glb").unwrap_err();
+        assert!(
+            e.contains("joint index.tip (node \"node of index.tip\") lies 1.000e33 mm")
+                && e.contains("far off the hand"),
+            "{e}"
+        );
+        // Two joints at one point: collapsed.
+        let mut collapsed = joints();
+        let at = collapsed["middle.proximal"];
+        collapsed.insert("middle.middle".into(), at);
+        let e = check_chains(&collapsed, &node, "hand.glb").unwrap_err();
+        assert!(e.contains("lie 0.000 mm apart"), "{e}");
+    }
 
     #[test]
     fn spans_end_where_the_last_element_ends_and_overflow_is_none() {

@@ -135,7 +135,7 @@ pub enum SimError {
         cause: ContactError,
     },
     /// The nonlinear tier failed (`[solver] tier = "nonlinear"`).
-    #[error("body \"{body}\"{}: {source}", element_note(.element))]
+    #[error("body \"{body}\"{}: {source}{advice}", element_note(.element))]
     Nonlinear {
         /// The body (all bodies' names when no element is to blame).
         body: String,
@@ -143,6 +143,8 @@ pub enum SimError {
         element: Option<usize>,
         /// Why.
         source: Box<crate::fem::NonlinearError>,
+        /// What to ask instead (empty, or a sentence beginning with ". ").
+        advice: String,
     },
     /// A keyframe failed on a scene whose static frame already strains a body far beyond
     /// small-strain elasticity (`state::STRAIN_WARNING`): that is the cause to mend first.
@@ -299,6 +301,39 @@ fn element_note(element: &Option<usize>) -> String {
     element.map_or(String::new(), |e| format!(" (its element {e})"))
 }
 
+/// What to ask of a nonlinear static solve that found equilibrium up to the share `reached` of
+/// its loads and prescribed displacements (scaled together) and no further: that share, and the
+/// largest prescribed displacement against the scene's size where it exceeds a tenth of it.
+pub(crate) fn scaled_back(model: &Model, reached: f64) -> String {
+    let size = model.mesh.bounding_size();
+    let largest = model
+        .constraints
+        .iter()
+        .flat_map(|c| c.dofs.iter().map(move |&d| (c, model.prescribed[d].abs())))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|&(_, d)| d > 0.1 * size);
+    let displacement = largest.map_or(String::new(), |(c, d)| {
+        format!(
+            " (constraint \"{}\" prescribes {d:.3e} m, {:.0} % of the scene's size {size:.3e} m: \
+             {:.3e} m is reached)",
+            c.name,
+            100.0 * d / size,
+            d * reached
+        )
+    });
+    if reached <= 0.0 {
+        return format!(
+            ". No share of the loads and prescribed displacements{displacement} found an \
+             equilibrium: make them smaller, or the body stiffer"
+        );
+    }
+    format!(
+        ". Equilibrium was found up to {:.1} % of the loads and prescribed displacements, scaled \
+         together{displacement}: ask for less than that, or make the body stiffer",
+        100.0 * reached
+    )
+}
+
 impl SimError {
     /// `frame` unless one of its values is not finite: then the error naming it, with the
     /// scene's largest load and softest material as the likely cause.
@@ -310,11 +345,24 @@ impl SimError {
             return Ok(frame);
         };
         let mut advice = Vec::new();
-        if let Some(load) = model
+        let largest = model
             .loads
             .iter()
-            .max_by(|a, b| a.total.amax().total_cmp(&b.total.amax()))
-        {
+            .max_by(|a, b| a.total.amax().total_cmp(&b.total.amax()));
+        // The bodies' weight, when it outweighs every load (or is not finite): `[world]
+        // gravity` is then the load to look at.
+        let weight = model.gravity_total;
+        let gravity = model.gravity.filter(|_| {
+            !weight.amax().is_finite() || largest.is_none_or(|l| weight.amax() > l.total.amax())
+        });
+        if let Some(g) = gravity {
+            advice.push(format!(
+                "[world] gravity = [{:.3e}, {:.3e}, {:.3e}] m/s² weighs [{:.3e}, {:.3e}, {:.3e}] \
+                 N in all",
+                g.x, g.y, g.z, weight.x, weight.y, weight.z
+            ));
+        }
+        if let Some(load) = largest {
             let t = load.total;
             advice.push(format!(
                 "its largest load is \"{}\", [{:.3e}, {:.3e}, {:.3e}] N in all",

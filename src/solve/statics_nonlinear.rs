@@ -4,7 +4,7 @@
 //! obstacles, each Newton iteration solves the obstacles' contact on its linearisation
 //! (`with_obstacles`): K_T(U)·ΔU = R − f(U) + Cᵀλ, the gaps measured where U puts the nodes.
 
-use super::error::SimError;
+use super::error::{scaled_back, SimError};
 use super::stabilize::{check_held, stabilize};
 use crate::contact::{solve_with_obstacles, ContactError, ContactResult, Obstacle};
 use crate::fem::hyperelastic_body::HyperelasticBody;
@@ -97,10 +97,15 @@ pub fn solve_static_nonlinear(model: &Model) -> Result<Frame, SimError> {
             }
             _ => (all_bodies(model), None),
         };
+        let advice = match &source {
+            NonlinearError::StepFailed { from, .. } => scaled_back(model, *from),
+            _ => String::new(),
+        };
         SimError::Nonlinear {
             body,
             element,
             source: Box::new(source),
+            advice,
         }
     })?;
     let solve_ms = ms(t);
@@ -176,7 +181,13 @@ fn with_obstacles(
         for i in 1..=increments {
             match newton_at(model, body, &mut u, i as f64 / increments as f64, gas) {
                 Ok(result) => last = Some(result),
-                Err(e @ (SimError::Nonlinear { .. } | SimError::InvertedElement { .. })) => {
+                Err(mut e @ (SimError::Nonlinear { .. } | SimError::InvertedElement { .. })) => {
+                    // What the increments before it reached.
+                    if let SimError::Nonlinear { advice, .. } = &mut e {
+                        if advice.is_empty() {
+                            *advice = scaled_back(model, (i - 1) as f64 / increments as f64);
+                        }
+                    }
                     failure = Some(e);
                     last = None;
                     break;
@@ -266,6 +277,7 @@ fn newton_at(
                 body: all_bodies(model),
                 element: None,
                 source: Box::new(NonlinearError::NonFinite("the computed displacement")),
+                advice: String::new(),
             });
         }
         let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -290,6 +302,7 @@ fn newton_at(
             },
             inverted: None,
         }),
+        advice: String::new(),
     })
 }
 
