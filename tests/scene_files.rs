@@ -3,7 +3,9 @@
 
 use crate::common;
 
-use prehensile::headless::solve_scene_file;
+use prehensile::headless::{solve_scene, solve_scene_file};
+use prehensile::model::Model;
+use prehensile::scene::Scene;
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
@@ -401,4 +403,300 @@ fn the_built_in_default_scene_is_the_hand_and_ball_and_solves() {
     // The initial pose and two keyframes; the hand and the ball do not touch.
     assert_eq!(report["frames"].as_array().unwrap().len(), 3);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `GOOD` with a `[[load]]` of `name` (a `name = "…"` line, or "" for none) on box face `face`.
+fn with_loads(loads: &[(&str, &str, &str)]) -> String {
+    let mut text = GOOD.to_string();
+    for (name, face, kind) in loads {
+        text += &format!(
+            "\n[[load]]\n{name}body = \"block\"\nwhere = {{ face = \"{face}\" }}\n{kind}\n"
+        );
+    }
+    text
+}
+
+/// Two loads of one name: `report.json` keys `frames[].loads` by name, and one was silently
+/// dropped from it (hostile-input probe, 2026-12-04). Refused as duplicate constraints are,
+/// also where a name given is an unnamed load's `load[i]`; loads of distinct names are all
+/// reported.
+#[test]
+fn loads_of_one_name_are_refused_and_every_load_is_reported() {
+    let pressure = ("x+", "pressure = 100.0");
+    let force = ("x-", "force = [0.0, 0.0, 5.0]");
+    let err = refused(
+        "duplicate-load",
+        &with_loads(&[
+            ("name = \"p\"\n", pressure.0, pressure.1),
+            ("name = \"p\"\n", force.0, force.1),
+        ]),
+    );
+    assert!(
+        err.contains(
+            "duplicate-load.toml: load \"p\" (load[1]): a load of this name is defined twice \
+             (load[0] has it)"
+        ),
+        "{err}"
+    );
+    let err = refused(
+        "duplicate-default-load-name",
+        &with_loads(&[
+            ("name = \"load[1]\"\n", pressure.0, pressure.1),
+            ("", force.0, force.1),
+        ]),
+    );
+    assert!(
+        err.contains("load \"load[1]\" (load[1]): a load of this name is defined twice"),
+        "{err}"
+    );
+
+    let text = with_loads(&[
+        ("name = \"p\"\n", pressure.0, pressure.1),
+        ("name = \"q\"\n", force.0, force.1),
+        ("", "y+", "force = [0.0, 1.0, 0.0]"),
+    ]);
+    let solved = solve_scene(&Scene::parse(&text, "loads.toml").unwrap(), "loads.toml").unwrap();
+    let loads = &solved.report.frames[0].loads;
+    assert_eq!(
+        loads.keys().map(String::as_str).collect::<Vec<_>>(),
+        ["load[2]", "p", "q"]
+    );
+    // 100 Pa on the 1 m² face x+, against its outward normal.
+    assert!((loads["p"][0] + 100.0).abs() < 1e-9, "{loads:?}");
+    assert_eq!(loads["q"], [0.0, 0.0, 5.0]);
+    assert_eq!(loads["load[2]"], [0.0, 1.0, 0.0]);
+}
+
+/// An obstacle named as a material made `[[friction]] between` ambiguous; a friction pair of
+/// two obstacles (rigid, fixed: they never touch) was accepted and used nowhere. Both refused,
+/// naming the fields.
+#[test]
+fn an_obstacle_named_as_a_material_and_friction_between_obstacles_are_refused() {
+    let obstacle = |name: &str, z: f64| {
+        format!(
+            "\n[[obstacle]]\nname = \"{name}\"\n\
+             shape = {{ plane = {{ point = [0.0, 0.0, {z}], normal = [0.0, 0.0, 1.0] }} }}\n"
+        )
+    };
+    let err = refused(
+        "obstacle-named-as-material",
+        &format!("{GOOD}{}", obstacle("rubber", -0.5)),
+    );
+    assert!(
+        err.contains(
+            "obstacle-named-as-material.toml: obstacle \"rubber\" (obstacle[0]).name: is also \
+             the name of material \"rubber\" (material[0]).name, and [[friction]] between = \
+             [...] names materials and obstacles alike: give the obstacle a name of its own"
+        ),
+        "{err}"
+    );
+    let err = refused(
+        "friction-between-obstacles",
+        &format!(
+            "{GOOD}{}{}\n[[friction]]\nbetween = [\"table\", \"shelf\"]\nmu = 0.5\n",
+            obstacle("table", -0.5),
+            obstacle("shelf", -0.6)
+        ),
+    );
+    assert!(
+        err.contains(
+            "friction-between-obstacles.toml: friction[0].between: \"table\" and \"shelf\" are \
+             both obstacles, which never touch each other: a friction pair names two \
+             materials, or a material and an obstacle"
+        ),
+        "{err}"
+    );
+    // A material and an obstacle remain a pair.
+    let text = format!(
+        "{GOOD}{}\n[[friction]]\nbetween = [\"rubber\", \"table\"]\nmu = 0.5\n",
+        obstacle("table", -0.5)
+    );
+    let scene = Scene::parse(&text, "pair.toml").unwrap();
+    assert!(Model::build(&scene, "pair.toml").is_ok());
+}
+
+/// A reference of 500 kB holding ESC and NUL was echoed raw and whole into the error (hostile-
+/// input probe, 2026-12-04): it is echoed escaped and cut at 60 characters; and a name holding a
+/// control character is refused, for every kind of named entry.
+#[test]
+fn names_are_echoed_escaped_and_short_and_control_characters_in_names_are_refused() {
+    let long = format!("\\u001b[31m\\u0000{}", "ß".repeat(250_000));
+    let err = refused(
+        "long-reference",
+        &GOOD.replace("material = \"rubber\"", &format!("material = \"{long}\"")),
+    );
+    // `\u{1b}[31m\0` is 12 characters as echoed: 48 more, then "…".
+    let echoed = format!("\\u{{1b}}[31m\\0{}…", "ß".repeat(48));
+    assert!(
+        err.contains(&format!(
+            "long-reference.toml: body \"block\" (body[0]).material: no material named \
+             \"{echoed}\" (defined: rubber)"
+        )),
+        "{err}"
+    );
+    assert!(err.len() < 1000, "{} bytes", err.len());
+    assert!(!err.contains(['\u{1b}', '\0']), "{err:?}");
+
+    let probe = "\n[[probe]]\nname = \"tip\\u0007\"\nbody = \"block\"\npoint = [1.0, 1.0, 1.0]\n";
+    let load = "\n[[load]]\nname = \"air\\u0000\"\nbody = \"block\"\nwhere = { face = \"z+\" }\npressure = 1.0\n";
+    let obstacle = "\n[[obstacle]]\nname = \"table\\r\"\nshape = { plane = { point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0] } }\n";
+    let camera = "\n[[camera]]\nname = \"\\u001b]0;title\\u0007\"\neye = [3.0, 3.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\n";
+    let cases = [
+        (
+            "material-control",
+            GOOD.replace("name = \"rubber\"", "name = \"rub\\u001bber\""),
+            "material \"rub\\u{1b}ber\" (material[0]): the name holds a control character \
+             (\\u{1b}): a material's name is plain text on one line",
+        ),
+        (
+            "body-control",
+            GOOD.replace("name = \"block\"", "name = \"blo\\u0000ck\""),
+            "body \"blo\\0ck\" (body[0]): the name holds a control character (\\0): a body's \
+             name",
+        ),
+        (
+            "constraint-control",
+            GOOD.replace("name = \"base\"", "name = \"ba\\nse\""),
+            "constraint \"ba\\nse\" (constraint[0]): the name holds a control character (\\n)",
+        ),
+        (
+            "load-control",
+            format!("{GOOD}{load}"),
+            "load \"air\\0\" (load[0]): the name holds a control character (\\0)",
+        ),
+        (
+            "obstacle-control",
+            format!("{GOOD}{obstacle}"),
+            "obstacle \"table\\r\" (obstacle[0]): the name holds a control character (\\r)",
+        ),
+        (
+            "probe-control",
+            format!("{GOOD}{probe}"),
+            "probe \"tip\\u{7}\" (probe[0]): the name holds a control character (\\u{7})",
+        ),
+        (
+            "camera-control",
+            format!("{GOOD}{camera}"),
+            "camera \"\\u{1b}]0;title\\u{7}\" (camera[0]): the name holds a control character \
+             (\\u{1b})",
+        ),
+    ];
+    for (name, text, needle) in cases {
+        let err = refused(name, &text);
+        assert!(
+            err.contains(needle),
+            "{name}: expected {needle:?} in {err:?}"
+        );
+        assert!(
+            !err.contains(['\u{1b}', '\0', '\u{7}', '\r']),
+            "{name}: {err:?}"
+        );
+    }
+}
+
+/// The warnings of `GOOD` (a box, no hand) with `[solver]` keys `solver`.
+fn warnings_of(solver: &str) -> Vec<String> {
+    let text = format!("[solver]\n{solver}\n{GOOD}");
+    let scene = Scene::parse(&text, "warn.toml").unwrap();
+    Model::build(&scene, "warn.toml").unwrap().warnings()
+}
+
+/// `[solver]` keys with no effect on the scene were accepted silently (hostile-input probe,
+/// 2026-12-04): a hand's keys in a scene without a hand, `element` on the nonlinear tier, and
+/// `contact_pairs` with the paper's iteration, which checks both ways whatever it says. Each is
+/// warned of, in `report.json`'s warnings; keys that do act are not.
+#[test]
+fn solver_keys_without_effect_are_warned_of() {
+    assert_eq!(
+        warnings_of("self_contact = true"),
+        [
+            "solver.self_contact = true: has no effect, the scene has no hand (it keeps a hand's \
+             skin from passing through itself)"
+        ]
+    );
+    assert_eq!(
+        warnings_of("flesh_digits = { little = \"skinning\" }"),
+        [
+            "solver.flesh_digits: has no effect, the scene has no hand (it sets how each part of \
+             a hand's flesh follows its bones)"
+        ]
+    );
+    assert_eq!(
+        warnings_of("tier = \"corotational\"\nmax_step_deg = 5.0"),
+        [
+            "solver.tier = \"corotational\": has no effect, the scene has no hand (it sets how \
+             a hand's flesh is solved; the bodies get the linear static solve, or Newton's \
+             with tier = \"nonlinear\")",
+            "solver.max_step_deg: has no effect, the scene has no hand (it sets the largest \
+             joint rotation of a hand's flexion increment)"
+        ]
+    );
+    assert_eq!(
+        warnings_of("tier = \"nonlinear\"\nelement = \"incompatible_modes\""),
+        [
+            "solver.element = \"incompatible_modes\": has no effect, solver.tier = \"nonlinear\" \
+             solves the bodies by Newton on its own Neo-Hookean hexahedron (solver.volumetric); \
+             `element` is the element of the linear static solve"
+        ]
+    );
+    let paper = "solver.contact_pairs = \"object_nodes\": has no effect on the contact solve, \
+                 the paper's iteration (solver.contact = \"paper\") checks contact both ways \
+                 whatever contact_pairs says; it only chooses the pairs the report's \
+                 max_penetration is measured over. Remove it, or solve with contact = \
+                 \"lagrange\", whose pairs it chooses";
+    assert_eq!(
+        warnings_of("contact = \"paper\"\ncontact_pairs = \"object_nodes\""),
+        [paper]
+    );
+    // The probe's scene (/work/scratch/probe/cases/contra.toml): each ignored key once.
+    let contra = warnings_of(
+        "contact = \"paper\"\ncontact_pairs = \"object_nodes\"\nelement = \
+         \"incompatible_modes\"\ntier = \"nonlinear\"\nvolumetric = \"full\"\n\
+         flesh_digits = { little = \"skinning\" }",
+    );
+    assert_eq!(contra.len(), 3, "{contra:#?}");
+    assert!(contra[0].starts_with("solver.flesh_digits: has no effect"));
+    assert!(contra[1].starts_with("solver.element = \"incompatible_modes\": has no effect"));
+    assert_eq!(contra[2], paper);
+
+    // Keys that act are not warned of: the element of the linear static solve, the paper's own
+    // pairs, the exact method's pairs, the nonlinear and linear tiers of the bodies.
+    for acting in [
+        "element = \"incompatible_modes\"",
+        "contact = \"paper\"\ncontact_pairs = \"both\"",
+        "contact_pairs = \"object_nodes\"",
+        "tier = \"nonlinear\"",
+        "tier = \"linear\"",
+        "self_contact = false",
+    ] {
+        assert_eq!(warnings_of(acting), Vec::<String>::new(), "{acting}");
+    }
+}
+
+/// With a hand, its keys act (no warning); a scene of hands alone has no linear static solve
+/// for `element` to choose the element of.
+#[test]
+fn hand_keys_act_with_a_hand_and_element_does_not_without_other_bodies() {
+    let hand = "[[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\n\n\
+                [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\n\
+                shape = { hand = { side = \"right\", resolution = 0.5 } }\n";
+    let warnings = |solver: &str| {
+        let text = format!("[solver]\n{solver}\n{hand}");
+        let scene = Scene::parse(&text, "hand.toml").unwrap();
+        Model::build(&scene, "hand.toml").unwrap().warnings()
+    };
+    assert_eq!(
+        warnings(
+            "self_contact = true\nflesh_digits = { little = \"skinning\" }\nmax_step_deg = 5.0"
+        ),
+        Vec::<String>::new()
+    );
+    assert_eq!(
+        warnings("element = \"incompatible_modes\""),
+        [
+            "solver.element = \"incompatible_modes\": has no effect, the scene has no body other \
+             than hands, and `element` is the element of the other bodies' linear static solve (a \
+             hand's flexion always uses hex8)"
+        ]
+    );
 }

@@ -6,6 +6,7 @@ use super::check::list;
 use super::hand_gltf::read_rigged_hand;
 use super::materials::find_material;
 use super::memory_estimate::fits_in_memory;
+use super::names::shown;
 use super::shapes::build_shape;
 use super::BodyModel;
 use crate::fem::hex8::{cell_volume, relative_min_jacobian};
@@ -120,7 +121,7 @@ pub fn bodies(
     let mut cell_material = Vec::new();
     let mut cell_body = Vec::new();
     for (i, b) in scene.body.iter().enumerate() {
-        let field = format!("body \"{}\" (body[{i}])", b.name);
+        let field = format!("body \"{}\" (body[{i}])", shown(&b.name));
         super::names::named("body", &b.name).map_err(|m| (field.clone(), m))?;
         if bodies.iter().any(|o| o.name == b.name) {
             return Err((field, "a body of this name is defined twice".into()));
@@ -143,8 +144,9 @@ pub fn bodies(
                         (
                             format!("{field}.form"),
                             format!(
-                                "unknown hand form \"{name}\": the forms are \"simple\" and \
-                                 \"anatomical\""
+                                "unknown hand form \"{}\": the forms are \"simple\" and \
+                                 \"anatomical\"",
+                                shown(name)
                             ),
                         )
                     })?,
@@ -221,7 +223,7 @@ pub fn bodies(
                 .map_err(|e| (field.clone(), e))?;
                 Some(Arc::new(
                     HandModel::from_rig_within((*side).into(), &rig, *resolution, memory.0)
-                        .map_err(|e| (field, format!("\"{file}\": {e}")))?,
+                        .map_err(|e| (field, format!("\"{}\": {e}", shown(file))))?,
                 ))
             }
             _ => {
@@ -361,7 +363,11 @@ pub fn find_body(
         let known: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
         (
             field,
-            format!("no body named \"{name}\" (defined: {})", list(&known)),
+            format!(
+                "no body named \"{}\" (defined: {})",
+                shown(name),
+                list(&known)
+            ),
         )
     })
 }
@@ -401,13 +407,15 @@ fn thresholds(
     for (name, &value) in given.into_iter().flatten() {
         let b = hand.skeleton.bone_index(name).ok_or_else(|| {
             format!(
-                "no bone \"{name}\"; the bones are {}",
+                "no bone \"{}\"; the bones are {}",
+                shown(name),
                 hand.skeleton.bone_names()
             )
         })?;
         if !(value.is_finite() && value > 0.0) {
             return Err(format!(
-                "\"{name}\": a threshold is a force > 0 N, got {value}"
+                "\"{}\": a threshold is a force > 0 N, got {value}",
+                shown(name)
             ));
         }
         out[b] = value;
@@ -420,7 +428,8 @@ pub fn hand_size(size: &HandSizeDef) -> Result<HandSize, String> {
     match size {
         HandSizeDef::Percentile(name) => HandSize::percentile(name).ok_or_else(|| {
             format!(
-                "unknown percentile \"{name}\"; ANSUR II percentiles are {}",
+                "unknown percentile \"{}\"; ANSUR II percentiles are {}",
+                shown(name),
                 HandSize::percentile_names()
             )
         }),

@@ -1,6 +1,7 @@
 //! The scene's named cameras, validated.
 
 use super::check::finite;
+use super::names::shown;
 use crate::scene::{CameraDef, Scene};
 use nalgebra::Vector3;
 
@@ -8,7 +9,7 @@ use nalgebra::Vector3;
 /// a field of view between 1° and 170°.
 pub fn cameras(scene: &Scene) -> Result<Vec<CameraDef>, (String, String)> {
     for (i, c) in scene.camera.iter().enumerate() {
-        let field = format!("camera \"{}\" (camera[{i}])", c.name);
+        let field = format!("camera \"{}\" (camera[{i}])", shown(&c.name));
         super::names::named("camera", &c.name).map_err(|m| (field.clone(), m))?;
         if scene.camera[..i].iter().any(|o| o.name == c.name) {
             return Err((field, "a camera of this name is defined twice".into()));

@@ -5,12 +5,17 @@ pub fn finite(values: &[f64]) -> bool {
     values.iter().all(|v| v.is_finite())
 }
 
-/// Names for an error message: comma-separated, or "none".
+/// Names for an error message: comma-separated (each as [`shown`](super::names::shown)), or
+/// "none".
 pub fn list(names: &[&str]) -> String {
     if names.is_empty() {
         "none".into()
     } else {
-        names.join(", ")
+        names
+            .iter()
+            .map(|n| super::names::shown(n))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 

@@ -1,6 +1,7 @@
 //! Constraints: the prescribed dofs of each named selection, and the hands held in the statics.
 
 use super::bodies::find_body;
+use super::names::shown;
 use super::select::select;
 use super::{BodyModel, ConstraintModel};
 use crate::mesh::Mesh;
@@ -28,7 +29,7 @@ pub fn constraints(
     let mut owner = vec![usize::MAX; dofs];
     let mut constraints: Vec<ConstraintModel> = Vec::new();
     for (i, c) in scene.constraint.iter().enumerate() {
-        let field = format!("constraint \"{}\" (constraint[{i}])", c.name);
+        let field = format!("constraint \"{}\" (constraint[{i}])", shown(&c.name));
         super::names::named("constraint", &c.name).map_err(|m| (field.clone(), m))?;
         if constraints.iter().any(|o| o.name == c.name) {
             return Err((field, "a constraint of this name is defined twice".into()));
@@ -75,7 +76,7 @@ pub fn constraints(
                                  with another value ({} m against {} m)",
                                 n - bodies[b].nodes.start,
                                 ["x", "y", "z"][axis],
-                                constraints[owner[d]].name,
+                                shown(&constraints[owner[d]].name),
                                 prescribed[d],
                                 value
                             ),

@@ -1,6 +1,7 @@
 //! A grasp keyframe (`grasp = { object = "ball", preshape = "power" }`): the object, where the
 //! digits start closing and where their synergies end, and what the grip must achieve.
 
+use super::names::shown;
 use super::BodyModel;
 use crate::hand::synergy::{self, Preshape, DIGITS};
 use crate::hand::Skeleton;
@@ -78,19 +79,18 @@ pub fn grasp(
             format!("{field}.object"),
             format!(
                 "no body named \"{}\" (bodies a hand can grasp: {})",
-                def.object,
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
+                shown(&def.object),
+                super::check::list(&names)
             ),
         ));
     };
     if bodies[object].hand.is_some() {
         return Err((
             format!("{field}.object"),
-            format!("\"{}\" is a hand: a hand grasps an object", def.object),
+            format!(
+                "\"{}\" is a hand: a hand grasps an object",
+                shown(&def.object)
+            ),
         ));
     }
     // The preshape's name, the digits that grasp, its angles, and the synergies they close
@@ -108,8 +108,9 @@ pub fn grasp(
                 return Err((
                     format!("{field}.preshape"),
                     format!(
-                        "unknown preshape \"{n}\": use \"power\", \"pinch\", \"tripod\" or a pose \
-                         table of joint angles"
+                        "unknown preshape \"{}\": use \"power\", \"pinch\", \"tripod\" or a pose \
+                         table of joint angles",
+                        shown(n)
                     ),
                 ))
             }
@@ -132,7 +133,10 @@ pub fn grasp(
         (Some(h), None) if h != "gravity" => {
             return Err((
                 format!("{field}.hold"),
-                format!("unknown hold \"{h}\": use \"gravity\" (or force = N for a target grip)"),
+                format!(
+                    "unknown hold \"{}\": use \"gravity\" (or force = N for a target grip)",
+                    shown(h)
+                ),
             ))
         }
         (_, Some(f)) => {
@@ -213,7 +217,7 @@ pub fn grasp_keyframe(
     let hand = model.bodies[body]
         .hand
         .as_deref()
-        .ok_or_else(|| format!("body \"{}\" is not a hand", model.bodies[body].name))?;
+        .ok_or_else(|| format!("body \"{}\" is not a hand", shown(&model.bodies[body].name)))?;
     let mut angles = from.to_vec();
     let grasp = grasp(
         def,

@@ -1,11 +1,14 @@
 //! Warnings about what the scene asks that is admissible but likely not meant: a material so
-//! nearly incompressible that the chosen element locks, and a point (probe, load, constraint)
-//! so far from its body that the node it snaps to is not where the user pointed.
+//! nearly incompressible that the chosen element locks, a point (probe, load, constraint)
+//! so far from its body that the node it snaps to is not where the user pointed, and `[solver]`
+//! keys that have no effect on the scene (a hand's keys without a hand, an element the tier
+//! does not use, contact pairs the paper's iteration does not choose).
 
+use super::names::shown;
 use super::BodyModel;
 use crate::fem::{ElementKind, Material};
 use crate::mesh::Mesh;
-use crate::scene::{Scene, Selection};
+use crate::scene::{ContactMethodName, PairSidesName, Scene, Selection, TierName};
 use nalgebra::Vector3;
 
 /// Poisson's ratio above which the fully integrated hex8 locks visibly (its volumetric
@@ -25,6 +28,137 @@ pub fn input_warnings(
     out.extend(far_point_warnings(scene, bodies, mesh));
     out.extend(obstacle_friction_warning(scene, bodies));
     out.extend(mended_hand_warnings(bodies));
+    out.extend(ineffective_solver_keys(scene, bodies, nonlinear));
+    out
+}
+
+/// `[solver]` keys given that have no effect on this scene: a hand's keys in a scene without a
+/// hand, `element` where no linear static solve uses it, `contact_pairs` with the paper's
+/// iteration (which checks both ways whatever it says).
+fn ineffective_solver_keys(scene: &Scene, bodies: &[BodyModel], nonlinear: bool) -> Vec<String> {
+    let s = &scene.solver;
+    let mut out = Vec::new();
+    if !bodies.iter().any(|b| b.hand.is_some()) {
+        if s.self_contact == Some(true) {
+            out.push(
+                "solver.self_contact = true: has no effect, the scene has no hand (it keeps a \
+                 hand's skin from passing through itself)"
+                    .to_string(),
+            );
+        }
+        // `tier = "linear"` is what the bodies get without a hand, and `"nonlinear"` solves
+        // their static frame by Newton: only the hands' own tiers are lost.
+        let hands_tier = match s.tier {
+            Some(TierName::Skinning) => Some("skinning"),
+            Some(TierName::Incremental) => Some("incremental"),
+            Some(TierName::Corotational) => Some("corotational"),
+            Some(TierName::Linear | TierName::Nonlinear) | None => None,
+        };
+        if let Some(tier) = hands_tier {
+            out.push(format!(
+                "solver.tier = \"{tier}\": has no effect, the scene has no hand (it sets how a \
+                 hand's flesh is solved; the bodies get the linear static solve, or Newton's \
+                 with tier = \"nonlinear\")"
+            ));
+        }
+        let keys: [(&str, bool, &str); 9] = [
+            (
+                "flesh",
+                s.flesh.is_some(),
+                "how a hand's flesh follows its bones",
+            ),
+            (
+                "flesh_digits",
+                !s.flesh_digits.is_empty(),
+                "how each part of a hand's flesh follows its bones",
+            ),
+            (
+                "flexion",
+                s.flexion.is_some(),
+                "the scheme of a hand's flexion increments",
+            ),
+            (
+                "max_step_deg",
+                s.max_step_deg.is_some(),
+                "the largest joint rotation of a hand's flexion increment",
+            ),
+            (
+                "flesh_region",
+                s.flesh_region.is_some(),
+                "which of a hand's cells a keyframe solves",
+            ),
+            (
+                "flesh_region_radius",
+                s.flesh_region_radius.is_some(),
+                "which of a hand's cells a keyframe solves",
+            ),
+            (
+                "far_from_contact",
+                s.far_from_contact.is_some(),
+                "whether a hand's parts far from contact are skinned",
+            ),
+            (
+                "near_contact",
+                s.near_contact.is_some(),
+                "how near another body a hand's part counts as near contact",
+            ),
+            (
+                "skinning",
+                s.skinning.is_some(),
+                "the blend of a hand's skinning",
+            ),
+        ];
+        for (key, given, what) in keys {
+            if given {
+                out.push(format!(
+                    "solver.{key}: has no effect, the scene has no hand (it sets {what})"
+                ));
+            }
+        }
+    }
+    if let Some(element) = s.element {
+        let element = match element {
+            crate::scene::ElementName::Hex8 => "hex8",
+            crate::scene::ElementName::IncompatibleModes => "incompatible_modes",
+        };
+        let why = if !bodies.iter().any(|b| b.hand.is_none()) {
+            Some(
+                "the scene has no body other than hands, and `element` is the element of the \
+                 other bodies' linear static solve (a hand's flexion always uses hex8)",
+            )
+        } else if nonlinear {
+            Some(
+                "solver.tier = \"nonlinear\" solves the bodies by Newton on its own \
+                 Neo-Hookean hexahedron (solver.volumetric); `element` is the element of the \
+                 linear static solve",
+            )
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            out.push(format!(
+                "solver.element = \"{element}\": has no effect, {why}"
+            ));
+        }
+    }
+    // The paper's iteration checks both ways (its step 3: src/contact/paper.rs); `contact_pairs`
+    // only chooses the pairs its reported `max_penetration` is measured over.
+    if s.contact == Some(ContactMethodName::Paper) {
+        let pairs = match s.contact_pairs {
+            Some(PairSidesName::SkinNodes) => Some("skin_nodes"),
+            Some(PairSidesName::ObjectNodes) => Some("object_nodes"),
+            Some(PairSidesName::Both) | None => None,
+        };
+        if let Some(pairs) = pairs {
+            out.push(format!(
+                "solver.contact_pairs = \"{pairs}\": has no effect on the contact solve, the \
+                 paper's iteration (solver.contact = \"paper\") checks contact both ways \
+                 whatever contact_pairs says; it only chooses the pairs the report's \
+                 max_penetration is measured over. Remove it, or solve with contact = \
+                 \"lagrange\", whose pairs it chooses"
+            ));
+        }
+    }
     out
 }
 
@@ -37,7 +171,7 @@ fn mended_hand_warnings(bodies: &[BodyModel]) -> Vec<String> {
         .flat_map(|(b, h)| {
             h.mended
                 .iter()
-                .map(move |note| format!("body \"{}\": {note}", b.name))
+                .map(move |note| format!("body \"{}\": {note}", shown(&b.name)))
         })
         .collect()
 }
@@ -129,10 +263,10 @@ fn locking_warnings(
             "body \"{}\": ν = {nu} (material {}) is nearly incompressible: the fully integrated \
              hex8 locks, its volumetric stiffness {ratio:.3e}× the shear stiffness, and the \
              {what} comes out far too stiff; {cure}",
-            body.name,
+            shown(&body.name),
             names
                 .iter()
-                .map(|n| format!("\"{n}\""))
+                .map(|n| format!("\"{}\"", shown(n)))
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
@@ -145,18 +279,19 @@ fn locking_warnings(
 fn far_point_warnings(scene: &Scene, bodies: &[BodyModel], mesh: &Mesh) -> Vec<String> {
     let mut points: Vec<(String, &str, [f64; 3])> = Vec::new();
     for (i, p) in scene.probe.iter().enumerate() {
-        let field = format!("probe \"{}\" (probe[{i}]).point", p.name);
+        let field = format!("probe \"{}\" (probe[{i}]).point", shown(&p.name));
         points.push((field, &p.body, p.point));
     }
     for (i, l) in scene.load.iter().enumerate() {
         if let Selection::Point(p) = l.selection {
             let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
-            points.push((format!("load \"{name}\" (load[{i}]).where"), &l.body, p));
+            let field = format!("load \"{}\" (load[{i}]).where", shown(&name));
+            points.push((field, &l.body, p));
         }
     }
     for (i, c) in scene.constraint.iter().enumerate() {
         if let Selection::Point(p) = c.selection {
-            let field = format!("constraint \"{}\" (constraint[{i}]).where", c.name);
+            let field = format!("constraint \"{}\" (constraint[{i}]).where", shown(&c.name));
             points.push((field, &c.body, p));
         }
     }
@@ -181,7 +316,7 @@ fn far_point_warnings(scene: &Scene, bodies: &[BodyModel], mesh: &Mesh) -> Vec<S
                 "{field}: the point is {distance:.4e} m from body \"{}\", farther than the \
                  size of its cells there ({cell:.3e} m): it acts at the nearest node, its node \
                  {} at [{:.4}, {:.4}, {:.4}] m",
-                body.name,
+                shown(&body.name),
                 node - body.nodes.start,
                 q.x,
                 q.y,

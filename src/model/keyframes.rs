@@ -1,5 +1,6 @@
 //! Keyframes: the full joint angles of a hand at given times.
 
+use super::names::shown;
 use super::{BodyModel, KeyframeModel};
 use crate::scene::Scene;
 
@@ -49,12 +50,15 @@ pub fn keyframes(
             match &k.body {
                 Some(name) => {
                     let Some(b) = bodies.iter().position(|b| &b.name == name) else {
-                        return Err((format!("{field}.body"), format!("no body named \"{name}\"")));
+                        return Err((
+                            format!("{field}.body"),
+                            format!("no body named \"{}\"", shown(name)),
+                        ));
                     };
                     if bodies[b].hand.is_none() {
                         return Err((
                             format!("{field}.body"),
-                            format!("body \"{name}\" is not a hand"),
+                            format!("body \"{}\" is not a hand", shown(name)),
                         ));
                     }
                     b

@@ -4,6 +4,7 @@
 use super::bodies::find_body;
 use super::check::finite;
 use super::gas::{GasCavity, STANDARD_AMBIENT};
+use super::names::shown;
 use super::select::select;
 use super::{BodyModel, LoadModel};
 use crate::fem::loads::{add_gravity, add_pressure, add_shared_force, add_traction};
@@ -24,7 +25,18 @@ pub fn loads(
     let mut cavity: Option<GasCavity> = None;
     for (i, l) in scene.load.iter().enumerate() {
         let name = l.name.clone().unwrap_or_else(|| format!("load[{i}]"));
-        let field = format!("load \"{name}\" (load[{i}])");
+        let field = format!("load \"{}\" (load[{i}])", shown(&name));
+        if l.name.is_some() {
+            super::names::named("load", &name).map_err(|m| (field.clone(), m))?;
+        }
+        // The report lists the loads by name (`frames[].loads`): a second of one name hid the
+        // first. (An unnamed load is `load[i]` there.)
+        if let Some(j) = loads.iter().position(|o: &LoadModel| o.name == name) {
+            return Err((
+                field,
+                format!("a load of this name is defined twice (load[{j}] has it)"),
+            ));
+        }
         let b = find_body(bodies, &l.body, format!("{field}.body"))?;
         if bodies[b].hand.is_some() {
             return Err((
@@ -70,7 +82,7 @@ pub fn loads(
                     format!("{field}.gas"),
                     format!(
                         "one gas cavity per scene is supported, and load \"{}\" is one already",
-                        previous.name
+                        shown(&previous.name)
                     ),
                 ));
             }

@@ -1,6 +1,7 @@
 //! The scene's materials, checked, and the lookup of a material by name.
 
 use super::check::list;
+use super::names::shown;
 use crate::fem::Material;
 use crate::scene::Scene;
 
@@ -15,7 +16,7 @@ const MAX_DENSITY: f64 = 1e5;
 pub fn materials(scene: &Scene) -> Result<Vec<Material>, (String, String)> {
     let mut materials = Vec::new();
     for (i, m) in scene.material.iter().enumerate() {
-        let field = format!("material \"{}\" (material[{i}])", m.name);
+        let field = format!("material \"{}\" (material[{i}])", shown(&m.name));
         super::names::named("material", &m.name).map_err(|m| (field.clone(), m))?;
         if scene.material[..i].iter().any(|o| o.name == m.name) {
             return Err((field, "a material of this name is defined twice".into()));
@@ -62,7 +63,11 @@ pub fn find_material(scene: &Scene, name: &str, field: String) -> Result<usize, 
             let known: Vec<&str> = scene.material.iter().map(|m| m.name.as_str()).collect();
             (
                 field,
-                format!("no material named \"{name}\" (defined: {})", list(&known)),
+                format!(
+                    "no material named \"{}\" (defined: {})",
+                    shown(name),
+                    list(&known)
+                ),
             )
         })
 }

@@ -34,6 +34,7 @@ pub use bodies::hand_size;
 pub use flexion_settings::{FleshMethod, FleshRegion, FlexionScheme, FlexionSettings};
 pub use gas::{GasCavity, STANDARD_AMBIENT};
 pub use grasp::{grasp_keyframe, ClosingJoint, GraspModel, HoldTarget, DEFAULT_MARGIN};
+pub use names::shown;
 pub use refinement::DEFAULT_SIZE_OF_RADIUS;
 pub use skin_overlap::SkinOverlapCheck;
 pub use tier::{Tier, STEP_WARNING_DEG};

@@ -1,6 +1,7 @@
 //! Rigid obstacles, and the nodes that may touch them.
 
 use super::check::finite;
+use super::names::shown;
 use super::BodyModel;
 use crate::contact::Obstacle;
 use crate::scene::{ObstacleShape, Scene};
@@ -10,10 +11,23 @@ use nalgebra::Vector3;
 pub fn obstacles(scene: &Scene) -> Result<Vec<(String, Obstacle)>, (String, String)> {
     let mut obstacles = Vec::new();
     for (i, o) in scene.obstacle.iter().enumerate() {
-        let field = format!("obstacle \"{}\" (obstacle[{i}])", o.name);
+        let field = format!("obstacle \"{}\" (obstacle[{i}])", shown(&o.name));
         super::names::named("obstacle", &o.name).map_err(|m| (field.clone(), m))?;
         if scene.obstacle[..i].iter().any(|p| p.name == o.name) {
             return Err((field, "an obstacle of this name is defined twice".into()));
+        }
+        // `[[friction]] between` names materials and obstacles alike: one name for both would
+        // leave its pair ambiguous.
+        if let Some(m) = scene.material.iter().position(|m| m.name == o.name) {
+            return Err((
+                format!("{field}.name"),
+                format!(
+                    "is also the name of material \"{}\" (material[{m}]).name, and \
+                     [[friction]] between = [...] names materials and obstacles alike: give the \
+                     obstacle a name of its own",
+                    shown(&o.name)
+                ),
+            ));
         }
         let obstacle = match &o.shape {
             ObstacleShape::Plane { point, normal } => {

@@ -2,6 +2,7 @@
 
 use super::bodies::find_body;
 use super::check::finite;
+use super::names::shown;
 use super::select::select;
 use super::{BodyModel, ProbeModel};
 use crate::mesh::Mesh;
@@ -16,7 +17,7 @@ pub fn probes(
 ) -> Result<Vec<ProbeModel>, (String, String)> {
     let mut probes = Vec::new();
     for (i, p) in scene.probe.iter().enumerate() {
-        let field = format!("probe \"{}\" (probe[{i}])", p.name);
+        let field = format!("probe \"{}\" (probe[{i}])", shown(&p.name));
         super::names::named("probe", &p.name).map_err(|m| (field.clone(), m))?;
         if probes.iter().any(|o: &ProbeModel| o.name == p.name) {
             return Err((field, "a probe of this name is defined twice".into()));

@@ -1,5 +1,6 @@
 //! Resolution of a scene selection to the nodes and boundary facets of one body.
 
+use super::names::shown;
 use super::BodyModel;
 use crate::mesh::{Facet, Mesh};
 use crate::scene::{Selection, Shape};
@@ -38,9 +39,10 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
         Selection::Face(face) => {
             let Shape::Box { min, max, .. } = body.shape else {
                 return Err(format!(
-                    "face = \"{face}\" applies to box bodies only; body \"{}\" is not a box \
+                    "face = \"{}\" applies to box bodies only; body \"{}\" is not a box \
                      (use surface, box or point)",
-                    body.name
+                    shown(face),
+                    shown(&body.name)
                 ));
             };
             let (axis, value) = match face.as_str() {
@@ -52,7 +54,8 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                 "z+" => (2, max[2]),
                 other => {
                     return Err(format!(
-                        "face = \"{other}\" is not a box face (x- x+ y- y+ z- z+)"
+                        "face = \"{}\" is not a box face (x- x+ y- y+ z- z+)",
+                        shown(other)
                     ))
                 }
             };
@@ -101,12 +104,13 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
                 ("inner", _) => {
                     return Err(format!(
                         "surface = \"inner\" needs a shell body; body \"{}\" has no cavity",
-                        body.name
+                        shown(&body.name)
                     ))
                 }
                 (other, _) => {
                     return Err(format!(
-                        "surface = \"{other}\" is not a surface (outer, inner)"
+                        "surface = \"{}\" is not a surface (outer, inner)",
+                        shown(other)
                     ))
                 }
             };
@@ -146,13 +150,15 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
         Selection::Bone(name) => {
             let Some(hand) = &body.hand else {
                 return Err(format!(
-                    "bone = \"{name}\" applies to hand bodies only; body \"{}\" is not a hand",
-                    body.name
+                    "bone = \"{}\" applies to hand bodies only; body \"{}\" is not a hand",
+                    shown(name),
+                    shown(&body.name)
                 ));
             };
             let Some(b) = hand.skeleton.bone_index(name) else {
                 return Err(format!(
-                    "there is no bone \"{name}\"; the bones are: {}",
+                    "there is no bone \"{}\"; the bones are: {}",
+                    shown(name),
                     hand.skeleton.bone_names()
                 ));
             };
@@ -177,7 +183,7 @@ pub fn select(body: &BodyModel, mesh: &Mesh, selection: &Selection) -> Result<Se
         }
     };
     if selected.nodes.is_empty() {
-        return Err(format!("selects no node of body \"{}\"", body.name));
+        return Err(format!("selects no node of body \"{}\"", shown(&body.name)));
     }
     Ok(selected)
 }

@@ -2,6 +2,7 @@
 //! warnings they deserve, and the fill-reducing ordering.
 
 use super::flexion_settings::{FleshRegion, FlexionSettings};
+use super::names::shown;
 use super::tier;
 use super::{BodyModel, FrictionTable};
 use crate::contact::{ContactSettings, Relaxation};
@@ -62,9 +63,10 @@ pub fn contact_settings(
             return Err((
                 "solver.contact_search".into(),
                 format!(
-                    "must be at most the size of the smallest body contact meets, \"{name}\" \
+                    "must be at most the size of the smallest body contact meets, \"{}\" \
                      ({size:.3e} m across), got {d:e} m: it is how deep a point may be inside a \
                      body and still be pushed out (the default is {:.0e} m)",
+                    shown(name),
                     ContactSettings::default().search_depth
                 ),
             ));
@@ -80,7 +82,7 @@ pub fn contact_settings(
         }
         Some(other) => {
             let got = match other {
-                RelaxationDef::Name(n) => format!("\"{n}\""),
+                RelaxationDef::Name(n) => format!("\"{}\"", shown(n)),
                 RelaxationDef::Factor(w) => format!("{w}"),
             };
             return Err((
@@ -113,15 +115,28 @@ pub fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> 
                 ),
             ));
         }
+        let obstacle = |name: &String| scene.obstacle.iter().any(|o| &o.name == name);
         for name in &f.between {
-            let known = scene.material.iter().any(|m| &m.name == name)
-                || scene.obstacle.iter().any(|o| &o.name == name);
+            let known = scene.material.iter().any(|m| &m.name == name) || obstacle(name);
             if !known {
                 return Err((
                     format!("{field}.between"),
-                    format!("\"{name}\" is neither a material nor an obstacle"),
+                    format!("\"{}\" is neither a material nor an obstacle", shown(name)),
                 ));
             }
+        }
+        // Obstacles are rigid and fixed: contact is between a body and an obstacle (or two
+        // bodies), never two obstacles, so such a μ would be used nowhere.
+        if f.between.iter().all(obstacle) {
+            return Err((
+                format!("{field}.between"),
+                format!(
+                    "\"{}\" and \"{}\" are both obstacles, which never touch each other: a \
+                     friction pair names two materials, or a material and an obstacle",
+                    shown(&f.between[0]),
+                    shown(&f.between[1])
+                ),
+            ));
         }
         if !(f.mu.is_finite() && f.mu >= 0.0) {
             return Err((
@@ -136,7 +151,11 @@ pub fn friction_table(scene: &Scene) -> Result<FrictionTable, (String, String)> 
         {
             return Err((
                 format!("{field}.between"),
-                format!("the pair \"{a}\", \"{b}\" is already given a μ by friction[{j}]"),
+                format!(
+                    "the pair \"{}\", \"{}\" is already given a μ by friction[{j}]",
+                    shown(a),
+                    shown(b)
+                ),
             ));
         }
         pairs.push((a.clone(), b.clone(), f.mu));
@@ -168,7 +187,7 @@ pub fn flexion_settings(s: &SolverSettings) -> Result<FlexionSettings, (String, 
     for (name, &m) in &s.flesh_digits {
         let Some(i) = PARTS.iter().position(|p| p == name) else {
             return Err((
-                format!("solver.flesh_digits.{name}"),
+                format!("solver.flesh_digits.{}", shown(name)),
                 format!("is not a part of the hand ({})", PARTS.join(", ")),
             ));
         };
@@ -231,8 +250,9 @@ pub fn max_memory(s: &SolverSettings) -> Result<Option<u64>, (String, String)> {
     let bytes = match &s.max_memory {
         None => return Ok(None),
         Some(MemorySize::Bytes(b)) => *b,
-        Some(MemorySize::Text(text)) => {
-            let t = text.trim();
+        Some(MemorySize::Text(given)) => {
+            let t = given.trim();
+            let text = shown(given);
             // A sign, NaN or infinity is no size: told as such, not as an unknown unit.
             if t.starts_with(['-', '+']) || t.to_ascii_lowercase().starts_with(['n', 'i']) {
                 return Err((
@@ -260,8 +280,9 @@ pub fn max_memory(s: &SolverSettings) -> Result<Option<u64>, (String, String)> {
                     return Err((
                         field(),
                         format!(
-                            "max_memory = \"{text}\": unknown unit \"{other}\" (use B, kB, \
-                             MB, GB, TB, KiB, MiB, GiB or TiB)"
+                            "max_memory = \"{text}\": unknown unit \"{}\" (use B, kB, \
+                             MB, GB, TB, KiB, MiB, GiB or TiB)",
+                            shown(other)
                         ),
                     ))
                 }

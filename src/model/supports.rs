@@ -53,7 +53,7 @@ pub fn floating_bodies(
                     String::new()
                 };
                 return Err((
-                    format!("body \"{}\" (body[{b}])", body.name),
+                    format!("body \"{}\" (body[{b}])", super::names::shown(&body.name)),
                     format!(
                         "is free to move rigidly{which}: the constraints leave {} free; \
                          prescribe more displacements on it",
