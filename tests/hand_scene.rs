@@ -113,6 +113,18 @@ fn bad_poses_and_hand_constraints_are_refused_with_the_field_named() {
         e.contains("bad.toml: keyframe[0].pose: there is no joint \"index.pipp\""),
         "{e}"
     );
+    // A joint name of 100 000 characters with an escape sequence: echoed escaped and cut.
+    let long = format!("{}\\u001b[31m", "x".repeat(100_000));
+    let e = error_of(&format!(
+        "[[keyframe]]\ntime = 1.0\npose = {{ \"{long}\" = 10 }}\n"
+    ));
+    assert!(
+        e.contains(&format!("there is no joint \"{}…\"", "x".repeat(60))) && e.len() < 2_000,
+        "{} bytes: {}",
+        e.len(),
+        &e[..e.len().min(300)]
+    );
+    assert!(!e.contains('\u{1b}'));
     let e = error_of("[[keyframe]]\ntime = 1.0\npose = { \"index.pip\" = 150 }\n");
     assert!(e.contains("outside its range 0° … 110°"), "{e}");
     let e = error_of(

@@ -166,7 +166,10 @@ pub type Pose = BTreeMap<String, f64>;
 #[derive(Debug, Error, PartialEq)]
 pub enum PoseError {
     /// No such joint.
-    #[error("there is no joint \"{name}\"; the joints are: {known}")]
+    #[error(
+        "there is no joint \"{}\"; the joints are: {known}",
+        crate::util::shown(name)
+    )]
     UnknownJoint {
         /// The name given.
         name: String,

@@ -193,7 +193,7 @@ pub fn check_chains(
                 "\"{file}\": joint {key} (node \"{}\") lies {:.3e} mm from the wrist, {:.3e} \
                  times as far as the hand's joints lie from it (median {:.3e} mm): its node's \
                  transform (or a parent's) moves or scales it far off the hand",
-                node(key),
+                crate::util::shown(&node(key)),
                 farthest * 1e3,
                 farthest / median,
                 median * 1e3
@@ -216,8 +216,8 @@ pub fn check_chains(
                     "\"{file}\": joints {before} (node \"{}\") and {key} (node \"{}\") lie {:.3} mm \
                      apart: a hand's joints are millimetres apart (is one node named for both, or \
                      does a transform collapse them, a zero scale?)",
-                    node(before),
-                    node(key),
+                    crate::util::shown(&node(before)),
+                    crate::util::shown(&node(key)),
                     apart * 1e3
                 ));
             }
@@ -226,9 +226,9 @@ pub fn check_chains(
                     "\"{file}\": joint {key} (node \"{}\") is {:.1} mm from the wrist, no farther \
                      than {before} (node \"{}\", {:.1} mm): a digit's joints run out from the \
                      wrist (are its nodes named in reverse?)",
-                    node(key),
+                    crate::util::shown(&node(key)),
                     far * 1e3,
-                    node(before),
+                    crate::util::shown(&node(before)),
                     near * 1e3
                 ));
             }

@@ -8,6 +8,7 @@ use crate::hand::rig_names::{joint_keys, normalized, recognise, Convention, CONV
 use crate::hand::{RiggedHand, Side};
 use crate::scene::Placement;
 use crate::util::gltf_axes::from_gltf_axes;
+use crate::util::shown;
 use gltf::accessor::{DataType, Dimensions};
 use nalgebra::{Matrix4, Rotation3, Vector3, Vector4};
 use std::collections::BTreeMap;
@@ -60,8 +61,12 @@ pub fn read_rigged_hand(
         .nodes()
         .filter_map(|n| n.name().map(|s| (n.index(), s.to_string())))
         .collect();
+    // Each name escaped and cut, at most 40 of them (a rig may have hundreds of nodes).
     let found = || {
-        let list: Vec<&str> = names.iter().map(|(_, s)| s.as_str()).collect();
+        let mut list: Vec<String> = names.iter().take(40).map(|(_, s)| shown(s)).collect();
+        if names.len() > 40 {
+            list.push(format!("… and {} more", names.len() - 40));
+        }
         list.join(", ")
     };
     // Nodes of one name: a skin's joint is taken before a node no skin is bound to; two
@@ -109,15 +114,20 @@ pub fn read_rigged_hand(
             .collect();
         let Some(n) = pick(key, candidates)? else {
             return Err(format!(
-                "`bones.\"{key}\"` names the node \"{name}\", which \"{file}\" does not have; its \
+                "`bones.\"{}\"` names the node \"{}\", which \"{file}\" does not have; its \
                  nodes are: {}",
+                shown(key),
+                shown(name),
                 found()
             ));
         };
         if let Some((other, _)) = joint_node.iter().find(|(_, &m)| m == n) {
             return Err(format!(
-                "`bones` names the node \"{name}\" for both \"{other}\" and \"{key}\": each \
-                 joint is a node of its own"
+                "`bones` names the node \"{}\" for both \"{}\" and \"{}\": each \
+                 joint is a node of its own",
+                shown(name),
+                shown(other),
+                shown(key)
             ));
         }
         joint_node.insert(key.clone(), n);

@@ -5,5 +5,7 @@ pub mod gltf_axes;
 pub mod near;
 pub mod number;
 pub mod read;
+pub mod shown;
 pub mod timing;
 pub use number::readable;
+pub use shown::shown;
