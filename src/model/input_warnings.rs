@@ -8,7 +8,7 @@ use super::names::shown;
 use super::BodyModel;
 use crate::fem::{ElementKind, Material};
 use crate::mesh::Mesh;
-use crate::scene::{ContactMethodName, PairSidesName, Scene, Selection, TierName};
+use crate::scene::{spelling, ContactMethodName, PairSidesName, Scene, Selection, TierName};
 use nalgebra::Vector3;
 
 /// Poisson's ratio above which the fully integrated hex8 locks visibly (its volumetric
@@ -48,12 +48,10 @@ fn ineffective_solver_keys(scene: &Scene, bodies: &[BodyModel], nonlinear: bool)
         }
         // `tier = "linear"` is what the bodies get without a hand, and `"nonlinear"` solves
         // their static frame by Newton: only the hands' own tiers are lost.
-        let hands_tier = match s.tier {
-            Some(TierName::Skinning) => Some("skinning"),
-            Some(TierName::Incremental) => Some("incremental"),
-            Some(TierName::Corotational) => Some("corotational"),
-            Some(TierName::Linear | TierName::Nonlinear) | None => None,
-        };
+        let hands_tier = s
+            .tier
+            .filter(|t| !matches!(t, TierName::Linear | TierName::Nonlinear))
+            .map(|t| spelling(&t));
         if let Some(tier) = hands_tier {
             out.push(format!(
                 "solver.tier = \"{tier}\": has no effect, the scene has no hand (it sets how a \
@@ -117,10 +115,7 @@ fn ineffective_solver_keys(scene: &Scene, bodies: &[BodyModel], nonlinear: bool)
         }
     }
     if let Some(element) = s.element {
-        let element = match element {
-            crate::scene::ElementName::Hex8 => "hex8",
-            crate::scene::ElementName::IncompatibleModes => "incompatible_modes",
-        };
+        let element = spelling(&element);
         let why = if !bodies.iter().any(|b| b.hand.is_none()) {
             Some(
                 "the scene has no body other than hands, and `element` is the element of the \
@@ -144,11 +139,10 @@ fn ineffective_solver_keys(scene: &Scene, bodies: &[BodyModel], nonlinear: bool)
     // The paper's iteration checks both ways (its step 3: src/contact/paper.rs); `contact_pairs`
     // only chooses the pairs its reported `max_penetration` is measured over.
     if s.contact == Some(ContactMethodName::Paper) {
-        let pairs = match s.contact_pairs {
-            Some(PairSidesName::SkinNodes) => Some("skin_nodes"),
-            Some(PairSidesName::ObjectNodes) => Some("object_nodes"),
-            Some(PairSidesName::Both) | None => None,
-        };
+        let pairs = s
+            .contact_pairs
+            .filter(|p| *p != PairSidesName::Both)
+            .map(|p| spelling(&p));
         if let Some(pairs) = pairs {
             out.push(format!(
                 "solver.contact_pairs = \"{pairs}\": has no effect on the contact solve, the \

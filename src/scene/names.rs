@@ -3,6 +3,15 @@
 
 use serde::{Deserialize, Serialize};
 
+/// How the scene file spells `value` (one of the names below: `"corotational"`,
+/// `"incompatible_modes"` …), from its serde name: the messages quote the file's own word.
+pub fn spelling<T: Serialize>(value: &T) -> String {
+    match serde_json::to_value(value) {
+        Ok(serde_json::Value::String(s)) => s,
+        _ => unreachable!("the scene's names serialise as strings"),
+    }
+}
+
 /// `side` of a built-in hand.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
@@ -103,4 +112,22 @@ pub enum ElementName {
     Hex8,
     /// Hexahedron with Wilson–Taylor incompatible modes.
     IncompatibleModes,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::TierName;
+
+    #[test]
+    fn a_name_is_spelled_as_the_file_writes_it() {
+        assert_eq!(spelling(&TierName::Corotational), "corotational");
+        assert_eq!(
+            spelling(&ElementName::IncompatibleModes),
+            "incompatible_modes"
+        );
+        assert_eq!(spelling(&PairSidesName::SkinNodes), "skin_nodes");
+        let back: TierName = serde_json::from_value(spelling(&TierName::Nonlinear).into()).unwrap();
+        assert_eq!(back, TierName::Nonlinear);
+    }
 }

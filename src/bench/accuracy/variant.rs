@@ -36,19 +36,13 @@ impl Variant {
     }
 
     /// The tier's scene name.
-    pub fn tier_name(&self) -> &'static str {
-        match self.tier {
-            TierName::Skinning => "skinning",
-            TierName::Linear => "linear",
-            TierName::Incremental => "incremental",
-            TierName::Corotational => "corotational",
-            TierName::Nonlinear => "nonlinear",
-        }
+    pub fn tier_name(&self) -> String {
+        crate::scene::spelling(&self.tier)
     }
 
     /// Label in tables and on the plot, e.g. `linear · incompatible modes`, `corotational 10°`.
     pub fn label(&self) -> String {
-        let mut s = self.tier_name().to_string();
+        let mut s = self.tier_name();
         if self.element == ElementName::IncompatibleModes {
             s += " · incompatible modes";
         }
