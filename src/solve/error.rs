@@ -301,17 +301,21 @@ fn element_note(element: &Option<usize>) -> String {
     element.map_or(String::new(), |e| format!(" (its element {e})"))
 }
 
+/// The constraint prescribing the largest displacement of any dof, and its size (m).
+fn largest_prescribed(model: &Model) -> Option<(&crate::model::ConstraintModel, f64)> {
+    model
+        .constraints
+        .iter()
+        .flat_map(|c| c.dofs.iter().map(move |&d| (c, model.prescribed[d].abs())))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// What to ask of a nonlinear static solve that found equilibrium up to the share `reached` of
 /// its loads and prescribed displacements (scaled together) and no further: that share, and the
 /// largest prescribed displacement against the scene's size where it exceeds a tenth of it.
 pub(crate) fn scaled_back(model: &Model, reached: f64) -> String {
     let size = model.mesh.bounding_size();
-    let largest = model
-        .constraints
-        .iter()
-        .flat_map(|c| c.dofs.iter().map(move |&d| (c, model.prescribed[d].abs())))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .filter(|&(_, d)| d > 0.1 * size);
+    let largest = largest_prescribed(model).filter(|&(_, d)| d > 0.1 * size);
     let displacement = largest.map_or(String::new(), |(c, d)| {
         format!(
             " (constraint \"{}\" prescribes {d:.3e} m, {:.0} % of the scene's size {size:.3e} m: \
@@ -372,13 +376,7 @@ impl SimError {
         // The largest prescribed displacement, when it exceeds the scene's own size (an
         // overflowing one cannot be told by the loads and moduli).
         let size = model.mesh.bounding_size();
-        if let Some((c, d)) = model
-            .constraints
-            .iter()
-            .flat_map(|c| c.dofs.iter().map(move |&d| (c, model.prescribed[d].abs())))
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .filter(|&(_, d)| d > size || d.is_nan())
-        {
+        if let Some((c, d)) = largest_prescribed(model).filter(|&(_, d)| d > size || d.is_nan()) {
             advice.push(format!(
                 "constraint \"{}\" prescribes a displacement of {d:.3e} m, beyond the scene's \
                  size ({size:.3e} m)",
