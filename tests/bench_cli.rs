@@ -121,6 +121,32 @@ fn the_smallest_sizes_run() {
     }
 }
 
+/// `bench self-contact --nonlinear` at the coarsest hand: both creases fold to 110° with the
+/// skin kept out of itself (the barrier's pairs and force in the table) and without it.
+#[test]
+fn the_nonlinear_self_contact_bench_folds_both_creases() {
+    let run = bench(&["self-contact", "--nonlinear", "--resolutions", "0.5"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let table = String::from_utf8_lossy(&run.stdout);
+    assert!(table.contains("the nonlinear tier"), "{table}");
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .filter(|l| l.starts_with("| index"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{table}");
+    for row in &rows {
+        assert!(!row[4].starts_with("stopped"), "{table}");
+        let (points, force): (usize, f64) = (row[7].parse().unwrap(), row[8].parse().unwrap());
+        if row[3] == "on" {
+            assert!(points > 0 && force > 0.0, "{table}");
+        } else {
+            assert!(points == 0 && force == 0.0, "{table}");
+        }
+    }
+}
+
 /// Called as a library, a size that cannot be built is an error naming it, not a panic.
 #[test]
 fn the_library_entries_return_errors() {

@@ -7,7 +7,7 @@ use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
 use crate::hand::{four_finger_fist, full_fist, HandModel, Pose, Side};
-use crate::model::FlexionSettings;
+use crate::model::{FlexionScheme, FlexionSettings};
 use crate::solve::Flexion;
 use crate::state::HandState;
 use std::time::Instant;
@@ -27,11 +27,22 @@ pub struct SelfContactRow {
     pub outcome: Result<(usize, usize, usize, f64), String>,
 }
 
-/// The benchmark's motions: a name, the joints and angles (degrees), the increment.
-fn motions() -> Vec<(&'static str, Pose, f64)> {
+/// The benchmark's motions: a name, the joints and angles (degrees), the increment; for the
+/// nonlinear tier, the creases' folding only (its fists stop where the flesh buckles).
+fn motions(nonlinear: bool) -> Vec<(&'static str, Pose, f64)> {
     let pose = |pairs: &[(&str, f64)]| -> Pose {
         pairs.iter().map(|(j, a)| (j.to_string(), *a)).collect()
     };
+    if nonlinear {
+        return vec![
+            ("index PIP 110°", pose(&[("index.pip", 110.0)]), 10.0),
+            (
+                "index and middle PIP 110°",
+                pose(&[("index.pip", 110.0), ("middle.pip", 110.0)]),
+                10.0,
+            ),
+        ];
+    }
     vec![
         ("index PIP 110°", pose(&[("index.pip", 110.0)]), 10.0),
         (
@@ -48,8 +59,12 @@ fn motions() -> Vec<(&'static str, Pose, f64)> {
     ]
 }
 
-/// Runs every motion at every resolution, without and with self-contact.
-pub fn self_contact_rows(resolutions: &[f64]) -> anyhow::Result<Vec<SelfContactRow>> {
+/// Runs every motion at every resolution, without and with self-contact (by the corotational
+/// increments, or the `nonlinear` tier's).
+pub fn self_contact_rows(
+    resolutions: &[f64],
+    nonlinear: bool,
+) -> anyhow::Result<Vec<SelfContactRow>> {
     let flesh = Material {
         young: 5.0e4,
         poisson: 0.45,
@@ -58,7 +73,7 @@ pub fn self_contact_rows(resolutions: &[f64]) -> anyhow::Result<Vec<SelfContactR
     let mut rows = Vec::new();
     for &resolution in resolutions {
         let hand = HandModel::new(Side::Right, resolution)?;
-        for (name, pose, step) in motions() {
+        for (name, pose, step) in motions(nonlinear) {
             for self_contact in [false, true] {
                 let mut stepper = Flexion::new(
                     &hand,
@@ -67,6 +82,11 @@ pub fn self_contact_rows(resolutions: &[f64]) -> anyhow::Result<Vec<SelfContactR
                     FlexionSettings {
                         max_step_deg: step,
                         self_contact: self_contact.then(ContactSettings::default),
+                        scheme: if nonlinear {
+                            FlexionScheme::Nonlinear
+                        } else {
+                            FlexionScheme::Corotational
+                        },
                         ..Default::default()
                     },
                     FillOrdering::Auto,

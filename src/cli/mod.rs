@@ -216,6 +216,10 @@ enum BenchCommand {
             value_parser = ranges::hand_resolution
         )]
         resolutions: Vec<f64>,
+        /// The nonlinear tier (the skin kept out of itself by a barrier in its energy) on the
+        /// motions that fold a crease: the index PIP to 110°, the index and middle PIP together.
+        #[arg(long)]
+        nonlinear: bool,
     },
     /// The gentlest grip from preshape to grip (grasp keyframes): per grasp and hand resolution,
     /// whether it holds, the closing, grip, margin and drift found, the poses solved and the
@@ -478,12 +482,20 @@ fn run() -> Result<()> {
                 )?;
                 print!("{}", crate::bench::grasp::grasp_table(&rows));
             }
-            BenchCommand::SelfContact { resolutions } => {
+            BenchCommand::SelfContact {
+                resolutions,
+                nonlinear,
+            } => {
                 println!(
-                    "self-contact benchmark: {} threads",
+                    "self-contact benchmark{}: {} threads",
+                    if nonlinear {
+                        ", the nonlinear tier"
+                    } else {
+                        ""
+                    },
                     rayon::current_num_threads()
                 );
-                let rows = crate::bench::self_contact::self_contact_rows(&resolutions)?;
+                let rows = crate::bench::self_contact::self_contact_rows(&resolutions, nonlinear)?;
                 print!("{}", crate::bench::self_contact::self_contact_table(&rows));
             }
             BenchCommand::Gentle {

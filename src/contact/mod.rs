@@ -7,6 +7,7 @@
 //! stiffness factorization, with Coulomb friction; the tactile map; and whether a grip's forces hold an object (`hold.rs`).
 
 mod along_surface;
+mod barrier;
 mod bounds;
 mod coulomb;
 mod embedded;
@@ -21,12 +22,17 @@ mod pressure;
 mod problem;
 mod quasi_newton;
 mod row;
+mod self_barrier;
 mod self_contact;
 mod surface;
 mod swept;
 mod winding;
 
 pub use along_surface::SurfaceEdges;
+pub use barrier::{
+    barrier, pair_barrier, point_triangle_derivatives, point_triangle_distance2, project_psd,
+    PairBarrier, PointTriangle,
+};
 pub use bounds::Bounds;
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
@@ -42,6 +48,7 @@ pub use point::{
 };
 pub use pressure::{nodal_pressure, nodal_pressure_with};
 pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair};
+pub use self_barrier::SelfBarrier;
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};
 pub use swept::passes_through;

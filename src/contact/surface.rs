@@ -254,6 +254,14 @@ impl SurfaceBvh<'_> {
         best
     }
 
+    /// The facets (indices into the surface's triangles) whose box meets `query`.
+    pub fn facets_meeting(&self, query: &Bounds) -> Vec<usize> {
+        self.bvh
+            .intersect_aabb(&query.aabb())
+            .map(|leaf| leaf as usize)
+            .collect()
+    }
+
     /// Calls `f` with the corners and the projection of `x` of every facet whose grown box
     /// contains `x` and that `skip` leaves.
     fn for_each_facet(

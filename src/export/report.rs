@@ -377,8 +377,7 @@ fn self_contact_report(model: &Model, h: &crate::state::HandFrame) -> Option<Sel
 /// The contact skin's vertices inside the hand's own flesh in a frame, away from where the skins
 /// of neighbouring digits meet at rest (the webs; `model::SkinOverlapCheck`): skin that passed
 /// through skin — a crease's two sides, a finger into its neighbour or the palm — where nothing
-/// kept it out (`[solver] self_contact` off, or the linear and nonlinear tiers, which do not
-/// carry it).
+/// kept it out (`[solver] self_contact` off, or the linear tier, which does not carry it).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SkinOverlap {
     /// How many vertices.

@@ -60,6 +60,40 @@ impl StiffnessPattern {
             l.sort_unstable();
             l.dedup();
         });
+        let mut pattern = Self::from_neighbours(neighbours);
+        let neighbours = &pattern.node_neighbours;
+        let lower_count: Vec<usize> = neighbours
+            .iter()
+            .enumerate()
+            .map(|(j, l)| l.partition_point(|&i| i < j))
+            .collect();
+        pattern.ranks = mesh
+            .cells
+            .par_iter()
+            .map(|cell| {
+                let mut r = [u32::MAX; 64];
+                for a in 0..8 {
+                    for b in 0..8 {
+                        let (na, nb) = (cell[a], cell[b]);
+                        if na < nb {
+                            let list = &neighbours[nb][..lower_count[nb]];
+                            r[a * 8 + b] = list.binary_search(&na).expect("neighbour") as u32;
+                        } else if na == nb {
+                            r[a * 8 + b] = lower_count[nb] as u32;
+                        }
+                    }
+                }
+                r
+            })
+            .collect();
+        pattern.colours = colour_cells(mesh);
+        pattern
+    }
+
+    /// The pattern of nodes coupled as `neighbours` says (each node's neighbours, itself
+    /// excluded, sorted; symmetric): for solving, not for assembling cells (it knows none).
+    pub fn from_neighbours(neighbours: Vec<Vec<usize>>) -> Self {
+        let n = neighbours.len();
         // Lower neighbours of node j (i < j), then j itself: the node-level upper column j.
         let lower_count: Vec<usize> = neighbours
             .iter()
@@ -91,31 +125,12 @@ impl StiffnessPattern {
                 }
             }
         }
-        let ranks = mesh
-            .cells
-            .par_iter()
-            .map(|cell| {
-                let mut r = [u32::MAX; 64];
-                for a in 0..8 {
-                    for b in 0..8 {
-                        let (na, nb) = (cell[a], cell[b]);
-                        if na < nb {
-                            let list = &neighbours[nb][..lower_count[nb]];
-                            r[a * 8 + b] = list.binary_search(&na).expect("neighbour") as u32;
-                        } else if na == nb {
-                            r[a * 8 + b] = lower_count[nb] as u32;
-                        }
-                    }
-                }
-                r
-            })
-            .collect();
         Self {
             dofs,
             col_ptr,
             row_idx,
-            ranks,
-            colours: colour_cells(mesh),
+            ranks: Vec::new(),
+            colours: Vec::new(),
             node_neighbours: neighbours,
         }
     }

@@ -6,6 +6,7 @@
 //! the partitioned solve of equations (6)–(8), and the nonlinear tier: a Neo-Hookean total
 //! Lagrangian hexahedron solved by Newton–Raphson with load stepping.
 
+pub mod added_energy;
 pub mod assembly;
 pub mod cavity;
 pub mod definite;

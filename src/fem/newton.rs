@@ -17,6 +17,7 @@
 //! restarted from the last equilibrium with half the increment; after two easy steps the
 //! increment doubles again, up to its initial size.
 
+use super::added_energy::{with_blocks, AddedEnergy};
 use super::assembly::Stiffness;
 use super::hex8_hyperelastic::Volumetric;
 use super::hyperelastic_body::{HyperelasticBody, InvertedElement};
@@ -305,6 +306,7 @@ pub fn solve_body(
             loads,
             factor: target,
             settings,
+            added: None,
         }
         .solve(&mut solver, &u, &mut seen, &mut record);
         match attempt {
@@ -397,6 +399,25 @@ pub fn solve_increment(
     settings: &NewtonSettings,
     solver: &mut PartitionedSolver,
 ) -> IncrementOutcome {
+    solve_increment_with(
+        body,
+        (partition, start, target, loads),
+        None,
+        settings,
+        solver,
+    )
+}
+
+/// [`solve_increment`] with an energy added to the body's (`added`: a barrier keeping its
+/// surfaces apart): Newton lowers their sum, its tangent holds the added energy's Hessian, and
+/// every step is cut short where the surfaces would pass through each other.
+pub fn solve_increment_with(
+    body: &HyperelasticBody,
+    (partition, start, target, loads): (&DofPartition, &[f64], &[f64], &[f64]),
+    added: Option<&dyn AddedEnergy>,
+    settings: &NewtonSettings,
+    solver: &mut PartitionedSolver,
+) -> IncrementOutcome {
     let dofs = body.pattern().dofs;
     assert_eq!(partition.prescribed.len(), dofs);
     assert_eq!(start.len(), dofs);
@@ -423,6 +444,7 @@ pub fn solve_increment(
             loads,
             factor: 1.0,
             settings,
+            added,
         }
         .solve(solver, start, &mut seen, &mut record)
     };
@@ -456,6 +478,8 @@ struct Increment<'a, 'b> {
     loads: &'a [f64],
     factor: f64,
     settings: &'a NewtonSettings,
+    /// An energy added to the body's, if any.
+    added: Option<&'a dyn AddedEnergy>,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -508,11 +532,16 @@ impl Increment<'_, '_> {
         let mut u = start.to_vec();
         let forces = |record: &mut StepRecord, u: &[f64]| {
             let t = Instant::now();
-            let out = self.body.internal_forces(u);
+            let out = self.state(u);
             record.cost.forces_ms += ms(t);
             out
         };
         let (mut energy, mut fint) = forces(record, &u).map_err(inverted)?;
+        if !energy.is_finite() {
+            return Err(StepFailure::Tangent(
+                "the surfaces kept apart touch or cross where the increment starts".into(),
+            ));
+        }
         let mut peak = 0.0f64;
         let mut last_shift = 0.0f64;
         for iteration in 0..=s.max_iterations {
@@ -535,8 +564,13 @@ impl Increment<'_, '_> {
                 });
             }
             let t = Instant::now();
-            let exact = self.body.tangent(&u).map_err(inverted)?;
+            let body_tangent = self.body.tangent(&u).map_err(inverted)?;
+            let exact = self.with_added(&body_tangent, &u, false);
             let mut modified: Option<Stiffness> = None;
+            // With an added energy, its Hessian projected positive semi-definite is tried
+            // before the body's tangent is changed.
+            let mut projected = self.added.is_none();
+            let mut without_pressure = false;
             record.cost.tangent_ms += ms(t);
             let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();
             let delta: Vec<f64> = (0..dofs).map(|d| target[d] - u[d]).collect();
@@ -558,14 +592,27 @@ impl Increment<'_, '_> {
                 };
                 match attempt {
                     Ok(solution) => break solution,
+                    Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && !projected => {
+                        let t = Instant::now();
+                        modified = Some(self.with_added(&body_tangent, &u, true));
+                        projected = true;
+                        record.cost.tangent_ms += ms(t);
+                        record.regularised += 1;
+                    }
                     Err(SolveError::NotPositiveDefinite { .. })
-                        if s.regularise && modified.is_none() =>
+                        if s.regularise && !without_pressure =>
                     {
+                        without_pressure = true;
                         let t = Instant::now();
                         modified = Some(
-                            self.body
-                                .tangent_without_pressure_hessian(&u)
-                                .map_err(inverted)?,
+                            self.with_added(
+                                &self
+                                    .body
+                                    .tangent_without_pressure_hessian(&u)
+                                    .map_err(inverted)?,
+                                &u,
+                                true,
+                            ),
                         );
                         record.cost.tangent_ms += ms(t);
                         record.regularised += 1;
@@ -595,6 +642,7 @@ impl Increment<'_, '_> {
             // leave it along the direction of negative curvature.
             let unstable = modified.is_some() || shift > 0.0;
             if unstable && placed && relative < SADDLE_RESIDUAL {
+                // (With an added energy the escape is cut short where surfaces would cross.)
                 if let Some((trial, e_trial, f_trial)) = self.escape(
                     solver,
                     &exact,
@@ -614,7 +662,7 @@ impl Increment<'_, '_> {
             // Line search along du.
             let slope = -dot(&r, &du);
             let potential = energy - dot(&ext, &u);
-            let mut alpha = 1.0;
+            let mut alpha = self.added.map_or(1.0, |a| a.largest_step(&u, &du)).min(1.0);
             let mut accepted = None;
             let mut last_inverted = None;
             for _ in 0..=s.line_search_halvings {
@@ -670,6 +718,30 @@ impl Increment<'_, '_> {
             fint = f_trial;
         }
         unreachable!("the loop returns at its last iteration")
+    }
+}
+
+impl Increment<'_, '_> {
+    /// The energy and the internal forces at `u`, the added energy's included (an infinite
+    /// energy where it is not admissible: no step goes there).
+    fn state(&self, u: &[f64]) -> Result<(f64, Vec<f64>), InvertedElement> {
+        let (mut energy, mut fint) = self.body.internal_forces(u)?;
+        if let Some(added) = self.added {
+            match added.energy(u, &mut fint) {
+                Some(e) => energy += e,
+                None => energy = f64::INFINITY,
+            }
+        }
+        Ok((energy, fint))
+    }
+
+    /// The body's tangent `k` plus the added energy's Hessian at `u` (`projected`: its
+    /// blocks' positive semi-definite parts).
+    fn with_added(&self, k: &Stiffness, u: &[f64], projected: bool) -> Stiffness {
+        match self.added {
+            Some(added) => with_blocks(k, &added.hessian(u, projected)),
+            None => k.clone(),
+        }
     }
 }
 
@@ -734,10 +806,14 @@ impl Increment<'_, '_> {
             .fold(0.0, f64::max);
         let ext: Vec<f64> = self.loads.iter().map(|f| f * self.factor).collect();
         let mut alpha = 0.1 * self.body.element_size() / largest;
+        if let Some(added) = self.added {
+            let step: Vec<f64> = v.iter().map(|x| alpha * x).collect();
+            alpha *= added.largest_step(u, &step);
+        }
         for _ in 0..=self.settings.line_search_halvings {
             let trial: Vec<f64> = u.iter().zip(&v).map(|(a, b)| a + alpha * b).collect();
             let t = Instant::now();
-            let state = self.body.internal_forces(&trial);
+            let state = self.state(&trial);
             record.cost.forces_ms += ms(t);
             if let Ok((e, f)) = state {
                 let model = -alpha * dot(r, &v) + 0.5 * alpha * alpha * curvature;

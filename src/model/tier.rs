@@ -157,10 +157,15 @@ pub(super) fn flexion_warnings(flexion: &FlexionSettings, has_hand: bool) -> Vec
             flexion.max_step_deg
         ));
     }
-    if has_hand && flexion.self_contact.is_some() && !incremental {
+    // The nonlinear increments keep the skin out of itself by a barrier in their energy.
+    let kept = incremental
+        || (flexion.scheme == FlexionScheme::Nonlinear
+            && flexion.methods.contains(&FleshMethod::Fem));
+    if has_hand && flexion.self_contact.is_some() && !kept {
         out.push(
-            "solver.self_contact = true: the skin's self-contact is solved in the corotational \
-             and the paper's increments only; this tier's flesh may still pass through itself"
+            "solver.self_contact = true: the skin's self-contact is solved in the corotational, \
+             the paper's and the nonlinear increments only; this tier's flesh may still pass \
+             through itself"
                 .to_string(),
         );
     }

@@ -32,12 +32,15 @@
 use super::error::SimError;
 use super::flexion::{Flexion, Plan, Predicted};
 use super::region::SubProblem;
+use super::self_contact::{barrier_kappa, OwnSkin};
 use super::step_control::StepControl;
+use crate::contact::SelfBarrier;
+use crate::fem::added_energy::AddedEnergy;
 use crate::fem::hex8::mapped_points;
 use crate::fem::hex8_hyperelastic::{element_state, Volumetric};
 use crate::fem::hyperelastic::NeoHookean;
 use crate::fem::hyperelastic_body::HyperelasticBody;
-use crate::fem::newton::{solve_increment, NewtonSettings, StepFailure};
+use crate::fem::newton::{solve_increment_with, NewtonSettings, StepFailure};
 use crate::fem::Material;
 use crate::hand::HandModel;
 use crate::model::FleshMethod;
@@ -53,8 +56,11 @@ pub const MAX_HALVINGS: usize = 5;
 
 /// Newton iterations allowed per increment before it is halved. Increments of the index PIP
 /// flexion take 5–8 where the flesh is stable; where the palmar flesh creases (the tangent is
-/// not positive definite on the way) 10–30, and up to 47 for ν = 0.4999 past 80°.
-const MAX_ITERATIONS: usize = 60;
+/// not positive definite on the way) 10–30, and up to 47 for ν = 0.4999 past 80°. Where two
+/// creases close on themselves with the skin kept out of itself, the shifted tangents converge
+/// linearly for longer: at 60 the index and middle PIP together stopped at 74.69° at
+/// resolution 1.25 (at 61.56° without self-contact); at 150 both close (docs/hand.md).
+const MAX_ITERATIONS: usize = 150;
 
 /// Why one increment found no equilibrium (cells and nodes numbered in the hand).
 struct Failure {
@@ -100,6 +106,16 @@ impl Flexion<'_> {
             ),
             None => None,
         };
+        // The region's skin kept out of itself by a barrier in the energy Newton lowers.
+        let barrier = match (&self.settings.self_contact, &plan.sub) {
+            (Some(contact), Some(sub)) => OwnSkin::new(self.hand, sub, contact).map(|skin| {
+                let young = sub.materials.iter().map(|m| m.young).fold(0.0, f64::max);
+                let start = local_displacements(sub, &state.positions);
+                let barrier = skin.barrier(&sub.mesh.nodes, barrier_kappa(young), &start);
+                (skin, barrier)
+            }),
+            _ => None,
+        };
 
         let mut control = StepControl::new(plan.steps, MAX_HALVINGS, true);
         let outcome = loop {
@@ -120,7 +136,8 @@ impl Flexion<'_> {
             stats.update_ms += ms(t);
             let mut iterations = 0;
             if let (Some(sub), Some(body)) = (&plan.sub, &body) {
-                match self.equilibrium(sub, body, &newton, state, &mut next, &mut stats) {
+                let kept = barrier.as_ref().map(|b| &b.1);
+                match self.equilibrium(sub, (body, kept), &newton, state, &mut next, &mut stats) {
                     Ok(n) => iterations = n,
                     Err(_) if control.halve() => {
                         stats.halvings += 1;
@@ -133,6 +150,14 @@ impl Flexion<'_> {
                 }
             }
             stats.increments_taken += 1;
+            if let (Some(sub), Some((skin, barrier))) = (&plan.sub, &barrier) {
+                let u = local_displacements(sub, &next);
+                let vertices = self.hand.contact_skin.vertex_count();
+                let (forces, count, total) = skin.barrier_forces(barrier, &u, vertices);
+                stats.self_contacts = count;
+                stats.self_contact_force = total;
+                state.self_contact = if count > 0 { forces } else { Vec::new() };
+            }
             state.positions = next;
             state.transforms = transforms;
             state.angles = angles;
@@ -140,7 +165,8 @@ impl Flexion<'_> {
         };
         // The reactions of the state reached: a consistent pose even when stopped early.
         let t = Instant::now();
-        let settled = self.settle_reactions(state, plan.sub.as_ref());
+        let kept = barrier.as_ref().map(|b| &b.1);
+        let settled = self.settle_reactions(state, plan.sub.as_ref(), kept);
         stats.update_ms += ms(t);
         outcome?;
         settled?;
@@ -155,7 +181,7 @@ impl Flexion<'_> {
     fn equilibrium(
         &mut self,
         sub: &SubProblem,
-        body: &HyperelasticBody,
+        (body, barrier): (&HyperelasticBody, Option<&SelfBarrier>),
         newton: &NewtonSettings,
         state: &HandState,
         next: &mut [Vector3<f64>],
@@ -183,12 +209,10 @@ impl Flexion<'_> {
         // it), if it turns no element inside out.
         let loads = vec![0.0; dofs];
         let mut attempt = |start: &[f64], stats: &mut KeyframeStats| {
-            let outcome = solve_increment(
+            let outcome = solve_increment_with(
                 body,
-                &sub.partition,
-                start,
-                &target,
-                &loads,
+                (&sub.partition, start, &target, &loads),
+                barrier.map(|b| b as &dyn AddedEnergy),
                 newton,
                 &mut self.caches.solver,
             );
@@ -322,11 +346,13 @@ impl Flexion<'_> {
 
     /// Sets `state.reaction` to equation (8): the internal force of every FEM flesh cell at the
     /// state reached, at every node but the free nodes of the region `sub` (zero there, where
-    /// the force is the Newton residual).
+    /// the force is the Newton residual), plus the skin's press on itself where the `barrier`
+    /// reaches a prescribed node (a bone's, or the region's edge).
     fn settle_reactions(
         &self,
         state: &mut HandState,
         sub: Option<&SubProblem>,
+        barrier: Option<&SelfBarrier>,
     ) -> Result<(), SimError> {
         let fem = |c: usize| self.cell_method(c) == FleshMethod::Fem;
         let forces = flesh_internal_forces(
@@ -341,10 +367,21 @@ impl Flexion<'_> {
             element: cell,
             relative_det: det_f,
         })?;
+        let mut forces = forces;
         let mut free = vec![false; forces.len()];
         if let Some(sub) = sub {
             for (i, &n) in sub.nodes.iter().enumerate() {
                 free[n] = !sub.partition.prescribed[3 * i];
+            }
+            if let Some(barrier) = barrier {
+                let u = local_displacements(sub, &state.positions);
+                let mut press = vec![0.0; u.len()];
+                // (An admissible state: the increments reached it.)
+                if barrier.energy(&u, &mut press).is_some() {
+                    for (i, &n) in sub.nodes.iter().enumerate() {
+                        forces[n] += Vector3::new(press[3 * i], press[3 * i + 1], press[3 * i + 2]);
+                    }
+                }
             }
         }
         for (n, f) in forces.into_iter().enumerate() {
@@ -352,6 +389,18 @@ impl Flexion<'_> {
         }
         Ok(())
     }
+}
+
+/// The displacements from rest of `sub`'s local nodes where the hand's nodes are at `positions`.
+fn local_displacements(sub: &SubProblem, positions: &[Vector3<f64>]) -> Vec<f64> {
+    sub.nodes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &n)| {
+            let d = positions[n] - sub.mesh.nodes[i];
+            [d.x, d.y, d.z]
+        })
+        .collect()
 }
 
 /// The internal forces ∂W/∂x of the Neo-Hookean flesh (total Lagrangian from the rest mesh,
