@@ -740,23 +740,7 @@ mod tests {
         }
         // A seam's sliver on the hand's skin (two corners equal to round-off): measured by its
         // edges, finite, and its barrier semi-definite.
-        let seam = [
-            v(
-                0.07417617434452912,
-                -0.01876104239298431,
-                -0.017491644524492103,
-            ),
-            v(
-                0.07259962671363271,
-                -0.018366977706266028,
-                -0.01749175252458943,
-            ),
-            v(
-                0.0725996267136327,
-                -0.018366977706266024,
-                -0.01749175252458943,
-            ),
-        ];
+        let seam = super::super::swept::seam_sliver();
         let p = (seam[0] + seam[1]) * 0.5 + v(0.0, 0.0, 5e-4);
         let d = point_triangle_derivatives(&p, &seam[0], &seam[1], &seam[2]);
         assert!(all_finite(&d) && (d.d2 - 2.5e-7).abs() < 1e-12, "{d:?}");

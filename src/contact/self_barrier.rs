@@ -375,9 +375,15 @@ mod tests {
         (nodes, triangles)
     }
 
-    /// The strips 2 mm apart where the barrier is built (reach 0.5 mm, κ = 1e9 N/m³).
+    /// The strips 2 mm apart where the barrier is built (reach 0.5 mm, κ = 10¹⁵ N/m⁵, 1 mm² a
+    /// point).
     fn barrier() -> (SelfBarrier, usize) {
-        let (nodes, triangles) = strips(2e-3);
+        barrier_at(2e-3)
+    }
+
+    /// The barrier over the strips `gap` apart where it is built.
+    fn barrier_at(gap: f64) -> (SelfBarrier, usize) {
+        let (nodes, triangles) = strips(gap);
         let n = nodes.len();
         let own = OwnNeighbourhood::new(nodes.clone(), &triangles, 0.5e-3, (0.0, 0.0), 0.0);
         let b = SelfBarrier::new(
@@ -467,17 +473,7 @@ mod tests {
 
     #[test]
     fn pairs_within_reach_where_it_starts_are_left_out() {
-        let (nodes, triangles) = strips(0.2e-3);
-        let n = nodes.len();
-        let own = OwnNeighbourhood::new(nodes.clone(), &triangles, 0.5e-3, (0.0, 0.0), 0.0);
-        let b = SelfBarrier::new(
-            EmbeddedPoints::none(n),
-            nodes,
-            (triangles, (0..n).map(|p| (p, 1e-6)).collect()),
-            Arc::new(own),
-            (0.5e-3, 1e15),
-            &vec![0.0; 3 * n],
-        );
+        let (b, n) = barrier_at(0.2e-3);
         let mut g = vec![0.0; 3 * n];
         assert_eq!(b.energy(&vec![0.0; 3 * n], &mut g), Some(0.0));
         assert!(g.iter().all(|&x| x == 0.0));

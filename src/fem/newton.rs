@@ -565,7 +565,14 @@ impl Increment<'_, '_> {
             }
             let t = Instant::now();
             let body_tangent = self.body.tangent(&u).map_err(inverted)?;
-            let exact = self.with_added(&body_tangent, &u, false);
+            // (The body's own tangent kept only where an energy is added: its projected retry.)
+            let (exact, body_tangent) = match self.added {
+                Some(added) => (
+                    with_blocks(&body_tangent, &added.hessian(&u, false)),
+                    Some(body_tangent),
+                ),
+                None => (body_tangent, None),
+            };
             let mut modified: Option<Stiffness> = None;
             // With an added energy, its Hessian projected positive semi-definite is tried
             // before the body's tangent is changed.
@@ -594,7 +601,9 @@ impl Increment<'_, '_> {
                     Ok(solution) => break solution,
                     Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && !projected => {
                         let t = Instant::now();
-                        modified = Some(self.with_added(&body_tangent, &u, true));
+                        if let (Some(added), Some(k)) = (self.added, &body_tangent) {
+                            modified = Some(with_blocks(k, &added.hessian(&u, true)));
+                        }
                         projected = true;
                         record.cost.tangent_ms += ms(t);
                         record.regularised += 1;
@@ -606,12 +615,10 @@ impl Increment<'_, '_> {
                         let t = Instant::now();
                         modified = Some(
                             self.with_added(
-                                &self
-                                    .body
+                                self.body
                                     .tangent_without_pressure_hessian(&u)
                                     .map_err(inverted)?,
                                 &u,
-                                true,
                             ),
                         );
                         record.cost.tangent_ms += ms(t);
@@ -735,12 +742,12 @@ impl Increment<'_, '_> {
         Ok((energy, fint))
     }
 
-    /// The body's tangent `k` plus the added energy's Hessian at `u` (`projected`: its
-    /// blocks' positive semi-definite parts).
-    fn with_added(&self, k: &Stiffness, u: &[f64], projected: bool) -> Stiffness {
+    /// The body's tangent `k` plus the added energy's Hessian at `u`, its blocks' positive
+    /// semi-definite parts.
+    fn with_added(&self, k: Stiffness, u: &[f64]) -> Stiffness {
         match self.added {
-            Some(added) => with_blocks(k, &added.hessian(u, projected)),
-            None => k.clone(),
+            Some(added) => with_blocks(&k, &added.hessian(u, true)),
+            None => k,
         }
     }
 }
