@@ -6,7 +6,9 @@
 //!   B(u) = κ Σ A_p b(d²(p, t), d̂²),
 //!
 //! (A_p the surface's area around the point: the barrier is a pressure's, and refining the
-//! surface refines it instead of adding to it) which grows without bound as a point comes onto a facet. Newton lowers the flesh's energy plus
+//! surface does not add points' barriers to it; but a point within reach of several facets —
+//! near their shared edge or corner — counts each, as in incremental potential contact's first
+//! form, and more of them as the facets shrink below the reach) which grows without bound as a point comes onto a facet. Newton lowers the flesh's energy plus
 //! B (`fem::newton::solve_increment_with`), so the press of skin on skin is part of the energy
 //! it minimises — its line search, its escape from saddles and its regularised tangents work as
 //! they do without contact — and each step is cut short before a point would pass through a
@@ -18,7 +20,7 @@
 //! Pairs already nearer than d̂ where the barrier is built (at rest: skin that meets skin at the
 //! webs) are left out for good: skin that merely touches at rest does not lock.
 
-use super::barrier::{pair_barrier, point_triangle_distance2};
+use super::barrier::{barrier, pair_barrier, point_triangle_derivatives, point_triangle_distance2};
 use super::bounds::Bounds;
 use super::embedded::EmbeddedPoints;
 use super::self_contact::OwnNeighbourhood;
@@ -267,21 +269,21 @@ impl AddedEnergy for SelfBarrier {
         let reach2 = self.reach * self.reach;
         self.active(&positions)
             .into_par_iter()
-            .filter_map(|(pair, _)| {
+            .filter_map(|(pair, d2)| {
                 let c = Self::corners(&pair);
                 let [p, a, b, cc] = c.map(|i| positions[i]);
-                let e = pair_barrier(&p, &a, &b, &cc, reach2, self.kappa * self.area[pair.point])?;
-                if !e.energy.is_finite() {
+                let kappa = self.kappa * self.area[pair.point];
+                if d2.is_nan() || d2 <= 0.0 {
                     return None;
                 }
-                let h: SMatrix<f64, 12, 12> = if !projected {
-                    let dist = super::barrier::point_triangle_derivatives(&p, &a, &b, &cc);
-                    let (_, de, dde) = super::barrier::barrier(dist.d2, reach2);
-                    let g = &dist.gradient;
-                    (g * g.transpose() * dde + dist.hessian * de)
-                        * (self.kappa * self.area[pair.point])
+                let h: SMatrix<f64, 12, 12> = if projected {
+                    pair_barrier(&p, &a, &b, &cc, reach2, kappa)?.hessian
                 } else {
-                    e.hessian
+                    // (The exact Hessian: no eigen-decomposition to throw away.)
+                    let dist = point_triangle_derivatives(&p, &a, &b, &cc);
+                    let (_, de, dde) = barrier(dist.d2, reach2);
+                    let g = &dist.gradient;
+                    (g * g.transpose() * dde + dist.hessian * de) * kappa
                 };
                 let (nodes, w) = self.weights(&c);
                 let h = DMatrix::from_fn(12, 12, |i, j| h[(i, j)]);

@@ -567,16 +567,17 @@ impl Increment<'_, '_> {
             let body_tangent = self.body.tangent(&u).map_err(inverted)?;
             // (The body's own tangent kept only where an energy is added: its projected retry.)
             let (exact, body_tangent) = match self.added {
-                Some(added) => (
-                    with_blocks(&body_tangent, &added.hessian(&u, false)),
-                    Some(body_tangent),
-                ),
+                Some(added) => {
+                    let blocks = added.hessian(&u, false);
+                    let k = with_blocks(&body_tangent, &blocks);
+                    (k, (!blocks.is_empty()).then_some(body_tangent))
+                }
                 None => (body_tangent, None),
             };
             let mut modified: Option<Stiffness> = None;
-            // With an added energy, its Hessian projected positive semi-definite is tried
-            // before the body's tangent is changed.
-            let mut projected = self.added.is_none();
+            // With an added energy that acts here, its Hessian projected positive
+            // semi-definite is tried before the body's tangent is changed.
+            let mut projected = body_tangent.is_none();
             let mut without_pressure = false;
             record.cost.tangent_ms += ms(t);
             let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();

@@ -59,7 +59,9 @@ pub const MAX_HALVINGS: usize = 5;
 /// not positive definite on the way) 10–30, and up to 47 for ν = 0.4999 past 80°. Where two
 /// creases close on themselves with the skin kept out of itself, the shifted tangents converge
 /// linearly for longer: at 60 the index and middle PIP together stopped at 74.69° at
-/// resolution 1.25 (at 61.56° without self-contact); at 150 both close (docs/hand.md).
+/// resolution 1.25 (at 61.56° without self-contact); at 150 both close, with it and without
+/// (docs/hand.md). The limit is the tier's, with self-contact or not: a flexion that finds no
+/// equilibrium takes longer to say so.
 const MAX_ITERATIONS: usize = 150;
 
 /// Why one increment found no equilibrium (cells and nodes numbered in the hand).
@@ -226,7 +228,18 @@ impl Flexion<'_> {
         };
         let mut outcome = attempt(&previous, stats);
         let inverted = matches!(outcome.result, Err(StepFailure::Inverted { .. }));
-        if inverted && body.internal_forces(&predictor).is_ok() {
+        // (With the skin kept out of itself, only a predictor it reaches without a point
+        // passing through a facet: the barrier would hold such a point on the wrong side.)
+        let clear = barrier.is_none_or(|b| {
+            let jump: Vec<f64> = predictor
+                .iter()
+                .zip(&previous)
+                .map(|(a, b)| a - b)
+                .collect();
+            let mut gradient = vec![0.0; dofs];
+            b.largest_step(&previous, &jump) >= 1.0 && b.energy(&predictor, &mut gradient).is_some()
+        });
+        if inverted && clear && body.internal_forces(&predictor).is_ok() {
             outcome = attempt(&predictor, stats);
         }
         let record = &outcome.record;

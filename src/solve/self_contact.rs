@@ -192,11 +192,12 @@ pub(crate) fn barrier_kappa(young: f64) -> f64 {
 }
 
 impl OwnSkin {
-    /// The region's skin kept out of itself by a barrier of stiffness `kappa` (N/m³), over the
+    /// The region's skin kept out of itself by a barrier of stiffness `kappa` (N/m⁵), over the
     /// region's nodes at rest (the displacements it takes are from there): every point against
     /// every facet beyond its neighbourhood; pairs within the barrier's reach at rest, or
-    /// crossed or nearly touching (within a tenth of it) at `start` (the keyframe's start), are
-    /// left out.
+    /// within a tenth of it at `start` (the keyframe's start: skin a keyframe solved without
+    /// the barrier brought onto its own), are left out. (Skin already through its own where a
+    /// keyframe starts, farther than that, is held where it is.)
     pub(super) fn barrier(
         &self,
         rest: &[Vector3<f64>],
