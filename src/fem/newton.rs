@@ -17,7 +17,7 @@
 //! restarted from the last equilibrium with half the increment; after two easy steps the
 //! increment doubles again, up to its initial size.
 
-use super::added_energy::{with_blocks, AddedEnergy};
+use super::added_energy::{with_blocks, AddedEnergy, NodeBlock};
 use super::assembly::Stiffness;
 use super::hex8_hyperelastic::Volumetric;
 use super::hyperelastic_body::{HyperelasticBody, InvertedElement};
@@ -579,6 +579,13 @@ impl Increment<'_, '_> {
             // semi-definite is tried before the body's tangent is changed.
             let mut projected = body_tangent.is_none();
             let mut without_pressure = false;
+            // The added energy's projected blocks, found once for both retries that take them.
+            let mut projected_blocks: Option<Vec<NodeBlock>> = None;
+            let mut projected_at = |added: &dyn AddedEnergy| -> Vec<NodeBlock> {
+                projected_blocks
+                    .get_or_insert_with(|| added.hessian(&u, true))
+                    .clone()
+            };
             record.cost.tangent_ms += ms(t);
             let r: Vec<f64> = ext.iter().zip(&fint).map(|(e, f)| e - f).collect();
             let delta: Vec<f64> = (0..dofs).map(|d| target[d] - u[d]).collect();
@@ -603,7 +610,7 @@ impl Increment<'_, '_> {
                     Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && !projected => {
                         let t = Instant::now();
                         if let (Some(added), Some(k)) = (self.added, &body_tangent) {
-                            modified = Some(with_blocks(k, &added.hessian(&u, true)));
+                            modified = Some(with_blocks(k, &projected_at(added)));
                         }
                         projected = true;
                         record.cost.tangent_ms += ms(t);
@@ -614,14 +621,14 @@ impl Increment<'_, '_> {
                     {
                         without_pressure = true;
                         let t = Instant::now();
-                        modified = Some(
-                            self.with_added(
-                                self.body
-                                    .tangent_without_pressure_hessian(&u)
-                                    .map_err(inverted)?,
-                                &u,
-                            ),
-                        );
+                        let k = self
+                            .body
+                            .tangent_without_pressure_hessian(&u)
+                            .map_err(inverted)?;
+                        modified = Some(match self.added {
+                            Some(added) => with_blocks(&k, &projected_at(added)),
+                            None => k,
+                        });
                         record.cost.tangent_ms += ms(t);
                         record.regularised += 1;
                     }
@@ -741,15 +748,6 @@ impl Increment<'_, '_> {
             }
         }
         Ok((energy, fint))
-    }
-
-    /// The body's tangent `k` plus the added energy's Hessian at `u`, its blocks' positive
-    /// semi-definite parts.
-    fn with_added(&self, k: Stiffness, u: &[f64]) -> Stiffness {
-        match self.added {
-            Some(added) => with_blocks(&k, &added.hessian(u, true)),
-            None => k,
-        }
     }
 }
 
