@@ -344,8 +344,10 @@ fn the_folded_pip_crease_does_not_cross_itself() {
 /// The same crease folded by the nonlinear tier (Neo-Hookean flesh, each increment Newton to
 /// equilibrium), the skin kept out of itself by a barrier in the energy Newton lowers
 /// (`contact::SelfBarrier`, docs/hand.md "Self-contact"; `index_crease_folded`). Also: the
-/// tactile map feels each press on both sides; Newton needs fewer factorizations than without
-/// (the folded flesh is no longer left to find its way through itself: 578 → 144 measured).
+/// skin crosses itself nowhere (its edges held off its edges too: with points against facets
+/// only, one pair crossed); the tactile map feels each press on both sides; Newton needs fewer
+/// factorizations than without (the folded flesh is no longer left to find its way through
+/// itself: 578 → 130 measured).
 #[test]
 fn the_nonlinear_tier_folds_the_pip_crease_without_crossing_it() {
     let (held, stats, free_stats) = index_crease_folded(FlexionSettings {
@@ -353,8 +355,9 @@ fn the_nonlinear_tier_folds_the_pip_crease_without_crossing_it() {
         ..Default::default()
     });
     assert!(stats.self_contacts > 10);
+    assert_eq!(crease_and_all_crossings(hand(), &held.positions).1, 0);
     // The point's force, and the facet's corners' shares of it (the closest point's
-    // barycentric weights): twice the points'.
+    // barycentric weights), or each edge's ends' shares of the pair's: twice the press.
     let felt: f64 = held.self_contact.iter().sum();
     assert!(
         (felt - 2.0 * stats.self_contact_force).abs() < 1e-9 * felt,
@@ -367,10 +370,10 @@ fn the_nonlinear_tier_folds_the_pip_crease_without_crossing_it() {
 /// Issue 16's test of the nonlinear tier: index and middle PIP 0° → 110° together at resolution
 /// 1.5, from a scene file (`tier = "nonlinear"`, `self_contact = true`), the skin kept out of
 /// itself by the barrier: it converges (without self-contact the tier stopped at middle PIP
-/// 64°), the creases' palmar skin crosses itself at a few triangle pairs only, the flesh keeps
-/// its volume, the press reaches the bones, which balance. ≈ 3.5 minutes (the same motion through the library's
-/// `Flexion` with a nested-dissection ordering took over 13: the buckled crease's path depends
-/// on round-off).
+/// 64°), the skin does not cross itself anywhere, the flesh keeps its volume, the press
+/// reaches the bones, which balance. ≈ 9 minutes (6 455 factorizations; the same motion through
+/// the library's `Flexion` with a nested-dissection ordering took longer: the buckled crease's
+/// path depends on round-off).
 #[test]
 fn the_nonlinear_tier_folds_index_and_middle_to_110_at_resolution_1_5() {
     let text = "[solver]\ntier = \"nonlinear\"\nself_contact = true\n\n[[material]]\n\
@@ -398,10 +401,10 @@ fn the_nonlinear_tier_folds_index_and_middle_to_110_at_resolution_1_5() {
         100.0 * report.volume_change,
     );
     assert_eq!(report.pose["middle.pip"], 110.0);
-    // Not yet none: 28 pairs of the creases' triangles cross (measured 2026-12-05; none for the
-    // index alone at resolution 1), where the barrier holds the skin's vertices off its facets
-    // but not its edges off each other (docs/hand.md, "Self-contact").
-    assert!(crease <= 40 && all <= 40, "{crease} / {all}");
+    // None: the barrier holds the skin's points off its facets and its edges off its edges
+    // (with points against facets only, 28 pairs of the creases' triangles crossed; docs/hand.md,
+    // "Self-contact").
+    assert_eq!((crease, all), (0, 0));
     assert!(press.force > 1.0, "{press:?}");
     assert!(press.parts.contains_key("index") && press.parts.contains_key("middle"));
     assert!(

@@ -1,7 +1,7 @@
 //! `prehensile bench self-contact`: the skin kept out of itself (issue 16) against the skin left
 //! to pass through itself, on the motions that fold it — the index PIP to 110°, the middle finger
 //! adducted onto the ring finger, a full fist — per hand resolution: time, increments,
-//! factorizations, the points held and their force, or why it stopped.
+//! factorizations, the pairs held and their force, or why it stopped.
 
 use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
@@ -22,7 +22,7 @@ pub struct SelfContactRow {
     pub self_contact: bool,
     /// Wall time, s.
     pub seconds: f64,
-    /// Increments taken and factorizations, points held and their force (N) at the end; or the
+    /// Increments taken and factorizations, pairs held and their force (N) at the end; or the
     /// error.
     pub outcome: Result<(usize, usize, usize, f64), String>,
 }
@@ -121,7 +121,7 @@ pub fn self_contact_rows(
 /// The rows as a markdown table.
 pub fn self_contact_table(rows: &[SelfContactRow]) -> String {
     let mut out = String::from(
-        "| motion | resolution | self-contact | time (s) | increments | factorizations | points held | force (N) |\n|---|---|---|---|---|---|---|---|\n",
+        "| motion | resolution | self-contact | time (s) | increments | factorizations | pairs held | force (N) |\n|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let on = if r.self_contact { "on" } else { "off" };

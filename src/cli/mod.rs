@@ -206,7 +206,8 @@ enum BenchCommand {
     },
     /// The skin kept out of itself (self-contact) against the skin passing through itself: the
     /// index PIP to 110°, the middle finger adducted onto the ring finger, a full fist, per hand
-    /// resolution — time, increments, factorizations, the points held and their force.
+    /// resolution — time, increments, factorizations, the pairs held (a point on a facet; in
+    /// the nonlinear tier also an edge on an edge) and their force.
     SelfContact {
         /// Hand mesh resolutions, 0.5 to 4, comma separated.
         #[arg(
@@ -698,7 +699,7 @@ fn print_summary(solved: &Solved) {
                 h.volume_change * 100.0,
                 if m.self_contacts > 0 {
                     format!(
-                        "; self-contact {} points, {:.3} N",
+                        "; self-contact {} pairs held, {:.3} N",
                         m.self_contacts, m.self_contact_force
                     )
                 } else {

@@ -207,7 +207,7 @@ fn nearest_feature(p: &Vector3<f64>, t: [&Vector3<f64>; 3]) -> (Feature, f64) {
 }
 
 /// d² = ((u·n)² / (n·n)) with n = e1 × e2, over (u, e1, e2): its value, gradient and Hessian.
-fn point_plane(
+pub(super) fn point_plane(
     u: &Vector3<f64>,
     e1: &Vector3<f64>,
     e2: &Vector3<f64>,
@@ -250,7 +250,10 @@ fn point_plane(
 
 /// d² = |u × e|² / |e|² = |r|² with r = u − t e, t = u·e / e·e, over (u, e): its value,
 /// gradient and Hessian.
-fn point_line(u: &Vector3<f64>, e: &Vector3<f64>) -> (f64, SVector<f64, 6>, SMatrix<f64, 6, 6>) {
+pub(super) fn point_line(
+    u: &Vector3<f64>,
+    e: &Vector3<f64>,
+) -> (f64, SVector<f64, 6>, SMatrix<f64, 6, 6>) {
     let q = e.norm_squared();
     let t = u.dot(e) / q;
     let r = u - e * t;
@@ -276,7 +279,7 @@ fn point_line(u: &Vector3<f64>, e: &Vector3<f64>) -> (f64, SVector<f64, 6>, SMat
 
 /// A distance's derivatives over differences of the corners, block k being
 /// x[pairs[k].0] − x[pairs[k].1] (x = p, a, b, c), carried to (p, a, b, c).
-fn lift<const N: usize>(
+pub(super) fn lift<const N: usize>(
     d2: f64,
     gradient: SVector<f64, N>,
     hessian: SMatrix<f64, N, N>,

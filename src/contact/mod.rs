@@ -10,6 +10,8 @@ mod along_surface;
 mod barrier;
 mod bounds;
 mod coulomb;
+mod edge_edge;
+mod edge_pairs;
 mod embedded;
 mod exterior;
 mod hold;
@@ -34,6 +36,10 @@ pub use barrier::{
     PairBarrier, PointTriangle,
 };
 pub use bounds::Bounds;
+pub use edge_edge::{
+    edge_edge_derivatives, edge_edge_distance2, edge_edge_mollifier, edge_edge_mollifier_threshold,
+    edge_pair_barrier, edge_pair_barrier_exact, EdgeMollifier,
+};
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;
 pub use hold::{hold_margin, GripContact, HoldMargin, MAX_MARGIN};
@@ -51,5 +57,5 @@ pub use problem::{ContactProblem, Crossing, FrictionLaw, StopCheck, SurfacePair}
 pub use self_barrier::SelfBarrier;
 pub use self_contact::OwnNeighbourhood;
 pub use surface::{connected_pieces, project_on_triangle, ContactSurface, Projection, SurfaceBvh};
-pub use swept::passes_through;
+pub use swept::{edges_cross, passes_through};
 pub use winding::{vertices_inside_itself, winding_number_of, WindingTree};

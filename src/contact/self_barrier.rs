@@ -1,35 +1,43 @@
 //! A surface kept out of itself by an energy (issue 16, the nonlinear tier): the barrier of
 //! incremental potential contact (Li et al. 2020, `barrier.rs`) summed over every pair of a
-//! surface point and a facet of the same surface nearer than the barrier's reach d̂, beyond the
-//! point's own neighbourhood (`OwnNeighbourhood`: flesh, not contact, keeps those apart):
+//! surface point and a facet of the same surface nearer than the barrier's reach d̂, and every
+//! pair of the surface's edges nearer than d̂ (`edge_edge.rs`, `edge_pairs.rs`), beyond their
+//! own neighbourhood (`OwnNeighbourhood`: flesh, not contact, keeps those apart):
 //!
-//!   B(u) = κ Σ A_p b(d²(p, t), d̂²),
+//!   B(u) = κ Σ A_p b(d²(p, t), d̂²) + κ Σ (A_e + A_f) m(e, f) b(d²(e, f), d̂²),
 //!
-//! (A_p the surface's area around the point: the barrier is a pressure's, and refining the
-//! surface does not add points' barriers to it; but a point within reach of several facets —
-//! near their shared edge or corner — counts each, as in incremental potential contact's first
-//! form, and more of them as the facets shrink below the reach) which grows without bound as a point comes onto a facet. Newton lowers the flesh's energy plus
-//! B (`fem::newton::solve_increment_with`), so the press of skin on skin is part of the energy
-//! it minimises — its line search, its escape from saddles and its regularised tangents work as
-//! they do without contact — and each step is cut short before a point would pass through a
-//! facet (continuous collision, `swept.rs`), so that from a state with no point through the
-//! surface, no point goes through. The points and facets are the hand's smooth skin, embedded in
-//! the flesh cells (`EmbeddedPoints`): a pair's gradient and Hessian reach the nodes through the
-//! points' weights. Edges passing through edges are not seen (as in the increments' active set).
+//! (A_p the surface's area around the point, A_e an edge's share of it — a third of the facets
+//! on either side: the barrier is a pressure's, and refining the surface does not add points'
+//! barriers to it; but a point within reach of several facets — near their shared edge or
+//! corner — counts each, as in incremental potential contact's first form, and more of them as
+//! the facets shrink below the reach; m fades the barrier of nearly parallel edges, whose ends
+//! against the facets hold them) which grows without bound as a point comes onto a facet or an
+//! edge onto an edge. Two closed surfaces that did not cross come to cross only where a point
+//! passes through a facet or an edge through an edge: with both held, none does. Newton lowers
+//! the flesh's energy plus B (`fem::newton::solve_increment_with`), so the press of skin on
+//! skin is part of the energy it minimises — its line search, its escape from saddles and its
+//! regularised tangents work as they do without contact — and each step is cut short before a
+//! point would pass through a facet or an edge through an edge (continuous collision,
+//! `swept.rs`), so that from a state with the surface clear of itself, it stays clear. The
+//! points and facets are the hand's smooth skin, embedded in the flesh cells
+//! (`EmbeddedPoints`): a pair's gradient and Hessian reach the nodes through the points'
+//! weights.
 //!
 //! Pairs already nearer than d̂ where the barrier is built (at rest: skin that meets skin at the
 //! webs) are left out for good: skin that merely touches at rest does not lock.
 
 use super::barrier::{barrier, pair_barrier, point_triangle_derivatives, point_triangle_distance2};
 use super::bounds::Bounds;
+use super::edge_edge::{edge_edge_mollifier_threshold, edge_pair_barrier, edge_pair_barrier_exact};
+use super::edge_pairs::SurfaceEdgeSet;
 use super::embedded::EmbeddedPoints;
 use super::self_contact::OwnNeighbourhood;
-use super::surface::ContactSurface;
+use super::surface::{ContactSurface, SurfaceBvh};
 use super::swept::passes_through;
 use crate::fem::added_energy::{AddedEnergy, NodeBlock};
-use nalgebra::{DMatrix, SMatrix, Vector3};
+use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector3};
 use rayon::prelude::*;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
 /// Share of the way to a first crossing a step may go (continuous collision's margin).
@@ -43,6 +51,8 @@ pub struct SelfBarrier {
     reference: Vec<Vector3<f64>>,
     /// The surface's facets (contact indices).
     surface: ContactSurface,
+    /// The surface's edges.
+    edges: SurfaceEdgeSet,
     /// The points that may press on facets (contact indices).
     points: Vec<usize>,
     /// The surface's area around each contact index (m²; 0 but at the points).
@@ -51,23 +61,44 @@ pub struct SelfBarrier {
     own: Arc<OwnNeighbourhood>,
     /// (point, facet) pairs within reach where the barrier was built: never held apart.
     at_start: HashSet<(usize, usize)>,
+    /// (edge, edge) pairs within reach where the barrier was built: never held apart.
+    edges_at_start: HashSet<(usize, usize)>,
     /// The barrier's reach d̂, m.
     reach: f64,
     /// Its stiffness κ, N/m⁵ (b on squared distances, m⁴, times an area and κ: J).
     kappa: f64,
 }
 
-/// One pair within reach: its point and facet, and the 12 coordinates' contact indices.
+/// One pair within reach: its four corners (contact indices: a point and a facet's three, or
+/// two edges' ends), which it is, its share of the surface's area (m²) and its squared distance
+/// (m²).
 struct Pair {
-    point: usize,
-    facet: [usize; 3],
+    corners: [usize; 4],
+    kind: Kind,
+    area: f64,
+    d2: f64,
 }
+
+/// Which a pair is.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// A point (the first corner) and a facet.
+    PointFacet,
+    /// Two edges; the mollifier's threshold on |e × f|² (m⁴) that fades the barrier of nearly
+    /// parallel edges (whose points against facets hold them).
+    EdgeEdge(f64),
+}
+
+/// A pair's barrier at its corners' positions: energy, gradient and Hessian (exact, or with its
+/// negative eigenvalues dropped).
+type Evaluated = (f64, SVector<f64, 12>, SMatrix<f64, 12, 12>);
 
 impl SelfBarrier {
     /// The barrier of reach `reach` (m) and stiffness `kappa` over the points `points` (each
     /// with the surface's area around it, m²) against the facets `triangles` (contact indices
-    /// of `embedded` over nodes at `reference`), each point kept from the facets `own` leaves
-    /// it; pairs within reach at `start` (displacements from `reference`) are left out.
+    /// of `embedded` over nodes at `reference`), and over the facets' edges against each other,
+    /// each point (edge) kept from the facets (edges) `own` leaves it; pairs within reach at
+    /// `start` (displacements from `reference`) are left out.
     pub fn new(
         embedded: EmbeddedPoints,
         reference: Vec<Vector3<f64>>,
@@ -80,6 +111,8 @@ impl SelfBarrier {
             reach > 0.0 && kappa > 0.0,
             "a barrier's reach and stiffness are > 0"
         );
+        let rest = place(&embedded, &reference, &vec![0.0; 3 * reference.len()]);
+        let edges = SurfaceEdgeSet::new(&triangles, &rest);
         let positions = place(&embedded, &reference, start);
         let surface = ContactSurface::new(0, triangles, &positions);
         let mut area = vec![0.0; positions.len()];
@@ -92,18 +125,16 @@ impl SelfBarrier {
             embedded,
             reference,
             surface,
+            edges,
             points,
             area,
             own,
             at_start: HashSet::new(),
+            edges_at_start: HashSet::new(),
             reach,
             kappa,
         };
-        barrier.at_start = barrier
-            .pairs(&positions)
-            .into_iter()
-            .map(|(p, t, _)| (p, t))
-            .collect();
+        barrier.leave_out_within(start, f64::INFINITY);
         barrier
     }
 
@@ -112,13 +143,23 @@ impl SelfBarrier {
     /// it) cannot be held apart from there.
     pub fn leave_out_within(&mut self, u: &[f64], within: f64) {
         let positions = place(&self.embedded, &self.reference, u);
+        let within2 = within * within;
+        let bvh = self.surface.hierarchy(&positions, self.reach);
         let near: Vec<(usize, usize)> = self
-            .pairs(&positions)
+            .pairs(&positions, &bvh)
             .into_iter()
-            .filter(|&(_, _, d2)| d2 < within * within)
+            .filter(|&(_, _, d2)| d2 < within2)
             .map(|(p, t, _)| (p, t))
             .collect();
         self.at_start.extend(near);
+        let near: Vec<(usize, usize)> = self
+            .edges
+            .near_pairs(&bvh, &positions, self.reach, &self.own)
+            .into_iter()
+            .filter(|&(_, _, d2)| d2 < within2)
+            .map(|(e, f, _)| (e, f))
+            .collect();
+        self.edges_at_start.extend(near);
     }
 
     /// The barrier's reach d̂, m.
@@ -128,8 +169,7 @@ impl SelfBarrier {
 
     /// Every (point, facet index, squared distance) nearer than the reach at `positions`,
     /// but a point's own facets.
-    fn pairs(&self, positions: &[Vector3<f64>]) -> Vec<(usize, usize, f64)> {
-        let bvh = self.surface.hierarchy(positions, self.reach);
+    fn pairs(&self, positions: &[Vector3<f64>], bvh: &SurfaceBvh) -> Vec<(usize, usize, f64)> {
         let reach2 = self.reach * self.reach;
         self.points
             .par_iter()
@@ -151,106 +191,132 @@ impl SelfBarrier {
             .collect()
     }
 
-    /// The pairs held apart at `positions` (within reach, not left out).
-    fn active(&self, positions: &[Vector3<f64>]) -> Vec<(Pair, f64)> {
-        self.pairs(positions)
+    /// The pairs held apart at `positions` (within reach, not left out): points against
+    /// facets, then edges against edges.
+    fn active(&self, positions: &[Vector3<f64>]) -> Vec<Pair> {
+        let bvh = self.surface.hierarchy(positions, self.reach);
+        let points = self
+            .pairs(positions, &bvh)
             .into_iter()
             .filter(|(p, t, _)| !self.at_start.contains(&(*p, *t)))
             .map(|(point, t, d2)| {
-                (
-                    Pair {
-                        point,
-                        facet: self.surface.triangles[t],
-                    },
+                let [a, b, c] = self.surface.triangles[t];
+                Pair {
+                    corners: [point, a, b, c],
+                    kind: Kind::PointFacet,
+                    area: self.area[point],
                     d2,
-                )
-            })
-            .collect()
+                }
+            });
+        let edges = self
+            .edges
+            .near_pairs(&bvh, positions, self.reach, &self.own)
+            .into_iter()
+            .filter(|(e, f, _)| !self.edges_at_start.contains(&(*e, *f)))
+            .map(|(e, f, d2)| {
+                let ([a0, a1], [b0, b1]) = (self.edges.edges[e], self.edges.edges[f]);
+                let (ea, eb, o) = (self.edges.rest[e], self.edges.rest[f], Vector3::zeros());
+                Pair {
+                    corners: [a0, a1, b0, b1],
+                    kind: Kind::EdgeEdge(edge_edge_mollifier_threshold(&o, &ea, &o, &eb)),
+                    // (Each pair of edges is counted once, each point against a facet from
+                    // both sides: the two edges' shares.)
+                    area: self.edges.area[e] + self.edges.area[f],
+                    d2,
+                }
+            });
+        points.chain(edges).collect()
     }
 
-    /// The pair's four points' corners, in the order (point, facet's three).
-    fn corners(pair: &Pair) -> [usize; 4] {
-        [pair.point, pair.facet[0], pair.facet[1], pair.facet[2]]
+    /// The pair's barrier at `positions` (`None` beyond reach; energy +∞ where it touches or
+    /// crosses), its Hessian projected or exact.
+    fn evaluate(
+        &self,
+        pair: &Pair,
+        positions: &[Vector3<f64>],
+        projected: bool,
+    ) -> Option<Evaluated> {
+        let [x0, x1, x2, x3] = pair.corners.map(|i| positions[i]);
+        let (reach2, kappa) = (self.reach * self.reach, self.kappa * pair.area);
+        let e = match pair.kind {
+            Kind::PointFacet => {
+                if projected {
+                    pair_barrier(&x0, &x1, &x2, &x3, reach2, kappa)?
+                } else {
+                    if pair.d2.is_nan() || pair.d2 <= 0.0 {
+                        return Some((f64::INFINITY, SVector::zeros(), SMatrix::zeros()));
+                    }
+                    let dist = point_triangle_derivatives(&x0, &x1, &x2, &x3);
+                    let (b, db, ddb) = barrier(dist.d2, reach2);
+                    let g = &dist.gradient;
+                    return Some((
+                        kappa * b,
+                        g * (kappa * db),
+                        (g * g.transpose() * ddb + dist.hessian * db) * kappa,
+                    ));
+                }
+            }
+            Kind::EdgeEdge(threshold) => {
+                let barrier = if projected {
+                    edge_pair_barrier
+                } else {
+                    edge_pair_barrier_exact
+                };
+                barrier(&x0, &x1, &x2, &x3, threshold, reach2, kappa)?
+            }
+        };
+        Some((e.energy, e.gradient, e.hessian))
     }
 
     /// The force each contact index feels from the barrier at `u` (N, the magnitude of −∂B/∂x
-    /// of that point), the pairs held and the sum of the points' forces (N).
+    /// of that point), the pairs held and the sum of the forces on the pairs' one side (a
+    /// point, or the first edge; N).
     pub fn forces(&self, u: &[f64]) -> (Vec<f64>, usize, f64) {
         let positions = place(&self.embedded, &self.reference, u);
         let mut out = vec![0.0; positions.len()];
         let (mut count, mut total) = (0, 0.0);
-        let reach2 = self.reach * self.reach;
-        for (pair, _) in self.active(&positions) {
-            let c = Self::corners(&pair);
-            let [p, a, b, cc] = c.map(|i| positions[i]);
-            if let Some(e) =
-                pair_barrier(&p, &a, &b, &cc, reach2, self.kappa * self.area[pair.point])
-            {
-                if !e.energy.is_finite() {
-                    continue;
-                }
-                count += 1;
-                for (k, &i) in c.iter().enumerate() {
-                    let f = e.gradient.fixed_rows::<3>(3 * k).norm();
-                    out[i] += f;
-                    if k == 0 {
-                        total += f;
-                    }
+        for pair in self.active(&positions) {
+            let Some((energy, gradient, _)) = self.evaluate(&pair, &positions, true) else {
+                continue;
+            };
+            if !energy.is_finite() {
+                continue;
+            }
+            count += 1;
+            let one_side = match pair.kind {
+                Kind::PointFacet => 1,
+                Kind::EdgeEdge(_) => 2,
+            };
+            for (k, &i) in pair.corners.iter().enumerate() {
+                let f = gradient.fixed_rows::<3>(3 * k).norm();
+                out[i] += f;
+                if k < one_side {
+                    total += f;
                 }
             }
         }
         (out, count, total)
-    }
-
-    /// The nodes (and their weights) of the pair's 12 coordinates, as a dense map W (3N × 12)
-    /// from the four points' coordinates to the nodes' (x = Wᵀ·u per point).
-    fn weights(&self, corners: &[usize; 4]) -> (Vec<usize>, DMatrix<f64>) {
-        let mut nodes: Vec<usize> = Vec::new();
-        let mut terms: Vec<(usize, usize, f64)> = Vec::new();
-        for (k, &c) in corners.iter().enumerate() {
-            self.embedded.for_each(c, |n, w| {
-                let at = match nodes.iter().position(|&m| m == n) {
-                    Some(at) => at,
-                    None => {
-                        nodes.push(n);
-                        nodes.len() - 1
-                    }
-                };
-                terms.push((at, k, w));
-            });
-        }
-        let mut w = DMatrix::zeros(3 * nodes.len(), 12);
-        for (at, k, weight) in terms {
-            for a in 0..3 {
-                w[(3 * at + a, 3 * k + a)] += weight;
-            }
-        }
-        (nodes, w)
     }
 }
 
 impl AddedEnergy for SelfBarrier {
     fn energy(&self, u: &[f64], gradient: &mut [f64]) -> Option<f64> {
         let positions = place(&self.embedded, &self.reference, u);
-        let reach2 = self.reach * self.reach;
         let mut energy = 0.0;
         let mut grad = vec![0.0; gradient.len()];
-        for (pair, d2) in self.active(&positions) {
-            if d2 <= 0.0 {
+        for pair in self.active(&positions) {
+            if pair.d2 <= 0.0 {
                 return None;
             }
-            let c = Self::corners(&pair);
-            let [p, a, b, cc] = c.map(|i| positions[i]);
-            let Some(e) = pair_barrier(&p, &a, &b, &cc, reach2, self.kappa * self.area[pair.point])
-            else {
+            let Some((e, g, _)) = self.evaluate(&pair, &positions, true) else {
                 continue;
             };
-            if !e.energy.is_finite() {
+            if !e.is_finite() {
                 return None;
             }
-            energy += e.energy;
-            for (k, &i) in c.iter().enumerate() {
-                let g: Vector3<f64> = e.gradient.fixed_rows::<3>(3 * k).into_owned();
+            energy += e;
+            for (k, &i) in pair.corners.iter().enumerate() {
+                let g: Vector3<f64> = g.fixed_rows::<3>(3 * k).into_owned();
                 self.embedded.for_each(i, |n, w| {
                     for a in 0..3 {
                         grad[3 * n + a] += w * g[a];
@@ -264,31 +330,64 @@ impl AddedEnergy for SelfBarrier {
         Some(energy)
     }
 
+    /// The pairs' 12 × 12 Hessians summed over the contact indices they share, then carried
+    /// to the nodes through the embedding weights: one block per pair of nodes coupled (the
+    /// pairs of a press share most of their corners, and each corner reaches up to eight
+    /// nodes, so summing first spares the tangent's assembly most of its work).
     fn hessian(&self, u: &[f64], projected: bool) -> Vec<NodeBlock> {
         let positions = place(&self.embedded, &self.reference, u);
-        let reach2 = self.reach * self.reach;
-        self.active(&positions)
+        let pairs: Vec<([usize; 4], SMatrix<f64, 12, 12>)> = self
+            .active(&positions)
             .into_par_iter()
-            .filter_map(|(pair, d2)| {
-                let c = Self::corners(&pair);
-                let [p, a, b, cc] = c.map(|i| positions[i]);
-                let kappa = self.kappa * self.area[pair.point];
-                if d2.is_nan() || d2 <= 0.0 {
+            .filter_map(|pair| {
+                if pair.d2.is_nan() || pair.d2 <= 0.0 {
                     return None;
                 }
-                let h: SMatrix<f64, 12, 12> = if projected {
-                    pair_barrier(&p, &a, &b, &cc, reach2, kappa)?.hessian
+                let (_, _, h) = self.evaluate(&pair, &positions, projected)?;
+                Some((pair.corners, h))
+            })
+            .collect();
+        // Over the contact indices, every ordered pair of corners.
+        let mut corners: HashMap<(usize, usize), Matrix3<f64>> = HashMap::new();
+        for (c, h) in &pairs {
+            for (k, &ck) in c.iter().enumerate() {
+                for (l, &cl) in c.iter().enumerate() {
+                    *corners.entry((ck, cl)).or_insert_with(Matrix3::zeros) +=
+                        h.fixed_view::<3, 3>(3 * k, 3 * l);
+                }
+            }
+        }
+        // Over the nodes, the upper triangle (node n's rows against node m's columns, n ≤ m).
+        let mut nodes: HashMap<(usize, usize), Matrix3<f64>> = HashMap::new();
+        for (&(ck, cl), block) in &corners {
+            self.embedded.for_each(ck, |n, wn| {
+                self.embedded.for_each(cl, |m, wm| {
+                    if n <= m {
+                        *nodes.entry((n, m)).or_insert_with(Matrix3::zeros) += block * (wn * wm);
+                    }
+                });
+            });
+        }
+        nodes
+            .into_iter()
+            .map(|((n, m), block)| {
+                if n == m {
+                    let matrix = DMatrix::from_fn(3, 3, |i, j| block[(i, j)]);
+                    NodeBlock {
+                        nodes: vec![n],
+                        matrix,
+                    }
                 } else {
-                    // (The exact Hessian: no eigen-decomposition to throw away.)
-                    let dist = point_triangle_derivatives(&p, &a, &b, &cc);
-                    let (_, de, dde) = barrier(dist.d2, reach2);
-                    let g = &dist.gradient;
-                    (g * g.transpose() * dde + dist.hessian * de) * kappa
-                };
-                let (nodes, w) = self.weights(&c);
-                let h = DMatrix::from_fn(12, 12, |i, j| h[(i, j)]);
-                let matrix = &w * h * w.transpose();
-                Some(NodeBlock { nodes, matrix })
+                    let mut matrix = DMatrix::zeros(6, 6);
+                    matrix.view_mut((0, 3), (3, 3)).copy_from(&block);
+                    matrix
+                        .view_mut((3, 0), (3, 3))
+                        .copy_from(&block.transpose());
+                    NodeBlock {
+                        nodes: vec![n, m],
+                        matrix,
+                    }
+                }
             })
             .collect()
     }
@@ -323,6 +422,12 @@ impl AddedEnergy for SelfBarrier {
                 first
             })
             .reduce(|| 1.0, f64::min);
+        let first = first.min(self.edges.first_crossing(
+            &bvh,
+            (&start, &end),
+            &self.own,
+            &self.edges_at_start,
+        ));
         if first >= 1.0 {
             1.0
         } else {
@@ -450,11 +555,18 @@ mod tests {
             let fd = (gp[k] - gm[k]) / (2.0 * h * 1e-3);
             assert!((hd[k] - fd).abs() < 1e-4 * scale, "dof {k}: {} {fd}", hd[k]);
         }
-        // Projected, every block is positive semi-definite.
+        // Projected, the blocks sum to a positive semi-definite matrix (each pair's is).
+        let mut sum = DMatrix::<f64>::zeros(3 * n, 3 * n);
         for blk in b.hessian(&u, true) {
-            let least = blk.matrix.symmetric_eigenvalues().min();
-            assert!(least > -1e-9 * blk.matrix.norm(), "{least}");
+            for (r, &a) in blk.nodes.iter().enumerate() {
+                for (c, &m) in blk.nodes.iter().enumerate() {
+                    let mut to = sum.view_mut((3 * a, 3 * m), (3, 3));
+                    to += blk.matrix.view((3 * r, 3 * c), (3, 3));
+                }
+            }
         }
+        let least = sum.clone().symmetric_eigenvalues().min();
+        assert!(least > -1e-9 * sum.norm(), "{least}");
     }
 
     #[test]
@@ -479,5 +591,100 @@ mod tests {
         let mut g = vec![0.0; 3 * n];
         assert_eq!(b.energy(&vec![0.0; 3 * n], &mut g), Some(0.0));
         assert!(g.iter().all(|&x| x == 0.0));
+    }
+
+    /// Two long thin strips (10 mm × 0.2 mm, two triangles each) crossed at right angles, the
+    /// second `gap` (m) above the first: no corner of either lies over the other, so only
+    /// their edges can meet. Nodes and triangles.
+    fn crossed(gap: f64) -> (Vec<Vector3<f64>>, Vec<[usize; 3]>) {
+        let (l, w) = (5e-3, 0.1e-3);
+        let nodes = vec![
+            Vector3::new(-l, -w, 0.0),
+            Vector3::new(l, -w, 0.0),
+            Vector3::new(l, w, 0.0),
+            Vector3::new(-l, w, 0.0),
+            Vector3::new(-w, -l, gap),
+            Vector3::new(-w, l, gap),
+            Vector3::new(w, l, gap),
+            Vector3::new(w, -l, gap),
+        ];
+        (nodes, vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]])
+    }
+
+    /// The barrier over the crossed strips (reach 0.5 mm, κ = 10¹⁵ N/m⁵, 1 mm² a point).
+    fn crossed_barrier(gap: f64) -> SelfBarrier {
+        let (nodes, triangles) = crossed(gap);
+        let n = nodes.len();
+        let own = OwnNeighbourhood::new(nodes.clone(), &triangles, 0.5e-3, (0.0, 0.0), 0.0);
+        SelfBarrier::new(
+            EmbeddedPoints::none(n),
+            nodes,
+            (triangles, (0..n).map(|p| (p, 1e-6)).collect()),
+            Arc::new(own),
+            (0.5e-3, 1e15),
+            &vec![0.0; 3 * n],
+        )
+    }
+
+    /// The upper strip moved down by `down` (m).
+    fn lowered(down: f64) -> Vec<f64> {
+        let mut u = vec![0.0; 24];
+        for i in 4..8 {
+            u[3 * i + 2] = -down;
+        }
+        u
+    }
+
+    #[test]
+    fn edges_crossing_with_no_corner_over_a_facet_are_held_apart_and_not_passed_through() {
+        let b = crossed_barrier(2e-3);
+        let u = vec![0.0; 24];
+        // 4 mm down from 2 mm above: the strips' long edges meet half way, no corner passes
+        // through a facet (the points against facets alone let the step go).
+        let alpha = b.largest_step(&u, &lowered(4e-3));
+        assert!((alpha - TO_CROSSING * 0.5).abs() < 1e-9, "{alpha}");
+        assert_eq!(b.largest_step(&u, &lowered(1.5e-3)), 1.0);
+        // 0.2 mm apart, within reach: only edge pairs act, pushing the strips apart with
+        // action equal to reaction, the energy's gradient its differences.
+        let at = lowered(1.8e-3);
+        let mut g = vec![0.0; 24];
+        let e = b.energy(&at, &mut g).unwrap();
+        assert!(e > 0.0 && e.is_finite(), "{e}");
+        let up: f64 = (4..8).map(|i| -g[3 * i + 2]).sum();
+        let down: f64 = (0..4).map(|i| -g[3 * i + 2]).sum();
+        assert!(up > 0.0 && (up + down).abs() < 1e-9 * up, "{up} {down}");
+        let h = 1e-9;
+        let (mut gp, mut gm) = (vec![0.0; 24], vec![0.0; 24]);
+        let ep = b.energy(&lowered(1.8e-3 + h), &mut gp).unwrap();
+        let em = b.energy(&lowered(1.8e-3 - h), &mut gm).unwrap();
+        let slope = -(4..8).map(|i| g[3 * i + 2]).sum::<f64>();
+        assert!(((ep - em) / (2.0 * h) - slope).abs() < 1e-5 * slope.abs());
+        // Its Hessian along the lowering is the slope's differences.
+        let dir = lowered(1.0);
+        let mut hd = [0.0; 24];
+        for blk in b.hessian(&at, false) {
+            for (r, &a) in blk.nodes.iter().enumerate() {
+                for (c, &m) in blk.nodes.iter().enumerate() {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            hd[3 * a + i] += blk.matrix[(3 * r + i, 3 * c + j)] * dir[3 * m + j];
+                        }
+                    }
+                }
+            }
+        }
+        let curvature: f64 = hd.iter().zip(&dir).map(|(a, d)| a * d).sum();
+        let fd = (ep - 2.0 * e + em) / (h * h);
+        assert!(
+            (curvature - fd).abs() < 1e-3 * curvature,
+            "{curvature} {fd}"
+        );
+        // The pairs held: each strip's two long edges and its diagonal cross the other's three
+        // in plan (its short edges lie 5 mm out); each pair's both edges feel its force, the
+        // first edge's counted as the press.
+        let (felt, count, press) = b.forces(&at);
+        assert_eq!(count, 9);
+        assert!((press - up).abs() < 1e-9 * up, "{press} {up}");
+        assert!((felt.iter().sum::<f64>() - 2.0 * press).abs() < 1e-9 * press);
     }
 }

@@ -190,6 +190,15 @@ impl OwnNeighbourhood {
         facet.iter().any(|c| near.binary_search(c).is_ok())
     }
 
+    /// Whether the edges `a` and `b` (contact indices of their ends) are the same flesh: they
+    /// share an end, or an end of one lies in the neighbourhood of an end of the other.
+    pub fn excludes_edge(&self, a: &[usize; 2], b: &[usize; 2]) -> bool {
+        a.iter().any(|&p| {
+            let near = &self.near[p];
+            b.iter().any(|c| *c == p || near.binary_search(c).is_ok())
+        })
+    }
+
     /// Whether `point` lies behind the facet `facet` at rest within reach — by more than
     /// `behind`, or at all where it lies over it: the far side of the same flesh, which a
     /// prediction without a path (skinning from rest to a keyframe's end) must not take for

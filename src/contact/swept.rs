@@ -9,13 +9,22 @@
 //! points to) to its back where f falls there. Skin that merely lies behind the plane of a facet
 //! of the other side of a fold has not passed through it; skin that went through it has,
 //! whichever way the two faced where the step started.
+//!
+//! Likewise an edge passing through another (`edges_cross`): the two are coplanar where
+//! ((x1 − x0) × (x3 − x2)) · (x2 − x0) vanishes, again a cubic, and cross at a root where the
+//! segments meet, whichever way.
 
 use super::bounds::Bounds;
+use super::edge_edge::edge_edge_distance2;
 use nalgebra::Vector3;
 
 /// Barycentric slack at a crossing: a point passing through an edge shared by two triangles
 /// passes through both.
 const EDGE_SLACK: f64 = 1e-9;
+
+/// Two coplanar edges meet where they come within this fraction of the longer one's length of
+/// each other (round-off at the root of their coplanarity cubic is far below it).
+const MEET: f64 = 1e-6;
 
 /// The first time t ∈ [0, 1] at which the point moving from `p[0]` to `p[1]` passes through the
 /// triangle whose corners move from `start` to `end`, from its front to its back; `None` if it
@@ -35,16 +44,80 @@ pub fn passes_through(
     let (e1, de1) = (start[1] - a0, (end[1] - end[0]) - (start[1] - a0));
     let (e2, de2) = (start[2] - a0, (end[2] - end[0]) - (start[2] - a0));
     let (q, dq) = (p[0] - a0, (p[1] - p[0]) - da);
-    let c0 = e1.cross(&e2);
-    let c1 = e1.cross(&de2) + de1.cross(&e2);
-    let c2 = de1.cross(&de2);
-    // f(t) = k0 + k1 t + k2 t² + k3 t³.
-    let k = [
-        c0.dot(&q),
-        c0.dot(&dq) + c1.dot(&q),
-        c1.dot(&dq) + c2.dot(&q),
-        c2.dot(&dq),
-    ];
+    let k = coplanarity([&e1, &de1], [&e2, &de2], [&q, &dq]);
+    first_root(&k, Through::Falling, |t| {
+        let at = |x0: &Vector3<f64>, x1: &Vector3<f64>| x0 + (x1 - x0) * t;
+        let corners = [0, 1, 2].map(|i| at(&start[i], &end[i]));
+        inside(&at(p[0], p[1]), &corners)
+    })
+}
+
+/// The first time t ∈ [0, 1] at which the edge (x0, x1) passes through the edge (x2, x3), each
+/// end moving in a straight line from `start` to `end`, either way through: where the two are
+/// coplanar,
+///
+///   f(t) = ((x1 − x0) × (x3 − x2)) · (x2 − x0) = 0
+///
+/// (a cubic in t; any sign change or touching zero counts, at a step's ends too), and the
+/// segments there meet: come within `MEET` of the longer one's length (crossing, or an end on
+/// the other, to that slack). `None` if they do not. Edges that stay parallel (f ≡ 0), even
+/// sliding through each other in their common plane, and edges of zero length are `None`:
+/// their ends' paths through the facets tell. Edges sharing an end always meet: the caller leaves such pairs
+/// out.
+pub fn edges_cross(start: &[Vector3<f64>; 4], end: &[Vector3<f64>; 4]) -> Option<f64> {
+    // Each edge stays in its ends' swept box: apart, they never meet.
+    let first = Bounds::of(start[..2].iter().chain(&end[..2]));
+    let second = Bounds::of(start[2..].iter().chain(&end[2..]));
+    let margin = 1e-6 * first.largest_side().max(second.largest_side());
+    if !first.meets(&second.grown(margin)) {
+        return None;
+    }
+    let x0 = start[0];
+    let (ea, dea) = (start[1] - x0, (end[1] - end[0]) - (start[1] - x0));
+    let (eb, deb) = (
+        start[3] - start[2],
+        (end[3] - end[2]) - (start[3] - start[2]),
+    );
+    let (w, dw) = (start[2] - x0, (end[2] - end[0]) - (start[2] - x0));
+    let k = coplanarity([&ea, &dea], [&eb, &deb], [&w, &dw]);
+    first_root(&k, Through::EitherWay, |t| {
+        let x = [0, 1, 2, 3].map(|i| start[i] + (end[i] - start[i]) * t);
+        let longer = (x[1] - x[0]).norm().max((x[3] - x[2]).norm());
+        edge_edge_distance2(&x[0], &x[1], &x[2], &x[3]) <= (MEET * longer).powi(2)
+    })
+}
+
+/// The cubic f(t) = k[0] + k[1] t + k[2] t² + k[3] t³ = (e1(t) × e2(t)) · q(t) of three vectors
+/// each moving linearly, x(t) = x + t dx, given as [x, dx].
+fn coplanarity(
+    [e1, de1]: [&Vector3<f64>; 2],
+    [e2, de2]: [&Vector3<f64>; 2],
+    [q, dq]: [&Vector3<f64>; 2],
+) -> [f64; 4] {
+    let c0 = e1.cross(e2);
+    let c1 = e1.cross(de2) + de1.cross(e2);
+    let c2 = de1.cross(de2);
+    [
+        c0.dot(q),
+        c0.dot(dq) + c1.dot(q),
+        c1.dot(dq) + c2.dot(q),
+        c2.dot(dq),
+    ]
+}
+
+/// Which way a cubic must pass through zero for a root to count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Through {
+    /// From f ≥ 0 to f < 0, falling there (a point from a facet's front to its back).
+    Falling,
+    /// Either way, touching zero included.
+    EitherWay,
+}
+
+/// The first root t ∈ [0, 1] of the cubic f(t) = k[0] + k[1] t + k[2] t² + k[3] t³ passing
+/// through zero `through` that `meets` accepts, found on the monotone pieces of [0, 1] in
+/// turn by bisection; `None` if there is none (f ≡ 0 or non-finite coefficients included).
+fn first_root(k: &[f64; 4], through: Through, mut meets: impl FnMut(f64) -> bool) -> Option<f64> {
     let f = |t: f64| ((k[3] * t + k[2]) * t + k[1]) * t + k[0];
     let df = |t: f64| (3.0 * k[3] * t + 2.0 * k[2]) * t + k[1];
     let scale = k.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
@@ -76,25 +149,27 @@ pub fn passes_through(
     for w in cuts[..count].windows(2) {
         let (mut lo, mut hi) = (w[0], w[1]);
         let (flo, fhi) = (f(lo), f(hi));
-        // A fall through zero on this piece (front to back); touching zero at its start counts.
-        if !(flo >= 0.0 && fhi < 0.0) {
-            continue;
-        }
+        // The sign that makes f fall through zero on this piece (≥ 0 at its start, < 0 at its
+        // end; ≤ 0 either way, where touching zero at either end counts).
+        let sign = match through {
+            Through::Falling if flo >= 0.0 && fhi < 0.0 => 1.0,
+            Through::EitherWay if flo >= 0.0 && fhi <= 0.0 => 1.0,
+            Through::EitherWay if flo <= 0.0 && fhi >= 0.0 => -1.0,
+            _ => continue,
+        };
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if f(mid) >= 0.0 {
+            if sign * f(mid) >= 0.0 {
                 lo = mid;
             } else {
                 hi = mid;
             }
         }
         let t = 0.5 * (lo + hi);
-        if df(t) > 0.0 {
+        if through == Through::Falling && df(t) > 0.0 {
             continue;
         }
-        let at = |x0: &Vector3<f64>, x1: &Vector3<f64>| x0 + (x1 - x0) * t;
-        let corners = [0, 1, 2].map(|i| at(&start[i], &end[i]));
-        if inside(&at(p[0], p[1]), &corners) {
+        if meets(t) {
             return Some(t);
         }
     }
@@ -221,5 +296,106 @@ mod tests {
         let up = flat().map(|c| c + v(0.0, 0.0, 0.5));
         let t = passes_through([&v(0.3, 0.3, 0.5), &v(0.3, 0.3, -0.5)], &flat(), &up).unwrap();
         assert!((t - 1.0 / 3.0).abs() < 1e-12);
+    }
+
+    /// The edge along y at x = z = 0 from y = −1 to 1.
+    fn along_y() -> [Vector3<f64>; 2] {
+        [v(0.0, -1.0, 0.0), v(0.0, 1.0, 0.0)]
+    }
+
+    /// The four ends of edges `a` and `b`, in order.
+    fn ends(a: [Vector3<f64>; 2], b: [Vector3<f64>; 2]) -> [Vector3<f64>; 4] {
+        [a[0], a[1], b[0], b[1]]
+    }
+
+    /// An edge along x at y = 0.3 moving straight down (or up) through the still edge along y:
+    /// they cross where it passes z = 0, whichever way and whichever edge is named first.
+    #[test]
+    fn an_edge_moving_through_a_still_edge_crosses_it_where_they_meet() {
+        let a = along_y();
+        let b = |x0: f64, x1: f64, y: f64, z: f64| [v(x0, y, z), v(x1, y, z)];
+        let step = |z0: f64, z1: f64| {
+            edges_cross(
+                &ends(a, b(-1.0, 1.0, 0.3, z0)),
+                &ends(a, b(-1.0, 1.0, 0.3, z1)),
+            )
+        };
+        assert!((step(1.0, -1.0).unwrap() - 0.5).abs() < 1e-12);
+        assert!((step(1.0, -3.0).unwrap() - 0.25).abs() < 1e-12);
+        assert!((step(-1.0, 3.0).unwrap() - 0.25).abs() < 1e-12);
+        let (s, e) = (b(-1.0, 1.0, 0.3, 1.0), b(-1.0, 1.0, 0.3, -3.0));
+        for (start, end) in [
+            (ends(s, a), ends(e, a)),
+            (ends([a[1], a[0]], s), ends([a[1], a[0]], e)),
+            (ends(a, [s[1], s[0]]), ends(a, [e[1], e[0]])),
+        ] {
+            assert!((edges_cross(&start, &end).unwrap() - 0.25).abs() < 1e-12);
+        }
+        // Touching at the step's end counts; stopping short does not.
+        assert!((step(1.0, 0.0).unwrap() - 1.0).abs() < 1e-12);
+        assert!(step(1.0, 0.1).is_none());
+        // Coplanar at t = 0.5 but apart: beyond a's end (y = 1.5), or beside it (x ≥ 0.5).
+        for (x0, x1, y) in [(-1.0, 1.0, 1.5), (0.5, 2.0, 0.3), (-2.0, -0.5, 0.3)] {
+            let (s, e) = (b(x0, x1, y, 1.0), b(x0, x1, y, -1.0));
+            assert!(
+                edges_cross(&ends(a, s), &ends(a, e)).is_none(),
+                "{x0}, {x1}, {y}"
+            );
+        }
+        // Far apart: the boxes alone tell. Parallel (f ≡ 0), even passing through each other
+        // as here: none (their ends' paths through the facets tell).
+        let far = b(4.0, 6.0, 0.3, 1.0);
+        assert!(edges_cross(&ends(a, far), &ends(a, b(4.0, 6.0, 0.3, -1.0))).is_none());
+        let (s, e) = (
+            [v(0.0, 0.5, 1.0), v(0.0, 2.0, 1.0)],
+            [v(0.0, 0.5, -1.0), v(0.0, 2.0, -1.0)],
+        );
+        assert!(edges_cross(&ends(a, s), &ends(a, e)).is_none());
+    }
+
+    /// An edge turning about a still end through the still edge along y (its free end moving
+    /// in a straight line): they cross when its line passes through (0, 0.2, 0), at t = 0.5,
+    /// its middle then.
+    #[test]
+    fn a_turning_edge_crosses_a_still_edge_where_its_line_sweeps_it() {
+        let pivot = v(-1.0, 0.2, -1.0);
+        let (from, to) = (v(3.0, 0.2, -1.0), v(-1.0, 0.2, 3.0));
+        let t = edges_cross(
+            &ends(along_y(), [pivot, from]),
+            &ends(along_y(), [pivot, to]),
+        );
+        assert!((t.unwrap() - 0.5).abs() < 1e-12, "{t:?}");
+        // The still edge ending short of y = 0.2: swept past, not met.
+        let short = [v(0.0, -1.0, 0.0), v(0.0, 0.1, 0.0)];
+        assert!(edges_cross(&ends(short, [pivot, from]), &ends(short, [pivot, to])).is_none());
+        // Turning short of it: never coplanar.
+        let less = v(3.0, 0.2, 0.5);
+        assert!(edges_cross(
+            &ends(along_y(), [pivot, from]),
+            &ends(along_y(), [pivot, less])
+        )
+        .is_none());
+    }
+
+    /// Both ends of an edge moving differently: coplanar with the still edge along y at
+    /// t = 0.25 and 0.75 (f = 4 (t − 1/4)(t − 3/4)), crossing it at (0, 0.3, 0) each time; the
+    /// first counts, and a step over either half finds its own.
+    #[test]
+    fn the_first_of_two_crossings_counts() {
+        let b = |t: f64| {
+            [
+                v(-1.0, 0.3, 0.5 - t),
+                v(1.0 + 2.0 * t, 0.3, -0.875 + 2.0 * t),
+            ]
+        };
+        let over = |t0: f64, t1: f64| edges_cross(&ends(along_y(), b(t0)), &ends(along_y(), b(t1)));
+        assert!((over(0.0, 1.0).unwrap() - 0.25).abs() < 1e-12);
+        assert!((over(0.0, 0.5).unwrap() - 0.5).abs() < 1e-12);
+        assert!((over(0.5, 1.0).unwrap() - 0.5).abs() < 1e-12);
+        assert!(over(0.3, 0.7).is_none());
+        // Grazing: f = (1 − 2t)², b lying along x through (0, 0.3, 0) at t = 0.5 only.
+        let graze = |t: f64| [v(-1.0, 0.3, 0.5 - t), v(1.0 + 2.0 * t, 0.3, -1.0 + 2.0 * t)];
+        let t = edges_cross(&ends(along_y(), graze(0.0)), &ends(along_y(), graze(1.0)));
+        assert!((t.unwrap() - 0.5).abs() < 1e-9, "{t:?}");
     }
 }

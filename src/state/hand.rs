@@ -154,9 +154,10 @@ pub struct KeyframeStats {
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
     /// Skin points of the hand held against its own skin at the end of the flexion (the fold
-    /// of a crease, a fingertip on the palm, fingers side by side; issue 16).
+    /// of a crease, a fingertip on the palm, fingers side by side; issue 16); in the nonlinear
+    /// tier, the pairs its barrier holds apart: a point off a facet, or an edge off an edge.
     pub self_contacts: usize,
-    /// The sum of their normal forces, N.
+    /// The sum of their normal forces (of a pair's one side: its point, or its first edge), N.
     pub self_contact_force: f64,
     /// The keyframe's motion went in two stages, the fingers first and the thumb after them:
     /// with the skin kept out of itself, the motion of both at once did not settle (the thumb
