@@ -132,12 +132,34 @@ pub fn project_psd(m: &SMatrix<f64, 12, 12>) -> SMatrix<f64, 12, 12> {
     (projected + projected.transpose()) * 0.5
 }
 
+impl PairBarrier {
+    /// A pair that touches or crosses: energy +∞, no derivatives (the state is inadmissible and
+    /// the step must be shortened).
+    pub fn inadmissible() -> PairBarrier {
+        PairBarrier {
+            energy: f64::INFINITY,
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        }
+    }
+
+    /// The same with its Hessian projected positive semi-definite (`project_psd`; an
+    /// inadmissible pair's zero Hessian as it is).
+    pub fn projected(mut self) -> PairBarrier {
+        if self.energy.is_finite() {
+            self.hessian = project_psd(&self.hessian);
+        }
+        self
+    }
+}
+
 /// The barrier of point `p` against triangle (a, b, c) with cutoff distance² `dhat2` (m²) and
 /// stiffness `kappa`: `None` when the pair is inactive (d² ≥ d̂²); otherwise energy κ·b(d²),
-/// gradient κ·b'·∇d² and Hessian project_psd(κ·(b''·∇d²∇d²ᵀ + b'·∇²d²)). Where the point
-/// touches or crosses the triangle (d² ≤ 0, or NaN for non-finite coordinates) it returns
-/// energy +∞ with zero gradient and Hessian: the state is inadmissible and the step must be
-/// shortened.
+/// gradient κ·b'·∇d² and the exact Hessian κ·(b''·∇d²∇d²ᵀ + b'·∇²d²) (indefinite in general,
+/// no eigen-decomposition: a Newton step tries it first; [`PairBarrier::projected`] makes it
+/// positive semi-definite). Where the point touches or crosses the triangle (d² ≤ 0, or NaN for
+/// non-finite coordinates) it returns energy +∞ with zero gradient and Hessian: the state is
+/// inadmissible and the step must be shortened.
 pub fn pair_barrier(
     p: &Vector3<f64>,
     a: &Vector3<f64>,
@@ -151,21 +173,16 @@ pub fn pair_barrier(
         return None;
     }
     if d2.is_nan() || d2 <= 0.0 {
-        return Some(PairBarrier {
-            energy: f64::INFINITY,
-            gradient: SVector::zeros(),
-            hessian: SMatrix::zeros(),
-        });
+        return Some(PairBarrier::inadmissible());
     }
     // The same formulas as the distance's: the same d².
     let dist = point_triangle_derivatives(p, a, b, c);
     let (e, de, dde) = barrier(dist.d2, dhat2);
     let g = &dist.gradient;
-    let hessian = (g * g.transpose() * dde + dist.hessian * de) * kappa;
     Some(PairBarrier {
         energy: kappa * e,
         gradient: g * (kappa * de),
-        hessian: project_psd(&hessian),
+        hessian: (g * g.transpose() * dde + dist.hessian * de) * kappa,
     })
 }
 
@@ -304,40 +321,15 @@ pub(super) fn lift<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::differences::{all_finite, central, relative, v, Rng, M12, V12};
     use crate::contact::project_on_triangle;
-
-    type M12 = SMatrix<f64, 12, 12>;
-    type V12 = SVector<f64, 12>;
-
-    fn v(x: f64, y: f64, z: f64) -> Vector3<f64> {
-        Vector3::new(x, y, z)
-    }
 
     /// The unit right triangle in z = 0.
     fn flat() -> [Vector3<f64>; 3] {
         [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0)]
     }
 
-    /// A small deterministic generator (xorshift64*), uniform in [0, 1).
-    struct Rng(u64);
-
     impl Rng {
-        fn uniform(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.uniform()
-        }
-        fn vector(&mut self, scale: f64) -> Vector3<f64> {
-            v(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            ) * scale
-        }
         /// A well-shaped triangle of size `scale`: every angle above 20°.
         fn triangle(&mut self, scale: f64) -> [Vector3<f64>; 3] {
             loop {
@@ -440,32 +432,6 @@ mod tests {
     fn derivatives_at(x: &SVector<f64, 12>) -> PointTriangle {
         let [p, a, b, c] = split(x);
         point_triangle_derivatives(&p, &a, &b, &c)
-    }
-
-    /// Central differences of `f` (gradient) and of `g` (Hessian, by columns) at `x`, step `h`.
-    fn central(
-        x: &SVector<f64, 12>,
-        h: f64,
-        f: impl Fn(&SVector<f64, 12>) -> f64,
-        g: impl Fn(&SVector<f64, 12>) -> SVector<f64, 12>,
-    ) -> (SVector<f64, 12>, SMatrix<f64, 12, 12>) {
-        let mut gradient = SVector::<f64, 12>::zeros();
-        let mut hessian = SMatrix::<f64, 12, 12>::zeros();
-        for k in 0..12 {
-            let (mut plus, mut minus) = (*x, *x);
-            plus[k] += h;
-            minus[k] -= h;
-            gradient[k] = (f(&plus) - f(&minus)) / (2.0 * h);
-            hessian.set_column(k, &((g(&plus) - g(&minus)) / (2.0 * h)));
-        }
-        (gradient, hessian)
-    }
-
-    fn relative<const R: usize, const C: usize>(
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
-    ) -> f64 {
-        (got - want).norm() / want.norm().max(f64::MIN_POSITIVE)
     }
 
     #[test]
@@ -648,7 +614,9 @@ mod tests {
             for region in REGIONS {
                 let (p, d2) = sample(&mut rng, &t, region, 0.002);
                 let dhat2 = d2 / rng.range(0.2, 0.8);
-                let pair = pair_barrier(&p, &t[0], &t[1], &t[2], dhat2, kappa).unwrap();
+                let pair = pair_barrier(&p, &t[0], &t[1], &t[2], dhat2, kappa)
+                    .unwrap()
+                    .projected();
                 // Energy and gradient: κ b, κ b' ∇d², the gradient by differences too.
                 let x = join(&p, &t);
                 let dist = derivatives_at(&x);
@@ -702,14 +670,6 @@ mod tests {
         }
     }
 
-    fn all_finite(d: &PointTriangle) -> bool {
-        d.d2.is_finite()
-            && d.gradient
-                .iter()
-                .chain(d.hessian.iter())
-                .all(|x| x.is_finite())
-    }
-
     #[test]
     fn degenerate_triangles_give_finite_distances_of_their_edges_and_corners() {
         let (a, b, c) = (v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(3.0, 0.0, 0.0));
@@ -747,7 +707,9 @@ mod tests {
         let p = (seam[0] + seam[1]) * 0.5 + v(0.0, 0.0, 5e-4);
         let d = point_triangle_derivatives(&p, &seam[0], &seam[1], &seam[2]);
         assert!(all_finite(&d) && (d.d2 - 2.5e-7).abs() < 1e-12, "{d:?}");
-        let pair = pair_barrier(&p, &seam[0], &seam[1], &seam[2], 1e-6, 1e4).unwrap();
+        let pair = pair_barrier(&p, &seam[0], &seam[1], &seam[2], 1e-6, 1e4)
+            .unwrap()
+            .projected();
         assert!(pair.energy.is_finite() && pair.hessian.iter().all(|x| x.is_finite()));
         assert!(SymmetricEigen::new(pair.hessian).eigenvalues.min() >= -1e-9 * pair.hessian.norm());
         // Non-finite coordinates: NaN distance, and an inadmissible pair (not an inactive one).

@@ -14,9 +14,7 @@
 //! Lengths are in metres, squared distances in m². Whether an edge passes through another over
 //! a step is `swept::edges_cross`.
 
-use super::barrier::{
-    barrier, lift, point_line, point_plane, project_psd, PairBarrier, PointTriangle,
-};
+use super::barrier::{barrier, lift, point_line, point_plane, PairBarrier, PointTriangle};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// Edges whose sine of the angle between them squared, |ea × eb|² / (|ea|² |eb|²), is at most
@@ -175,32 +173,15 @@ pub fn edge_edge_mollifier(
 /// The barrier of edge (a0, a1) against edge (b0, b1), mollified with threshold `eps_x` (m⁴;
 /// `edge_edge_mollifier_threshold` at rest), with cutoff distance² `dhat2` (m²) and stiffness
 /// `kappa`: `None` when the pair is inactive (d² ≥ d̂²); otherwise energy κ·m·b(d²), gradient
-/// κ·(b ∇m + m b' ∇d²) and Hessian project_psd(H) of the exact one,
+/// κ·(b ∇m + m b' ∇d²) and the exact Hessian
 ///
 ///   H = κ·(b ∇²m + b' (∇m ∇d²ᵀ + ∇d² ∇mᵀ) + m (b'' ∇d² ∇d²ᵀ + b' ∇²d²)),
 ///
-/// over (a0, a1, b0, b1) (`PairBarrier`'s 12). Where the edges touch or cross (d² ≤ 0, or NaN
-/// for non-finite coordinates) it returns energy +∞ with zero gradient and Hessian, parallel
-/// or not: the state is inadmissible and the step must be shortened.
-/// `edge_pair_barrier_exact` gives H itself.
+/// over (a0, a1, b0, b1) (`PairBarrier`'s 12; indefinite in general, no eigen-decomposition:
+/// [`PairBarrier::projected`] makes it positive semi-definite). Where the edges touch or cross
+/// (d² ≤ 0, or NaN for non-finite coordinates) it returns energy +∞ with zero gradient and
+/// Hessian, parallel or not: the state is inadmissible and the step must be shortened.
 pub fn edge_pair_barrier(
-    a0: &Vector3<f64>,
-    a1: &Vector3<f64>,
-    b0: &Vector3<f64>,
-    b1: &Vector3<f64>,
-    eps_x: f64,
-    dhat2: f64,
-    kappa: f64,
-) -> Option<PairBarrier> {
-    let mut pair = edge_pair_barrier_exact(a0, a1, b0, b1, eps_x, dhat2, kappa)?;
-    pair.hessian = project_psd(&pair.hessian);
-    Some(pair)
-}
-
-/// `edge_pair_barrier` with the exact Hessian H in its `hessian` field: not projected
-/// (indefinite in general) and with no eigen-decomposition, for a Newton step that tries the
-/// exact Hessian first. The same energy and gradient, `None` beyond reach and +∞ at contact.
-pub fn edge_pair_barrier_exact(
     a0: &Vector3<f64>,
     a1: &Vector3<f64>,
     b0: &Vector3<f64>,
@@ -214,11 +195,7 @@ pub fn edge_pair_barrier_exact(
         return None;
     }
     if d2.is_nan() || d2 <= 0.0 {
-        return Some(PairBarrier {
-            energy: f64::INFINITY,
-            gradient: SVector::zeros(),
-            hessian: SMatrix::zeros(),
-        });
+        return Some(PairBarrier::inadmissible());
     }
     // The same formulas as the distance's: the same d².
     let dist = edge_edge_derivatives(a0, a1, b0, b1);
@@ -283,35 +260,11 @@ fn nearest_feature(x: [&Vector3<f64>; 4]) -> (Feature, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::barrier::project_psd;
+    use crate::contact::differences::{all_finite, central, relative, v, Rng, M12, V12};
     use nalgebra::SymmetricEigen;
 
-    type M12 = SMatrix<f64, 12, 12>;
-    type V12 = SVector<f64, 12>;
-
-    fn v(x: f64, y: f64, z: f64) -> Vector3<f64> {
-        Vector3::new(x, y, z)
-    }
-
-    /// A small deterministic generator (xorshift64*), uniform in [0, 1).
-    struct Rng(u64);
-
     impl Rng {
-        fn uniform(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.uniform()
-        }
-        fn vector(&mut self, scale: f64) -> Vector3<f64> {
-            v(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            ) * scale
-        }
         /// A unit vector, uniform on the sphere.
         fn direction(&mut self) -> Vector3<f64> {
             loop {
@@ -468,27 +421,6 @@ mod tests {
         nearest_feature([&x[0], &x[1], &x[2], &x[3]]).0
     }
 
-    /// Central differences of `f` (gradient) and of `g` (Hessian, by columns) at `x`, step `h`.
-    fn central(x: &V12, h: f64, f: impl Fn(&V12) -> f64, g: impl Fn(&V12) -> V12) -> (V12, M12) {
-        let mut gradient = V12::zeros();
-        let mut hessian = M12::zeros();
-        for k in 0..12 {
-            let (mut plus, mut minus) = (*x, *x);
-            plus[k] += h;
-            minus[k] -= h;
-            gradient[k] = (f(&plus) - f(&minus)) / (2.0 * h);
-            hessian.set_column(k, &((g(&plus) - g(&minus)) / (2.0 * h)));
-        }
-        (gradient, hessian)
-    }
-
-    fn relative<const R: usize, const C: usize>(
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
-    ) -> f64 {
-        (got - want).norm() / want.norm().max(f64::MIN_POSITIVE)
-    }
-
     /// The least of a convex `f` over [0, 1] by grids of 21 points, each narrowed to the two
     /// cells about the last one's least (where a convex function's least lies), down to cells
     /// of 10⁻¹³.
@@ -617,14 +549,6 @@ mod tests {
                 assert!(all_finite(&d) && d.d2 == got, "{d:?}");
             }
         }
-    }
-
-    fn all_finite(d: &PointTriangle) -> bool {
-        d.d2.is_finite()
-            && d.gradient
-                .iter()
-                .chain(d.hessian.iter())
-                .all(|x| x.is_finite())
     }
 
     #[test]
@@ -788,7 +712,7 @@ mod tests {
 
     fn energy_at(x: &V12, eps_x: f64, dhat2: f64, kappa: f64) -> Option<PairBarrier> {
         let [a0, a1, b0, b1] = split(x);
-        edge_pair_barrier_exact(&a0, &a1, &b0, &b1, eps_x, dhat2, kappa)
+        edge_pair_barrier(&a0, &a1, &b0, &b1, eps_x, dhat2, kappa)
     }
 
     /// In every region (each end's turn), mollified or not, at hand scale: the energy is κ m b,
@@ -812,9 +736,8 @@ mod tests {
                 } else {
                     edge_edge_mollifier_threshold(&a0, &a1, &b0, &b1)
                 };
-                let pair = edge_pair_barrier(&a0, &a1, &b0, &b1, eps_x, dhat2, kappa).unwrap();
-                let exact =
-                    edge_pair_barrier_exact(&a0, &a1, &b0, &b1, eps_x, dhat2, kappa).unwrap();
+                let exact = edge_pair_barrier(&a0, &a1, &b0, &b1, eps_x, dhat2, kappa).unwrap();
+                let pair = exact.clone().projected();
                 let m = edge_edge_mollifier(&a0, &a1, &b0, &b1, eps_x);
                 assert_eq!(m.value < 1.0, k % 2 == 0);
                 let (b, _, _) = barrier(d2_of(&x), dhat2);

@@ -18,6 +18,9 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::collections::{HashMap, HashSet};
 
+/// In a facet's edges: one left out (too short).
+const NONE: usize = usize::MAX;
+
 /// A surface's edges (see the module's text).
 pub(super) struct SurfaceEdgeSet {
     /// Each edge's ends (contact indices, the smaller first).
@@ -27,23 +30,30 @@ pub(super) struct SurfaceEdgeSet {
     /// Each edge at rest, from its first end to its second, m (the mollifier of nearly
     /// parallel edges).
     pub rest: Vec<Vector3<f64>>,
-    /// Each facet's three edges.
+    /// Each facet's three edges ([`NONE`] where left out).
     by_facet: Vec<[usize; 3]>,
 }
 
 impl SurfaceEdgeSet {
-    /// The edges of the facets `triangles` (contact indices) over the positions `rest`.
-    pub fn new(triangles: &[[usize; 3]], rest: &[Vector3<f64>]) -> SurfaceEdgeSet {
+    /// The edges of the facets `triangles` (contact indices) over the positions `rest`, but
+    /// those shorter than `shortest` (m; a split seam's slivers, two corners equal to
+    /// round-off: an edge passing through one is a point passing through an edge, which the
+    /// points against the facets see, and the mollifier of so short an edge would be
+    /// round-off).
+    pub fn new(triangles: &[[usize; 3]], rest: &[Vector3<f64>], shortest: f64) -> SurfaceEdgeSet {
         let mut index: HashMap<[usize; 2], usize> = HashMap::new();
         let (mut edges, mut area, mut by_facet) = (Vec::new(), Vec::new(), Vec::new());
         for t in triangles {
             let [a, b, c] = t.map(|n| rest[n]);
             let third = (b - a).cross(&(c - a)).norm() / 6.0;
-            let mut mine = [0; 3];
+            let mut mine = [NONE; 3];
             for (k, (i, j)) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
                 .into_iter()
                 .enumerate()
             {
+                if (rest[j] - rest[i]).norm() < shortest {
+                    continue;
+                }
                 let key = [i.min(j), i.max(j)];
                 let e = *index.entry(key).or_insert_with(|| {
                     edges.push(key);
@@ -73,6 +83,7 @@ impl SurfaceEdgeSet {
             .facets_meeting(query)
             .into_iter()
             .flat_map(|t| self.by_facet[t])
+            .filter(|&e| e != NONE)
             .collect();
         found.sort_unstable();
         found.dedup();

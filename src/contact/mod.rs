@@ -10,6 +10,8 @@ mod along_surface;
 mod barrier;
 mod bounds;
 mod coulomb;
+#[cfg(test)]
+mod differences;
 mod edge_edge;
 mod edge_pairs;
 mod embedded;
@@ -38,7 +40,7 @@ pub use barrier::{
 pub use bounds::Bounds;
 pub use edge_edge::{
     edge_edge_derivatives, edge_edge_distance2, edge_edge_mollifier, edge_edge_mollifier_threshold,
-    edge_pair_barrier, edge_pair_barrier_exact, EdgeMollifier,
+    edge_pair_barrier, EdgeMollifier,
 };
 pub use embedded::EmbeddedPoints;
 pub use exterior::exterior_quads;

@@ -26,9 +26,9 @@
 //! Pairs already nearer than d̂ where the barrier is built (at rest: skin that meets skin at the
 //! webs) are left out for good: skin that merely touches at rest does not lock.
 
-use super::barrier::{barrier, pair_barrier, point_triangle_derivatives, point_triangle_distance2};
+use super::barrier::{pair_barrier, point_triangle_distance2};
 use super::bounds::Bounds;
-use super::edge_edge::{edge_edge_mollifier_threshold, edge_pair_barrier, edge_pair_barrier_exact};
+use super::edge_edge::{edge_edge_mollifier_threshold, edge_pair_barrier};
 use super::edge_pairs::SurfaceEdgeSet;
 use super::embedded::EmbeddedPoints;
 use super::self_contact::OwnNeighbourhood;
@@ -37,7 +37,7 @@ use super::swept::passes_through;
 use crate::fem::added_energy::{AddedEnergy, NodeBlock};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector3};
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashSet};
 use std::sync::Arc;
 
 /// Share of the way to a first crossing a step may go (continuous collision's margin).
@@ -112,7 +112,8 @@ impl SelfBarrier {
             "a barrier's reach and stiffness are > 0"
         );
         let rest = place(&embedded, &reference, &vec![0.0; 3 * reference.len()]);
-        let edges = SurfaceEdgeSet::new(&triangles, &rest);
+        // (Edges shorter than a millionth of the reach: a seam's slivers.)
+        let edges = SurfaceEdgeSet::new(&triangles, &rest, 1e-6 * reach);
         let positions = place(&embedded, &reference, start);
         let surface = ContactSurface::new(0, triangles, &positions);
         let mut area = vec![0.0; positions.len()];
@@ -238,61 +239,44 @@ impl SelfBarrier {
     ) -> Option<Evaluated> {
         let [x0, x1, x2, x3] = pair.corners.map(|i| positions[i]);
         let (reach2, kappa) = (self.reach * self.reach, self.kappa * pair.area);
-        let e = match pair.kind {
-            Kind::PointFacet => {
-                if projected {
-                    pair_barrier(&x0, &x1, &x2, &x3, reach2, kappa)?
-                } else {
-                    if pair.d2.is_nan() || pair.d2 <= 0.0 {
-                        return Some((f64::INFINITY, SVector::zeros(), SMatrix::zeros()));
-                    }
-                    let dist = point_triangle_derivatives(&x0, &x1, &x2, &x3);
-                    let (b, db, ddb) = barrier(dist.d2, reach2);
-                    let g = &dist.gradient;
-                    return Some((
-                        kappa * b,
-                        g * (kappa * db),
-                        (g * g.transpose() * ddb + dist.hessian * db) * kappa,
-                    ));
-                }
-            }
+        let exact = match pair.kind {
+            Kind::PointFacet => pair_barrier(&x0, &x1, &x2, &x3, reach2, kappa)?,
             Kind::EdgeEdge(threshold) => {
-                let barrier = if projected {
-                    edge_pair_barrier
-                } else {
-                    edge_pair_barrier_exact
-                };
-                barrier(&x0, &x1, &x2, &x3, threshold, reach2, kappa)?
+                edge_pair_barrier(&x0, &x1, &x2, &x3, threshold, reach2, kappa)?
             }
         };
+        let e = if projected { exact.projected() } else { exact };
         Some((e.energy, e.gradient, e.hessian))
     }
 
     /// The force each contact index feels from the barrier at `u` (N, the magnitude of −∂B/∂x
-    /// of that point), the pairs held and the sum of the forces on the pairs' one side (a
-    /// point, or the first edge; N).
+    /// of that point), the pairs held and the press: the sum of the forces on the pairs' one
+    /// side (a point's; of two edges, half what their four ends feel), N.
     pub fn forces(&self, u: &[f64]) -> (Vec<f64>, usize, f64) {
         let positions = place(&self.embedded, &self.reference, u);
         let mut out = vec![0.0; positions.len()];
         let (mut count, mut total) = (0, 0.0);
         for pair in self.active(&positions) {
-            let Some((energy, gradient, _)) = self.evaluate(&pair, &positions, true) else {
+            let Some((energy, gradient, _)) = self.evaluate(&pair, &positions, false) else {
                 continue;
             };
             if !energy.is_finite() {
                 continue;
             }
             count += 1;
-            let one_side = match pair.kind {
-                Kind::PointFacet => 1,
-                Kind::EdgeEdge(_) => 2,
-            };
+            let mut felt = 0.0;
             for (k, &i) in pair.corners.iter().enumerate() {
                 let f = gradient.fixed_rows::<3>(3 * k).norm();
                 out[i] += f;
-                if k < one_side {
+                felt += f;
+                if k == 0 && matches!(pair.kind, Kind::PointFacet) {
                     total += f;
                 }
+            }
+            if let Kind::EdgeEdge(_) = pair.kind {
+                // Half what its four ends feel: each edge's, but where the pair's barrier fades
+                // (nearly parallel edges) its fading turns the ends' forces apart, unequally.
+                total += 0.5 * felt;
             }
         }
         (out, count, total)
@@ -308,7 +292,7 @@ impl AddedEnergy for SelfBarrier {
             if pair.d2 <= 0.0 {
                 return None;
             }
-            let Some((e, g, _)) = self.evaluate(&pair, &positions, true) else {
+            let Some((e, g, _)) = self.evaluate(&pair, &positions, false) else {
                 continue;
             };
             if !e.is_finite() {
@@ -347,8 +331,9 @@ impl AddedEnergy for SelfBarrier {
                 Some((pair.corners, h))
             })
             .collect();
-        // Over the contact indices, every ordered pair of corners.
-        let mut corners: HashMap<(usize, usize), Matrix3<f64>> = HashMap::new();
+        // Over the contact indices, every ordered pair of corners (in order: the same sums to
+        // the last bit from run to run).
+        let mut corners: BTreeMap<(usize, usize), Matrix3<f64>> = BTreeMap::new();
         for (c, h) in &pairs {
             for (k, &ck) in c.iter().enumerate() {
                 for (l, &cl) in c.iter().enumerate() {
@@ -358,7 +343,7 @@ impl AddedEnergy for SelfBarrier {
             }
         }
         // Over the nodes, the upper triangle (node n's rows against node m's columns, n ≤ m).
-        let mut nodes: HashMap<(usize, usize), Matrix3<f64>> = HashMap::new();
+        let mut nodes: BTreeMap<(usize, usize), Matrix3<f64>> = BTreeMap::new();
         for (&(ck, cl), block) in &corners {
             self.embedded.for_each(ck, |n, wn| {
                 self.embedded.for_each(cl, |m, wm| {
@@ -492,16 +477,22 @@ mod tests {
     fn barrier_at(gap: f64) -> (SelfBarrier, usize) {
         let (nodes, triangles) = strips(gap);
         let n = nodes.len();
+        (barrier_over(nodes, triangles), n)
+    }
+
+    /// The barrier (reach 0.5 mm, κ = 10¹⁵ N/m⁵, 1 mm² a point) over the surface `triangles`
+    /// on `nodes` (the nodes are the points), built where they are.
+    fn barrier_over(nodes: Vec<Vector3<f64>>, triangles: Vec<[usize; 3]>) -> SelfBarrier {
+        let n = nodes.len();
         let own = OwnNeighbourhood::new(nodes.clone(), &triangles, 0.5e-3, (0.0, 0.0), 0.0);
-        let b = SelfBarrier::new(
+        SelfBarrier::new(
             EmbeddedPoints::none(n),
             nodes,
             (triangles, (0..n).map(|p| (p, 1e-6)).collect()),
             Arc::new(own),
             (0.5e-3, 1e15),
             &vec![0.0; 3 * n],
-        );
-        (b, n)
+        )
     }
 
     /// The upper strip moved down by `down` (m) and tilted about x by `tilt` (m per m of y).
@@ -611,19 +602,10 @@ mod tests {
         (nodes, vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]])
     }
 
-    /// The barrier over the crossed strips (reach 0.5 mm, κ = 10¹⁵ N/m⁵, 1 mm² a point).
+    /// The barrier over the crossed strips.
     fn crossed_barrier(gap: f64) -> SelfBarrier {
         let (nodes, triangles) = crossed(gap);
-        let n = nodes.len();
-        let own = OwnNeighbourhood::new(nodes.clone(), &triangles, 0.5e-3, (0.0, 0.0), 0.0);
-        SelfBarrier::new(
-            EmbeddedPoints::none(n),
-            nodes,
-            (triangles, (0..n).map(|p| (p, 1e-6)).collect()),
-            Arc::new(own),
-            (0.5e-3, 1e15),
-            &vec![0.0; 3 * n],
-        )
+        barrier_over(nodes, triangles)
     }
 
     /// The upper strip moved down by `down` (m).
