@@ -26,7 +26,7 @@
 //! Pairs already nearer than d̂ where the barrier is built (at rest: skin that meets skin at the
 //! webs) are left out for good: skin that merely touches at rest does not lock.
 
-use super::barrier::{pair_barrier, point_triangle_distance2};
+use super::barrier::{pair_barrier, point_triangle_distance2, PairBarrier};
 use super::bounds::Bounds;
 use super::edge_edge::{edge_edge_mollifier_threshold, edge_pair_barrier};
 use super::edge_pairs::SurfaceEdgeSet;
@@ -35,7 +35,7 @@ use super::self_contact::OwnNeighbourhood;
 use super::surface::{ContactSurface, SurfaceBvh};
 use super::swept::passes_through;
 use crate::fem::added_energy::{AddedEnergy, NodeBlock};
-use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashSet};
 use std::sync::Arc;
@@ -88,10 +88,6 @@ enum Kind {
     /// parallel edges (whose points against facets hold them).
     EdgeEdge(f64),
 }
-
-/// A pair's barrier at its corners' positions: energy, gradient and Hessian (exact, or with its
-/// negative eigenvalues dropped).
-type Evaluated = (f64, SVector<f64, 12>, SMatrix<f64, 12, 12>);
 
 impl SelfBarrier {
     /// The barrier of reach `reach` (m) and stiffness `kappa` over the points `points` (each
@@ -236,7 +232,7 @@ impl SelfBarrier {
         pair: &Pair,
         positions: &[Vector3<f64>],
         projected: bool,
-    ) -> Option<Evaluated> {
+    ) -> Option<PairBarrier> {
         let [x0, x1, x2, x3] = pair.corners.map(|i| positions[i]);
         let (reach2, kappa) = (self.reach * self.reach, self.kappa * pair.area);
         let exact = match pair.kind {
@@ -245,8 +241,7 @@ impl SelfBarrier {
                 edge_pair_barrier(&x0, &x1, &x2, &x3, threshold, reach2, kappa)?
             }
         };
-        let e = if projected { exact.projected() } else { exact };
-        Some((e.energy, e.gradient, e.hessian))
+        Some(if projected { exact.projected() } else { exact })
     }
 
     /// The force each contact index feels from the barrier at `u` (N, the magnitude of −∂B/∂x
@@ -257,7 +252,10 @@ impl SelfBarrier {
         let mut out = vec![0.0; positions.len()];
         let (mut count, mut total) = (0, 0.0);
         for pair in self.active(&positions) {
-            let Some((energy, gradient, _)) = self.evaluate(&pair, &positions, false) else {
+            let Some(PairBarrier {
+                energy, gradient, ..
+            }) = self.evaluate(&pair, &positions, false)
+            else {
                 continue;
             };
             if !energy.is_finite() {
@@ -292,7 +290,12 @@ impl AddedEnergy for SelfBarrier {
             if pair.d2 <= 0.0 {
                 return None;
             }
-            let Some((e, g, _)) = self.evaluate(&pair, &positions, false) else {
+            let Some(PairBarrier {
+                energy: e,
+                gradient: g,
+                ..
+            }) = self.evaluate(&pair, &positions, false)
+            else {
                 continue;
             };
             if !e.is_finite() {
@@ -327,7 +330,7 @@ impl AddedEnergy for SelfBarrier {
                 if pair.d2.is_nan() || pair.d2 <= 0.0 {
                     return None;
                 }
-                let (_, _, h) = self.evaluate(&pair, &positions, projected)?;
+                let h = self.evaluate(&pair, &positions, projected)?.hessian;
                 Some((pair.corners, h))
             })
             .collect();
