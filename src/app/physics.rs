@@ -7,8 +7,8 @@
 use super::jobs::{Failure, Job, Pose, Solution, Target};
 use super::worker::{Cancel, Solve};
 use crate::model::Model;
-use crate::present::{draw_list_with, SkinDetail};
-use crate::solve::{skinned_preview, CancelCheck, Posed, SimError, Workspace};
+use crate::present::{draw_list_with, Overlay, SkinDetail};
+use crate::solve::{complete_stress, skinned_preview, CancelCheck, Posed, SimError, Workspace};
 use crate::state::Frame;
 use crate::util::timing::ms;
 use std::sync::Arc;
@@ -119,9 +119,18 @@ impl Physics {
         // The frame the motion reached at the pose goes out while the corrections settle its
         // contact (drawn as a draft, marked as settling); the settled frame follows.
         let emit = std::cell::RefCell::new(emit);
-        let reached = |frame: Frame| {
+        let reached = |mut frame: Frame| {
             if cancel.is_stale() {
                 return;
+            }
+            // Its stresses only where they are drawn (the settled frame has them).
+            if job.visual.overlay == Overlay::Stress {
+                let completed = complete_stress(&model, &mut frame)
+                    .and_then(|()| SimError::finite(&model, frame));
+                match completed {
+                    Ok(f) => frame = f,
+                    Err(_) => return,
+                }
             }
             if let Ok(mut solution) = deliver(job, &model, frame, started, None, false) {
                 solution.settling = true;

@@ -55,6 +55,9 @@ fn ui_frame(ctx: &egui::Context, state: &mut ViewerState) -> f64 {
 }
 
 /// Runs frames every 16 ms until `done`, returning the frame times; fails after `limit`.
+/// `done` is asked at once and after each frame, before the pause to the next: what a frame
+/// takes from the solver is on screen when that frame ends (until 2026-12-05 it was asked after
+/// the pause, which counted up to one more frame).
 pub(super) fn frames_until(
     ctx: &egui::Context,
     state: &mut ViewerState,
@@ -73,6 +76,9 @@ pub(super) fn frames_until(
         }
         let t = Instant::now();
         times.push(ui_frame(ctx, state));
+        if done(state) {
+            break;
+        }
         if let Some(rest) = FRAME.checked_sub(t.elapsed()) {
             std::thread::sleep(rest);
         }

@@ -197,12 +197,38 @@ impl ContactSurface {
         self.over_boxes(boxes)
     }
 
+    /// [`Self::hierarchy`] over only the facets whose grown box meets `region`: the same
+    /// answers for every point inside `region` (a facet left out could not hold it), built
+    /// over a few of a large surface's facets (a hand's skin against the box of the ball it
+    /// holds: a drag's every contact step builds it).
+    pub fn hierarchy_meeting(
+        &self,
+        positions: &[Vector3<f64>],
+        margin: f64,
+        region: &Bounds,
+    ) -> SurfaceBvh<'_> {
+        let (facets, boxes): (Vec<usize>, Vec<Aabb>) = self
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(f, t)| (f, Bounds::of(t.map(|n| &positions[n])).grown(margin)))
+            .filter(|(_, b)| b.meets(region))
+            .map(|(f, b)| (f, b.aabb()))
+            .unzip();
+        SurfaceBvh {
+            surface: self,
+            bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+            facets: Some(facets),
+        }
+    }
+
     /// A hierarchy over one box per facet.
     fn over_boxes(&self, boxes: impl Iterator<Item = Bounds>) -> SurfaceBvh<'_> {
         let boxes: Vec<Aabb> = boxes.map(|b| b.aabb()).collect();
         SurfaceBvh {
             surface: self,
             bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+            facets: None,
         }
     }
 }
@@ -211,9 +237,18 @@ impl ContactSurface {
 pub struct SurfaceBvh<'a> {
     surface: &'a ContactSurface,
     bvh: Bvh,
+    /// The facet of each leaf, where the hierarchy holds only some (`None`: leaf i is facet i).
+    facets: Option<Vec<usize>>,
 }
 
 impl SurfaceBvh<'_> {
+    /// The facet (an index into the surface's triangles) of a leaf.
+    fn facet(&self, leaf: u32) -> usize {
+        self.facets
+            .as_ref()
+            .map_or(leaf as usize, |f| f[leaf as usize])
+    }
+
     /// The nearest facet to `x` among those whose grown box contains `x`, unless `skip` says
     /// the facet must be ignored (e.g. it contains the point's own node); between equally near
     /// facets, the one whose normal is most opposed to `prefer` (the point's own normal).
@@ -258,7 +293,7 @@ impl SurfaceBvh<'_> {
     pub fn facets_meeting(&self, query: &Bounds) -> Vec<usize> {
         self.bvh
             .intersect_aabb(&query.aabb())
-            .map(|leaf| leaf as usize)
+            .map(|leaf| self.facet(leaf))
             .collect()
     }
 
@@ -286,7 +321,7 @@ impl SurfaceBvh<'_> {
         mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
         for leaf in self.bvh.intersect_aabb(query) {
-            let nodes = self.surface.triangles[leaf as usize];
+            let nodes = self.surface.triangles[self.facet(leaf)];
             if skip(&nodes) {
                 continue;
             }
@@ -465,6 +500,81 @@ pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A hierarchy over the facets that may hold a point of a box answers as the whole one for
+    /// every point in the box — the same nearest facet, gap and weights, the same facets met —
+    /// and holds fewer facets (a hand's skin against the box of a ball).
+    #[test]
+    fn a_hierarchy_over_the_facets_near_a_box_answers_as_the_whole_one_inside_it() {
+        // A wavy sheet of 20 × 20 quads, 1 mm apart, split into triangles.
+        let n = 21;
+        let nodes: Vec<Vector3<f64>> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 * 1e-3, (i / n) as f64 * 1e-3);
+                Vector3::new(x, y, 0.5e-3 * (300.0 * x).sin() * (200.0 * y).cos())
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = j * n + i;
+                triangles.push([a, a + 1, a + n + 1]);
+                triangles.push([a, a + n + 1, a + n]);
+            }
+        }
+        let surface = ContactSurface::new(0, triangles, &nodes);
+        let margin = 2e-3;
+        let region = Bounds {
+            lo: Vector3::new(4e-3, 5e-3, -3e-3),
+            hi: Vector3::new(9e-3, 8e-3, 3e-3),
+        };
+        let whole = surface.hierarchy(&nodes, margin);
+        let near = surface.hierarchy_meeting(&nodes, margin, &region);
+        let held = near.facets.as_ref().map_or(0, Vec::len);
+        assert!(
+            held > 0 && held < surface.triangles.len() / 2,
+            "{held} facets held"
+        );
+        let mut seed = 12345u64;
+        let mut uniform = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut found = 0;
+        for _ in 0..500 {
+            let x = region.lo
+                + (region.hi - region.lo).component_mul(&Vector3::new(
+                    uniform(),
+                    uniform(),
+                    uniform(),
+                ));
+            let a = whole.project(&x, &nodes, None, |_| false);
+            let b = near.project(&x, &nodes, None, |_| false);
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    assert_eq!(a.nodes, b.nodes);
+                    assert_eq!(a.gap, b.gap);
+                    assert_eq!(a.weights, b.weights);
+                    found += 1;
+                }
+                (None, None) => {}
+                (a, b) => panic!(
+                    "{x:?}: {:?} against {:?}",
+                    a.map(|p| p.nodes),
+                    b.map(|p| p.nodes)
+                ),
+            }
+            let query = Bounds::of([&x]);
+            let mut met_whole = whole.facets_meeting(&query);
+            let mut met_near = near.facets_meeting(&query);
+            met_whole.sort_unstable();
+            met_near.sort_unstable();
+            assert_eq!(met_whole, met_near);
+        }
+        assert!(found > 100, "{found} points near the sheet");
+    }
 
     /// The hierarchy of swept boxes holds a facet wherever it passed over a step: a path that
     /// met its sweep finds it (the nearest of those `skip` leaves, as [`SurfaceBvh::project`]

@@ -220,6 +220,8 @@ fn hand_drawing(
     let positions = skin.positions(&nodes);
     let nodal = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { body.nodes.clone().map(f).collect() };
     let scalars = match options.overlay {
+        // (A frame whose stresses are pending — a drag's draft at its pose — has none to draw.)
+        Overlay::Stress if frame.stress.nodal.is_empty() => None,
         Overlay::Stress => Some(skin.interpolate(&nodal(&|n| von_mises(&frame.stress.nodal[n])))),
         Overlay::Displacement => {
             Some(skin.interpolate(&nodal(&|n| frame.solution.node_displacement(n).norm())))
@@ -363,6 +365,7 @@ pub fn draw_list_with(
         }
         let (mut surface, nodes) = body_surface(model, frame, b, scale);
         surface.scalars = match options.overlay {
+            Overlay::Stress if frame.stress.nodal.is_empty() => None,
             Overlay::Stress => Some(
                 nodes
                     .iter()
@@ -555,6 +558,26 @@ mod tests {
             let n = (p[1] - p[0]).cross(p[2] - p[0]);
             assert!(n.dot((p[0] + p[1] + p[2]) / 3.0 - c) > 0.0);
         }
+    }
+
+    /// The stress overlay colours a body by its von Mises stress; a frame whose stresses are
+    /// still pending (a drag's draft, which the window draws without them unless the overlay
+    /// asks) is drawn uncoloured, not read out of bounds.
+    #[test]
+    fn the_stress_overlay_colours_solved_stresses_and_skips_pending_ones() {
+        let s = block(2);
+        let opts = VisualOptions {
+            overlay: Overlay::Stress,
+            ..Default::default()
+        };
+        let list = draw_list(&s.model, &s.frames[0], &opts).unwrap();
+        let scalars = list.surfaces[0].scalars.clone().unwrap();
+        assert!(scalars.iter().all(|v| v.is_finite()) && scalars.iter().any(|&v| v > 0.0));
+        let mut pending = s.frames[0].clone();
+        pending.stress = Default::default();
+        pending.stress_pending = Some(crate::state::PendingStress::Composed);
+        let list = draw_list(&s.model, &pending, &opts).unwrap();
+        assert!(list.surfaces[0].scalars.is_none());
     }
 
     #[test]

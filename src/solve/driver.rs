@@ -1075,8 +1075,10 @@ fn keyframe_stats(
 
 /// Shows `reached` the frame a motion reached at its pose, before its corrections, where it is
 /// in contact with force on a hand (else no correction follows): a copy with the hands' costs so
-/// far (`counts`, as [`finish`] writes them), its stresses computed; not shown where a value is
-/// not finite (the corrections then decide).
+/// far (`counts`, as [`finish`] writes them), its stresses left pending (the settled frame has
+/// them; the window computes the draft's only where it draws them, [`super::complete_stress`]:
+/// 12–15 ms of a drag's first frame); not shown where a value is not finite (the corrections
+/// then decide).
 fn show_reached(
     model: &Model,
     posed: &Posed,
@@ -1090,9 +1092,7 @@ fn show_reached(
     }
     let mut frame = frame.clone();
     keyframe_stats(posed, (moving, path), &mut frame, &counts, None);
-    let shown = super::frame_stress::complete(model, &mut frame)
-        .and_then(|()| SimError::finite(model, frame));
-    if let Ok(frame) = shown {
+    if let Ok(frame) = SimError::finite(model, frame) {
         reached(frame);
     }
 }

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 /// Computes `frame`'s stresses if they are pending (the time they took goes to its
 /// `stress_ms`, and to its contact's split).
-pub(super) fn complete(model: &Model, frame: &mut Frame) -> Result<(), SimError> {
+pub fn complete(model: &Model, frame: &mut Frame) -> Result<(), SimError> {
     let Some(rule) = frame.stress_pending else {
         return Ok(());
     };

@@ -25,8 +25,8 @@ use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use super::untouched::UntouchedStep;
 use crate::contact::{
-    solve_lagrange, solve_paper, ContactError, ContactMethod, ContactProblem, ContactResult,
-    ContactSummary, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
+    solve_lagrange, solve_paper, Bounds, ContactError, ContactMethod, ContactProblem,
+    ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
 };
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::StressField;
@@ -39,6 +39,7 @@ use crate::state::{Frame, HandFrame, PendingStress};
 use crate::util::near::NearPoints;
 use crate::util::timing::ms;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// What the contact steps of a model keep from one to the next: the partitioned solver (its
@@ -254,9 +255,20 @@ fn solve_grasp_with(
     let mut seeds: Vec<usize> = Vec::new();
     // The smallest gap between skin and an object within the search, either way.
     let mut closest = f64::INFINITY;
+    // Where the objects' surfaces are: skin facets not within the search of that box hold no
+    // object node (the skin's hierarchy is built over the others only).
+    let object_points: Vec<&Vector3<f64>> = surfaces[hands.len()..]
+        .iter()
+        .flat_map(|s| s.nodes())
+        .map(|n| &x_now[n])
+        .collect();
+    let objects_box = (!object_points.is_empty()).then(|| Bounds::of(object_points));
     for (i, _) in hands.iter().enumerate() {
         let skin_nodes = surfaces[i].nodes();
-        let skin_bvh = surfaces[i].hierarchy(&x_now, margin);
+        let skin_bvh = match &objects_box {
+            Some(b) => surfaces[i].hierarchy_meeting(&x_now, margin, b),
+            None => surfaces[i].hierarchy(&x_now, margin),
+        };
         for (j, &b) in objects.iter().enumerate() {
             let s = hands.len() + j;
             let object_nodes = surfaces[s].nodes();
@@ -272,27 +284,27 @@ fn solve_grasp_with(
                     (p.gap, behind.map_or(p.gap, |b| b.gap.min(p.gap)))
                 })
             };
-            let gaps: Vec<(usize, f64)> = skin_nodes
-                .iter()
+            // (Point by point, on every thread: a drag's first frame waits for it.)
+            let found: Vec<(usize, f64, f64)> = skin_nodes
+                .par_iter()
                 .filter_map(|&n| {
-                    signed(&object_bvh, &x_now[n]).map(|(gap, inside)| {
-                        closest = closest.min(inside);
-                        (n, gap)
-                    })
+                    signed(&object_bvh, &x_now[n]).map(|(gap, inside)| (n, gap, inside))
                 })
                 .collect();
+            closest = found.iter().fold(closest, |c, g| c.min(g.2));
+            let gaps: Vec<(usize, f64)> = found.iter().map(|g| (g.0, g.1)).collect();
             let skin_near: Vec<usize> = gaps.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
             // The flesh solved with the contact grows from the skin that touches (or nearly).
             seeds.extend(gaps.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
-            let object_near: Vec<usize> = object_nodes
+            let object_found: Vec<(usize, f64, f64)> = object_nodes
+                .par_iter()
+                .filter_map(|&n| signed(&skin_bvh, &x_now[n]).map(|(gap, inside)| (n, gap, inside)))
+                .collect();
+            closest = object_found.iter().fold(closest, |c, g| c.min(g.2));
+            let object_near: Vec<usize> = object_found
                 .iter()
-                .copied()
-                .filter(|&n| {
-                    signed(&skin_bvh, &x_now[n]).is_some_and(|(gap, inside)| {
-                        closest = closest.min(inside);
-                        gap < margin
-                    })
-                })
+                .filter(|g| g.1 < margin)
+                .map(|g| g.0)
                 .collect();
             if skin_near.is_empty() && object_near.is_empty() {
                 continue;
@@ -393,19 +405,25 @@ fn solve_grasp_with(
             continue;
         }
         let near = NearPoints::new(&near, radius);
+        // (Cell by cell on every thread, then counted in order.)
+        let within: Vec<bool> = (0..flesh.mesh.cells.len())
+            .into_par_iter()
+            .map(|c| {
+                let cell = &flesh.mesh.cells[c];
+                let method = model.flexion.methods[flesh.cell_digit[c].map_or(0, |d| d + 1)];
+                method == crate::model::FleshMethod::Fem
+                    && near.any_within(
+                        &(cell.iter().map(|&n| h.positions[n]).sum::<Vector3<f64>>() / 8.0),
+                    )
+            })
+            .collect();
         let mut in_region = vec![0usize; flesh.mesh.nodes.len()];
         let mut incident = vec![0usize; flesh.mesh.nodes.len()];
-        for (c, cell) in flesh.mesh.cells.iter().enumerate() {
+        for (cell, &inside) in flesh.mesh.cells.iter().zip(&within) {
             for &n in cell {
                 incident[n] += 1;
             }
-            let method = model.flexion.methods[flesh.cell_digit[c].map_or(0, |d| d + 1)];
-            if method != crate::model::FleshMethod::Fem {
-                continue;
-            }
-            let centre: Vector3<f64> =
-                cell.iter().map(|&n| h.positions[n]).sum::<Vector3<f64>>() / 8.0;
-            if near.any_within(&centre) {
+            if inside {
                 region_cells += 1;
                 for &n in cell {
                     in_region[n] += 1;

@@ -36,6 +36,7 @@ pub use driver::{solve_frames, Posed, PosedHand, Workspace, CONTACT_CORRECTION, 
 pub use error::SimError;
 pub use flexion::{CancelCheck, Flexion, FlexionCaches};
 pub use flexion_nonlinear::flesh_internal_forces;
+pub use frame_stress::complete as complete_stress;
 pub use linear_factor::LinearFactor;
 pub use preview::skinned_preview;
 pub use statics::solve_static;
