@@ -170,6 +170,38 @@ fn a_preview_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
     h.get_by_label_contains("flesh element 12 would turn inside out");
 }
 
+/// A frame solved at the pose is shown while its contact settles ("its contact is being
+/// settled"); when the corrections then fail, the last settled frame comes back with the error,
+/// not the draft of a pose that did not settle (whose stresses, left pending unless drawn,
+/// would also be what showed a cell turned inside out).
+#[test]
+fn a_settling_frame_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
+    let (port, mut h) = answered();
+    slider(&h, "index.pip").set_value_accesskit(100.0);
+    h.step();
+    let job = pose_jobs(&port).last().unwrap().clone();
+    let v = job.version;
+    let mut settling = tiny_solution(7.0, None);
+    settling.settling = true;
+    settling.visual = job.visual;
+    port.answer(JobResult {
+        version: v,
+        outcome: Ok(settling),
+        finished: false,
+    });
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(7.0));
+    assert!(h.state().computing() && h.state().showing_settling());
+    port.answer_failure(
+        v,
+        Failure::Error("the corrections at the pose did not settle".into()),
+    );
+    h.step();
+    assert_eq!(shown_x(h.state()), Some(0.0));
+    assert!(!h.state().computing() && !h.state().showing_settling());
+    h.get_by_label_contains("the corrections at the pose did not settle");
+}
+
 #[test]
 fn a_panicking_solve_leaves_the_ui_alive_and_says_so() {
     let pip = {

@@ -448,7 +448,8 @@ impl ViewerState {
             solution,
             source,
         };
-        if !shown.solution.preview {
+        // (Nor a frame whose contact is still being settled: the pose may yet fail.)
+        if !shown.solution.preview && !shown.solution.settling {
             self.last_solved = Some(shown.clone());
         }
         self.shown = Some(shown);
@@ -484,8 +485,9 @@ impl ViewerState {
         {
             self.status.grasp = None;
         }
-        if failed && newest_pose && self.showing_preview() {
-            // The pose a preview showed failed: the last solved frame goes back on screen.
+        if failed && newest_pose && (self.showing_preview() || self.showing_settling()) {
+            // The pose a preview (or a frame whose contact was being settled) showed failed:
+            // the last solved frame goes back on screen.
             self.shown = self.last_solved.clone();
             self.redraw_shown();
         }

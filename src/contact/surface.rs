@@ -197,10 +197,12 @@ impl ContactSurface {
         self.over_boxes(boxes)
     }
 
-    /// [`Self::hierarchy`] over only the facets whose grown box meets `region`: the same
-    /// answers for every point inside `region` (a facet left out could not hold it), built
-    /// over a few of a large surface's facets (a hand's skin against the box of the ball it
-    /// holds: a drag's every contact step builds it).
+    /// [`Self::hierarchy`] over only the facets whose grown box meets `region`: for every point
+    /// inside `region` the same facets (a facet left out could not hold it), built over a few
+    /// of a large surface's facets (a hand's skin against the box of the ball it holds: a
+    /// drag's every contact step builds it). The tree is another, so facets are met in another
+    /// order: where two are equally near (a point over a convex edge), [`SurfaceBvh::project`]
+    /// may keep the other one, with its own signed gap.
     pub fn hierarchy_meeting(
         &self,
         positions: &[Vector3<f64>],
@@ -502,8 +504,9 @@ mod tests {
     use super::*;
 
     /// A hierarchy over the facets that may hold a point of a box answers as the whole one for
-    /// every point in the box — the same nearest facet, gap and weights, the same facets met —
-    /// and holds fewer facets (a hand's skin against the box of a ball).
+    /// every point in the box — the same facets met, and (no two facets equally near a random
+    /// point of this sheet) the same nearest facet, gap and weights — and holds fewer facets (a
+    /// hand's skin against the box of a ball).
     #[test]
     fn a_hierarchy_over_the_facets_near_a_box_answers_as_the_whole_one_inside_it() {
         // A wavy sheet of 20 × 20 quads, 1 mm apart, split into triangles.

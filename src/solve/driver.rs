@@ -234,8 +234,9 @@ impl Workspace {
     }
 
     /// [`Workspace::move_hands`], showing `reached` the frame the motion reached at the pose
-    /// before the corrections at the pose settle its contact (its stresses computed, its values
-    /// finite), where there are corrections to make: a frame at the pose, in contact, whose
+    /// before the corrections at the pose settle its contact (its values finite, its stresses
+    /// pending: [`super::complete_stress`] computes them where they are drawn), where there are
+    /// corrections to make: a frame at the pose, in contact, whose
     /// contact force the first correction changes by a few per mille (a finger in contact
     /// dragged by 2°: under 0.1 %). The viewer shows it while the corrections run; the frame
     /// returned is the settled one.

@@ -16,8 +16,8 @@ pub struct Frame {
     pub stress: StressField,
     /// Stresses not computed yet, and by which rule: a contact step along a motion, or a
     /// correction at a pose, is mostly a state on the way to the next, so only the frame a
-    /// keyframe ends with gets its stresses (`solve::frame_stress`). `None`: `stress` is the
-    /// frame's.
+    /// keyframe ends with gets its stresses (`solve::frame_stress`; the viewer's draft at the
+    /// pose only where it draws them). `None`: `stress` is the frame's.
     pub stress_pending: Option<PendingStress>,
     /// Time spent assembling K, ms.
     pub assembly_ms: f64,
