@@ -138,68 +138,57 @@ fn a_failed_solve_keeps_the_last_good_frame_and_says_why() {
     h.get_by_label_contains("flesh element 12 would turn inside out");
 }
 
-/// A pose job's preview is shown while the job runs ("shown: a preview" in Status, the request
-/// still computing); when the pose then fails, the last solved frame comes back with the error,
-/// not the preview of a pose that has no solution.
-#[test]
-fn a_preview_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
+/// A draft of the pose asked (a preview, or a frame whose contact is being settled) is shown
+/// while the job runs, the Status panel saying `said`; when the pose then fails with `error`,
+/// the last solved frame comes back with the error, not the draft of a pose that has no
+/// solution.
+fn draft_until_its_pose_fails(draft: fn(&mut Solution), said: &str, error: &str) {
     let (port, mut h) = answered();
     slider(&h, "index.pip").set_value_accesskit(100.0);
     h.step();
     let job = pose_jobs(&port).last().unwrap().clone();
     let v = job.version;
-    let mut preview = tiny_solution(9.0, None);
-    preview.preview = true;
-    preview.visual = job.visual;
+    let mut shown = tiny_solution(9.0, None);
+    draft(&mut shown);
+    shown.visual = job.visual;
     port.answer(JobResult {
         version: v,
-        outcome: Ok(preview),
+        outcome: Ok(shown),
         finished: false,
     });
     h.step();
+    let drafted = |s: &ViewerState| s.showing_preview() || s.showing_settling();
     assert_eq!(shown_x(h.state()), Some(9.0));
-    assert!(h.state().computing() && h.state().showing_preview());
-    h.get_by_label_contains("shown: a preview");
-    port.answer_failure(
-        v,
-        Failure::Error("flesh element 12 would turn inside out".into()),
-    );
+    assert!(h.state().computing() && drafted(h.state()));
+    h.get_by_label_contains(said);
+    port.answer_failure(v, Failure::Error(error.into()));
     h.step();
     assert_eq!(shown_x(h.state()), Some(0.0));
-    assert!(!h.state().computing() && !h.state().showing_preview());
-    h.get_by_label_contains("flesh element 12 would turn inside out");
+    assert!(!h.state().computing() && !drafted(h.state()));
+    h.get_by_label_contains(error);
 }
 
-/// A frame solved at the pose is shown while its contact settles ("its contact is being
-/// settled"); when the corrections then fail, the last settled frame comes back with the error,
-/// not the draft of a pose that did not settle (whose stresses, left pending unless drawn,
-/// would also be what showed a cell turned inside out).
+/// A pose job's preview ("shown: a preview" in Status), its pose then failing.
+#[test]
+fn a_preview_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
+    draft_until_its_pose_fails(
+        |s| s.preview = true,
+        "shown: a preview",
+        "flesh element 12 would turn inside out",
+    );
+}
+
+/// A frame solved at the pose while its contact settles ("its contact is being settled"), the
+/// corrections then failing: the last settled frame comes back, not the draft of a pose that
+/// did not settle (whose stresses, left pending unless drawn, would also be what showed a cell
+/// turned inside out).
 #[test]
 fn a_settling_frame_is_shown_until_its_pose_fails_then_the_last_solved_frame() {
-    let (port, mut h) = answered();
-    slider(&h, "index.pip").set_value_accesskit(100.0);
-    h.step();
-    let job = pose_jobs(&port).last().unwrap().clone();
-    let v = job.version;
-    let mut settling = tiny_solution(7.0, None);
-    settling.settling = true;
-    settling.visual = job.visual;
-    port.answer(JobResult {
-        version: v,
-        outcome: Ok(settling),
-        finished: false,
-    });
-    h.step();
-    assert_eq!(shown_x(h.state()), Some(7.0));
-    assert!(h.state().computing() && h.state().showing_settling());
-    port.answer_failure(
-        v,
-        Failure::Error("the corrections at the pose did not settle".into()),
+    draft_until_its_pose_fails(
+        |s| s.settling = true,
+        "its contact is being settled",
+        "the corrections at the pose did not settle",
     );
-    h.step();
-    assert_eq!(shown_x(h.state()), Some(0.0));
-    assert!(!h.state().computing() && !h.state().showing_settling());
-    h.get_by_label_contains("the corrections at the pose did not settle");
 }
 
 #[test]
