@@ -538,21 +538,10 @@ mod tests {
             held > 0 && held < surface.triangles.len() / 2,
             "{held} facets held"
         );
-        let mut seed = 12345u64;
-        let mut uniform = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::contact::differences::Rng(12345);
         let mut found = 0;
         for _ in 0..500 {
-            let x = region.lo
-                + (region.hi - region.lo).component_mul(&Vector3::new(
-                    uniform(),
-                    uniform(),
-                    uniform(),
-                ));
+            let x = Vector3::from_fn(|i, _| rng.range(region.lo[i], region.hi[i]));
             let a = whole.project(&x, &nodes, None, |_| false);
             let b = near.project(&x, &nodes, None, |_| false);
             match (a, b) {

@@ -257,11 +257,10 @@ fn solve_grasp_with(
     let mut closest = f64::INFINITY;
     // Where the objects' surfaces are: skin facets not within the search of that box hold no
     // object node (the skin's hierarchy is built over the others only).
-    let object_points: Vec<&Vector3<f64>> = surfaces[hands.len()..]
-        .iter()
-        .flat_map(|s| s.nodes())
-        .map(|n| &x_now[n])
-        .collect();
+    let objects_nodes: Vec<Vec<usize>> =
+        surfaces[hands.len()..].iter().map(|s| s.nodes()).collect();
+    let object_points: Vec<&Vector3<f64>> =
+        objects_nodes.iter().flatten().map(|&n| &x_now[n]).collect();
     let objects_box = (!object_points.is_empty()).then(|| Bounds::of(object_points));
     for (i, _) in hands.iter().enumerate() {
         let skin_nodes = surfaces[i].nodes();
@@ -271,7 +270,7 @@ fn solve_grasp_with(
         };
         for (j, &b) in objects.iter().enumerate() {
             let s = hands.len() + j;
-            let object_nodes = surfaces[s].nodes();
+            let object_nodes = objects_nodes[j].clone();
             let object_bvh = surfaces[s].hierarchy(&x_now, margin);
             // (The gap to the nearest facet; where it is in front of that facet's plane but
             // in a pit at its edge or corner, the gap behind the facet around it — looked
@@ -292,10 +291,10 @@ fn solve_grasp_with(
                 })
                 .collect();
             closest = found.iter().fold(closest, |c, g| c.min(g.2));
-            let gaps: Vec<(usize, f64)> = found.iter().map(|g| (g.0, g.1)).collect();
-            let skin_near: Vec<usize> = gaps.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
+            let skin_near: Vec<usize> =
+                found.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
             // The flesh solved with the contact grows from the skin that touches (or nearly).
-            seeds.extend(gaps.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
+            seeds.extend(found.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
             let object_found: Vec<(usize, f64, f64)> = object_nodes
                 .par_iter()
                 .filter_map(|&n| signed(&skin_bvh, &x_now[n]).map(|(gap, inside)| (n, gap, inside)))
