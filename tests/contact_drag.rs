@@ -49,6 +49,12 @@ fn a_touching_finger_dragged_there_and_back_settles_at_once_and_returns_to_its_g
         );
         assert_eq!(stats.contact_retries, 0);
         let contact = frame.contact.as_ref().unwrap();
+        // The ball's block of K11 apart from the flesh region's, its factor made beside the
+        // detection (the corotated ball turns with what each step carries) and kept by the
+        // step's solve (src/solve/objects_factor.rs).
+        assert_eq!(frame.solution.stats.blocks, 2);
+        assert!(frame.solution.stats.blocks_reused >= 1);
+        assert_eq!(contact.objects_kept, Some(false));
         // Held on the linearised constraint, a skin point lies a second-order amount off the
         // surface on the moved geometry (its smoothed normal turns with the facets around);
         // the search rounds bring it within the tolerance (default 1e-7 of the scene, 20 nm:

@@ -42,6 +42,7 @@ mod malformed_scenes;
 mod neo_hookean_objects;
 mod nonlinear;
 mod nonlinear_hand;
+mod objects_factor;
 mod pad_refinement;
 mod paper_along_motion;
 mod patch_test;

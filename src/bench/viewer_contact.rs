@@ -91,7 +91,7 @@ fn measure(
         (
             c.contact_ms,
             format!(
-                "{:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0}",
+                "{:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0} / {:.0} ({:.0})",
                 p.detection,
                 p.assembly,
                 p.symbolic,
@@ -99,7 +99,8 @@ fn measure(
                 p.substitution,
                 p.search,
                 p.settle,
-                p.stress
+                p.stress,
+                p.beside
             ),
         )
     });
@@ -165,7 +166,7 @@ pub fn run(drags: usize) -> Result<String> {
         )?);
     }
     let mut out = String::from(
-        "| change | slider → preview shown ms | slider → frame solved at the pose shown (settling) ms | slider → settled frame shown ms | solver thread ms | of it: flexion ms (knots flexed ahead) | contact steps (corrections, redone) | last contact step ms | its detection / assembly / symbolic / factorization / substitution / search / settle / stress ms | draw list ms | grip N |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| change | slider → preview shown ms | slider → frame solved at the pose shown (settling) ms | slider → settled frame shown ms | solver thread ms | of it: flexion ms (knots flexed ahead) | contact steps (corrections, redone) | last contact step ms | its detection / assembly / symbolic / factorization / substitution / search / settle / stress ms (the objects' assembly and factorization beside the detection) | draw list ms | grip N |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for c in std::iter::once(&cold).chain(&changes) {
         out.push_str(&format!(

@@ -358,6 +358,7 @@ pub fn solve_lagrange(
             region_cells: 0,
             times,
             skin_points: Vec::new(),
+            objects_kept: None,
             at_iteration_cap,
         },
     })

@@ -224,6 +224,7 @@ pub fn solve_paper(
             region_cells: 0,
             times,
             skin_points,
+            objects_kept: None,
             at_iteration_cap: false,
         },
     })

@@ -263,6 +263,10 @@ pub struct ContactSummary {
     /// The contact points embedded in each hand's skin: (hand body, contact index of its
     /// skin's first vertex); the hand's skin vertices are numbered on from there.
     pub skin_points: Vec<(usize, usize)>,
+    /// The other bodies' factor (src/solve/objects_factor.rs): `Some(false)` made beside the
+    /// detection, `Some(true)` kept from an earlier step (the same values: an object that
+    /// stays linear), `None` not made apart (Neo-Hookean objects, or no contact solved).
+    pub objects_kept: Option<bool>,
 }
 
 impl ContactSummary {
@@ -290,6 +294,7 @@ impl ContactSummary {
                 ..ContactTimes::default()
             },
             skin_points,
+            objects_kept: None,
         }
     }
 
@@ -318,6 +323,9 @@ pub struct ContactTimes {
     pub settle: f64,
     /// Stresses of the frame.
     pub stress: f64,
+    /// The other bodies' assembly and factorization, made beside the detection (on the other
+    /// core: on the step's way only where the detection ends first).
+    pub beside: f64,
 }
 
 impl ContactTimes {
@@ -338,6 +346,7 @@ impl ContactTimes {
         self.search += other.search;
         self.settle += other.settle;
         self.stress += other.stress;
+        self.beside += other.beside;
     }
 }
 

@@ -7,6 +7,7 @@
 
 use super::hex8::{element_stiffness, mapped_points, ElementStiffness, InvertedCell};
 use super::incompatible;
+use super::kept_elements::KeptElements;
 use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{Matrix3, Vector3};
@@ -195,7 +196,7 @@ pub fn assemble(
     mesh: &Mesh,
     materials: &[Material],
 ) -> Result<Stiffness, AssemblyError> {
-    assemble_with(pattern, mesh, materials, None, None, None).map(|(k, _)| k)
+    assemble_with(pattern, mesh, materials, None, None, Taken::default()).map(|(k, _)| k)
 }
 
 /// Which linear element stiffness [`assemble_kind`] uses.
@@ -242,8 +243,15 @@ pub fn assemble_warped(
     rotations: &[Matrix3<f64>],
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
-    assemble_with(pattern, mesh, materials, Some(rotations), None, None)
-        .map(|(k, b)| (k, b.unwrap()))
+    assemble_with(
+        pattern,
+        mesh,
+        materials,
+        Some(rotations),
+        None,
+        Taken::default(),
+    )
+    .map(|(k, b)| (k, b.unwrap()))
 }
 
 /// [`assemble_warped`] with the turn's stiffness K^t_e of the cells `displaced` gives nodal
@@ -253,13 +261,14 @@ pub fn assemble_warped(
 ///
 /// Only the cells `only` takes are assembled (all without it): the others add nothing to K
 /// nor to b, and are only checked for inversion.
+/// `taken`: which cells, and their K_e where kept.
 pub fn assemble_warped_stressed(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     materials: &[Material],
     rotations: &[Matrix3<f64>],
     displaced: Displaced<'_>,
-    only: Option<Cells<'_>>,
+    taken: Taken<'_>,
 ) -> Result<(Stiffness, Vec<f64>), AssemblyError> {
     assert_eq!(rotations.len(), mesh.cell_count());
     assemble_with(
@@ -268,24 +277,34 @@ pub fn assemble_warped_stressed(
         materials,
         Some(rotations),
         Some(displaced),
-        only,
+        taken,
     )
     .map(|(k, b)| (k, b.unwrap()))
 }
 
-/// [`assemble`] of the cells `only` takes; the others add nothing, and are only checked for
-/// inversion.
+/// [`assemble`] of the cells `taken` takes (see [`Taken`]).
 pub fn assemble_only(
     pattern: &Arc<StiffnessPattern>,
     mesh: &Mesh,
     materials: &[Material],
-    only: Cells<'_>,
+    taken: Taken<'_>,
 ) -> Result<Stiffness, AssemblyError> {
-    assemble_with(pattern, mesh, materials, None, None, Some(only)).map(|(k, _)| k)
+    assemble_with(pattern, mesh, materials, None, None, taken).map(|(k, _)| k)
 }
 
 /// Which cells an assembly takes.
 pub type Cells<'a> = &'a (dyn Fn(usize) -> bool + Sync);
+
+/// The cells an assembly takes: those `take` takes (every cell without it), the others adding
+/// nothing and only checked for inversion — but those `unchecked` takes (cells another
+/// assembly of the same step takes or checks); a cell's K_e from `kept` where it holds it
+/// (kept on the positions the assembly's mesh gives the cell).
+#[derive(Clone, Copy, Default)]
+pub struct Taken<'a> {
+    pub take: Option<Cells<'a>>,
+    pub unchecked: Option<Cells<'a>>,
+    pub kept: Option<&'a KeptElements>,
+}
 
 /// Each cell's nodal displacements, where its turn's stiffness is wanted.
 pub type Displaced<'a> = &'a (dyn Fn(usize) -> Option<[Vector3<f64>; 8]> + Sync);
@@ -296,11 +315,20 @@ fn assemble_with(
     materials: &[Material],
     rotations: Option<&[Matrix3<f64>]>,
     displaced: Option<Displaced<'_>>,
-    only: Option<Cells<'_>>,
+    taken: Taken<'_>,
 ) -> Result<(Stiffness, Option<Vec<f64>>), AssemblyError> {
     assert_eq!(materials.len(), mesh.cell_count());
-    // A cell left out is still checked for inversion, as its element stiffness would have.
+    let Taken {
+        take: only,
+        unchecked,
+        kept,
+    } = taken;
+    // A cell left out is still checked for inversion, as its element stiffness would have
+    // (unless another assembly does).
     let check = |c: usize| {
+        if unchecked.is_some_and(|u| u(c)) {
+            return Ok(());
+        }
         mapped_points(&mesh.cell_coords(c))
             .map(|_| ())
             .map_err(|inverted| AssemblyError { cell: c, inverted })
@@ -313,8 +341,11 @@ fn assemble_with(
     });
     scatter_only(pattern, mesh, rotations.is_some(), only, &|c| {
         let coords = mesh.cell_coords(c);
-        let mut ke = element_stiffness(&coords, &materials[c])
-            .map_err(|inverted| AssemblyError { cell: c, inverted })?;
+        let mut ke = match kept.and_then(|k| k.get(c)) {
+            Some(ke) => *ke,
+            None => element_stiffness(&coords, &materials[c])
+                .map_err(|inverted| AssemblyError { cell: c, inverted })?,
+        };
         let Some(rot) = rotations else {
             return Ok((ke, None));
         };

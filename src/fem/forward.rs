@@ -7,7 +7,7 @@
 //! such vectors give b_iᵀ·K11⁻¹·b_j = y_i·y_j, the Schur complement of contact constraints,
 //! without the backward half of the substitution.
 
-use super::solve::{PartitionedSolver, SolveError, SupernodalFactor};
+use super::solve::{PartitionedSolver, SolveError, SupernodalFactor, SupernodalPart};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
@@ -82,26 +82,25 @@ impl PartitionedSolver {
         b: &[f64],
         groups: &[usize],
     ) -> Result<Option<Vec<HalfSolved>>, SolveError> {
-        let Some(factor) = self.supernodal_factor() else {
+        let Some((n, parts)) = self.supernodal_parts() else {
             return Ok(None);
         };
-        let n = factor.symbolic.nrows();
         let columns: usize = groups.iter().sum();
         assert_eq!(b.len(), n * columns);
         assert!(groups.iter().all(|&k| (1..=3).contains(&k)));
         let shares = rayon::current_num_threads().clamp(1, groups.len().max(1));
         let per_share = groups.len().div_ceil(shares).max(1);
         // (groups, their columns of b) per share.
-        let mut parts: Vec<(&[usize], &[f64])> = Vec::new();
+        let mut shared: Vec<(&[usize], &[f64])> = Vec::new();
         let mut at = 0;
         for chunk in groups.chunks(per_share) {
             let width: usize = chunk.iter().sum();
-            parts.push((chunk, &b[at * n..(at + width) * n]));
+            shared.push((chunk, &b[at * n..(at + width) * n]));
             at += width;
         }
-        let solved: Vec<Result<Vec<HalfSolved>, SolveError>> = parts
+        let solved: Vec<Result<Vec<HalfSolved>, SolveError>> = shared
             .par_iter()
-            .map(|&(chunk, b)| forward_share(&factor, b, chunk))
+            .map(|&(chunk, b)| forward_parts(&parts, n, b, chunk))
             .collect();
         let mut out = Vec::with_capacity(groups.len());
         for s in solved {
@@ -118,10 +117,10 @@ impl PartitionedSolver {
         &self,
         terms: &[(&HalfSolved, usize, f64)],
     ) -> Result<Option<Vec<f64>>, SolveError> {
-        let Some(factor) = self.supernodal_factor() else {
+        let Some((n, parts)) = self.supernodal_parts() else {
             return Ok(None);
         };
-        let n = factor.symbolic.nrows();
+        // Σ c·y in the factors' rows, block after block.
         let mut z = vec![0.0; n];
         for &(half, column, c) in terms {
             assert!(column < half.columns);
@@ -133,42 +132,19 @@ impl PartitionedSolver {
                 }
             }
         }
-        // Lᵀ·x = z, supernode by supernode from the root: L_ssᵀ·x_s = z_s − L_psᵀ·x_p.
-        let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
-        for s in (0..factor.symbolic.n_supernodes()).rev() {
-            let node = llt.supernode(s);
-            let start = node.start();
-            let ls = node.val();
-            let size = ls.ncols();
-            let (top, bottom) = ls.split_at_row(size);
-            let mut xs = Mat::<f64>::from_fn(size, 1, |i, _| z[start + i]);
-            let pattern = node.pattern();
-            if !pattern.is_empty() {
-                let xp = Mat::<f64>::from_fn(pattern.len(), 1, |i, _| z[pattern[i]]);
-                matmul(
-                    xs.as_mut(),
-                    Accum::Add,
-                    bottom.transpose(),
-                    xp.as_ref(),
-                    -1.0,
-                    Par::Seq,
-                );
-            }
-            solve_upper_triangular_in_place(top.transpose(), xs.as_mut(), Par::Seq);
-            for i in 0..size {
-                z[start + i] = xs[(i, 0)];
+        let mut x = vec![0.0; n];
+        for part in &parts {
+            let rows = part.factor.symbolic.nrows();
+            let local = backward(&part.factor, &mut z[part.offset..part.offset + rows]);
+            match part.equations {
+                Some(eqs) => {
+                    for (&eq, v) in eqs.iter().zip(local) {
+                        x[eq] = v;
+                    }
+                }
+                None => x = local,
             }
         }
-        let x = match factor.forward {
-            Some(fwd) => {
-                let mut x = vec![0.0; n];
-                for (i, &f) in fwd.iter().enumerate() {
-                    x[f] = z[i];
-                }
-                x
-            }
-            None => z,
-        };
         if x.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite(
                 "a backward substitution with the reused factor",
@@ -176,6 +152,93 @@ impl PartitionedSolver {
         }
         Ok(Some(x))
     }
+}
+
+/// x = Pᵀ·L⁻ᵀ·z for one block's factor (z in its factor's rows, overwritten), in the block's
+/// equations.
+fn backward(factor: &SupernodalFactor<'_>, z: &mut [f64]) -> Vec<f64> {
+    let n = z.len();
+    // Lᵀ·x = z, supernode by supernode from the root: L_ssᵀ·x_s = z_s − L_psᵀ·x_p.
+    let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
+    for s in (0..factor.symbolic.n_supernodes()).rev() {
+        let node = llt.supernode(s);
+        let start = node.start();
+        let ls = node.val();
+        let size = ls.ncols();
+        let (top, bottom) = ls.split_at_row(size);
+        let mut xs = Mat::<f64>::from_fn(size, 1, |i, _| z[start + i]);
+        let pattern = node.pattern();
+        if !pattern.is_empty() {
+            let xp = Mat::<f64>::from_fn(pattern.len(), 1, |i, _| z[pattern[i]]);
+            matmul(
+                xs.as_mut(),
+                Accum::Add,
+                bottom.transpose(),
+                xp.as_ref(),
+                -1.0,
+                Par::Seq,
+            );
+        }
+        solve_upper_triangular_in_place(top.transpose(), xs.as_mut(), Par::Seq);
+        for i in 0..size {
+            z[start + i] = xs[(i, 0)];
+        }
+    }
+    match factor.forward {
+        Some(fwd) => {
+            let mut x = vec![0.0; n];
+            for (i, &f) in fwd.iter().enumerate() {
+                x[f] = z[i];
+            }
+            x
+        }
+        None => z.to_vec(),
+    }
+}
+
+/// [`PartitionedSolver::forward_sparse`] for one share of the groups over every block of the
+/// factor (`b`: its columns, each NBEQ = `n` long): each block's rows of them solved with its
+/// factor, its nonzero blocks numbered in the factors' rows one after the other.
+fn forward_parts(
+    parts: &[SupernodalPart<'_>],
+    n: usize,
+    b: &[f64],
+    groups: &[usize],
+) -> Result<Vec<HalfSolved>, SolveError> {
+    if let [part] = parts {
+        if part.equations.is_none() {
+            return forward_share(&part.factor, b, groups);
+        }
+    }
+    let columns: usize = groups.iter().sum();
+    let mut out: Vec<HalfSolved> = groups
+        .iter()
+        .map(|&k| HalfSolved {
+            columns: k,
+            blocks: Vec::new(),
+        })
+        .collect();
+    for part in parts {
+        let rows = part.factor.symbolic.nrows();
+        let local: Vec<f64> = match part.equations {
+            Some(eqs) => (0..columns)
+                .flat_map(|j| eqs.iter().map(move |&eq| b[j * n + eq]))
+                .collect(),
+            None => b.to_vec(),
+        };
+        debug_assert_eq!(local.len(), rows * columns);
+        for (o, h) in out
+            .iter_mut()
+            .zip(forward_share(&part.factor, &local, groups)?)
+        {
+            o.blocks.extend(
+                h.blocks
+                    .into_iter()
+                    .map(|(start, values)| (part.offset + start, values)),
+            );
+        }
+    }
+    Ok(out)
 }
 
 /// [`PartitionedSolver::forward_sparse`] for one share of the groups, on this thread.

@@ -8,6 +8,7 @@
 
 pub mod added_energy;
 pub mod assembly;
+pub(crate) mod blocks;
 pub mod cavity;
 pub mod definite;
 pub mod forward;
@@ -17,6 +18,7 @@ pub mod hex8_hyperelastic;
 pub mod hyperelastic;
 pub mod hyperelastic_body;
 pub mod incompatible;
+pub mod kept_elements;
 pub mod loads;
 pub mod material;
 pub mod memory;

@@ -14,11 +14,14 @@ use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::Perm;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
 };
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
@@ -122,6 +125,11 @@ pub struct SolveStats {
     pub order_carried: bool,
     /// Whether the numeric factor of the last solve was reused (the same K11 again).
     pub factor_reused: bool,
+    /// The blocks K11 was held in (src/fem/blocks.rs: one per group of nodes no cell joins;
+    /// 1 without groups).
+    pub blocks: usize,
+    /// Of those, the blocks whose factor was kept (their values those it was made of).
+    pub blocks_reused: usize,
     /// Numeric Cholesky factorization time.
     pub factorization_ms: f64,
     /// Forward/back substitution plus reactions.
@@ -188,19 +196,137 @@ struct Analysis {
     order_keys: Vec<usize>,
 }
 
-/// Solves equations (7) and (8), keeping the symbolic analysis between calls.
+/// The group of a block holding every free dof (no groups told, or groups joined by a cell).
+const ALL: u32 = u32::MAX;
+
+/// One block of K11 (src/fem/blocks.rs; all of K11 where no groups are told): its analysis, its
+/// factor, and the values it is the factor of.
 #[derive(Default)]
-pub struct PartitionedSolver {
-    ordering: FillOrdering,
+struct Block {
+    group: u32,
     analysis: Option<Analysis>,
     factor: Vec<f64>,
     /// The K11 values `factor` is the Cholesky factor of (empty when there is none): a solve
     /// with the same matrix again (a gas cavity's pressures, a contact step redone with other
-    /// loads) reuses the factor instead of refactorizing.
+    /// loads, an object that stays linear, an object factored ahead) reuses the factor instead
+    /// of refactorizing.
     factored: Vec<f64>,
     scratch: Vec<MaybeUninit<u64>>,
+}
+
+/// A block taking part in the last solve: which, its partition (only its free dofs free), and
+/// the equation of the whole partition each of its equations is (`None`: every one, in order).
+struct Part {
+    block: usize,
+    partition: DofPartition,
+    equations: Option<Vec<usize>>,
+}
+
+/// How the last solve's K11 is held: its pattern and partition, and its blocks.
+struct Layout {
+    pattern: Arc<StiffnessPattern>,
+    partition: DofPartition,
+    parts: Vec<Part>,
+}
+
+/// Solves equations (7) and (8), keeping the symbolic analysis between calls.
+#[derive(Default)]
+pub struct PartitionedSolver {
+    ordering: FillOrdering,
+    /// Blocks by group, each kept while other groups' change (a contact step's ball while its
+    /// flesh region grows and shrinks).
+    blocks: Vec<Block>,
+    layout: Option<Layout>,
     /// The identity of each node of the next patterns (empty: its index).
     node_ids: Vec<usize>,
+    /// The group of each node (empty: none told, K11 is one block).
+    node_groups: Vec<u32>,
+}
+
+/// Whether two patterns are one (the same, or an equal one built again: a flexion increment's
+/// region rebuilt over the same cells).
+fn same_pattern(a: &Arc<StiffnessPattern>, b: &Arc<StiffnessPattern>) -> bool {
+    Arc::ptr_eq(a, b) || (a.dofs == b.dofs && a.col_ptr == b.col_ptr && a.row_idx == b.row_idx)
+}
+
+impl Block {
+    /// Bytes a factorization takes beyond the buffers held: its factor's `entries`, `values`
+    /// more (K11's, gathered), and `scratch_bytes` of scratch.
+    fn bytes_beyond_held(&self, entries: usize, values: usize, scratch_bytes: u64) -> u64 {
+        (entries.saturating_sub(self.factor.capacity()) as u64)
+            .saturating_add(values as u64)
+            .saturating_mul(8)
+            .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64))
+    }
+
+    /// Factors `k11_values` (gathered by the analysis) in place of the last factor.
+    fn factorize(&mut self, k11_values: Vec<f64>) -> Result<(), SolveError> {
+        let analysis = self
+            .analysis
+            .as_ref()
+            .expect("analysed before it is factored");
+        let neq = analysis.partition.free_count();
+        let k11 = SparseColMatRef::new(analysis.k11.as_ref(), &k11_values);
+        let len = analysis.cholesky.len_val();
+        let par = factorization_parallelism(factor_work(&analysis.cholesky));
+        self.factored.clear();
+        grow_zeroed(&mut self.factor, len);
+        let req = analysis
+            .cholesky
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default());
+        let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
+        analysis
+            .cholesky
+            .factorize_numeric_llt(
+                &mut self.factor,
+                k11,
+                Side::Upper,
+                LltRegularization::default(),
+                par,
+                MemStack::new_any(mem),
+                Default::default(),
+            )
+            .map_err(|e| match e {
+                LltError::NonPositivePivot { index } => {
+                    // faer counts the pivot from 1 in its simplicial factorization (and
+                    // may from 0 in its supernodal one): the step, within 0..neq.
+                    let step = index.saturating_sub(1).min(neq.saturating_sub(1));
+                    let perm = analysis.cholesky.perm();
+                    let eq = perm.map_or(step, |p| p.arrays().0[step]);
+                    SolveError::NotPositiveDefinite {
+                        pivot: index,
+                        equations: neq,
+                        node: analysis.partition.free[eq] / 3,
+                    }
+                }
+            })?;
+        self.factored = k11_values;
+        Ok(())
+    }
+
+    /// Solves its block of K11·X = B in place for `columns` right-hand sides stored column by
+    /// column in `b` (each as long as the block's equations).
+    fn substitute(&mut self, b: &mut [f64], columns: usize, par: Par) {
+        let analysis = self
+            .analysis
+            .as_ref()
+            .expect("factored before it is solved");
+        let neq = analysis.partition.free_count();
+        if neq == 0 || columns == 0 {
+            return;
+        }
+        let llt = LltRef::new(&analysis.cholesky, &self.factor);
+        let req = analysis
+            .cholesky
+            .solve_in_place_scratch::<f64>(columns, par);
+        let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(b, neq, columns),
+            par,
+            MemStack::new_any(mem),
+        );
+    }
 }
 
 impl PartitionedSolver {
@@ -208,11 +334,10 @@ impl PartitionedSolver {
     pub fn new(ordering: FillOrdering) -> Self {
         Self {
             ordering,
-            analysis: None,
-            factor: Vec::new(),
-            factored: Vec::new(),
-            scratch: Vec::new(),
+            blocks: Vec::new(),
+            layout: None,
             node_ids: Vec::new(),
+            node_groups: Vec::new(),
         }
     }
 
@@ -225,15 +350,40 @@ impl PartitionedSolver {
         self.node_ids = ids;
     }
 
+    /// Tells the group of each node (a contact step's bodies): where no cell joins the free
+    /// dofs of two groups, K11 is block diagonal and each group's block is analysed, factored
+    /// and kept on its own (src/fem/blocks.rs) — a block whose values come again keeps its
+    /// factor while the others change. Without it, K11 is one block.
+    pub fn set_node_groups(&mut self, groups: Vec<u32>) {
+        if self.node_groups != groups {
+            self.node_groups = groups;
+            self.layout = None;
+        }
+    }
+
     /// The fill-reducing ordering it uses.
     pub fn ordering(&self) -> FillOrdering {
         self.ordering
     }
 
-    /// Entries of the factor's buffer as held (acquired by the largest factorization so far, or
-    /// [`PartitionedSolver::reserve_for`]).
+    /// Entries of the factors' buffers as held (acquired by the largest factorizations so far,
+    /// or [`PartitionedSolver::reserve_for`]).
     pub fn factor_capacity(&self) -> usize {
-        self.factor.capacity()
+        self.blocks.iter().map(|b| b.factor.capacity()).sum()
+    }
+
+    /// The kept block of `group`, made where there is none.
+    fn block_of(&mut self, group: u32) -> usize {
+        match self.blocks.iter().position(|b| b.group == group) {
+            Some(i) => i,
+            None => {
+                self.blocks.push(Block {
+                    group,
+                    ..Default::default()
+                });
+                self.blocks.len() - 1
+            }
+        }
     }
 
     /// Acquires ahead the memory a factorization of `partition` on `pattern` takes (the factor
@@ -241,8 +391,8 @@ impl PartitionedSolver {
     /// factorization otherwise pays for them (the hand's 61 MB factor at resolution 1: its first
     /// factorization took 206–382 ms where the next took 83–121 ms). The analysis it needs for
     /// their sizes is not kept: the solve that follows orders its own region. For an idle solver
-    /// thread (the viewer's). Refused as a solve would be when the factor does not fit the
-    /// memory budget.
+    /// thread (the viewer's), of a solver that holds K11 as one block. Refused as a solve would
+    /// be when the factor does not fit the memory budget.
     pub fn reserve_for(
         &mut self,
         pattern: &Arc<StiffnessPattern>,
@@ -254,36 +404,228 @@ impl PartitionedSolver {
             return Ok(());
         }
         let keys = dof_keys(&self.node_ids, pattern.dofs);
-        let analysis = analyse(pattern, partition, positions, self.ordering, &keys)?;
+        let analysis = analyse(pattern, partition, positions, self.ordering, &keys, false)?;
         let entries = analysis.cholesky.len_val();
         let par = factorization_parallelism(factor_work(&analysis.cholesky));
         let scratch_bytes = analysis
             .cholesky
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .unaligned_bytes_required();
+        let i = self.block_of(ALL);
+        let block = &mut self.blocks[i];
         within_budget(
-            self.bytes_beyond_held(entries, 0, scratch_bytes as u64),
+            block.bytes_beyond_held(entries, 0, scratch_bytes as u64),
             neq,
             entries,
         )?;
-        if self.factor.len() < entries {
+        if block.factor.len() < entries {
             // The factor's values are no longer those of any matrix.
-            self.factored.clear();
-            grow_zeroed(&mut self.factor, entries);
+            block.factored.clear();
+            grow_zeroed(&mut block.factor, entries);
         }
-        for word in scratch(&mut self.scratch, scratch_bytes) {
+        for word in scratch(&mut block.scratch, scratch_bytes) {
             word.write(0);
         }
         Ok(())
     }
 
-    /// Bytes a factorization takes beyond the buffers held: its factor's `entries`, `values`
-    /// more (K11's, gathered), and `scratch_bytes` of scratch.
-    fn bytes_beyond_held(&self, entries: usize, values: usize, scratch_bytes: u64) -> u64 {
-        (entries.saturating_sub(self.factor.capacity()) as u64)
-            .saturating_add(values as u64)
-            .saturating_mul(8)
-            .saturating_add(scratch_bytes.saturating_sub(8 * self.scratch.capacity() as u64))
+    /// The blocks of `partition` on `pattern`, made the layout (kept where both are the last's).
+    fn lay_out(&mut self, pattern: &Arc<StiffnessPattern>, partition: &DofPartition) {
+        if self
+            .layout
+            .as_ref()
+            .is_some_and(|l| same_pattern(&l.pattern, pattern) && l.partition == *partition)
+        {
+            return;
+        }
+        let neq = partition.free_count();
+        let parts = match super::blocks::split(pattern, partition, &self.node_groups) {
+            Some(blocks) => blocks
+                .into_iter()
+                .map(|b| Part {
+                    block: self.block_of(b.group),
+                    partition: b.partition,
+                    equations: (b.equations.len() < neq).then_some(b.equations),
+                })
+                .collect(),
+            None => vec![Part {
+                block: self.block_of(ALL),
+                partition: partition.clone(),
+                equations: None,
+            }],
+        };
+        self.layout = Some(Layout {
+            pattern: pattern.clone(),
+            partition: partition.clone(),
+            parts,
+        });
+    }
+
+    /// Analyses and factors the blocks of K11 for `partition` (each block's analysis and factor
+    /// kept where its partition and values are those it has), filling `stats`.
+    fn factor_blocks(
+        &mut self,
+        k: &Stiffness,
+        partition: &DofPartition,
+        positions: &[Vector3<f64>],
+        stats: &mut SolveStats,
+    ) -> Result<(), SolveError> {
+        self.lay_out(&k.pattern, partition);
+        let layout = self.layout.as_ref().expect("laid out above");
+        let mut keys: Option<Vec<usize>> = None;
+        // Blocks told apart are factored supernodal whatever their size: the half
+        // substitutions of contact rows (src/fem/forward.rs) need every block so.
+        let supernodal = !self.node_groups.is_empty();
+        let t = Instant::now();
+        let mut reused_all = true;
+        let mut carried_any = false;
+        let mut analysed = Vec::with_capacity(layout.parts.len());
+        for part in &layout.parts {
+            let block = &mut self.blocks[part.block];
+            // The analysis holds for the same pattern with the same prescribed dofs.
+            let reuse = block.analysis.as_ref().is_some_and(|a| {
+                same_pattern(&a.pattern, &k.pattern) && a.partition == part.partition
+            });
+            if !reuse {
+                // A prescribed set a little changed on the same pattern (a flexion increment's
+                // region losing a few nodes to a bone, a contact region grown by a few cells):
+                // the last elimination order carried over, unless that fills more.
+                let keys = keys.get_or_insert_with(|| dof_keys(&self.node_ids, k.pattern.dofs));
+                let carried = block.analysis.as_ref().and_then(|a| {
+                    carried_analysis(a, &k.pattern, &part.partition, keys, supernodal)
+                });
+                carried_any |= carried.is_some();
+                block.analysis = Some(match carried {
+                    Some(a) => a,
+                    None => {
+                        let entries = k11_entries(&k.pattern, &part.partition);
+                        ordering_within_budget(entries, part.partition.free_count())?;
+                        let ordering = self.ordering;
+                        analyse(
+                            &k.pattern,
+                            &part.partition,
+                            positions,
+                            ordering,
+                            keys,
+                            supernodal,
+                        )?
+                    }
+                });
+            }
+            reused_all &= reuse;
+            analysed.push(reuse);
+        }
+        stats.symbolic_ms = if reused_all { 0.0 } else { ms(t) };
+        stats.symbolic_reused = reused_all;
+        stats.order_carried = carried_any;
+
+        // What the factorizations will take, known from the analyses before anything is
+        // allocated: the factors (beyond the buffers already held), their scratch and K11's
+        // values.
+        let t = Instant::now();
+        let mut needed = 0u64;
+        let mut todo: Vec<Option<Vec<f64>>> = vec![None; self.blocks.len()];
+        let (mut entries, mut work, mut values) = (0usize, 0.0, 0usize);
+        for (part, &reuse) in layout.parts.iter().zip(&analysed) {
+            let block = &self.blocks[part.block];
+            let analysis = block.analysis.as_ref().expect("analysed above");
+            let k11_values: Vec<f64> = analysis.gather.iter().map(|&i| k.values[i]).collect();
+            entries += analysis.cholesky.len_val();
+            work += factor_work(&analysis.cholesky);
+            values += k11_values.len();
+            if reuse && block.factored == k11_values {
+                continue;
+            }
+            let scratch_bytes = analysis
+                .cholesky
+                .factorize_numeric_llt_scratch::<f64>(
+                    faer::get_global_parallelism(),
+                    Default::default(),
+                )
+                .unaligned_bytes_required() as u64;
+            needed = needed.saturating_add(block.bytes_beyond_held(
+                analysis.cholesky.len_val(),
+                k11_values.len(),
+                scratch_bytes,
+            ));
+            todo[part.block] = Some(k11_values);
+        }
+        stats.factor_nnz = entries;
+        stats.factor_work = work;
+        stats.matrix_nnz = values;
+        within_budget(needed, partition.free_count(), entries)?;
+        stats.blocks = layout.parts.len();
+        stats.blocks_reused = layout.parts.len() - todo.iter().filter(|v| v.is_some()).count();
+        stats.factor_reused = stats.blocks_reused == stats.blocks;
+        // Blocks factored side by side (the ball's and the flesh region's, each sequential).
+        let mut jobs: Vec<(&mut Block, Vec<f64>)> = self
+            .blocks
+            .iter_mut()
+            .zip(todo)
+            .filter_map(|(b, v)| v.map(|v| (b, v)))
+            .collect();
+        if jobs.len() == 1 {
+            let (block, values) = jobs.pop().expect("one");
+            block.factorize(values)?;
+        } else {
+            jobs.into_par_iter()
+                .map(|(block, values)| block.factorize(values))
+                .collect::<Result<Vec<()>, SolveError>>()?;
+        }
+        stats.factorization_ms = ms(t);
+        Ok(())
+    }
+
+    /// Factors K11 of `k` for `partition` ahead of a solve, block by block: a later
+    /// [`PartitionedSolver::solve`] whose blocks include one of these with the same values
+    /// reuses its factor. What a contact step's objects are factored with while other work
+    /// runs (src/solve/grasp.rs).
+    pub fn factor_ahead(
+        &mut self,
+        k: &Stiffness,
+        partition: &DofPartition,
+        positions: &[Vector3<f64>],
+    ) -> Result<SolveStats, SolveError> {
+        if k.values.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::NonFinite("the stiffness matrix"));
+        }
+        let mut stats = SolveStats {
+            free_dofs: partition.free_count(),
+            prescribed_dofs: partition.prescribed_count(),
+            ..Default::default()
+        };
+        if partition.free_count() > 0 {
+            self.factor_blocks(k, partition, positions, &mut stats)?;
+        }
+        Ok(stats)
+    }
+
+    /// Solves K11·X = B in place with the factors of the last factorization, part by part (`b`
+    /// ordered as the layout's partition's free dofs, `columns` of them).
+    fn substitute(&mut self, b: &mut [f64], columns: usize, par: Par) {
+        let layout = self.layout.as_ref().expect("factored before it is solved");
+        let neq = layout.partition.free_count();
+        for part in &layout.parts {
+            let block = &mut self.blocks[part.block];
+            match &part.equations {
+                None => block.substitute(b, columns, par),
+                Some(eqs) => {
+                    let n = eqs.len();
+                    let mut local = vec![0.0; n * columns];
+                    for j in 0..columns {
+                        for (i, &eq) in eqs.iter().enumerate() {
+                            local[j * n + i] = b[j * neq + eq];
+                        }
+                    }
+                    block.substitute(&mut local, columns, par);
+                    for j in 0..columns {
+                        for (i, &eq) in eqs.iter().enumerate() {
+                            b[j * neq + eq] = local[j * n + i];
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Solves K·U = R with the dofs marked in `partition` held at `prescribed_values`
@@ -314,40 +656,7 @@ impl PartitionedSolver {
             prescribed_dofs: partition.prescribed_count(),
             ..Default::default()
         };
-
-        // The analysis holds for the same pattern, or an equal one built again (a flexion
-        // increment's region rebuilt over the same cells), with the same prescribed dofs.
-        let reuse = self.analysis.as_ref().is_some_and(|a| {
-            let same_pattern = Arc::ptr_eq(&a.pattern, &k.pattern)
-                || (a.pattern.dofs == k.pattern.dofs
-                    && a.pattern.col_ptr == k.pattern.col_ptr
-                    && a.pattern.row_idx == k.pattern.row_idx);
-            same_pattern && a.partition == *partition
-        });
-        if !reuse {
-            let t = Instant::now();
-            // A prescribed set a little changed on the same pattern (a flexion increment's
-            // region losing a few nodes to a bone, a contact region grown by a few cells):
-            // the last elimination order carried over, unless that fills more.
-            let keys = dof_keys(&self.node_ids, k.pattern.dofs);
-            let carried = self
-                .analysis
-                .as_ref()
-                .and_then(|a| carried_analysis(a, &k.pattern, partition, &keys));
-            stats.order_carried = carried.is_some();
-            self.analysis = Some(match carried {
-                Some(a) => a,
-                None => {
-                    let entries = k11_entries(&k.pattern, partition);
-                    ordering_within_budget(entries, partition.free_count())?;
-                    analyse(&k.pattern, partition, positions, self.ordering, &keys)?
-                }
-            });
-            stats.symbolic_ms = ms(t);
-        }
-        stats.symbolic_reused = reuse;
-        let analysis = self.analysis.as_ref().unwrap();
-        let neq = partition.free_count();
+        self.factor_blocks(k, partition, positions, &mut stats)?;
 
         // Uk embedded in a full vector; K·[0; Uk] gives K12·Uk on the free rows (eq. 7)
         // and K22·Uk on the prescribed rows (eq. 8).
@@ -360,82 +669,12 @@ impl PartitionedSolver {
                 }
             })
             .collect();
-
-        // What the factorization will take, known from the analysis before anything is
-        // allocated: the factor (beyond the buffer already held), its scratch and K11's values.
-        let entries = analysis.cholesky.len_val();
-        let scratch_bytes = analysis
-            .cholesky
-            .factorize_numeric_llt_scratch::<f64>(
-                faer::get_global_parallelism(),
-                Default::default(),
-            )
-            .unaligned_bytes_required() as u64;
-        let needed = self.bytes_beyond_held(entries, analysis.gather.len(), scratch_bytes);
-        within_budget(needed, neq, entries)?;
-
-        let t = Instant::now();
-        let k11_values: Vec<f64> = analysis.gather.iter().map(|&i| k.values[i]).collect();
-        let k11 = SparseColMatRef::new(analysis.k11.as_ref(), &k11_values);
-        let len = analysis.cholesky.len_val();
-        stats.factor_nnz = len;
-        stats.factor_work = factor_work(&analysis.cholesky);
-        let par = factorization_parallelism(stats.factor_work);
-        stats.matrix_nnz = k11_values.len();
-        let factored = reuse && self.factored == k11_values;
-        stats.factor_reused = factored;
-        if !factored {
-            self.factored.clear();
-            grow_zeroed(&mut self.factor, len);
-            let req = analysis
-                .cholesky
-                .factorize_numeric_llt_scratch::<f64>(par, Default::default());
-            let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
-            analysis
-                .cholesky
-                .factorize_numeric_llt(
-                    &mut self.factor,
-                    k11,
-                    Side::Upper,
-                    LltRegularization::default(),
-                    par,
-                    MemStack::new_any(mem),
-                    Default::default(),
-                )
-                .map_err(|e| match e {
-                    LltError::NonPositivePivot { index } => {
-                        // faer counts the pivot from 1 in its simplicial factorization (and
-                        // may from 0 in its supernodal one): the step, within 0..neq.
-                        let step = index.saturating_sub(1).min(neq.saturating_sub(1));
-                        let perm = analysis.cholesky.perm();
-                        let eq = perm.map_or(step, |p| p.arrays().0[step]);
-                        SolveError::NotPositiveDefinite {
-                            pivot: index,
-                            equations: neq,
-                            node: partition.free[eq] / 3,
-                        }
-                    }
-                })?;
-            self.factored = k11_values;
-        }
-        stats.factorization_ms = ms(t);
-
         let t = Instant::now();
         let ku = k.mul(&u);
         let rhs: Vec<f64> = partition.free.iter().map(|&d| loads[d] - ku[d]).collect();
         let mut x = rhs.clone();
-        {
-            // One column: sequential (a task per supernode costs more than its work).
-            let llt = LltRef::new(&analysis.cholesky, &self.factor);
-            let req = analysis.cholesky.solve_in_place_scratch::<f64>(1, Par::Seq);
-            let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
-            llt.solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut x, neq, 1),
-                Par::Seq,
-                MemStack::new_any(mem),
-            );
-        }
+        // One column: sequential (a task per supernode costs more than its work).
+        self.substitute(&mut x, 1, Par::Seq);
         for (e, &d) in partition.free.iter().enumerate() {
             u[d] = x[e];
         }
@@ -560,10 +799,10 @@ impl PartitionedSolver {
     /// the partition's free dofs). Costs substitutions only: this is what lets contact
     /// constraints be added through a Schur complement without refactorizing.
     pub fn solve_factored(&mut self, b: &mut [f64], columns: usize) -> Result<(), SolveError> {
-        let Some(analysis) = self.analysis.as_ref() else {
+        let Some(layout) = self.layout.as_ref() else {
             return Err(SolveError::Faer("no factorization to reuse".into()));
         };
-        let neq = analysis.partition.free_count();
+        let neq = layout.partition.free_count();
         assert_eq!(b.len(), neq * columns);
         if columns == 0 || neq == 0 {
             return Ok(());
@@ -574,21 +813,24 @@ impl PartitionedSolver {
         } else {
             faer::get_global_parallelism()
         };
-        let llt = LltRef::new(&analysis.cholesky, &self.factor);
-        let req = analysis
-            .cholesky
-            .solve_in_place_scratch::<f64>(columns, par);
-        let mem = scratch(&mut self.scratch, req.unaligned_bytes_required());
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(b, neq, columns),
-            par,
-            MemStack::new_any(mem),
-        );
+        self.substitute(b, columns, par);
         if b.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite("a solution with the reused factor"));
         }
         Ok(())
+    }
+}
+
+/// faer's symbolic parameters: the supernodal form forced (`supernodal`), or chosen by the
+/// factorization's work per entry.
+fn symbolic_params(supernodal: bool) -> CholeskySymbolicParams<'static> {
+    CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: if supernodal {
+            SupernodalThreshold::FORCE_SUPERNODAL
+        } else {
+            SupernodalThreshold::AUTO
+        },
+        ..Default::default()
     }
 }
 
@@ -646,6 +888,7 @@ fn carried_analysis(
     pattern: &Arc<StiffnessPattern>,
     partition: &DofPartition,
     keys: &[usize],
+    supernodal: bool,
 ) -> Option<Analysis> {
     let neq = partition.free_count();
     if neq == 0 {
@@ -679,7 +922,7 @@ fn carried_analysis(
         k11.as_ref(),
         Side::Upper,
         SymmetricOrdering::Custom(perm.as_ref()),
-        Default::default(),
+        symbolic_params(supernodal),
     )
     .ok()?;
     if factor_work(&cholesky) > CARRIED_FILL * last.work_per_dof * neq as f64 {
@@ -726,6 +969,7 @@ fn analyse(
     positions: &[Vector3<f64>],
     ordering: FillOrdering,
     keys: &[usize],
+    supernodal: bool,
 ) -> Result<Analysis, SolveError> {
     let neq = partition.free_count();
     let (col_ptr, row_idx, gather) = k11_structure(pattern, partition);
@@ -735,7 +979,7 @@ fn analyse(
             k11.as_ref(),
             Side::Upper,
             SymmetricOrdering::Amd,
-            Default::default(),
+            symbolic_params(supernodal),
         )
         .map_err(|e| SolveError::Faer(format!("{e:?}")))
     };
@@ -759,7 +1003,7 @@ fn analyse(
             k11.as_ref(),
             Side::Upper,
             SymmetricOrdering::Custom(perm.as_ref()),
-            Default::default(),
+            symbolic_params(supernodal),
         )
         .map_err(|e| SolveError::Faer(format!("{e:?}")))
     };
@@ -800,27 +1044,53 @@ fn analyse(
     })
 }
 
-/// The supernodal Cholesky factor of the last solve, when faer chose the supernodal form: its
-/// structure, values and the forward permutation (row i of the factor is equation fwd[i]).
+/// The supernodal Cholesky factor of a block of the last solve, when faer chose the supernodal
+/// form: its structure, values and the forward permutation (row i of the factor is the block's
+/// equation fwd[i]).
 pub(crate) struct SupernodalFactor<'a> {
     pub symbolic: &'a faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
     pub values: &'a [f64],
     pub forward: Option<&'a [usize]>,
 }
 
+/// A block of the last solve's K11 with its supernodal factor: the equation of the whole
+/// partition each of its equations is (`None`: every one, in order), and its first row in the
+/// factors' rows one after the other.
+pub(crate) struct SupernodalPart<'a> {
+    pub factor: SupernodalFactor<'a>,
+    pub equations: Option<&'a [usize]>,
+    pub offset: usize,
+}
+
 impl PartitionedSolver {
-    /// The factor of the last solve, if it is supernodal.
-    pub(crate) fn supernodal_factor(&self) -> Option<SupernodalFactor<'_>> {
-        let analysis = self.analysis.as_ref()?;
-        match analysis.cholesky.raw() {
-            faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(symbolic) => {
-                Some(SupernodalFactor {
-                    symbolic,
-                    values: &self.factor[..analysis.cholesky.len_val()],
-                    forward: analysis.cholesky.perm().map(|p| p.arrays().0),
-                })
+    /// NBEQ and the blocks of the last solve with their factors, in order, if every one is
+    /// supernodal.
+    pub(crate) fn supernodal_parts(&self) -> Option<(usize, Vec<SupernodalPart<'_>>)> {
+        let layout = self.layout.as_ref()?;
+        let mut parts = Vec::with_capacity(layout.parts.len());
+        let mut offset = 0;
+        for part in &layout.parts {
+            let block = &self.blocks[part.block];
+            let analysis = block.analysis.as_ref()?;
+            let faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(symbolic) =
+                analysis.cholesky.raw()
+            else {
+                return None;
+            };
+            if block.factored.is_empty() && analysis.partition.free_count() > 0 {
+                return None;
             }
-            _ => None,
+            parts.push(SupernodalPart {
+                factor: SupernodalFactor {
+                    symbolic,
+                    values: &block.factor[..analysis.cholesky.len_val()],
+                    forward: analysis.cholesky.perm().map(|p| p.arrays().0),
+                },
+                equations: part.equations.as_deref(),
+                offset,
+            });
+            offset += symbolic.nrows();
         }
+        Some((layout.partition.free_count(), parts))
     }
 }

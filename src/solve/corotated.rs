@@ -19,10 +19,11 @@
 //! Steps along a motion keep K̃ alone (docs/contact.md).
 
 use crate::fem::assembly::{
-    assemble_only, assemble_warped_stressed, AssemblyError, Cells, Stiffness,
+    assemble_only, assemble_warped_stressed, AssemblyError, Cells, Stiffness, Taken,
 };
 use crate::fem::geometric::pressure_load_stiffness;
 use crate::fem::hex8::centre_rotation;
+use crate::fem::kept_elements::KeptElements;
 use crate::fem::loads::add_pressure;
 use crate::mesh::Mesh;
 use crate::model::Model;
@@ -39,6 +40,28 @@ pub(super) struct Linearised {
     pub offset: Option<Vec<f64>>,
 }
 
+impl Linearised {
+    /// The sum of two linearisations of disjoint cells on one pattern (a contact step's hands'
+    /// cells and its other bodies'): entry by entry, each the one part's plus the other's
+    /// zero, so the same numbers as one assembly of both.
+    pub(super) fn joined(mut self, other: Linearised) -> Linearised {
+        debug_assert!(std::sync::Arc::ptr_eq(&self.k.pattern, &other.k.pattern));
+        for (a, b) in self.k.values.iter_mut().zip(&other.k.values) {
+            *a += b;
+        }
+        self.offset = match (self.offset, other.offset) {
+            (Some(mut a), Some(b)) => {
+                for (a, b) in a.iter_mut().zip(&b) {
+                    *a += b;
+                }
+                Some(a)
+            }
+            (a, b) => a.or(b),
+        };
+        self
+    }
+}
+
 /// K for a contact step of `model` on `mesh` (the hands posed, the other bodies at rest), with
 /// the other bodies corotated about `carried` when the model's tier turns its elements and
 /// something is carried (the nonlinear tier's are Neo-Hookean: `hyperelastic_objects.rs`).
@@ -49,20 +72,27 @@ pub(super) struct Linearised {
 ///
 /// Only the cells `needed` takes are assembled: the others (a hand's cells away from the step's
 /// free flesh, carrying nothing) would add nothing to the step (zero displacement on every
-/// node: no force, no reaction); they are only checked for inversion.
+/// node: no force, no reaction); they are only checked for inversion, but those `unchecked`
+/// takes (another assembly of the step takes or checks them). A cell's K_e in `kept` is taken
+/// from there: kept on the positions `mesh` gives the cell (the objects' at rest).
 pub(super) fn linearise(
     model: &Model,
     mesh: &Mesh,
     carried: Option<&[f64]>,
     geometric: bool,
-    needed: Cells<'_>,
+    (needed, unchecked, kept): (Cells<'_>, Option<Cells<'_>>, Option<&KeptElements>),
 ) -> Result<Linearised, AssemblyError> {
+    let taken = Taken {
+        take: Some(needed),
+        unchecked,
+        kept,
+    };
     let rotations = match carried {
-        Some(u) if model.corotates_objects() => Some(rotations(model, u)?),
+        Some(u) if model.corotates_objects() => Some(rotations(model, u, needed)?),
         _ => None,
     };
     let Some(rotations) = rotations else {
-        let k = assemble_only(&model.pattern, mesh, &model.cell_materials, needed)?;
+        let k = assemble_only(&model.pattern, mesh, &model.cell_materials, taken)?;
         return Ok(Linearised { k, offset: None });
     };
     let u = carried.expect("rotations come from a carried state");
@@ -75,7 +105,7 @@ pub(super) fn linearise(
         &model.cell_materials,
         &rotations,
         &displaced,
-        Some(needed),
+        taken,
     )?;
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let kx = k.mul(&x);
@@ -124,12 +154,18 @@ pub(super) fn add_pressure_stiffness(
 }
 
 /// Each cell's rotation: the polar rotation at its centre of the carried displacements for the
-/// cells of the other bodies; the identity for the hands' (their flesh was turned by flexion).
-fn rotations(model: &Model, carried: &[f64]) -> Result<Vec<Matrix3<f64>>, AssemblyError> {
+/// cells of the other bodies; the identity for the hands' (their flesh was turned by flexion)
+/// and for cells not `needed` (left out of the assembly).
+fn rotations(
+    model: &Model,
+    carried: &[f64],
+    needed: Cells<'_>,
+) -> Result<Vec<Matrix3<f64>>, AssemblyError> {
     let mesh = &model.mesh;
     (0..mesh.cell_count())
         .map(|c| {
-            if model.bodies[model.cell_body[c]].hand.is_some() {
+            // (A cell the assembly leaves out is not turned.)
+            if model.bodies[model.cell_body[c]].hand.is_some() || !needed(c) {
                 return Ok(Matrix3::identity());
             }
             let u = mesh.cells[c]

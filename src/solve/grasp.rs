@@ -15,31 +15,32 @@
 //! equation (8) then include the grasp.
 
 use super::compose::compose;
-use super::corotated::{linearise, step_loads};
-use super::crossing::crossings;
+use super::corotated::{linearise, step_loads, Linearised};
+pub use super::detection::StepStart;
+use super::detection::{detect, Detected, Detection};
 use super::error::SimError;
 use super::frame_stress::contact_stress;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::insides::deepest_inside;
+use super::objects_factor::{body_groups, objects_stiffness};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use super::untouched::UntouchedStep;
 use crate::contact::{
-    solve_lagrange, solve_paper, Bounds, ContactError, ContactMethod, ContactProblem,
-    ContactResult, ContactSummary, ContactSurface, EmbeddedPoints, Master, SurfaceBvh, SurfacePair,
+    solve_lagrange, solve_paper, ContactError, ContactMethod, ContactProblem, ContactResult,
+    ContactSurface, EmbeddedPoints, Master,
 };
+use crate::fem::assembly::AssemblyError;
+use crate::fem::kept_elements::KeptElements;
 use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
 use crate::fem::stress::StressField;
-use crate::fem::DofPartition;
 use crate::mesh::Mesh;
 use crate::model::Model;
 use crate::state::outcome::{node_bone, overloads};
 use crate::state::HandState;
 use crate::state::{Frame, HandFrame, PendingStress};
-use crate::util::near::NearPoints;
 use crate::util::timing::ms;
 use nalgebra::Vector3;
-use rayon::prelude::*;
 use std::time::Instant;
 
 /// What the contact steps of a model keep from one to the next: the partitioned solver (its
@@ -61,6 +62,9 @@ pub struct ContactCache {
     /// (src/solve/untouched.rs): `None` before it is asked, `Some(None)` where it could not be
     /// solved (such steps are then solved).
     pub(super) untouched: Option<Option<UntouchedStep>>,
+    /// The objects' element stiffnesses at rest (src/solve/objects_factor.rs), made at the
+    /// first step that assembles them.
+    kept: Option<KeptElements>,
 }
 
 /// What a keyframe's contact steps hand to the next keyframe's besides the hands' states (the
@@ -100,16 +104,10 @@ impl ContactCache {
             anchor: None,
             unheld: None,
             untouched: None,
+            kept: None,
         }
     }
 }
-
-/// Where a contact step goes on from: the displacements the last step left over every dof, and
-/// each hand's flexed skin before this step's flexion (see [`solve_grasp`]).
-pub type StepStart<'a> = (Option<&'a [f64]>, Option<&'a [Vec<Vector3<f64>>]>);
-
-/// Skin closer than this to an object (m) seeds the flesh region solved with the contact.
-const SEED_GAP: f64 = 0.002;
 
 /// The frame with the hands at `hands`: solved with contact when a hand touches (or nearly
 /// touches) another body, otherwise the static frame `still` (solved now if `None`) with the
@@ -187,270 +185,18 @@ fn solve_grasp_with(
     definite: bool,
 ) -> Result<Option<Frame>, SimError> {
     let settings = &model.contact;
-    let margin = settings.search_depth;
-    let objects: Vec<usize> = (0..model.bodies.len())
-        .filter(|&b| model.bodies[b].hand.is_none())
-        .collect();
-    if objects.is_empty() || hands.is_empty() {
+    if model.bodies.iter().all(|b| b.hand.is_some()) || hands.is_empty() {
         return Ok(None);
     }
     let t_all = Instant::now();
-    let mut times = crate::contact::ContactTimes::default();
-    // Reference positions: the objects at rest, the hands as posed.
-    let mut x = model.mesh.nodes.clone();
-    for h in hands {
-        let body = &model.bodies[h.body];
-        x[body.nodes.clone()].copy_from_slice(&h.positions);
-    }
-    // Where the contact is detected and linearised: the reference moved by what is carried.
-    let zero = vec![0.0; 3 * model.mesh.node_count()];
     let carried_given = carried;
-    let carried = carried.unwrap_or(&zero);
-    let x_now_nodes: Vec<Vector3<f64>> = x
-        .iter()
-        .enumerate()
-        .map(|(n, p)| p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]))
-        .collect();
-    // The hands' contact surface is their smooth skin (item 4): its vertices, embedded in the
-    // flesh cells, are contact points numbered after the mesh's nodes.
-    let mut embedded = EmbeddedPoints::none(model.mesh.node_count());
-    let mut skin_points: Vec<std::ops::Range<usize>> = Vec::new();
-    let mut surfaces: Vec<ContactSurface> = Vec::new();
-    let mut skin_quads: Vec<Vec<[usize; 4]>> = Vec::new();
-    for h in hands {
-        let body = &model.bodies[h.body];
-        let hand = body.hand.as_deref().expect("a hand body");
-        let skin = &hand.contact_skin;
-        let start = embedded.first() + embedded.len();
-        for v in 0..skin.vertex_count() {
-            embedded.push(skin.terms(v).map(|(n, w)| (n + body.nodes.start, w)));
+    let zero;
+    let carried = match carried {
+        Some(c) => c,
+        None => {
+            zero = vec![0.0; 3 * model.mesh.node_count()];
+            &zero
         }
-        skin_points.push(start..start + skin.vertex_count());
-        skin_quads.push(
-            skin.quads
-                .iter()
-                .map(|q| q.map(|v| start + v as usize))
-                .collect(),
-        );
-    }
-    let x_now = embedded.extend(&x_now_nodes);
-    // Each quad split along its diagonal at rest, the same in every step.
-    let x_rest = embedded.extend(&model.mesh.nodes);
-    for (h, quads) in hands.iter().zip(&skin_quads) {
-        surfaces.push(ContactSurface::from_quads_split_at(
-            h.body, quads, &x_rest, &x_now,
-        ));
-    }
-    for &b in &objects {
-        surfaces.push(ContactSurface::from_quads_split_at(
-            b,
-            &model.bodies[b].exterior,
-            &x_rest,
-            &x_now,
-        ));
-    }
-    // Which skin nodes are near which object, and the object nodes near the skin.
-    let mut pairs: Vec<SurfacePair> = Vec::new();
-    let mut near_skin: Vec<usize> = Vec::new();
-    let mut seeds: Vec<usize> = Vec::new();
-    // The smallest gap between skin and an object within the search, either way.
-    let mut closest = f64::INFINITY;
-    // Where the objects' surfaces are: skin facets not within the search of that box hold no
-    // object node (the skin's hierarchy is built over the others only).
-    let objects_nodes: Vec<Vec<usize>> =
-        surfaces[hands.len()..].iter().map(|s| s.nodes()).collect();
-    let object_points: Vec<&Vector3<f64>> =
-        objects_nodes.iter().flatten().map(|&n| &x_now[n]).collect();
-    let objects_box = (!object_points.is_empty()).then(|| Bounds::of(object_points));
-    for (i, _) in hands.iter().enumerate() {
-        let skin_nodes = surfaces[i].nodes();
-        let skin_bvh = match &objects_box {
-            Some(b) => surfaces[i].hierarchy_meeting(&x_now, margin, b),
-            None => surfaces[i].hierarchy(&x_now, margin),
-        };
-        for (j, &b) in objects.iter().enumerate() {
-            let s = hands.len() + j;
-            let object_nodes = objects_nodes[j].clone();
-            let object_bvh = surfaces[s].hierarchy(&x_now, margin);
-            // (The gap to the nearest facet; where it is in front of that facet's plane but
-            // in a pit at its edge or corner, the gap behind the facet around it — looked
-            // for only where a step that touches nothing may be left unsolved.)
-            let signed = |bvh: &SurfaceBvh, x: &Vector3<f64>| {
-                bvh.project(x, &x_now, None, |_| false).map(|p| {
-                    let behind = (untouched.is_some() && p.gap >= 0.0)
-                        .then(|| bvh.behind_feature(x, &x_now, &p, |_| false))
-                        .flatten();
-                    (p.gap, behind.map_or(p.gap, |b| b.gap.min(p.gap)))
-                })
-            };
-            // (Point by point, on every thread: a drag's first frame waits for it.)
-            let found: Vec<(usize, f64, f64)> = skin_nodes
-                .par_iter()
-                .filter_map(|&n| {
-                    signed(&object_bvh, &x_now[n]).map(|(gap, inside)| (n, gap, inside))
-                })
-                .collect();
-            closest = found.iter().fold(closest, |c, g| c.min(g.2));
-            let skin_near: Vec<usize> =
-                found.iter().filter(|g| g.1 < margin).map(|g| g.0).collect();
-            // The flesh solved with the contact grows from the skin that touches (or nearly).
-            seeds.extend(found.iter().filter(|g| g.1 < SEED_GAP).map(|g| g.0));
-            let object_found: Vec<(usize, f64, f64)> = object_nodes
-                .par_iter()
-                .filter_map(|&n| signed(&skin_bvh, &x_now[n]).map(|(gap, inside)| (n, gap, inside)))
-                .collect();
-            closest = object_found.iter().fold(closest, |c, g| c.min(g.2));
-            let object_near: Vec<usize> = object_found
-                .iter()
-                .filter(|g| g.1 < margin)
-                .map(|g| g.0)
-                .collect();
-            if skin_near.is_empty() && object_near.is_empty() {
-                continue;
-            }
-            debug_assert_eq!(surfaces[s].body, b);
-            near_skin.extend(&skin_near);
-            // The paper's direction first: object nodes repelled from the skin.
-            pairs.push(SurfacePair {
-                slaves: object_nodes,
-                surface: i,
-                primary: true,
-                slave_surface: Some(s),
-                own: None,
-            });
-            pairs.push(SurfacePair {
-                slaves: skin_near,
-                surface: s,
-                primary: false,
-                slave_surface: Some(i),
-                own: None,
-            });
-        }
-    }
-    if pairs.is_empty() {
-        return Ok(None);
-    }
-    near_skin.sort_unstable();
-    near_skin.dedup();
-    // Skin that went into a body over this step's flexion: held where it went through.
-    let crossed = match previous {
-        Some(previous) => {
-            let mut from = x_now_nodes.clone();
-            for (h, before) in hands.iter().zip(previous) {
-                let start = model.bodies[h.body].nodes.start;
-                for (i, p) in before.iter().enumerate() {
-                    let n = start + i;
-                    from[n] =
-                        p + Vector3::new(carried[3 * n], carried[3 * n + 1], carried[3 * n + 2]);
-                }
-            }
-            let from = embedded.extend(&from);
-            crossings(
-                &surfaces,
-                hands.len(),
-                &near_skin,
-                (&from, &x_now),
-                settings.tolerance,
-                settings.search_depth,
-            )
-        }
-        None => Vec::new(),
-    };
-    // Nothing touches, nor can the bodies' loads bring them into touch (every gap wider than
-    // the farthest they move an object's node from where detection sees it): a contact frame
-    // without contacts. From rest, the bodies move to the static frame; from the static frame,
-    // by the step they take there alone (src/solve/untouched.rs) where it is known, else they
-    // are taken to stay in it (bounded by their motion from rest).
-    let step = match (carried_given, &cache.untouched) {
-        (Some(_), Some(Some(step))) => Some(step),
-        _ => None,
-    };
-    if let Some(still) = untouched {
-        let reach = step.map_or_else(|| objects_moved(model, still), |s| s.motion);
-        if crossed.is_empty() && closest > reach + settings.tolerance {
-            let mut frame = compose(model, still, hands.to_vec())?;
-            if let Some(step) = step {
-                super::untouched::apply(model, step, &mut frame);
-            }
-            let skin_points = hands
-                .iter()
-                .zip(&skin_points)
-                .map(|(h, r)| (h.body, r.start))
-                .collect();
-            frame.contact = Some(ContactSummary::without_contacts(
-                settings.method,
-                skin_points,
-                ms(t_all),
-            ));
-            return Ok(Some(frame));
-        }
-    }
-
-    // The flesh solved with the contact: cells within `contact_region` of a near skin node,
-    // of digits solved by FEM; free nodes are those of such cells only, not on a bone.
-    let radius = model.contact_region;
-    let mut free_node = vec![false; model.mesh.node_count()];
-    let mut region_cells = 0;
-    for (h, points) in hands.iter().zip(&skin_points) {
-        let body = &model.bodies[h.body];
-        let hand = body.hand.as_deref().expect("a hand body");
-        let flesh = &hand.flesh;
-        let near: Vec<Vector3<f64>> = seeds
-            .iter()
-            .filter(|&&n| points.contains(&n))
-            .map(|&n| x_now[n])
-            .collect();
-        if near.is_empty() {
-            continue;
-        }
-        let near = NearPoints::new(&near, radius);
-        // (Cell by cell on every thread, then counted in order.)
-        let within: Vec<bool> = (0..flesh.mesh.cells.len())
-            .into_par_iter()
-            .map(|c| {
-                let cell = &flesh.mesh.cells[c];
-                let method = model.flexion.methods[flesh.cell_digit[c].map_or(0, |d| d + 1)];
-                method == crate::model::FleshMethod::Fem
-                    && near.any_within(
-                        &(cell.iter().map(|&n| h.positions[n]).sum::<Vector3<f64>>() / 8.0),
-                    )
-            })
-            .collect();
-        let mut in_region = vec![0usize; flesh.mesh.nodes.len()];
-        let mut incident = vec![0usize; flesh.mesh.nodes.len()];
-        for (cell, &inside) in flesh.mesh.cells.iter().zip(&within) {
-            for &n in cell {
-                incident[n] += 1;
-            }
-            if inside {
-                region_cells += 1;
-                for &n in cell {
-                    in_region[n] += 1;
-                }
-            }
-        }
-        for n in 0..flesh.mesh.nodes.len() {
-            if in_region[n] > 0 && in_region[n] == incident[n] && flesh.node_bone[n].is_none() {
-                free_node[body.nodes.start + n] = true;
-            }
-        }
-    }
-    let mut mask = model.partition.prescribed.clone();
-    for (n, &f) in free_node.iter().enumerate() {
-        if f {
-            for a in 0..3 {
-                mask[3 * n + a] = false;
-            }
-        }
-    }
-    let partition = DofPartition::new(mask);
-
-    times.detection = ms(t_all);
-    // K: the objects at rest, the hands on their posed geometry.
-    let t = Instant::now();
-    let mesh = Mesh {
-        nodes: x.clone(),
-        cells: model.mesh.cells.clone(),
     };
     // (The other bodies corotated about what the motion carries, src/solve/corotated.rs, or
     // Neo-Hookean about it, src/solve/hyperelastic_objects.rs.)
@@ -460,22 +206,67 @@ fn solve_grasp_with(
     // equilibrium, where a soft ball's complete tangent may be nearly singular (a 10 kPa ball
     // under its air was thrown off the fingers), so K̃ alone.
     let without_motion = !definite && previous.is_none() && carried_given.is_some();
-    let geometric = without_motion && !neo_hookean_objects(model) && model.corotates_objects();
-    let linearised = if neo_hookean_objects(model) {
-        linearise_neo_hookean(model, &mesh, carried_given, definite, without_motion)
-    } else {
-        // A hand's cell with no free node and nothing carried on its nodes adds nothing: the
-        // assembly leaves it out, only checking it is not folded (skinning, or flexion's
-        // incremental skinning outside its region, may have folded it: reported below).
-        let needed = |c: usize| {
-            model.bodies[model.cell_body[c]].hand.is_none()
-                || model.mesh.cells[c].iter().any(|&n| {
-                    (0..3).any(|a| !partition.prescribed[3 * n + a] || carried[3 * n + a] != 0.0)
-                })
-        };
-        linearise(model, &mesh, carried_given, geometric, &needed)
+    let neo_hookean = neo_hookean_objects(model);
+    let geometric = without_motion && !neo_hookean && model.corotates_objects();
+    // The detection, and beside it (on the other core) the corotated or linear objects'
+    // stiffness and its factor (src/solve/objects_factor.rs).
+    cache.solver.set_node_groups(body_groups(model));
+    let step = match &cache.untouched {
+        Some(Some(step)) => Some(step),
+        _ => None,
     };
-    let linearised = linearised.map_err(|e| {
+    // (Then, on its side, the hands' part of K, assembled on the flesh region it found.)
+    let detect = || {
+        let found = detect(
+            model,
+            hands,
+            (carried_given, previous),
+            (untouched, step),
+            t_all,
+        );
+        let detection_ms = ms(t_all);
+        let t = Instant::now();
+        let hands_part = match &found {
+            Ok(Detection::Near(d)) if !neo_hookean => {
+                Some(hands_stiffness(model, d, carried_given))
+            }
+            _ => None,
+        };
+        (found, detection_ms, hands_part, ms(t))
+    };
+    let ((found, detection_ms, hands_part, hands_ms), objects) = if neo_hookean {
+        (detect(), None)
+    } else {
+        let (solver, kept) = (&mut cache.solver, &mut cache.kept);
+        let (found, objects) = rayon::join(detect, || {
+            objects_stiffness(model, carried_given, geometric, (solver, kept))
+        });
+        (found, Some(objects))
+    };
+    let Detected {
+        x,
+        x_now_nodes,
+        x_now,
+        embedded,
+        skin_points,
+        surfaces,
+        pairs,
+        near_skin,
+        crossed,
+        partition,
+        region_cells,
+    } = match found? {
+        Detection::Apart => return Ok(None),
+        Detection::Untouched(frame) => return Ok(Some(frame)),
+        Detection::Near(d) => d,
+    };
+    let mut times = crate::contact::ContactTimes {
+        detection: detection_ms,
+        ..Default::default()
+    };
+    // K: the objects at rest, the hands on their posed geometry.
+    let t = Instant::now();
+    let inverted = |e: AssemblyError| {
         let b = model.cell_body[e.cell];
         let body = &model.bodies[b];
         let element = e.cell - body.cells.start;
@@ -498,10 +289,31 @@ fn solve_grasp_with(
                 relative_det: e.inverted.relative_det,
             }
         }
-    })?;
-    let mut k = linearised.k;
-    let springs = stabilize(model, &mut k, &partition);
-    let assembly_ms = ms(t);
+    };
+    let mut objects_kept = None;
+    let (linearised, springs) = match (objects, hands_part) {
+        (Some(objects), Some(hands_part)) => {
+            let objects = objects.map_err(inverted)?;
+            times.beside = objects.ms;
+            objects_kept = Some(objects.kept);
+            let hands_part = hands_part.map_err(inverted)?;
+            (hands_part.joined(objects.linearised), objects.springs)
+        }
+        _ => {
+            let mesh = Mesh {
+                nodes: x.clone(),
+                cells: model.mesh.cells.clone(),
+            };
+            let mut linearised =
+                linearise_neo_hookean(model, &mesh, carried_given, definite, without_motion)
+                    .map_err(inverted)?;
+            let springs = stabilize(model, &mut linearised.k, &partition);
+            (linearised, springs)
+        }
+    };
+    let k = linearised.k;
+    // (The hands' part assembled after the detection, on its side of the join.)
+    let assembly_ms = ms(t) + hands_ms;
 
     let node_material = |n: usize| -> usize {
         model
@@ -717,6 +529,8 @@ fn solve_grasp_with(
     summary.times.detection = times.detection;
     summary.times.assembly = assembly_ms;
     summary.times.stress = stress_ms;
+    summary.times.beside = times.beside;
+    summary.objects_kept = objects_kept;
     summary.skin_points = hands
         .iter()
         .zip(&skin_points)
@@ -733,6 +547,40 @@ fn solve_grasp_with(
     }))
 }
 
+/// The hands' part of a contact step's K (the objects' is made beside, src/solve/objects_factor.rs):
+/// a hand's cell with no free node and nothing `carried` on its nodes adds nothing, and the
+/// assembly leaves it out, only checking it is not folded (skinning, or flexion's incremental
+/// skinning outside its region, may have folded it: reported by the step).
+fn hands_stiffness(
+    model: &Model,
+    detected: &Detected,
+    carried_given: Option<&[f64]>,
+) -> Result<Linearised, AssemblyError> {
+    let partition = &detected.partition;
+    let mesh = Mesh {
+        nodes: detected.x.clone(),
+        cells: model.mesh.cells.clone(),
+    };
+    let object = |c: usize| model.bodies[model.cell_body[c]].hand.is_none();
+    let needed = |c: usize| {
+        !object(c)
+            && model.mesh.cells[c].iter().any(|&n| {
+                (0..3).any(|a| {
+                    !partition.prescribed[3 * n + a]
+                        || carried_given.is_some_and(|u| u[3 * n + a] != 0.0)
+                })
+            })
+    };
+    // (The objects' cells are assembled and checked by the other part.)
+    linearise(
+        model,
+        &mesh,
+        carried_given,
+        false,
+        (&needed, Some(&object), None),
+    )
+}
+
 /// Whether `carried` is what a frame composed of the static frame `still` carries: the other
 /// bodies' static displacements, nothing on the hands.
 fn is_static(model: &Model, still: &Frame, carried: &[f64]) -> bool {
@@ -746,18 +594,6 @@ fn is_static(model: &Model, still: &Frame, carried: &[f64]) -> bool {
                 carried[dofs.clone()] == u[dofs]
             }
         })
-}
-
-/// The farthest any node of a body other than the hands is moved in the static frame `still`, m.
-fn objects_moved(model: &Model, still: &Frame) -> f64 {
-    let u = &still.solution.displacement;
-    model
-        .bodies
-        .iter()
-        .filter(|b| b.hand.is_none())
-        .flat_map(|b| b.nodes.clone())
-        .map(|n| Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]).norm())
-        .fold(0.0, f64::max)
 }
 
 /// `geometric`: the corotated bodies' tangent had their turn's and pressures' stiffness.

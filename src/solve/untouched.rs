@@ -80,7 +80,13 @@ pub(super) fn untouched_step(
     let linearised = if neo_hookean_objects(model) {
         linearise_neo_hookean(model, &mesh, Some(&carried), false, false)
     } else {
-        linearise(model, &mesh, Some(&carried), false, &object_cell)
+        linearise(
+            model,
+            &mesh,
+            Some(&carried),
+            false,
+            (&object_cell, None, None),
+        )
     }
     .map_err(|e| SimError::inverted(model, e.cell, e.inverted.relative_det))?;
     let partition = &model.partition;
