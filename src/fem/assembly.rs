@@ -350,9 +350,11 @@ fn assemble_with(
             return Ok((ke, None));
         };
         let r = rot[c];
+        // K̃ = R·K̂·Rᵀ, block by block (the turn's stiffness reads it too).
+        let turned_ke = ke.map(|row| row.map(|block| r * block * r.transpose()));
         let turn = match displaced.and_then(|d| d(c)) {
             Some(u) => Some((
-                super::geometric::symmetric_turn_stiffness(&coords, &ke, &r, &u)
+                super::geometric::symmetric_turn_stiffness(&coords, (&ke, &turned_ke), &r, &u)
                     .map_err(|inverted| AssemblyError { cell: c, inverted })?,
                 u,
             )),
@@ -365,11 +367,7 @@ fn assemble_with(
             }
             f[a] = r * f[a];
         }
-        for row in ke.iter_mut() {
-            for block in row.iter_mut() {
-                *block = r * *block * r.transpose();
-            }
-        }
+        ke = turned_ke;
         if let Some((ks, u)) = turn {
             // b gains K^t·(X + u), so that K̃·y − b is still the corotated force at y.
             for (a, (row, srow)) in ke.iter_mut().zip(&ks).enumerate() {

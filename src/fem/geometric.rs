@@ -36,6 +36,18 @@ pub fn turn_stiffness(
     u: &[Vector3<f64>; 8],
 ) -> Result<ElementStiffness, InvertedCell> {
     let r = rotation;
+    let turned_stiffness = local_stiffness.map(|row| row.map(|k| r * k * r.transpose()));
+    turn_stiffness_of(coords, (local_stiffness, &turned_stiffness), rotation, u)
+}
+
+/// [`turn_stiffness`] with K̃ = R·K̂·Rᵀ already made (the assembly turns K̂ itself).
+fn turn_stiffness_of(
+    coords: &[Vector3<f64>; 8],
+    (local_stiffness, turned_stiffness): (&ElementStiffness, &ElementStiffness),
+    rotation: &Matrix3<f64>,
+    u: &[Vector3<f64>; 8],
+) -> Result<ElementStiffness, InvertedCell> {
+    let r = rotation;
     let dn = shape_derivatives(&Vector3::zeros());
     let inverted = || InvertedCell {
         relative_det: relative_min_jacobian(coords),
@@ -66,7 +78,7 @@ pub fn turn_stiffness(
         let mut seen = Matrix3::zeros();
         for c in 0..8 {
             force += local_stiffness[a][c] * local[c];
-            seen += r * local_stiffness[a][c] * r.transpose() * turned[c];
+            seen += turned_stiffness[a][c] * turned[c];
         }
         let per_spin = seen - (r * force).cross_matrix();
         for b in 0..8 {
@@ -76,14 +88,15 @@ pub fn turn_stiffness(
     Ok(k)
 }
 
-/// The symmetric part of [`turn_stiffness`]: what the contact step's symmetric solve adds to K̃.
+/// The symmetric part of [`turn_stiffness`]: what the contact step's symmetric solve adds to K̃
+/// (`stiffness`: K̂ and K̃ = R·K̂·Rᵀ, each R·K̂_ac·Rᵀ made as the assembly makes it).
 pub fn symmetric_turn_stiffness(
     coords: &[Vector3<f64>; 8],
-    local_stiffness: &ElementStiffness,
+    stiffness: (&ElementStiffness, &ElementStiffness),
     rotation: &Matrix3<f64>,
     u: &[Vector3<f64>; 8],
 ) -> Result<ElementStiffness, InvertedCell> {
-    let k = turn_stiffness(coords, local_stiffness, rotation, u)?;
+    let k = turn_stiffness_of(coords, stiffness, rotation, u)?;
     Ok(std::array::from_fn(|a| {
         std::array::from_fn(|b| (k[a][b] + k[b][a].transpose()) * 0.5)
     }))

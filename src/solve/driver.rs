@@ -6,7 +6,7 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, Carried, ContactCache};
-use super::path::{flex_ahead, FlexionPath, Parts};
+use super::path::{flex_ahead, FlexionPath, Knot, Parts};
 use super::proximity::{crushed_by_skinning, deeper_on_the_way, PARTS};
 use super::statics::{solve_static, solve_static_alone};
 use super::step_control::StepControl;
@@ -825,20 +825,38 @@ impl Workspace {
             .iter()
             .map(|h| h.frame.positions.clone())
             .collect();
-        for (k, (h, _, _)) in moving.iter().enumerate() {
-            let mut flex = |body: usize, state: HandState, angles: &[f64], parts: Parts| {
-                flex_hand(
-                    (model, &mut self.caches, cancel),
-                    body,
-                    state,
-                    angles,
-                    parts,
-                )
-            };
-            let state = path.state_at(model, k, f, &mut flex)?;
-            let hand = &mut posed.hands[*h];
-            hand.frame = hand_frame(model, hand.body, &state, path.stats(k));
-            hand.state = state;
+        let knots: Vec<Knot> = (0..moving.len()).map(|k| path.knot_at(k, f)).collect();
+        // The hands at `f`: their knots flexed where not yet (here, or taken from the thread
+        // flexing them ahead).
+        let caches = &mut self.caches;
+        let hands = &mut posed.hands;
+        let mut pose_hands = || -> Result<(), SimError> {
+            for (k, (h, _, _)) in moving.iter().enumerate() {
+                let mut flex = |body: usize, state: HandState, angles: &[f64], parts: Parts| {
+                    flex_hand((model, caches, cancel), body, state, angles, parts)
+                };
+                let state = path.state_at(model, k, f, &mut flex)?;
+                let hand = &mut hands[*h];
+                hand.frame = hand_frame(model, hand.body, &state, path.stats(k));
+                hand.state = state;
+            }
+            Ok(())
+        };
+        // Beside a knot's flexion (`knots`), the objects' part of the step's K and its factor,
+        // which do not depend on it (src/solve/objects_factor.rs): while the other thread
+        // flexes it, here first; while it is flexed here, on the other core.
+        let contact = &mut self.contact;
+        let carried = posed.contact.as_deref();
+        if knots.contains(&Knot::Ahead) {
+            contact.prepare_objects(model, carried, !along);
+            pose_hands()?;
+        } else if knots.contains(&Knot::Here) {
+            let (posed_hands, ()) = rayon::join(pose_hands, || {
+                contact.prepare_objects(model, carried, !along)
+            });
+            posed_hands?;
+        } else {
+            pose_hands()?;
         }
         frame_with_hands(
             model,

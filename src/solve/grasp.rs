@@ -22,7 +22,7 @@ use super::error::SimError;
 use super::frame_stress::contact_stress;
 use super::hyperelastic_objects::{linearise_neo_hookean, neo_hookean_objects};
 use super::insides::deepest_inside;
-use super::objects_factor::{body_groups, objects_stiffness};
+use super::objects_factor::{body_groups, objects_stiffness, PreparedObjects};
 use super::stabilize::{check_held, stabilize};
 use super::statics::solve_static;
 use super::untouched::UntouchedStep;
@@ -65,6 +65,9 @@ pub struct ContactCache {
     /// The objects' element stiffnesses at rest (src/solve/objects_factor.rs), made at the
     /// first step that assembles them.
     kept: Option<KeptElements>,
+    /// The objects' stiffness and factor made ahead of the next step, while its knot flexed
+    /// ([`ContactCache::prepare_objects`]).
+    prepared: Option<PreparedObjects>,
 }
 
 /// What a keyframe's contact steps hand to the next keyframe's besides the hands' states (the
@@ -105,7 +108,38 @@ impl ContactCache {
             unheld: None,
             untouched: None,
             kept: None,
+            prepared: None,
         }
+    }
+}
+
+impl ContactCache {
+    /// Makes the objects' part of the next contact step's K and its factor now, from `carried`
+    /// (the step's start), the complete tangent where the step has no motion to follow
+    /// (`without_motion`, as [`solve_grasp`] decides): for a thread that would otherwise wait
+    /// (a drag's first step waits for its knot's flexion). The step takes it where it starts
+    /// from the same state with the same tangent, else makes its own.
+    pub(super) fn prepare_objects(
+        &mut self,
+        model: &Model,
+        carried: Option<&[f64]>,
+        without_motion: bool,
+    ) {
+        if neo_hookean_objects(model) || model.bodies.iter().all(|b| b.hand.is_some()) {
+            return;
+        }
+        let geometric = without_motion && carried.is_some() && model.corotates_objects();
+        self.solver.set_node_groups(body_groups(model));
+        self.prepared = Some(PreparedObjects {
+            carried: carried.map(<[f64]>::to_vec),
+            geometric,
+            objects: objects_stiffness(
+                model,
+                carried,
+                geometric,
+                (&mut self.solver, &mut self.kept),
+            ),
+        });
     }
 }
 
@@ -237,11 +271,22 @@ fn solve_grasp_with(
     let ((found, detection_ms, hands_part, hands_ms), objects) = if neo_hookean {
         (detect(), None)
     } else {
-        let (solver, kept) = (&mut cache.solver, &mut cache.kept);
-        let (found, objects) = rayon::join(detect, || {
-            objects_stiffness(model, carried_given, geometric, (solver, kept))
-        });
-        (found, Some(objects))
+        // (Made ahead, while the step's knot flexed, from the same state with this tangent: taken.)
+        let prepared = cache
+            .prepared
+            .take()
+            .filter(|p| p.geometric == geometric && p.carried.as_deref() == carried_given)
+            .map(|p| p.objects);
+        match prepared {
+            Some(objects) => (detect(), Some(objects)),
+            None => {
+                let (solver, kept) = (&mut cache.solver, &mut cache.kept);
+                let (found, objects) = rayon::join(detect, || {
+                    objects_stiffness(model, carried_given, geometric, (solver, kept))
+                });
+                (found, Some(objects))
+            }
+        }
     };
     let Detected {
         x,

@@ -30,6 +30,14 @@ pub(super) struct ObjectsStiffness {
     pub kept: bool,
 }
 
+/// The objects' part made ahead of a step (`ContactCache::prepare_objects`): from which
+/// carried state, with which tangent.
+pub(super) struct PreparedObjects {
+    pub carried: Option<Vec<f64>>,
+    pub geometric: bool,
+    pub objects: Result<ObjectsStiffness, AssemblyError>,
+}
+
 /// The node groups of a contact step's blocks: each node's body.
 pub(super) fn body_groups(model: &Model) -> Vec<u32> {
     let mut groups = vec![0u32; model.mesh.node_count()];

@@ -63,6 +63,17 @@ struct HandPath {
     stats: Option<KeyframeStats>,
 }
 
+/// Where a knot a step needs is (`FlexionPath::knot_at`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Knot {
+    /// Flexed (or received from the thread flexing ahead).
+    Flexed,
+    /// Still flexing on the thread flexing ahead.
+    Ahead,
+    /// To be flexed by the step's own thread.
+    Here,
+}
+
 /// A knot flexed: its state and what it cost, or why it failed.
 type Flexed = Result<(HandState, KeyframeStats), SimError>;
 
@@ -220,6 +231,31 @@ impl FlexionPath {
     /// Stops taking knots flexed ahead (their thread is to end).
     pub(super) fn end_ahead(&mut self) {
         self.ahead = None;
+    }
+
+    /// Where the knot [`FlexionPath::state_at`] of hand `k` at fraction `f` needs is: flexed, on
+    /// the other thread still, or to be flexed here.
+    pub(super) fn knot_at(&mut self, k: usize, f: f64) -> Knot {
+        let count = self.hands[k].count as f64;
+        let position = (f * count).clamp(0.0, count);
+        let j = ((position - 1e-9).ceil().max(0.0) as usize).min(self.hands[k].count);
+        if self.hands[k].knots.len() > j {
+            return Knot::Flexed;
+        }
+        if let Some(ahead) = self.ahead.as_ref() {
+            // (Knots already sent are taken, in their order, as `next_ahead` takes them.)
+            while let Ok((i, knot)) = ahead.try_recv() {
+                self.waiting[i].push_back(knot);
+            }
+            if self.waiting[k].is_empty() {
+                return Knot::Ahead;
+            }
+        }
+        if self.waiting[k].is_empty() {
+            Knot::Here
+        } else {
+            Knot::Flexed
+        }
     }
 
     /// Hand `k`'s next knot flexed ahead, if any is still to come.
