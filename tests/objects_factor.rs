@@ -3,9 +3,9 @@
 //! the objects' block is assembled and factored beside the detection and kept by the step's
 //! solve, and only the flesh region's block is factored after the detection. A ball that stays
 //! linear (the linear tier: its K does not turn) keeps its factor from step to step for the
-//! whole session. The step's numbers are those of one factorization of the whole (unit tests:
-//! src/fem/blocks.rs); here, the finger press's forces balance and match between the two
-//! contact methods as before.
+//! whole session. The blocks' factors solve as one factorization of the whole does, to round-off
+//! (unit tests: src/fem/blocks.rs); here, the finger press's contact forces balance between hand
+//! and ball, and grow as the finger presses further.
 
 use prehensile::headless::solve_scene;
 use prehensile::scene::Scene;

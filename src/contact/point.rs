@@ -263,8 +263,9 @@ pub struct ContactSummary {
     /// The contact points embedded in each hand's skin: (hand body, contact index of its
     /// skin's first vertex); the hand's skin vertices are numbered on from there.
     pub skin_points: Vec<(usize, usize)>,
-    /// The other bodies' factor (src/solve/objects_factor.rs): `Some(false)` made beside the
-    /// detection, `Some(true)` kept from an earlier step (the same values: an object that
+    /// The other bodies' factor (src/solve/objects_factor.rs): `Some(false)` made for this step
+    /// (beside its detection, or beside its knot's flexion), `Some(true)` kept from an earlier
+    /// step (the same values: an object that
     /// stays linear), `None` not made apart (Neo-Hookean objects, or no contact solved).
     pub objects_kept: Option<bool>,
 }

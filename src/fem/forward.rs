@@ -1,5 +1,7 @@
 //! Half a substitution for sparse right-hand sides: y = L⁻¹·P·b with the supernodal Cholesky
-//! factor P·K11·Pᵀ = L·Lᵀ of the last solve.
+//! factor P·K11·Pᵀ = L·Lᵀ of the last solve — block diagonal where K11 is held in blocks
+//! (src/fem/blocks.rs): each block's factor on its rows of b, their rows numbered one block
+//! after the other.
 //!
 //! A right-hand side with a handful of nonzeros (a contact constraint row touches at most four
 //! nodes) reaches only the supernodes on the paths from its nonzeros to the root of the
@@ -17,7 +19,8 @@ use faer::{Accum, Mat, Par};
 use rayon::prelude::*;
 
 /// Y = L⁻¹·P·B for a group of k right-hand sides (the axes of one contact) as its nonzero
-/// blocks: (first row in the factor's order, the block's rows of all k columns, column-major),
+/// blocks: (first row in the factors' order — the blocks' factors one after the other —, the
+/// block's rows of all k columns, column-major),
 /// ascending; a block is kept where any of the k columns is nonzero.
 #[derive(Clone, Debug, Default)]
 pub struct HalfSolved {

@@ -194,6 +194,8 @@ struct Analysis {
     /// The free dofs in elimination order, each as 3 × its node's identity + its axis (see
     /// [`PartitionedSolver::set_node_ids`]).
     order_keys: Vec<usize>,
+    /// Whether the supernodal form was forced (blocks told apart: `symbolic_params`).
+    supernodal: bool,
 }
 
 /// The group of a block holding every free dof (no groups told, or groups joined by a cell).
@@ -462,8 +464,24 @@ impl PartitionedSolver {
     }
 
     /// Analyses and factors the blocks of K11 for `partition` (each block's analysis and factor
-    /// kept where its partition and values are those it has), filling `stats`.
+    /// kept where its partition and values are those it has), filling `stats`. Where it fails,
+    /// no factor is left to substitute with.
     fn factor_blocks(
+        &mut self,
+        k: &Stiffness,
+        partition: &DofPartition,
+        positions: &[Vector3<f64>],
+        stats: &mut SolveStats,
+    ) -> Result<(), SolveError> {
+        let done = self.analyse_and_factor(k, partition, positions, stats);
+        if done.is_err() {
+            self.layout = None;
+        }
+        done
+    }
+
+    /// [`PartitionedSolver::factor_blocks`], which forgets the layout where this fails.
+    fn analyse_and_factor(
         &mut self,
         k: &Stiffness,
         partition: &DofPartition,
@@ -482,9 +500,12 @@ impl PartitionedSolver {
         let mut analysed = Vec::with_capacity(layout.parts.len());
         for part in &layout.parts {
             let block = &mut self.blocks[part.block];
-            // The analysis holds for the same pattern with the same prescribed dofs.
+            // The analysis holds for the same pattern with the same prescribed dofs (and the
+            // same form).
             let reuse = block.analysis.as_ref().is_some_and(|a| {
-                same_pattern(&a.pattern, &k.pattern) && a.partition == part.partition
+                same_pattern(&a.pattern, &k.pattern)
+                    && a.partition == part.partition
+                    && a.supernodal == supernodal
             });
             if !reuse {
                 // A prescribed set a little changed on the same pattern (a flexion increment's
@@ -495,6 +516,8 @@ impl PartitionedSolver {
                     carried_analysis(a, &k.pattern, &part.partition, keys, supernodal)
                 });
                 carried_any |= carried.is_some();
+                // (Its factor is no longer that of any values under the new analysis.)
+                block.factored.clear();
                 block.analysis = Some(match carried {
                     Some(a) => a,
                     None => {
@@ -557,7 +580,8 @@ impl PartitionedSolver {
         stats.blocks = layout.parts.len();
         stats.blocks_reused = layout.parts.len() - todo.iter().filter(|v| v.is_some()).count();
         stats.factor_reused = stats.blocks_reused == stats.blocks;
-        // Blocks factored side by side (the ball's and the flesh region's, each sequential).
+        // Blocks factored side by side (the ball's and the flesh region's; each in parallel
+        // itself only where it is large: `factorization_parallelism`).
         let mut jobs: Vec<(&mut Block, Vec<f64>)> = self
             .blocks
             .iter_mut()
@@ -579,7 +603,9 @@ impl PartitionedSolver {
     /// Factors K11 of `k` for `partition` ahead of a solve, block by block: a later
     /// [`PartitionedSolver::solve`] whose blocks include one of these with the same values
     /// reuses its factor. What a contact step's objects are factored with while other work
-    /// runs (src/solve/grasp.rs).
+    /// runs (src/solve/objects_factor.rs). Substitutions until the next solve
+    /// ([`PartitionedSolver::solve_factored`], the half substitutions) are with these factors,
+    /// on `partition`.
     pub fn factor_ahead(
         &mut self,
         k: &Stiffness,
@@ -794,8 +820,8 @@ fn factorization_parallelism(work: f64) -> Par {
 }
 
 impl PartitionedSolver {
-    /// Solves K11·X = B in place with the factor of the last [`PartitionedSolver::solve`], for
-    /// `columns` right-hand sides stored column by column in `b` (each of length NBEQ, ordered as
+    /// Solves K11·X = B in place with the factors of the last [`PartitionedSolver::solve`] (or
+    /// [`PartitionedSolver::factor_ahead`]), for `columns` right-hand sides stored column by column in `b` (each of length NBEQ, ordered as
     /// the partition's free dofs). Costs substitutions only: this is what lets contact
     /// constraints be added through a Schur complement without refactorizing.
     pub fn solve_factored(&mut self, b: &mut [f64], columns: usize) -> Result<(), SolveError> {
@@ -936,6 +962,7 @@ fn carried_analysis(
         cholesky,
         work_per_dof: last.work_per_dof,
         order_keys,
+        supernodal,
     })
 }
 
@@ -1041,6 +1068,7 @@ fn analyse(
         cholesky,
         work_per_dof,
         order_keys,
+        supernodal,
     })
 }
 

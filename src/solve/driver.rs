@@ -825,7 +825,17 @@ impl Workspace {
             .iter()
             .map(|h| h.frame.positions.clone())
             .collect();
-        let knots: Vec<Knot> = (0..moving.len()).map(|k| path.knot_at(k, f)).collect();
+        // (Only where the step goes on from a frame in contact: one that touches nothing, on
+        // the way to the objects, is rarely solved.)
+        let touching = posed.contact.as_ref().is_some_and(|c| {
+            let hand_dof = hand_dofs(model, posed);
+            c.iter().zip(&hand_dof).any(|(u, h)| *h && *u != 0.0)
+        });
+        let knots: Vec<Knot> = if touching {
+            (0..moving.len()).map(|k| path.knot_at(k, f)).collect()
+        } else {
+            Vec::new()
+        };
         // The hands at `f`: their knots flexed where not yet (here, or taken from the thread
         // flexing them ahead).
         let caches = &mut self.caches;
@@ -844,7 +854,8 @@ impl Workspace {
         };
         // Beside a knot's flexion (`knots`), the objects' part of the step's K and its factor,
         // which do not depend on it (src/solve/objects_factor.rs): while the other thread
-        // flexes it, here first; while it is flexed here, on the other core.
+        // flexes it, here first; while it is flexed here, on the other core. (A step from a
+        // frame in contact: `touching`, above.)
         let contact = &mut self.contact;
         let carried = posed.contact.as_deref();
         if knots.contains(&Knot::Ahead) {

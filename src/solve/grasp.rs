@@ -279,6 +279,17 @@ fn solve_grasp_with(
             .map(|p| p.objects);
         match prepared {
             Some(objects) => (detect(), Some(objects)),
+            // A step that may be left unsolved (along a motion from the static frame, where
+            // the skin often comes near nothing): its detection first, the objects' part only
+            // where it found skin near them.
+            None if untouched.is_some() => {
+                let found = detect();
+                let near = matches!(found.0, Ok(Detection::Near(_)));
+                let (solver, kept) = (&mut cache.solver, &mut cache.kept);
+                let objects = near
+                    .then(|| objects_stiffness(model, carried_given, geometric, (solver, kept)));
+                (found, objects)
+            }
             None => {
                 let (solver, kept) = (&mut cache.solver, &mut cache.kept);
                 let (found, objects) = rayon::join(detect, || {

@@ -5,9 +5,11 @@
 //! step carries, not on what the detection finds (the flesh region near the contact does), so
 //! it is assembled about the carried state, given its floating springs and factored while the
 //! detection runs on the other core; the step's solve then finds those values again and keeps
-//! that factor, and factors only the flesh region's block. The numbers are those of one
-//! assembly and one factorization of the whole (`Linearised::joined`: each entry is one part's
-//! plus the other's zero).
+//! that factor, and factors only the flesh region's block. K is that of one assembly of the
+//! whole, bit for bit (`Linearised::joined`: each entry is one part's plus the other's zero);
+//! the blocks' factors give the whole's solution to round-off (each block ordered on its own:
+//! src/fem/blocks.rs's tests). A drag's first step makes this part beside its knot's flexion
+//! instead (`ContactCache::prepare_objects`).
 
 use super::corotated::{linearise, Linearised};
 use super::stabilize::stabilize;

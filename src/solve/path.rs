@@ -243,11 +243,19 @@ impl FlexionPath {
             return Knot::Flexed;
         }
         if let Some(ahead) = self.ahead.as_ref() {
-            // (Knots already sent are taken, in their order, as `next_ahead` takes them.)
-            while let Ok((i, knot)) = ahead.try_recv() {
-                self.waiting[i].push_back(knot);
+            // (Knots already sent are taken, in their order, as `next_ahead` takes them; a
+            // thread that ended sends no more, and its knots are flexed here.)
+            loop {
+                match ahead.try_recv() {
+                    Ok((i, knot)) => self.waiting[i].push_back(knot),
+                    Err(std::sync::mpsc::TryRecvError::Empty) => break,
+                    Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                        self.ahead = None;
+                        break;
+                    }
+                }
             }
-            if self.waiting[k].is_empty() {
+            if self.ahead.is_some() && self.waiting[k].is_empty() {
                 return Knot::Ahead;
             }
         }
