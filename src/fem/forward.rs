@@ -29,6 +29,17 @@ pub struct HalfSolved {
 }
 
 impl HalfSolved {
+    /// One per group of `groups[g]` columns, nothing stored yet.
+    fn none_of(groups: &[usize]) -> Vec<HalfSolved> {
+        groups
+            .iter()
+            .map(|&k| HalfSolved {
+                columns: k,
+                blocks: Vec::new(),
+            })
+            .collect()
+    }
+
     /// Columns in the group.
     pub fn columns(&self) -> usize {
         self.columns
@@ -214,13 +225,7 @@ fn forward_parts(
         }
     }
     let columns: usize = groups.iter().sum();
-    let mut out: Vec<HalfSolved> = groups
-        .iter()
-        .map(|&k| HalfSolved {
-            columns: k,
-            blocks: Vec::new(),
-        })
-        .collect();
+    let mut out = HalfSolved::none_of(groups);
     for part in parts {
         let rows = part.factor.symbolic.nrows();
         let local: Vec<f64> = match part.equations {
@@ -281,13 +286,7 @@ fn forward_share(
         }
     }
     let llt = SupernodalLltRef::new(factor.symbolic, factor.values);
-    let mut out: Vec<HalfSolved> = groups
-        .iter()
-        .map(|&k| HalfSolved {
-            columns: k,
-            blocks: Vec::new(),
-        })
-        .collect();
+    let mut out = HalfSolved::none_of(groups);
     let mut live: Vec<usize> = Vec::with_capacity(columns);
     let mut touched: Vec<usize> = Vec::new();
     for s in 0..factor.symbolic.n_supernodes() {
