@@ -265,8 +265,8 @@ pub struct ContactSummary {
     pub skin_points: Vec<(usize, usize)>,
     /// The other bodies' factor (src/solve/objects_factor.rs): `Some(false)` made for this step
     /// (beside its detection, or beside its knot's flexion), `Some(true)` kept from an earlier
-    /// step (the same values: an object that
-    /// stays linear), `None` not made apart (Neo-Hookean objects, or no contact solved).
+    /// step (the same values: an object that stays linear), `None` not made apart (Neo-Hookean
+    /// objects, or no contact solved).
     pub objects_kept: Option<bool>,
 }
 

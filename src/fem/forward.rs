@@ -20,8 +20,8 @@ use rayon::prelude::*;
 
 /// Y = L⁻¹·P·B for a group of k right-hand sides (the axes of one contact) as its nonzero
 /// blocks: (first row in the factors' order — the blocks' factors one after the other —, the
-/// block's rows of all k columns, column-major),
-/// ascending; a block is kept where any of the k columns is nonzero.
+/// block's rows of all k columns, column-major), ascending; a block is kept where any of the k
+/// columns is nonzero.
 #[derive(Clone, Debug, Default)]
 pub struct HalfSolved {
     columns: usize,
