@@ -473,23 +473,9 @@ impl PartitionedSolver {
         positions: &[Vector3<f64>],
         stats: &mut SolveStats,
     ) -> Result<(), SolveError> {
-        let done = self.analyse_and_factor(k, partition, positions, stats);
-        if done.is_err() {
-            self.layout = None;
-        }
-        done
-    }
-
-    /// [`PartitionedSolver::factor_blocks`], which forgets the layout where this fails.
-    fn analyse_and_factor(
-        &mut self,
-        k: &Stiffness,
-        partition: &DofPartition,
-        positions: &[Vector3<f64>],
-        stats: &mut SolveStats,
-    ) -> Result<(), SolveError> {
         self.lay_out(&k.pattern, partition);
-        let layout = self.layout.as_ref().expect("laid out above");
+        // (Held out of the solver until every block is factored: a failure leaves none.)
+        let layout = self.layout.take().expect("laid out above");
         let mut keys: Option<Vec<usize>> = None;
         // Blocks told apart are factored supernodal whatever their size: the half
         // substitutions of contact rows (src/fem/forward.rs) need every block so.
@@ -597,6 +583,7 @@ impl PartitionedSolver {
                 .collect::<Result<Vec<()>, SolveError>>()?;
         }
         stats.factorization_ms = ms(t);
+        self.layout = Some(layout);
         Ok(())
     }
 

@@ -199,7 +199,7 @@ impl Workspace {
         Ok(Workspace {
             still,
             caches: Vec::new(),
-            contact: ContactCache::new(model.ordering),
+            contact: ContactCache::new(model),
             solved_ahead: Vec::new(),
         })
     }
@@ -472,10 +472,7 @@ impl Workspace {
     ) -> Result<Frame, SimError> {
         // Whether the motion pressed a body: what it carries in from a frame in contact (the
         // flesh's contact displacements), or a step in contact.
-        let hand_dof = hand_dofs(model, posed);
-        let mut pressed = carried
-            .as_ref()
-            .is_some_and(|c| c.iter().zip(&hand_dof).any(|(u, h)| *h && *u != 0.0));
+        let mut pressed = presses(model, posed, carried.as_deref());
         posed.contact = carried;
         let mut control = StepControl::new(steps, CONTACT_HALVINGS, true);
         let (mut kept, mut retries) = (0, 0);
@@ -827,11 +824,7 @@ impl Workspace {
             .collect();
         // (Only where the step goes on from a frame in contact: one that touches nothing, on
         // the way to the objects, is rarely solved.)
-        let touching = posed.contact.as_ref().is_some_and(|c| {
-            let hand_dof = hand_dofs(model, posed);
-            c.iter().zip(&hand_dof).any(|(u, h)| *h && *u != 0.0)
-        });
-        let knots: Vec<Knot> = if touching {
+        let knots: Vec<Knot> = if presses(model, posed, posed.contact.as_deref()) {
             (0..moving.len()).map(|k| path.knot_at(k, f)).collect()
         } else {
             Vec::new()
@@ -855,7 +848,7 @@ impl Workspace {
         // Beside a knot's flexion (`knots`), the objects' part of the step's K and its factor,
         // which do not depend on it (src/solve/objects_factor.rs): while the other thread
         // flexes it, here first; while it is flexed here, on the other core. (A step from a
-        // frame in contact: `touching`, above.)
+        // frame in contact only, above.)
         let contact = &mut self.contact;
         let carried = posed.contact.as_deref();
         if knots.contains(&Knot::Ahead) {
@@ -1125,6 +1118,15 @@ fn show_reached(
     if let Ok(frame) = SimError::finite(model, frame) {
         reached(frame);
     }
+}
+
+/// Whether `carried` (a frame's state carried into a step) presses the hands of `posed`: the
+/// flesh's contact displacements are not all zero.
+fn presses(model: &Model, posed: &Posed, carried: Option<&[f64]>) -> bool {
+    carried.is_some_and(|c| {
+        let hand_dof = hand_dofs(model, posed);
+        c.iter().zip(&hand_dof).any(|(u, h)| *h && *u != 0.0)
+    })
 }
 
 /// Whether each dof is a hand's (their carried displacements are the flesh's contact

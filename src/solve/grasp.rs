@@ -32,7 +32,7 @@ use crate::contact::{
 };
 use crate::fem::assembly::AssemblyError;
 use crate::fem::kept_elements::KeptElements;
-use crate::fem::solve::{FillOrdering, PartitionedSolver, SolveError};
+use crate::fem::solve::{PartitionedSolver, SolveError};
 use crate::fem::stress::StressField;
 use crate::mesh::Mesh;
 use crate::model::Model;
@@ -98,10 +98,13 @@ impl ContactCache {
         self.anchor = carried.anchor;
     }
 
-    /// Nothing kept yet; factorizations ordered by `ordering`.
-    pub fn new(ordering: FillOrdering) -> ContactCache {
+    /// Nothing kept yet for the contact steps of `model`: factorizations ordered by its
+    /// ordering, K11 held in blocks by its bodies (src/solve/objects_factor.rs).
+    pub fn new(model: &Model) -> ContactCache {
+        let mut solver = PartitionedSolver::new(model.ordering);
+        solver.set_node_groups(body_groups(model));
         ContactCache {
-            solver: PartitionedSolver::new(ordering),
+            solver,
             held: Vec::new(),
             transferred: Vec::new(),
             anchor: None,
@@ -128,8 +131,7 @@ impl ContactCache {
         if neo_hookean_objects(model) || model.bodies.iter().all(|b| b.hand.is_some()) {
             return;
         }
-        let geometric = without_motion && carried.is_some() && model.corotates_objects();
-        self.solver.set_node_groups(body_groups(model));
+        let geometric = complete_tangent(model, without_motion && carried.is_some());
         self.prepared = Some(PreparedObjects {
             carried: carried.map(<[f64]>::to_vec),
             geometric,
@@ -241,10 +243,9 @@ fn solve_grasp_with(
     // under its air was thrown off the fingers), so K̃ alone.
     let without_motion = !definite && previous.is_none() && carried_given.is_some();
     let neo_hookean = neo_hookean_objects(model);
-    let geometric = without_motion && !neo_hookean && model.corotates_objects();
+    let geometric = complete_tangent(model, without_motion);
     // The detection, and beside it (on the other core) the corotated or linear objects'
     // stiffness and its factor (src/solve/objects_factor.rs).
-    cache.solver.set_node_groups(body_groups(model));
     let step = match &cache.untouched {
         Some(Some(step)) => Some(step),
         _ => None,
@@ -347,25 +348,23 @@ fn solve_grasp_with(
         }
     };
     let mut objects_kept = None;
-    let (linearised, springs) = match (objects, hands_part) {
-        (Some(objects), Some(hands_part)) => {
-            let objects = objects.map_err(inverted)?;
-            times.beside = objects.ms;
-            objects_kept = Some(objects.kept);
-            let hands_part = hands_part.map_err(inverted)?;
-            (hands_part.joined(objects.linearised), objects.springs)
-        }
-        _ => {
-            let mesh = Mesh {
-                nodes: x.clone(),
-                cells: model.mesh.cells.clone(),
-            };
-            let mut linearised =
-                linearise_neo_hookean(model, &mesh, carried_given, definite, without_motion)
-                    .map_err(inverted)?;
-            let springs = stabilize(model, &mut linearised.k, &partition);
-            (linearised, springs)
-        }
+    let (linearised, springs) = if neo_hookean {
+        let mesh = Mesh {
+            nodes: x.clone(),
+            cells: model.mesh.cells.clone(),
+        };
+        let mut linearised =
+            linearise_neo_hookean(model, &mesh, carried_given, definite, without_motion)
+                .map_err(inverted)?;
+        let springs = stabilize(model, &mut linearised.k, &partition);
+        (linearised, springs)
+    } else {
+        // (Both parts are made for a step that found skin near the objects.)
+        let objects = objects.expect("the objects' part").map_err(inverted)?;
+        let hands_part = hands_part.expect("the hands' part").map_err(inverted)?;
+        times.beside = objects.ms;
+        objects_kept = Some(objects.kept);
+        (hands_part.joined(objects.linearised), objects.springs)
     };
     let k = linearised.k;
     // (The hands' part assembled after the detection, on its side of the join.)
@@ -601,6 +600,13 @@ fn solve_grasp_with(
         hands: hand_frames,
         contact: Some(summary),
     }))
+}
+
+/// Whether a contact step's corotated objects take their turn's and their pressures' stiffness
+/// into the tangent: where the step has no motion to follow (`without_motion`, from a carried
+/// state; see [`solve_grasp_with`]) and the objects are corotated, not Neo-Hookean.
+fn complete_tangent(model: &Model, without_motion: bool) -> bool {
+    without_motion && !neo_hookean_objects(model) && model.corotates_objects()
 }
 
 /// The hands' part of a contact step's K (the objects' is made beside, src/solve/objects_factor.rs):

@@ -194,7 +194,7 @@ mod tests {
         println!("the bodies' own step: {:.4} mm", step.motion * 1e3);
 
         let solve = |known: Option<UntouchedStep>| {
-            let mut cache = ContactCache::new(model.ordering);
+            let mut cache = ContactCache::new(&model);
             cache.untouched = Some(known);
             let start = (Some(carried.as_slice()), Some(previous.as_slice()));
             solve_grasp(&model, &hands, start, Some(&still), &mut cache)
