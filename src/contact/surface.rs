@@ -8,8 +8,8 @@
 use super::bounds::Bounds;
 use nalgebra::Vector3;
 use parry3d_f64::bounding_volume::Aabb;
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
-use std::collections::HashMap;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
+use rustc_hash::FxHashMap;
 
 /// Facets around a corner whose normals turn from a facet's by less than this, degrees, are
 /// smoothed over in its contact normal ([`ContactSurface::smoothed_normal`]); an edge sharper
@@ -25,9 +25,9 @@ pub struct ContactSurface {
     pub triangles: Vec<[usize; 3]>,
     /// Unit normal at every node at the positions the surface was made from (see
     /// [`ContactSurface::node_normals`]).
-    reference_normals: HashMap<usize, Vector3<f64>>,
+    reference_normals: FxHashMap<usize, Vector3<f64>>,
     /// The triangles (indices into `triangles`) around each node.
-    around: HashMap<usize, Vec<usize>>,
+    around: FxHashMap<usize, Vec<usize>>,
 }
 
 /// The projection of a point onto a surface.
@@ -91,7 +91,7 @@ impl ContactSurface {
 
     /// The surface of `triangles` (counter-clockwise seen from outside) at `positions`.
     pub fn new(body: usize, triangles: Vec<[usize; 3]>, positions: &[Vector3<f64>]) -> Self {
-        let mut around: HashMap<usize, Vec<usize>> = HashMap::new();
+        let mut around: FxHashMap<usize, Vec<usize>> = FxHashMap::default();
         for (i, t) in triangles.iter().enumerate() {
             for &v in t {
                 around.entry(v).or_default().push(i);
@@ -100,7 +100,7 @@ impl ContactSurface {
         let mut s = ContactSurface {
             body,
             triangles,
-            reference_normals: HashMap::new(),
+            reference_normals: FxHashMap::default(),
             around,
         };
         s.reference_normals = s.node_normals(positions);
@@ -108,7 +108,7 @@ impl ContactSurface {
     }
 
     /// The node normals at the positions the surface was made from.
-    pub fn reference_normals(&self) -> &HashMap<usize, Vector3<f64>> {
+    pub fn reference_normals(&self) -> &FxHashMap<usize, Vector3<f64>> {
         &self.reference_normals
     }
 
@@ -122,8 +122,8 @@ impl ContactSurface {
 
     /// Unit normal at every node of the surface (area-weighted mean of its triangles'), at
     /// `positions`.
-    pub fn node_normals(&self, positions: &[Vector3<f64>]) -> HashMap<usize, Vector3<f64>> {
-        let mut out: HashMap<usize, Vector3<f64>> = Default::default();
+    pub fn node_normals(&self, positions: &[Vector3<f64>]) -> FxHashMap<usize, Vector3<f64>> {
+        let mut out: FxHashMap<usize, Vector3<f64>> = Default::default();
         for t in &self.triangles {
             let n = (positions[t[1]] - positions[t[0]]).cross(&(positions[t[2]] - positions[t[0]]));
             for &v in t {
@@ -178,12 +178,15 @@ impl ContactSurface {
     }
 
     /// A hierarchy over the triangles at `positions`, each box grown by `margin` (m).
-    pub fn hierarchy(&self, positions: &[Vector3<f64>], margin: f64) -> SurfaceBvh<'_> {
+    pub fn hierarchy<'a>(&'a self, positions: &'a [Vector3<f64>], margin: f64) -> SurfaceBvh<'a> {
         let boxes = self
             .triangles
             .iter()
             .map(|t| Bounds::of(t.map(|n| &positions[n])).grown(margin));
-        self.over_boxes(boxes)
+        SurfaceBvh {
+            grown: Some(Grown::of(positions, margin)),
+            ..self.over_boxes(boxes)
+        }
     }
 
     /// Its bounding-volume hierarchy over the boxes the facets sweep from `start` to `now`
@@ -203,12 +206,12 @@ impl ContactSurface {
     /// drag's every contact step builds it). The tree is another, so facets are met in another
     /// order: where two are equally near (a point over a convex edge), [`SurfaceBvh::project`]
     /// may keep the other one, with its own signed gap.
-    pub fn hierarchy_meeting(
-        &self,
-        positions: &[Vector3<f64>],
+    pub fn hierarchy_meeting<'a>(
+        &'a self,
+        positions: &'a [Vector3<f64>],
         margin: f64,
         region: &Bounds,
-    ) -> SurfaceBvh<'_> {
+    ) -> SurfaceBvh<'a> {
         let (facets, boxes): (Vec<usize>, Vec<Aabb>) = self
             .triangles
             .iter()
@@ -221,6 +224,7 @@ impl ContactSurface {
             surface: self,
             bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
             facets: Some(facets),
+            grown: Some(Grown::of(positions, margin)),
         }
     }
 
@@ -231,6 +235,7 @@ impl ContactSurface {
             surface: self,
             bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
             facets: None,
+            grown: None,
         }
     }
 }
@@ -241,6 +246,35 @@ pub struct SurfaceBvh<'a> {
     bvh: Bvh,
     /// The facet of each leaf, where the hierarchy holds only some (`None`: leaf i is facet i).
     facets: Option<Vec<usize>>,
+    /// Where every leaf's box is its facet's box grown by one margin, at the positions it was
+    /// built from: how near a subtree's facets may lie (`None`: boxes of another kind).
+    grown: Option<Grown<'a>>,
+}
+
+/// The margin a hierarchy's boxes were grown by, and the positions they were made from
+/// (borrowed while the hierarchy lives): a node's box shrunk by the margin holds its facets
+/// there.
+struct Grown<'a> {
+    margin: f64,
+    positions: &'a [Vector3<f64>],
+}
+
+impl<'a> Grown<'a> {
+    fn of(positions: &'a [Vector3<f64>], margin: f64) -> Grown<'a> {
+        Grown { margin, positions }
+    }
+
+    /// The distance from `x` to `node`'s box shrunk by the margin: no facet under it is nearer.
+    fn distance(&self, node: &BvhNode, x: &Vector3<f64>) -> f64 {
+        let (lo, hi) = (node.mins(), node.maxs());
+        (0..3)
+            .map(|i| {
+                let (a, b) = (lo[i] + self.margin, hi[i] - self.margin);
+                (a - x[i]).max(x[i] - b).max(0.0).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt()
+    }
 }
 
 impl SurfaceBvh<'_> {
@@ -261,9 +295,16 @@ impl SurfaceBvh<'_> {
         prefer: Option<&Vector3<f64>>,
         skip: impl Fn(&[usize; 3]) -> bool,
     ) -> Option<Projection> {
+        // How near the nearest facet lies, found first (nearer subtrees first: a few facets);
+        // then the facets no farther than that, met in the hierarchy's order as every facet
+        // was (a subtree whose facets all lie farther is left: none of them could be nearer,
+        // nor tie) — the same facet as a search of all of them.
+        let within = self.nearest_distance(x, positions, &skip)?;
         let mut best: Option<Projection> = None;
-        self.for_each_facet(x, positions, skip, |p, proj| {
+        let nearest = std::cell::Cell::new(within);
+        self.for_each_facet(x, positions, skip, &|| nearest.get(), |p, proj| {
             if nearer(&proj, best.as_ref(), (p[1] - p[0]).norm(), prefer) {
+                nearest.set(proj.distance);
                 best = Some(proj);
             }
         });
@@ -299,17 +340,81 @@ impl SurfaceBvh<'_> {
             .collect()
     }
 
+    /// The distance from `x` to the nearest facet whose grown box holds it and that `skip`
+    /// leaves (`None`: there is none); infinite where the boxes are not grown at `positions`.
+    fn nearest_distance(
+        &self,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        skip: &impl Fn(&[usize; 3]) -> bool,
+    ) -> Option<f64> {
+        let Some(grown) = self.grown_at(positions) else {
+            return Some(f64::INFINITY);
+        };
+        let query = BvhNode::leaf(Bounds::of([x]).aabb(), 0);
+        self.bvh
+            .find_best(
+                f64::MAX,
+                |node: &BvhNode, _| {
+                    if node.intersects(&query) {
+                        grown.distance(node, x)
+                    } else {
+                        f64::MAX
+                    }
+                },
+                |leaf, _| {
+                    let nodes = self.surface.triangles[self.facet(leaf)];
+                    if skip(&nodes) {
+                        return None;
+                    }
+                    project_on_triangle(x, &nodes.map(|n| positions[n])).map(|p| p.distance)
+                },
+            )
+            .map(|(_, d)| d)
+    }
+
+    /// How its boxes were grown, where they were made from `positions`.
+    fn grown_at(&self, positions: &[Vector3<f64>]) -> Option<&Grown<'_>> {
+        self.grown
+            .as_ref()
+            .filter(|g| std::ptr::eq(g.positions, positions))
+    }
+
     /// Calls `f` with the corners and the projection of `x` of every facet whose grown box
-    /// contains `x` and that `skip` leaves.
+    /// contains `x` and that `skip` leaves, of those that may lie within `within()` of `x` (a
+    /// subtree whose facets all lie farther by its box is left out).
     fn for_each_facet(
         &self,
         x: &Vector3<f64>,
         positions: &[Vector3<f64>],
         skip: impl Fn(&[usize; 3]) -> bool,
-        f: impl FnMut(&[Vector3<f64>; 3], Projection),
+        within: &dyn Fn() -> f64,
+        mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
-        let q = Bounds::of([x]).aabb();
-        self.for_each_facet_in(&q, x, positions, skip, f)
+        let query = BvhNode::leaf(Bounds::of([x]).aabb(), 0);
+        // (The boxes shrunk back to their facets' only at the positions they were made from.)
+        let grown = self.grown_at(positions);
+        let near = |node: &BvhNode| {
+            grown.is_none_or(|g| {
+                let d = within();
+                // (A relative allowance over the rounding of the boxes grown and shrunk, far
+                // above `nearer`'s tie.)
+                g.distance(node, x) <= d + 1e-6 * (d + g.margin)
+            })
+        };
+        for leaf in self
+            .bvh
+            .leaves(|node| node.intersects(&query) && near(node))
+        {
+            let nodes = self.surface.triangles[self.facet(leaf)];
+            if skip(&nodes) {
+                continue;
+            }
+            let p = nodes.map(|n| positions[n]);
+            if let Some(proj) = project_on_triangle(x, &p) {
+                f(&p, Projection { nodes, ..proj });
+            }
+        }
     }
 
     /// Calls `f` with the corners and the projection of `x` of every facet whose box meets
@@ -358,7 +463,7 @@ impl SurfaceBvh<'_> {
             nearest.distance + (positions[nearest.nodes[1]] - positions[nearest.nodes[0]]).norm();
         let mut pseudonormal = Vector3::zeros();
         let mut deepest: Option<Projection> = None;
-        self.for_each_facet(x, positions, skip, |p, proj| {
+        self.for_each_facet(x, positions, skip, &|| nearest.distance, |p, proj| {
             if (proj.distance - nearest.distance).abs() > 1e-9 * scale {
                 return;
             }
@@ -502,6 +607,92 @@ pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The nearest facet found by leaving the subtrees farther than the nearest is the one a
+    /// search of every facet whose grown box holds the point finds — the same facet, gap and
+    /// weights, where two or more facets are equally near too (points over the edges and
+    /// corners of a sheet's flat half, with and without a normal to prefer, some facets
+    /// skipped) — and so is the facet a point is deepest behind at an edge or a corner.
+    #[test]
+    fn the_pruned_search_finds_the_facet_a_search_of_every_facet_finds() {
+        // 20 × 20 quads 1 mm apart, split into triangles: flat for x < 8 mm, wavy beyond.
+        let n = 21;
+        let nodes: Vec<Vector3<f64>> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 * 1e-3, (i / n) as f64 * 1e-3);
+                let z = if x < 8e-3 {
+                    0.0
+                } else {
+                    0.5e-3 * (300.0 * x).sin() * (200.0 * y).cos()
+                };
+                Vector3::new(x, y, z)
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = j * n + i;
+                triangles.push([a, a + 1, a + n + 1]);
+                triangles.push([a, a + n + 1, a + n]);
+            }
+        }
+        let surface = ContactSurface::new(0, triangles, &nodes);
+        let margin = 2e-3;
+        let pruned = surface.hierarchy(&nodes, margin);
+        // (At other positions — the same values elsewhere — nothing is left out.)
+        let elsewhere = nodes.clone();
+        let mut rng = crate::contact::differences::Rng(777);
+        let (mut ties, mut found, mut behind) = (0, 0, 0);
+        for k in 0..3000 {
+            // Over a vertex or an edge's midpoint of the flat half, or anywhere.
+            let (i, j) = ((k % 15) as f64, ((k / 15) % 19) as f64);
+            let half = if k % 3 == 1 { 0.5 } else { 0.0 };
+            let x = match k % 4 {
+                3 => Vector3::from_fn(|a, _| rng.range(-1e-3, [21e-3, 21e-3, 2e-3][a])),
+                _ => Vector3::new(
+                    (i * 0.5 + half) * 1e-3,
+                    (j + half) * 1e-3,
+                    rng.range(-2e-3, 2e-3),
+                ),
+            };
+            let up = Vector3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0).normalize();
+            let prefer = (k % 2 == 0).then_some(&up);
+            let skip = |t: &[usize; 3]| k % 5 == 0 && t.contains(&(k % (n * n)));
+            let a = pruned.project(&x, &nodes, prefer, skip);
+            let b = pruned.project(&x, &elsewhere, prefer, skip);
+            match (&a, &b) {
+                (Some(a), Some(b)) => {
+                    assert_eq!(
+                        (a.nodes, a.gap, a.weights),
+                        (b.nodes, b.gap, b.weights),
+                        "{x:?}"
+                    );
+                    found += 1;
+                    let mut equally = 0;
+                    pruned.for_each_facet(&x, &elsewhere, skip, &|| f64::INFINITY, |p, q| {
+                        let scale = q.distance + (p[1] - p[0]).norm();
+                        equally += usize::from((q.distance - a.distance).abs() <= 1e-9 * scale);
+                    });
+                    ties += usize::from(equally > 1);
+                    let c = pruned.behind_feature(&x, &nodes, a, skip);
+                    let d = pruned.behind_feature(&x, &elsewhere, a, skip);
+                    assert_eq!(c.map(|c| (c.nodes, c.gap)), d.map(|d| (d.nodes, d.gap)));
+                    behind += usize::from(c.is_some());
+                }
+                (None, None) => {}
+                _ => panic!(
+                    "{x:?}: {:?} against {:?}",
+                    a.map(|p| p.nodes),
+                    b.map(|p| p.nodes)
+                ),
+            }
+        }
+        assert!(
+            found > 2000 && ties > 300,
+            "{found} found, {ties} with ties"
+        );
+        assert!(behind > 0, "no point behind an edge or a corner");
+    }
 
     /// A hierarchy over the facets that may hold a point of a box answers as the whole one for
     /// every point in the box — the same facets met, and (no two facets equally near a random

@@ -336,7 +336,33 @@ impl Workspace {
         // increments, although no increment alone would crush it.
         let mut path = flexion_path(model, posed, &moving, thumb_after_fingers);
         let Some(plan) = path.ahead_plan() else {
-            let too_deep = too_deep(posed);
+            // A keyframe of one knot (a slider nudged) from a frame in contact: whether it goes
+            // too deep judged and its knot flexed now, and beside both (on the other core) the
+            // objects' part of its one step (src/solve/objects_factor.rs). (A knot that fails
+            // here is flexed again by the step, which tells why.)
+            let too_deep = if has_objects && presses(model, posed, posed.contact.as_deref()) {
+                let (contact, caches) = (&mut self.contact, &mut self.caches);
+                let carried = posed.contact.as_deref();
+                let path = &mut path;
+                let flexed_here = || {
+                    let deep = too_deep(posed);
+                    let mut flex = |body: usize, state: HandState, angles: &[f64], parts: Parts| {
+                        flex_hand((model, caches, cancel), body, state, angles, parts)
+                    };
+                    for k in 0..moving.len() {
+                        if path.state_at(model, k, 1.0, &mut flex).is_err() {
+                            break;
+                        }
+                    }
+                    deep
+                };
+                rayon::join(flexed_here, || {
+                    contact.prepare_objects(model, carried, true)
+                })
+                .0
+            } else {
+                too_deep(posed)
+            };
             self.know_untouched_motion(model, has_objects);
             return self.move_along(model, posed, (&moving, &mut path), (too_deep, start), watch);
         };

@@ -4,7 +4,7 @@
 //! plan; a skin's pressed vertices against its others for the tactile map's patches).
 
 use nalgebra::Vector3;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Points bucketed for "is any within `radius` of x" queries.
 pub struct NearPoints {
@@ -13,13 +13,13 @@ pub struct NearPoints {
     /// put two points closer than the radius two buckets apart.
     width: f64,
     /// Each bucket's points with their indices in the set.
-    buckets: HashMap<[i64; 3], Vec<(usize, Vector3<f64>)>>,
+    buckets: FxHashMap<[i64; 3], Vec<(usize, Vector3<f64>)>>,
 }
 
 impl NearPoints {
     /// `points` for queries at distance `radius` (m).
     pub fn new(points: &[Vector3<f64>], radius: f64) -> NearPoints {
-        let mut buckets: HashMap<[i64; 3], Vec<(usize, Vector3<f64>)>> = HashMap::new();
+        let mut buckets: FxHashMap<[i64; 3], Vec<(usize, Vector3<f64>)>> = FxHashMap::default();
         let width = radius * (1.0 + 1e-9);
         if radius > 0.0 {
             for (i, p) in points.iter().enumerate() {
