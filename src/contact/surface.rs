@@ -184,7 +184,7 @@ impl ContactSurface {
             .iter()
             .map(|t| Bounds::of(t.map(|n| &positions[n])).grown(margin));
         SurfaceBvh {
-            grown: Some(Grown::of(positions, margin)),
+            grown: Some(Grown::of(positions, margin, self.triangles.iter())),
             ..self.over_boxes(boxes)
         }
     }
@@ -223,8 +223,12 @@ impl ContactSurface {
         SurfaceBvh {
             surface: self,
             bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes),
+            grown: Some(Grown::of(
+                positions,
+                margin,
+                facets.iter().map(|&f| &self.triangles[f]),
+            )),
             facets: Some(facets),
-            grown: Some(Grown::of(positions, margin)),
         }
     }
 
@@ -257,11 +261,25 @@ pub struct SurfaceBvh<'a> {
 struct Grown<'a> {
     margin: f64,
     positions: &'a [Vector3<f64>],
+    /// The longest edge of a facet held, m.
+    longest_edge: f64,
 }
 
 impl<'a> Grown<'a> {
-    fn of(positions: &'a [Vector3<f64>], margin: f64) -> Grown<'a> {
-        Grown { margin, positions }
+    fn of<'t>(
+        positions: &'a [Vector3<f64>],
+        margin: f64,
+        facets: impl Iterator<Item = &'t [usize; 3]>,
+    ) -> Grown<'a> {
+        let longest_edge = facets
+            .flat_map(|t| (0..3).map(move |i| (t[i], t[(i + 1) % 3])))
+            .map(|(a, b)| (positions[a] - positions[b]).norm())
+            .fold(0.0, f64::max);
+        Grown {
+            margin,
+            positions,
+            longest_edge,
+        }
     }
 
     /// The distance from `x` to `node`'s box shrunk by the margin: no facet under it is nearer.
@@ -301,10 +319,8 @@ impl SurfaceBvh<'_> {
         // nor tie) — the same facet as a search of all of them.
         let within = self.nearest_distance(x, positions, &skip)?;
         let mut best: Option<Projection> = None;
-        let nearest = std::cell::Cell::new(within);
-        self.for_each_facet(x, positions, skip, &|| nearest.get(), |p, proj| {
+        self.for_each_facet(x, positions, skip, within, |p, proj| {
             if nearer(&proj, best.as_ref(), (p[1] - p[0]).norm(), prefer) {
-                nearest.set(proj.distance);
                 best = Some(proj);
             }
         });
@@ -381,14 +397,14 @@ impl SurfaceBvh<'_> {
     }
 
     /// Calls `f` with the corners and the projection of `x` of every facet whose grown box
-    /// contains `x` and that `skip` leaves, of those that may lie within `within()` of `x` (a
+    /// contains `x` and that `skip` leaves, of those that may lie within `within` of `x` (a
     /// subtree whose facets all lie farther by its box is left out).
     fn for_each_facet(
         &self,
         x: &Vector3<f64>,
         positions: &[Vector3<f64>],
         skip: impl Fn(&[usize; 3]) -> bool,
-        within: &dyn Fn() -> f64,
+        within: f64,
         mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
         let query = BvhNode::leaf(Bounds::of([x]).aabb(), 0);
@@ -396,10 +412,11 @@ impl SurfaceBvh<'_> {
         let grown = self.grown_at(positions);
         let near = |node: &BvhNode| {
             grown.is_none_or(|g| {
-                let d = within();
-                // (A relative allowance over the rounding of the boxes grown and shrunk, far
-                // above `nearer`'s tie.)
-                g.distance(node, x) <= d + 1e-6 * (d + g.margin)
+                // (An allowance far above the rounding of the boxes grown and shrunk, and above
+                // the ties of `nearer` and `behind_feature`, relative to sizes their tolerances
+                // scale with: the distance and a facet's edge.)
+                let d = within;
+                g.distance(node, x) <= d + 1e-6 * (d + g.margin + g.longest_edge)
             })
         };
         for leaf in self
@@ -463,7 +480,7 @@ impl SurfaceBvh<'_> {
             nearest.distance + (positions[nearest.nodes[1]] - positions[nearest.nodes[0]]).norm();
         let mut pseudonormal = Vector3::zeros();
         let mut deepest: Option<Projection> = None;
-        self.for_each_facet(x, positions, skip, &|| nearest.distance, |p, proj| {
+        self.for_each_facet(x, positions, skip, nearest.distance, |p, proj| {
             if (proj.distance - nearest.distance).abs() > 1e-9 * scale {
                 return;
             }
@@ -669,7 +686,7 @@ mod tests {
                     );
                     found += 1;
                     let mut equally = 0;
-                    pruned.for_each_facet(&x, &elsewhere, skip, &|| f64::INFINITY, |p, q| {
+                    pruned.for_each_facet(&x, &elsewhere, skip, f64::INFINITY, |p, q| {
                         let scale = q.distance + (p[1] - p[0]).norm();
                         equally += usize::from((q.distance - a.distance).abs() <= 1e-9 * scale);
                     });

@@ -338,8 +338,9 @@ impl Workspace {
         let Some(plan) = path.ahead_plan() else {
             // A keyframe of one knot (a slider nudged) from a frame in contact: whether it goes
             // too deep judged and its knot flexed now, and beside both (on the other core) the
-            // objects' part of its one step (src/solve/objects_factor.rs). (A knot that fails
-            // here is flexed again by the step, which tells why.)
+            // objects' part of its one step (src/solve/objects_factor.rs; where it goes too
+            // deep, its steps along the motion take another tangent and make their own). A
+            // knot that fails here is kept failed for the step, which tells why.
             let too_deep = if has_objects && presses(model, posed, posed.contact.as_deref()) {
                 let (contact, caches) = (&mut self.contact, &mut self.caches);
                 let carried = posed.contact.as_deref();
@@ -350,7 +351,7 @@ impl Workspace {
                         flex_hand((model, caches, cancel), body, state, angles, parts)
                     };
                     for k in 0..moving.len() {
-                        if path.state_at(model, k, 1.0, &mut flex).is_err() {
+                        if !path.flex_to(model, k, 1.0, &mut flex) {
                             break;
                         }
                     }

@@ -266,6 +266,19 @@ impl FlexionPath {
         }
     }
 
+    /// Flexes hand `k`'s knots up to fraction `f` now, as [`Self::state_at`] would (a knot
+    /// flexed before the step that needs it); a knot that fails is kept failed, for that step
+    /// to tell why without flexing it again. Whether it was flexed.
+    pub(super) fn flex_to(&mut self, model: &Model, k: usize, f: f64, flex: &mut Flex<'_>) -> bool {
+        match self.state_at(model, k, f, flex) {
+            Ok(_) => true,
+            Err(e) => {
+                self.waiting[k].push_front(Err(e));
+                false
+            }
+        }
+    }
+
     /// Hand `k`'s next knot flexed ahead, if any is still to come.
     fn next_ahead(&mut self, k: usize) -> Option<Flexed> {
         if let Some(knot) = self.waiting[k].pop_front() {
