@@ -261,12 +261,16 @@ fn deliver(
     } else {
         SkinDetail::Full
     };
-    let list = draw_list_with(model, &frame, &job.visual, detail).map_err(error)?;
-    let tactile = if preview {
-        None
-    } else {
-        crate::state::tactile_peaks(model, &frame)
-    };
+    // (The tactile map's peaks on the other core meanwhile: both on a settling frame's way.)
+    let (list, tactile) = rayon::join(
+        || draw_list_with(model, &frame, &job.visual, detail),
+        || {
+            (!preview)
+                .then(|| crate::state::tactile_peaks(model, &frame))
+                .flatten()
+        },
+    );
+    let list = list.map_err(error)?;
     Ok(Solution {
         model: model.clone(),
         frame: Arc::new(frame),

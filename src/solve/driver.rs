@@ -948,8 +948,11 @@ pub(super) fn flexion_path(
         model,
         moving.iter().map(|(h, _, to)| {
             let hand = &posed.hands[*h];
-            let mut far = far_parts_of(model, hand.body, &hand.state, to);
-            let crushed = crushed_parts_of(model, hand.body, &hand.state, to);
+            // (Each skins the hand over the keyframe: on both cores.)
+            let (mut far, crushed) = rayon::join(
+                || far_parts_of(model, hand.body, &hand.state, to),
+                || crushed_parts_of(model, hand.body, &hand.state, to),
+            );
             for (f, c) in far.iter_mut().zip(crushed) {
                 *f &= !c;
             }
