@@ -405,7 +405,7 @@ impl SurfaceBvh<'_> {
         positions: &[Vector3<f64>],
         skip: impl Fn(&[usize; 3]) -> bool,
         within: f64,
-        mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
+        f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
         let query = BvhNode::leaf(Bounds::of([x]).aabb(), 0);
         // (The boxes shrunk back to their facets' only at the positions they were made from.)
@@ -419,19 +419,10 @@ impl SurfaceBvh<'_> {
                 g.distance(node, x) <= d + 1e-6 * (d + g.margin + g.longest_edge)
             })
         };
-        for leaf in self
+        let leaves = self
             .bvh
-            .leaves(|node| node.intersects(&query) && near(node))
-        {
-            let nodes = self.surface.triangles[self.facet(leaf)];
-            if skip(&nodes) {
-                continue;
-            }
-            let p = nodes.map(|n| positions[n]);
-            if let Some(proj) = project_on_triangle(x, &p) {
-                f(&p, Projection { nodes, ..proj });
-            }
-        }
+            .leaves(|node| node.intersects(&query) && near(node));
+        self.project_on_leaves(leaves, x, positions, skip, f)
     }
 
     /// Calls `f` with the corners and the projection of `x` of every facet whose box meets
@@ -442,9 +433,22 @@ impl SurfaceBvh<'_> {
         x: &Vector3<f64>,
         positions: &[Vector3<f64>],
         skip: impl Fn(&[usize; 3]) -> bool,
+        f: impl FnMut(&[Vector3<f64>; 3], Projection),
+    ) {
+        self.project_on_leaves(self.bvh.intersect_aabb(query), x, positions, skip, f)
+    }
+
+    /// Calls `f` with the corners and the projection of `x` of the facet of each of `leaves`
+    /// that `skip` leaves (and that is not flat), in their order.
+    fn project_on_leaves(
+        &self,
+        leaves: impl Iterator<Item = u32>,
+        x: &Vector3<f64>,
+        positions: &[Vector3<f64>],
+        skip: impl Fn(&[usize; 3]) -> bool,
         mut f: impl FnMut(&[Vector3<f64>; 3], Projection),
     ) {
-        for leaf in self.bvh.intersect_aabb(query) {
+        for leaf in leaves {
             let nodes = self.surface.triangles[self.facet(leaf)];
             if skip(&nodes) {
                 continue;
@@ -625,24 +629,13 @@ pub fn connected_pieces(triangles: &[[usize; 3]]) -> Vec<Vec<[usize; 3]>> {
 mod tests {
     use super::*;
 
-    /// The nearest facet found by leaving the subtrees farther than the nearest is the one a
-    /// search of every facet whose grown box holds the point finds — the same facet, gap and
-    /// weights, where two or more facets are equally near too (points over the edges and
-    /// corners of a sheet's flat half, with and without a normal to prefer, some facets
-    /// skipped) — and so is the facet a point is deepest behind at an edge or a corner.
-    #[test]
-    fn the_pruned_search_finds_the_facet_a_search_of_every_facet_finds() {
-        // 20 × 20 quads 1 mm apart, split into triangles: flat for x < 8 mm, wavy beyond.
-        let n = 21;
+    /// A sheet of (n − 1)² quads 1 mm apart over x and y, each split into two triangles, at
+    /// height `z(x, y)`: its nodes and its surface.
+    fn sheet(n: usize, z: impl Fn(f64, f64) -> f64) -> (Vec<Vector3<f64>>, ContactSurface) {
         let nodes: Vec<Vector3<f64>> = (0..n * n)
             .map(|i| {
                 let (x, y) = ((i % n) as f64 * 1e-3, (i / n) as f64 * 1e-3);
-                let z = if x < 8e-3 {
-                    0.0
-                } else {
-                    0.5e-3 * (300.0 * x).sin() * (200.0 * y).cos()
-                };
-                Vector3::new(x, y, z)
+                Vector3::new(x, y, z(x, y))
             })
             .collect();
         let mut triangles = Vec::new();
@@ -654,6 +647,24 @@ mod tests {
             }
         }
         let surface = ContactSurface::new(0, triangles, &nodes);
+        (nodes, surface)
+    }
+
+    /// A wave 0.5 mm high.
+    fn wave(x: f64, y: f64) -> f64 {
+        0.5e-3 * (300.0 * x).sin() * (200.0 * y).cos()
+    }
+
+    /// The nearest facet found by leaving the subtrees farther than the nearest is the one a
+    /// search of every facet whose grown box holds the point finds — the same facet, gap and
+    /// weights, where two or more facets are equally near too (points over the edges and
+    /// corners of a sheet's flat half, with and without a normal to prefer, some facets
+    /// skipped) — and so is the facet a point is deepest behind at an edge or a corner.
+    #[test]
+    fn the_pruned_search_finds_the_facet_a_search_of_every_facet_finds() {
+        // Flat for x < 8 mm, wavy beyond.
+        let n = 21;
+        let (nodes, surface) = sheet(n, |x, y| if x < 8e-3 { 0.0 } else { wave(x, y) });
         let margin = 2e-3;
         let pruned = surface.hierarchy(&nodes, margin);
         // (At other positions — the same values elsewhere — nothing is left out.)
@@ -717,23 +728,8 @@ mod tests {
     /// hand's skin against the box of a ball).
     #[test]
     fn a_hierarchy_over_the_facets_near_a_box_answers_as_the_whole_one_inside_it() {
-        // A wavy sheet of 20 × 20 quads, 1 mm apart, split into triangles.
-        let n = 21;
-        let nodes: Vec<Vector3<f64>> = (0..n * n)
-            .map(|i| {
-                let (x, y) = ((i % n) as f64 * 1e-3, (i / n) as f64 * 1e-3);
-                Vector3::new(x, y, 0.5e-3 * (300.0 * x).sin() * (200.0 * y).cos())
-            })
-            .collect();
-        let mut triangles = Vec::new();
-        for j in 0..n - 1 {
-            for i in 0..n - 1 {
-                let a = j * n + i;
-                triangles.push([a, a + 1, a + n + 1]);
-                triangles.push([a, a + n + 1, a + n]);
-            }
-        }
-        let surface = ContactSurface::new(0, triangles, &nodes);
+        // A wavy sheet.
+        let (nodes, surface) = sheet(21, wave);
         let margin = 2e-3;
         let region = Bounds {
             lo: Vector3::new(4e-3, 5e-3, -3e-3),
