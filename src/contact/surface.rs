@@ -415,8 +415,7 @@ impl SurfaceBvh<'_> {
                 // (An allowance far above the rounding of the boxes grown and shrunk, and above
                 // the ties of `nearer` and `behind_feature`, relative to sizes their tolerances
                 // scale with: the distance and a facet's edge.)
-                let d = within;
-                g.distance(node, x) <= d + 1e-6 * (d + g.margin + g.longest_edge)
+                g.distance(node, x) <= within + 1e-6 * (within + g.margin + g.longest_edge)
             })
         };
         let leaves = self

@@ -809,8 +809,9 @@ fn factorization_parallelism(work: f64) -> Par {
 impl PartitionedSolver {
     /// Solves K11·X = B in place with the factors of the last [`PartitionedSolver::solve`] (or
     /// [`PartitionedSolver::factor_ahead`]), for `columns` right-hand sides stored column by
-    /// column in `b` (each of length NBEQ, ordered as the partition's free dofs). Costs substitutions only: this is what lets contact
-    /// constraints be added through a Schur complement without refactorizing.
+    /// column in `b` (each of length NBEQ, ordered as the partition's free dofs). Costs
+    /// substitutions only: this is what lets contact constraints be added through a Schur
+    /// complement without refactorizing.
     pub fn solve_factored(&mut self, b: &mut [f64], columns: usize) -> Result<(), SolveError> {
         let Some(layout) = self.layout.as_ref() else {
             return Err(SolveError::Faer("no factorization to reuse".into()));
