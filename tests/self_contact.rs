@@ -236,7 +236,10 @@ fn skin_crossings(
     let skin = &hand.contact_skin;
     let now = skin.positions(positions);
     let rest = skin.positions(&hand.flesh.mesh.nodes);
-    let triangles: Vec<[usize; 3]> = skin.triangle_indices();
+    // Split as the self-contact splits them: each quad along its shorter diagonal at rest.
+    let quads: Vec<[usize; 4]> = skin.quads.iter().map(|q| q.map(|v| v as usize)).collect();
+    let triangles =
+        prehensile::contact::ContactSurface::from_quads_split_at(0, &quads, &rest, &now).triangles;
     let corners = |t: &[usize; 3], x: &[Vector3<f64>]| t.map(|v| x[v]);
     let centre = |t: &[usize; 3], x: &[Vector3<f64>]| (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
     let cell = 2.0 * hand.flesh.spacing;
@@ -322,8 +325,7 @@ fn index_crease_folded(settings: FlexionSettings) -> (HandState, KeyframeStats, 
         stats.factorizations
     );
     assert!(free_crossings >= 10, "{free_crossings} crossings");
-    assert_eq!(held_crossings, 0);
-    assert!(all_held < all_free, "{all_free} → {all_held}");
+    assert_eq!((held_crossings, all_held), (0, 0), "{all_free} without");
     assert!(stats.self_contacts > 0 && stats.self_contact_force > 0.1);
     assert!(volume.abs() < 2e-3, "flesh volume {volume:+.2e}");
     assert!(
@@ -334,8 +336,9 @@ fn index_crease_folded(settings: FlexionSettings) -> (HandState, KeyframeStats, 
 }
 
 /// The index PIP flexed to its limit, 110°, in 10° increments (the default local region), by the
-/// corotational increments: the crease's skin held by the active set
-/// (`index_crease_folded`).
+/// corotational increments: the crease's skin held by the barrier, each increment Newton on its
+/// quadratic energy plus the barrier's change (`index_crease_folded`; with the active set before
+/// it, the lateral skin of the joint crossed itself in 10 triangle pairs).
 #[test]
 fn the_folded_pip_crease_does_not_cross_itself() {
     index_crease_folded(Default::default());
@@ -708,10 +711,12 @@ fn the_skin_pressed_on_itself_is_on_the_tactile_map() {
 }
 
 /// The press of the skin on itself under refinement (issue 16): the middle finger adducted onto
-/// the ring finger (as above) at hand resolutions 1 and 1.5. The press, what the ring's bones
-/// feel and the peak read over 3.2 mm patches agree between the two (measured 2026-12-04: 1.946
-/// / 1.976 N, 1.833 / 1.913 N, 15.8 / 14.0 kPa; 1.968 N, 1.891 N, 15.7 kPa at resolution 2),
-/// where one vertex's peak reads 42 / 79 kPa (69 kPa at 2): docs/hand.md.
+/// the ring finger (as above) at hand resolutions 1 and 1.5, the skin held apart by the barrier.
+/// What the ring's bones feel and the peak read over 3.2 mm patches agree between the two within
+/// 8 % and 15 %, the press within 12 % (measured 2026-12-05: 4.138 / 4.484 N, 22.1 / 25.2 kPa,
+/// 4.224 / 4.670 N; at resolution 2, 4.674 N, 22.3 kPa, 5.051 N: the bones' reaction converging
+/// at an observed order of 0.85, the press more slowly — the barrier holds skin up to 1 mm
+/// apart; docs/hand.md, "Self-contact").
 #[test]
 fn the_press_read_over_patches_converges_under_refinement() {
     let read = |resolution: f64| {
@@ -743,7 +748,7 @@ fn the_press_read_over_patches_converges_under_refinement() {
     let (coarse, fine) = (read(1.0), read(1.5));
     let apart = |a: f64, b: f64| (a - b).abs() / a.max(b);
     assert!(
-        apart(coarse.0, fine.0) < 0.05,
+        apart(coarse.0, fine.0) < 0.12,
         "press {coarse:?} / {fine:?}"
     );
     assert!(apart(coarse.1, fine.1) < 0.08, "ring {coarse:?} / {fine:?}");
@@ -930,8 +935,10 @@ fn flesh_crushed_says_where_and_stopping_short_works() {
 /// the pulp and the palm's flesh; at 95° / 60°, 11.2 mm). Before the self-contact followed each
 /// skin point's path over an increment (continuous collision, 2026-12-02) this stopped at
 /// little PIP 50.7° ("the skin's self-contact did not settle"). Asserted: it closes; the fingers
-/// press on each other and on the palm; the skin inside its own flesh beyond its own
-/// neighbourhood is at most a third of what it is without (584 → 155 measured); the flesh keeps
+/// press on each other and on the palm; the skin crosses itself nowhere (`skin_crossings`; 318
+/// triangle pairs with the active set of point-on-facet rows before the barrier, 2026-12-05,
+/// which held no edge against an edge); the skin inside its own flesh beyond its own
+/// neighbourhood is at most a third of what it is without (584 → 90 measured); the flesh keeps
 /// its volume to 1.5 %; the bones balance (the contact is internal to the hand).
 #[test]
 fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
@@ -950,10 +957,11 @@ fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
     let reactions = held.bone_reactions(hand);
     let total: Vector3<f64> = reactions.iter().sum();
     let largest = reactions.iter().map(|r| r.norm()).fold(0.0, f64::max);
+    let crossings = crease_and_all_crossings(hand, &held.positions);
     eprintln!(
-        "skin inside its own flesh {inside_free} → {inside_held}; {} points, {:.3} N; \
-         {} increments, {} halvings; volume {:+.3} %; largest bone reaction {largest:.3} N, \
-         Σ {:.2e} N",
+        "skin inside its own flesh {inside_free} → {inside_held}; crossing itself {crossings:?}; \
+         {} pairs, {:.3} N; {} increments, {} halvings; volume {:+.3} %; largest bone reaction \
+         {largest:.3} N, Σ {:.2e} N",
         stats.self_contacts,
         stats.self_contact_force,
         stats.increments_taken,
@@ -962,6 +970,7 @@ fn the_four_fingers_close_into_a_fist_with_the_skin_kept_out_of_itself() {
         total.norm()
     );
     assert!(stats.self_contacts > 50 && stats.self_contact_force > 1.0);
+    assert_eq!(crossings, (0, 0));
     assert!(
         inside_free > 300 && 3 * inside_held <= inside_free,
         "{inside_free} → {inside_held}"
@@ -1017,15 +1026,18 @@ fn full_fist_closes(resolution: f64, volume: f64) -> f64 {
 }
 
 /// The shipped full fist's two keyframes (the four fingers, then the thumb folding over) asked
-/// as one: with the skin kept out of itself the straight path does not settle (the thumb
-/// folding over fingers still closing), so the keyframe goes with the fingers first and the
-/// thumb after them — the same increments from the same states, each stage's FEM region chosen
-/// where it starts — and ends where the two keyframes end: every bone's reaction, the flesh's
-/// volume and the skin inside its own flesh the same.
+/// as one. With the active set of point-on-facet rows (before 2026-12-05) its straight path did
+/// not settle — the thumb folding over fingers still closing — and the keyframe went in two
+/// stages, the fingers first and the thumb after them, ending where the two keyframes end. With
+/// the barrier the straight path closes: the same pose, the bones balanced, the flesh's volume
+/// and the skin inside its own flesh as after the two keyframes (a path of its own: the joints
+/// all at once), the largest bone reaction within a tenth of theirs. (The staged fallback is
+/// still tried where the straight path fails: `the_full_fist_with_self_contact_says_where_it_
+/// stops_and_its_advice_works`, where both fail.)
 #[test]
-fn the_shipped_full_fist_in_one_keyframe_ends_where_its_two_keyframes_end() {
-    // The simple form's: the anatomical hand's (the shipped scene's) straight path settles —
-    // its one keyframe is not staged, so this fallback is not exercised there.
+fn the_shipped_full_fist_closes_in_one_keyframe_as_in_two() {
+    // The simple form's (the anatomical hand's, the shipped scene's, settled straight with the
+    // active set already).
     let text = crate::common::with_hand_form(
         &std::fs::read_to_string("assets/scenes/hand-full-fist.toml").unwrap(),
         "simple",
@@ -1041,20 +1053,24 @@ fn the_shipped_full_fist_in_one_keyframe_ends_where_its_two_keyframes_end() {
     let (one, two) = (solve(&one), solve(&two));
     let a = &one.report.frames.last().unwrap().hands["hand"];
     let b = &two.report.frames.last().unwrap().hands["hand"];
-    assert!(a.motion.thumb_after_fingers && !b.motion.thumb_after_fingers);
+    assert!(!a.motion.thumb_after_fingers && !b.motion.thumb_after_fingers);
     assert_eq!(a.pose, b.pose);
-    let largest = b.bones.values().map(|r| r.magnitude).fold(0.0, f64::max);
-    for (bone, r) in &b.bones {
-        let d = Vector3::from(a.bones[bone].reaction) - Vector3::from(r.reaction);
-        assert!(d.norm() <= 1e-9 * largest, "{bone}: {d}");
-    }
-    assert!((a.volume_change - b.volume_change).abs() < 1e-12);
-    assert_eq!(a.skin_overlap.vertices, b.skin_overlap.vertices);
+    let largest = |h: &prehensile::export::report::HandReport| {
+        h.bones.values().map(|r| r.magnitude).fold(0.0, f64::max)
+    };
+    let (la, largest) = (largest(a), largest(b));
     eprintln!(
-        "one keyframe: largest bone reaction {largest:.4} N, volume {:+.3} %, skin inside {}",
+        "one keyframe: largest bone reaction {la:.4} N, volume {:+.3} %, skin inside {}; two: \
+         {largest:.4} N, {:+.3} %, {}",
         100.0 * a.volume_change,
-        a.skin_overlap.vertices
+        a.skin_overlap.vertices,
+        100.0 * b.volume_change,
+        b.skin_overlap.vertices
     );
+    assert!(Vector3::from(a.bone_reaction_sum).norm() < 1e-7 * la);
+    assert!((la - largest).abs() < 0.1 * largest, "{la} / {largest} N");
+    assert!((a.volume_change - b.volume_change).abs() < 2e-3);
+    assert!(a.skin_overlap.vertices <= 2 * b.skin_overlap.vertices.max(50));
 }
 
 #[test]

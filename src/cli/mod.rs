@@ -206,8 +206,8 @@ enum BenchCommand {
     },
     /// The skin kept out of itself (self-contact) against the skin passing through itself: the
     /// index PIP to 110°, the middle finger adducted onto the ring finger, a full fist, per hand
-    /// resolution — time, increments, factorizations, the pairs held (a point on a facet; in
-    /// the nonlinear tier also an edge on an edge) and their force.
+    /// resolution — time, increments, factorizations, the pairs held by the barrier (a point
+    /// near a facet, an edge near an edge) and their force.
     SelfContact {
         /// Hand mesh resolutions, 0.5 to 4, comma separated.
         #[arg(

@@ -19,6 +19,7 @@
 
 use super::added_energy::{with_blocks, AddedEnergy, NodeBlock};
 use super::assembly::Stiffness;
+use super::elastic_energy::ElasticEnergy;
 use super::hex8_hyperelastic::Volumetric;
 use super::hyperelastic_body::{HyperelasticBody, InvertedElement};
 use super::material::Material;
@@ -412,13 +413,13 @@ pub fn solve_increment(
 /// surfaces apart): Newton lowers their sum, its tangent holds the added energy's Hessian, and
 /// every step is cut short where the surfaces would pass through each other.
 pub fn solve_increment_with(
-    body: &HyperelasticBody,
+    body: &dyn ElasticEnergy,
     (partition, start, target, loads): (&DofPartition, &[f64], &[f64], &[f64]),
     added: Option<&dyn AddedEnergy>,
     settings: &NewtonSettings,
     solver: &mut PartitionedSolver,
 ) -> IncrementOutcome {
-    let dofs = body.pattern().dofs;
+    let dofs = 3 * body.mesh().node_count();
     assert_eq!(partition.prescribed.len(), dofs);
     assert_eq!(start.len(), dofs);
     assert_eq!(target.len(), dofs);
@@ -471,8 +472,8 @@ impl StepRecord {
 }
 
 /// One load increment: Newton iterations at load factor `factor` from a previous equilibrium.
-struct Increment<'a, 'b> {
-    body: &'a HyperelasticBody<'b>,
+struct Increment<'a> {
+    body: &'a dyn ElasticEnergy,
     partition: &'a DofPartition,
     prescribed: &'a [f64],
     loads: &'a [f64],
@@ -493,7 +494,7 @@ fn inverted(e: InvertedElement) -> StepFailure {
     }
 }
 
-impl Increment<'_, '_> {
+impl Increment<'_> {
     /// ‖R_u‖ over the free dofs and the relative residual (against `peak` too, the largest
     /// ‖f_int‖ met when [`NewtonSettings::relative_to_peak`]; 0 otherwise).
     fn residual(&self, ext: &[f64], fint: &[f64], peak: f64) -> (f64, f64) {
@@ -736,7 +737,7 @@ impl Increment<'_, '_> {
     }
 }
 
-impl Increment<'_, '_> {
+impl Increment<'_> {
     /// The energy and the internal forces at `u`, the added energy's included (an infinite
     /// energy where it is not admissible: no step goes there).
     fn state(&self, u: &[f64]) -> Result<(f64, Vec<f64>), InvertedElement> {
@@ -760,7 +761,7 @@ fn potential_of(energy: f64, ext: &[f64], u: &[f64]) -> f64 {
     energy - dot(ext, u)
 }
 
-impl Increment<'_, '_> {
+impl Increment<'_> {
     /// A step from `u` along the direction v of most negative curvature of `k` (the exact
     /// tangent), if it has one: signed so
     /// that the potential does not rise to first order (rᵀv ≥ 0, r = f_ext − f_int), of length

@@ -13,10 +13,13 @@
 //! follow their bones geometrically (the fast path).
 
 use super::error::SimError;
+use super::flexion_barrier::BarrierIncrement;
+use super::flexion_nonlinear::local_displacements;
 use super::linear_factor::LinearFactor;
 use super::region::{sub_problem, SubProblem};
-use super::self_contact::{Increment, OwnSkin};
+use super::self_contact::{barrier_kappa, OwnSkin};
 use super::step_control::StepControl;
+use crate::contact::SelfBarrier;
 use crate::fem::assembly::{assemble, assemble_warped};
 use crate::fem::hex8::relative_min_jacobian;
 use crate::fem::solve::{FillOrdering, PartitionedSolver};
@@ -261,10 +264,14 @@ impl<'a> Flexion<'a> {
             return Ok(stats);
         };
         const MAX_HALVINGS: usize = 4;
-        // The region's skin, kept out of itself (the scheme's increments are linear: the paper's
-        // and the corotated ones).
+        // The region's skin, kept out of itself by a barrier (src/solve/flexion_barrier.rs).
         let own_skin = match (&self.settings.self_contact, &plan.sub) {
-            (Some(contact), Some(sub)) => OwnSkin::new(self.hand, sub, contact),
+            (Some(contact), Some(sub)) => OwnSkin::new(self.hand, sub, contact).map(|skin| {
+                let young = sub.materials.iter().map(|m| m.young).fold(0.0, f64::max);
+                let start = local_displacements(sub, &state.positions);
+                let barrier = skin.barrier(&sub.mesh.nodes, barrier_kappa(young), &start);
+                (skin, barrier)
+            }),
             _ => None,
         };
 
@@ -290,33 +297,16 @@ impl<'a> Flexion<'a> {
                     FlexionScheme::Corotational => Some(cell_rotations(self.hand, sub, &delta)),
                     _ => None,
                 };
-                let own = own_skin.as_ref();
+                let own = own_skin.as_ref().map(|(skin, barrier)| (skin, barrier));
                 match self.solve_increment(sub, own, state, &mut next, rotations, &mut stats) {
                     Ok(None) => {}
                     // A crushed cell, or a self-contact that did not settle: half the step.
-                    Ok(Some(_)) | Err(SimError::Contact(_)) if control.halve() => {
+                    Ok(Some(_)) | Err(SimError::SelfContactUnsettled { .. }) if control.halve() => {
                         stats.halvings += 1;
                         continue;
                     }
-                    Err(SimError::Contact(e)) => {
+                    Err(SimError::SelfContactUnsettled { reason, .. }) => {
                         let (joint, angle) = self.moving_most(&plan, &angles);
-                        // The contact solver's account without its own advice (which is for
-                        // contact between bodies).
-                        let reason = match e {
-                            crate::contact::ContactError::NotConverged {
-                                iterations,
-                                active,
-                                penetration,
-                                tolerance,
-                                ..
-                            } => format!(
-                                "{active} skin points held, {:.2} mm of skin still through skin (limit \
-                                 {:.2} mm) after {iterations} iterations",
-                                penetration * 1e3,
-                                tolerance * 1e3
-                            ),
-                            other => other.to_string(),
-                        };
                         return Err(SimError::SelfContactUnsettled {
                             body: self.body.clone(),
                             joint,
@@ -334,7 +324,7 @@ impl<'a> Flexion<'a> {
                             rest_position_mm: self.rest_centre_mm(cell),
                             joint,
                             angle,
-                            self_contact: own.is_some(),
+                            self_contact: own_skin.is_some(),
                             share: None,
                         });
                     }
@@ -630,7 +620,7 @@ impl Flexion<'_> {
     fn solve_increment(
         &mut self,
         sub: &SubProblem,
-        own_skin: Option<&OwnSkin>,
+        own_skin: Option<(&OwnSkin, &SelfBarrier)>,
         state: &mut HandState,
         next: &mut [Vector3<f64>],
         rotations: Option<Vec<Matrix3<f64>>>,
@@ -672,36 +662,35 @@ impl Flexion<'_> {
                 prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
             }
         }
-        // The self-contact's forces at the skin's vertices, added once the increment is taken.
+        // The self-contact's forces at the skin's vertices (the state's), set once the increment
+        // is taken.
         let mut pressed = None;
         let solution = match own_skin {
-            None => self
-                .caches
-                .solver
-                .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
-                .map_err(|source| SimError::Solve {
-                    body: self.body.clone(),
-                    source,
-                })?,
-            Some(skin) => {
-                let result =
-                    self.with_self_contact(skin, &k, sub, (&prescribed, &loads), &mesh, absolute)?;
-                stats.self_contacts = result.contacts.len();
-                stats.self_contact_force = result.normal_force();
-                if !result.contacts.is_empty() {
-                    let mut forces = vec![0.0; self.hand.contact_skin.vertex_count()];
-                    skin.add_forces(&result.contacts, &mut forces);
-                    pressed = Some(forces);
-                }
-                let mut solution = result.solution;
-                if absolute {
-                    // Back to positions: the unknowns of the corotated increment.
-                    for (i, p) in mesh.nodes.iter().enumerate() {
-                        for a in 0..3 {
-                            solution.displacement[3 * i + a] += p[a];
-                        }
+            Some((skin, barrier)) => {
+                let stiffness = (&k, loads.as_slice(), absolute);
+                let at = (&mesh, &*next);
+                match self.barrier_increment(sub, barrier, stiffness, at, stats)? {
+                    BarrierIncrement::Crushed(cell, q) => return Ok(Some((cell, q))),
+                    BarrierIncrement::Solved(solution, u) => {
+                        let vertices = self.hand.contact_skin.vertex_count();
+                        let (forces, count, total) = skin.barrier_forces(barrier, &u, vertices);
+                        stats.self_contacts = count;
+                        stats.self_contact_force = total;
+                        pressed = Some(if count > 0 { forces } else { Vec::new() });
+                        solution
                     }
                 }
+            }
+            None => {
+                let solution = self
+                    .caches
+                    .solver
+                    .solve(&k, &sub.partition, &prescribed, &loads, &mesh.nodes)
+                    .map_err(|source| SimError::Solve {
+                        body: self.body.clone(),
+                        source,
+                    })?;
+                stats.factorizations += 1;
                 solution
             }
         };
@@ -709,7 +698,6 @@ impl Flexion<'_> {
         stats.symbolic_ms += s.symbolic_ms;
         stats.factorization_ms += s.factorization_ms;
         stats.solve_ms += s.solve_ms;
-        stats.factorizations += 1;
         stats.relative_residual = stats.relative_residual.max(s.relative_residual);
         for (i, &n) in sub.nodes.iter().enumerate() {
             if !sub.partition.prescribed[3 * i] {
@@ -727,7 +715,7 @@ impl Flexion<'_> {
             }
         }
         if let Some(forces) = pressed {
-            state.self_contact = crate::state::blend_forces(&state.self_contact, 1.0, &forces, 1.0);
+            state.self_contact = forces;
         }
         for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {
@@ -741,47 +729,6 @@ impl Flexion<'_> {
             }
         }
         Ok(None)
-    }
-}
-
-impl Flexion<'_> {
-    /// The increment with the region's skin kept out of itself (src/solve/self_contact.rs),
-    /// its unknowns the displacements from `mesh` (the region where the increment starts): the
-    /// corotated increment's (`absolute`: its unknowns are the new positions, its prescribed
-    /// values the bones' new positions) is shifted by the current positions.
-    fn with_self_contact(
-        &mut self,
-        skin: &OwnSkin,
-        k: &crate::fem::assembly::Stiffness,
-        sub: &SubProblem,
-        (prescribed, loads): (&[f64], &[f64]),
-        mesh: &Mesh,
-        absolute: bool,
-    ) -> Result<crate::contact::ContactResult, SimError> {
-        let (prescribed, loads) = if absolute {
-            let x: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
-            let kx = k.mul(&x);
-            let loads: Vec<f64> = loads.iter().zip(&kx).map(|(r, f)| r - f).collect();
-            let prescribed: Vec<f64> = prescribed.iter().zip(&x).map(|(p, x)| p - x).collect();
-            (prescribed, loads)
-        } else {
-            (prescribed.to_vec(), loads.to_vec())
-        };
-        let increment = Increment {
-            k,
-            partition: &sub.partition,
-            prescribed: &prescribed,
-            loads: &loads,
-            nodes: &mesh.nodes,
-        };
-        skin.solve(&mut self.caches.solver, increment)
-            .map_err(|e| match e {
-                crate::contact::ContactError::Solve(source) => SimError::Solve {
-                    body: self.body.clone(),
-                    source,
-                },
-                other => SimError::Contact(other),
-            })
     }
 }
 

@@ -405,7 +405,7 @@ impl Flexion<'_> {
 }
 
 /// The displacements from rest of `sub`'s local nodes where the hand's nodes are at `positions`.
-fn local_displacements(sub: &SubProblem, positions: &[Vector3<f64>]) -> Vec<f64> {
+pub(super) fn local_displacements(sub: &SubProblem, positions: &[Vector3<f64>]) -> Vec<f64> {
     sub.nodes
         .iter()
         .enumerate()

@@ -9,6 +9,7 @@ mod detection;
 mod driver;
 mod error;
 mod flexion;
+mod flexion_barrier;
 mod flexion_nonlinear;
 mod frame_stress;
 mod gas;

@@ -2,23 +2,17 @@
 //! itself — the two sides of a flexion crease, phalanx against phalanx, fingertip against palm,
 //! finger against finger.
 //!
-//! Each increment of the FEM region is solved as a contact problem: equations (7)–(8) on the
-//! increment's stiffness, with the region's skin points (the contact skin's vertices embedded in
-//! its cells) as slaves against the region's own skin facets beyond a point's own neighbourhood
-//! that its path over the increment passed through, or that it lay on where the increment
-//! started (`contact::OwnNeighbourhood`: continuous collision of the skin with itself), by the
-//! exact method (`contact::solve_lagrange`:
-//! an active set of multipliers through the Schur complement of the increment's factor). The
-//! contact forces are internal to the hand: they push flesh against flesh, and where they reach a
-//! bone node they go into its reaction (equation (8)), so the bones feel the fold.
+//! The region's skin points (the contact skin's vertices embedded in its cells) and facets beyond
+//! a point's own neighbourhood (`contact::OwnNeighbourhood`) are kept apart by a barrier in the
+//! energy each increment lowers (`contact::SelfBarrier`: point–facet and edge–edge pairs) — the
+//! nonlinear tier's Newton (`flexion_nonlinear`) and the linear increments' (`flexion_barrier`).
+//! The press is internal to the hand: it pushes flesh against flesh, and where it reaches a bone
+//! node it goes into its reaction (equation (8)), so the bones feel the fold. Here: the region's
+//! skin, the barrier over it, and where a keyframe's skin will meet itself (the region grows
+//! there).
 
 use super::region::SubProblem;
-use crate::contact::{
-    solve_lagrange, ContactError, ContactProblem, ContactResult, ContactSettings, ContactSurface,
-    EmbeddedPoints, OwnNeighbourhood, PairSides, SurfacePair,
-};
-use crate::fem::assembly::Stiffness;
-use crate::fem::solve::PartitionedSolver;
+use crate::contact::{ContactSettings, ContactSurface, EmbeddedPoints, OwnNeighbourhood};
 use crate::hand::{Blend, HandModel, BASE_SPACING};
 use nalgebra::{Isometry3, Vector3};
 use std::sync::Arc;
@@ -33,8 +27,6 @@ pub(super) struct OwnSkin {
     quads: Vec<[usize; 4]>,
     /// Which facets each point may not meet.
     own: Arc<OwnNeighbourhood>,
-    /// The contact settings of the self-contact.
-    settings: ContactSettings,
 }
 
 /// The neighbourhood radius of the self-contact, m: skin points nearer than this along the skin
@@ -95,78 +87,11 @@ impl OwnSkin {
             vertices,
             quads,
             own: Arc::new(own),
-            settings: ContactSettings {
-                pairs: PairSides::Both,
-                ..*settings
-            },
         })
     }
-
-    /// Solves the increment K·ΔU = R with the prescribed ΔU and the skin kept out of itself,
-    /// from the region's nodes at `nodes` (ΔU measured from them). Frictionless: skin folding
-    /// on skin slides.
-    pub(super) fn solve(
-        &self,
-        solver: &mut PartitionedSolver,
-        increment: Increment,
-    ) -> Result<ContactResult, ContactError> {
-        let Increment {
-            k,
-            partition,
-            prescribed,
-            loads,
-            nodes,
-        } = increment;
-        let positions = self.embedded.extend(nodes);
-        let surfaces = vec![ContactSurface::from_quads(0, &self.quads, &positions)];
-        let pairs = vec![SurfacePair {
-            slaves: surfaces[0].nodes(),
-            surface: 0,
-            primary: true,
-            slave_surface: Some(0),
-            own: Some(self.own.clone()),
-        }];
-        let problem = ContactProblem {
-            k,
-            partition,
-            prescribed,
-            loads,
-            positions: &positions,
-            embedded: &self.embedded,
-            obstacles: &[],
-            obstacle_candidates: &[],
-            surfaces: &surfaces,
-            pairs: &pairs,
-            friction: &|_, _| 0.0,
-            stop: None,
-            crossings: &[],
-            held_before: &[],
-            forces_before: &[],
-        };
-        solve_lagrange(solver, &problem, &self.settings)
-    }
 }
 
-impl OwnSkin {
-    /// Adds the normal forces of `contacts` (a [`OwnSkin::solve`]'s) to `forces`, one per
-    /// contact-skin vertex (N): each held point's force to its vertex, and to the corners of the
-    /// facet holding it their shares h_i of it — the press felt on both sides of the skin.
-    pub(super) fn add_forces(&self, contacts: &[crate::contact::ContactPoint], forces: &mut [f64]) {
-        let first = self.embedded.first();
-        let vertex = |i: usize| self.vertices[i - first];
-        for c in contacts {
-            forces[vertex(c.node)] += c.force;
-            if let crate::contact::Master::Facet { nodes, weights, .. } = c.master {
-                for (&m, h) in nodes.iter().zip(weights) {
-                    forces[vertex(m)] += h * c.force;
-                }
-            }
-        }
-    }
-}
-
-/// The reach d̂ of the barrier that keeps the skin out of itself in the nonlinear tier
-/// (`contact::SelfBarrier`), m: skin pressed on skin stops at most this far apart, and skin
+/// The reach d̂ of the barrier that keeps the skin out of itself (`contact::SelfBarrier`), m: skin pressed on skin stops at most this far apart, and skin
 /// nearer than this to its own at rest (beyond its neighbourhood) is left free. A length of the
 /// hand, not of its mesh. At 0.5 mm (a fifth of the skin's facets at resolution 1) the crease's
 /// edges passed through its facets between vertices held apart (51 triangle pairs crossing,
@@ -322,18 +247,4 @@ pub(super) fn near_itself(
         }
     }
     out
-}
-
-/// One increment's linear problem on the region's local dofs.
-pub(super) struct Increment<'a> {
-    /// The increment's stiffness.
-    pub(super) k: &'a Stiffness,
-    /// Bone nodes and the region's edge prescribed.
-    pub(super) partition: &'a crate::fem::DofPartition,
-    /// ΔU at the prescribed dofs.
-    pub(super) prescribed: &'a [f64],
-    /// The loads less what the current positions already hold.
-    pub(super) loads: &'a [f64],
-    /// The region's nodes where the increment starts.
-    pub(super) nodes: &'a [Vector3<f64>],
 }

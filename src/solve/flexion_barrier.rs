@@ -1,0 +1,178 @@
+//! The self-contact of the linear increments (the corotated ones and the paper's): the region's
+//! skin kept out of itself by the same barrier as the nonlinear tier's (`contact::SelfBarrier`:
+//! point–facet and edge–edge pairs, incremental potential contact's log barrier), not by an
+//! active set of point-on-facet rows, which holds no edge against an edge (the four fingers'
+//! fist crossed itself in 318 triangle pairs with it).
+//!
+//! An increment's flesh is linear: alone its equilibrium is the minimum of the quadratic energy
+//! ½ΔuᵀKΔu + f₀ᵀΔu (`fem::quadratic_body`), equations (7)–(8) in one solve. With the barrier B,
+//! Newton (`fem::newton::solve_increment_with`) lowers
+//!
+//!   W(u) + B(u) − ∇B(u₀)ᵀ(u − u₀),
+//!
+//! u₀ where the increment starts: each increment's flesh starts unstressed from where the last
+//! left it, the press it carried there balanced by the stress the increments before summed, so
+//! only the change of the barrier's force is the increment's (as an increment's contact forces
+//! are). Its reactions at the prescribed nodes are K·Δu's and the barrier's change there; summed
+//! over the increments they are the flesh's and the press's totals (equation (8)). Every step is
+//! cut short of a point passing through a facet or an edge through an edge (continuous
+//! collision), and of a cell turning inside out.
+
+use super::error::SimError;
+use super::flexion::Flexion;
+use super::region::SubProblem;
+use crate::contact::SelfBarrier;
+use crate::fem::added_energy::AddedEnergy;
+use crate::fem::assembly::Stiffness;
+use crate::fem::elastic_energy::ElasticEnergy;
+use crate::fem::newton::{solve_increment_with, NewtonSettings, StepFailure};
+use crate::fem::quadratic_body::QuadraticBody;
+use crate::fem::solve::{Solution, SolveStats};
+use crate::mesh::Mesh;
+use crate::state::KeyframeStats;
+use nalgebra::Vector3;
+
+/// Newton iterations allowed an increment before it is halved. An increment whose skin does not
+/// touch itself takes one; a pressed crease 3–10.
+const MAX_ITERATIONS: usize = 60;
+
+/// What one linear increment with the barrier gives.
+pub(super) enum BarrierIncrement {
+    /// The increment's solution, as the linear solve's: the new positions (corotated) or the
+    /// displacements (the paper's) at every dof, the reactions at the prescribed ones (the
+    /// factorizations and their cost counted in the keyframe's statistics already); and the
+    /// displacements from the region's rest mesh the barrier takes.
+    Solved(Solution, Vec<f64>),
+    /// A cell turned inside out at every step length tried (the hand's cell, its det J).
+    Crushed(usize, f64),
+}
+
+impl Flexion<'_> {
+    /// The increment K·x = `loads` (`absolute`: x the new positions, else the displacements
+    /// from `start`) with the region's skin kept out of itself by `barrier` (its displacements
+    /// from `sub`'s rest mesh), from the region at `start` to the prescribed positions in
+    /// `next` (the hand's nodes).
+    pub(super) fn barrier_increment(
+        &mut self,
+        sub: &SubProblem,
+        barrier: &SelfBarrier,
+        (k, loads, absolute): (&Stiffness, &[f64], bool),
+        (start, next): (&Mesh, &[Vector3<f64>]),
+        stats: &mut KeyframeStats,
+    ) -> Result<BarrierIncrement, SimError> {
+        let rest = &sub.mesh.nodes;
+        let dofs = 3 * rest.len();
+        let flat =
+            |p: &[Vector3<f64>]| -> Vec<f64> { p.iter().flat_map(|v| [v.x, v.y, v.z]).collect() };
+        let x0 = flat(&start.nodes);
+        let u0: Vec<f64> = x0.iter().zip(flat(rest)).map(|(x, r)| x - r).collect();
+        let mut target = vec![0.0; dofs];
+        for (i, &n) in sub.nodes.iter().enumerate() {
+            if sub.partition.prescribed[3 * i] {
+                let d = next[n] - rest[i];
+                target[3 * i..3 * i + 3].copy_from_slice(d.as_slice());
+            }
+        }
+        // f₀: the quadratic energy's gradient where the increment starts, less the barrier's
+        // force there (carried by the increments before).
+        let mut force: Vec<f64> = if absolute {
+            k.mul(&x0).iter().zip(loads).map(|(f, r)| f - r).collect()
+        } else {
+            loads.iter().map(|r| -r).collect()
+        };
+        let mut press = vec![0.0; dofs];
+        if barrier.energy(&u0, &mut press).is_none() {
+            return Err(self.unsettled(
+                "the skin touches or crosses itself where the increment starts".into(),
+            ));
+        }
+        for (f, b) in force.iter_mut().zip(&press) {
+            *f -= b;
+        }
+        let body = QuadraticBody::new(k, &sub.mesh, u0.clone(), force);
+        let newton = NewtonSettings {
+            max_iterations: MAX_ITERATIONS,
+            ordering: self.ordering,
+            relative_to_peak: true,
+            regularise: true,
+            energy_descent: true,
+            ..NewtonSettings::default()
+        };
+        let outcome = solve_increment_with(
+            &body,
+            (&sub.partition, &u0, &target, &vec![0.0; dofs]),
+            Some(barrier as &dyn AddedEnergy),
+            &newton,
+            &mut self.caches.solver,
+        );
+        let (record, cost) = (&outcome.record, outcome.record.cost);
+        stats.factorizations += record.iterations + record.regularised;
+        stats.assembly_ms += cost.tangent_ms + cost.forces_ms;
+        stats.symbolic_ms += cost.symbolic_ms;
+        stats.factorization_ms += cost.factorization_ms;
+        stats.solve_ms += cost.solve_ms;
+        if let Some(&r) = record.residuals.last() {
+            stats.relative_residual = stats.relative_residual.max(r);
+        }
+        let u = match outcome.result {
+            Ok(u) => u,
+            Err(StepFailure::Inverted { cell, det_f }) => {
+                return Ok(BarrierIncrement::Crushed(sub.cells[cell], det_f))
+            }
+            Err(reason) => {
+                let mut reason =
+                    format!("with the skin kept out of itself by its barrier, {reason}");
+                if record.regularised > 0 {
+                    reason += &format!(
+                        "; the tangent was not positive definite {} times in this increment",
+                        record.regularised
+                    );
+                }
+                return Err(self.unsettled(reason));
+            }
+        };
+        // The reactions: the flesh's increment and the change of the press, at the prescribed
+        // dofs (ΔU, or the positions, at every dof, as the linear solve gives).
+        let mut reaction = match body.internal_forces(&u) {
+            Ok((_, f)) => f,
+            Err(e) => return Ok(BarrierIncrement::Crushed(sub.cells[e.cell], e.det_f)),
+        };
+        if barrier.energy(&u, &mut reaction).is_none() {
+            return Err(self.unsettled("the barrier's equilibrium is not admissible".into()));
+        }
+        // (∇B(u₀) was taken out with f₀.)
+        for (r, &held) in reaction.iter_mut().zip(&sub.partition.prescribed) {
+            if !held {
+                *r = 0.0;
+            }
+        }
+        let displacement = (0..dofs)
+            .map(|d| {
+                let x = rest[d / 3][d % 3] + u[d];
+                if absolute {
+                    x
+                } else {
+                    x - x0[d]
+                }
+            })
+            .collect();
+        let solution = Solution {
+            displacement,
+            reaction,
+            stats: SolveStats::default(),
+        };
+        Ok(BarrierIncrement::Solved(solution, u))
+    }
+
+    /// The error of an increment whose self-contact found no equilibrium (its joint and angle
+    /// filled in by the keyframe).
+    fn unsettled(&self, reason: String) -> SimError {
+        SimError::SelfContactUnsettled {
+            body: self.body.clone(),
+            joint: String::new(),
+            angle: 0.0,
+            reason,
+            share: None,
+        }
+    }
+}
