@@ -756,7 +756,7 @@ fn the_press_read_over_patches_converges_under_refinement() {
         apart(coarse.2, fine.2) < 0.15,
         "patch peak {coarse:?} / {fine:?}"
     );
-    // A press of ≈ 2 N over the fingers' sides reads tens of kPa, not the vertices' spikes.
+    // A press of ≈ 4–5 N over the fingers' sides reads tens of kPa, not the vertices' spikes.
     assert!(fine.2 > 5e3 && fine.2 < 5e4, "{fine:?}");
 }
 
@@ -1036,8 +1036,8 @@ fn full_fist_closes(resolution: f64, volume: f64) -> f64 {
 /// stops_and_its_advice_works`, where both fail.)
 #[test]
 fn the_shipped_full_fist_closes_in_one_keyframe_as_in_two() {
-    // The simple form's (the anatomical hand's, the shipped scene's, settled straight with the
-    // active set already).
+    // The simple form's: the anatomical hand's (the shipped scene's) closed along its straight
+    // path with the active set already.
     let text = crate::common::with_hand_form(
         &std::fs::read_to_string("assets/scenes/hand-full-fist.toml").unwrap(),
         "simple",

@@ -189,10 +189,9 @@ fn skin_overlap_warnings(model: &Model, frames: &[FrameReport]) -> Vec<String> {
                     format!(
                         "the self-contact leaves it there (skin folding through the skin within \
                          {:.1} mm of it along the skin, which the flesh between is left to keep \
-                         apart; skin behind a facet by less than the contact's penetration limit \
-                         or, in the corotational tier, a facet's edge through another with no \
-                         vertex through; or the contact steps against other bodies and the \
-                         linear tier, which do not carry it: docs/hand.md, \"Self-contact\")",
+                         apart; skin the barrier held where a keyframe found it already \
+                         through; or the contact steps against other bodies and the linear \
+                         tier, which do not carry it: docs/hand.md, \"Self-contact\")",
                         crate::solve::SELF_CONTACT_NEIGHBOURHOOD * 1e3
                     )
                 } else {

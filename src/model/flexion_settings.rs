@@ -76,8 +76,8 @@ pub struct FlexionSettings {
     /// as `methods` says.
     pub near_contact: Option<f64>,
     /// Self-contact of the skin in the increments (the contact settings it is solved with), or
-    /// `None` (the default) when the skin may pass through itself. Asked for by `[solver]
-    /// self_contact = true`; solved by a barrier in the corotational, the paper's and the
+    /// `None` (the default) when the skin may pass through itself. Experimental, asked for by
+    /// `[solver] self_contact = true`; solved by a barrier in the corotational, the paper's and the
     /// nonlinear increments (docs/hand.md, "Self-contact").
     pub self_contact: Option<ContactSettings>,
 }

@@ -56,7 +56,7 @@ pub enum SimError {
         joint: String,
         /// Its angle at the failing increment, degrees.
         angle: f64,
-        /// The contact solver's account.
+        /// Why the increment's Newton with the self-contact's barrier failed.
         reason: String,
         /// As [`SimError::FleshCrushed::share`].
         share: Option<f64>,

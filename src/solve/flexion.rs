@@ -13,10 +13,8 @@
 //! follow their bones geometrically (the fast path).
 
 use super::error::SimError;
-use super::flexion_barrier::BarrierIncrement;
-use super::flexion_nonlinear::local_displacements;
 use super::linear_factor::LinearFactor;
-use super::region::{sub_problem, SubProblem};
+use super::region::{local_displacements, sub_problem, SubProblem};
 use super::self_contact::{barrier_kappa, OwnSkin};
 use super::step_control::StepControl;
 use crate::contact::SelfBarrier;
@@ -651,18 +649,7 @@ impl Flexion<'_> {
         stats.assembly_ms += ms(t);
         // Regions of successive increments number the hand's nodes each their own way.
         self.caches.solver.set_node_ids(sub.nodes.clone());
-        let mut prescribed = vec![0.0; dofs];
-        for (i, &n) in sub.nodes.iter().enumerate() {
-            if sub.partition.prescribed[3 * i] {
-                let value = if absolute {
-                    next[n]
-                } else {
-                    next[n] - state.positions[n]
-                };
-                prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
-            }
-        }
-        // The self-contact's forces at the skin's vertices (the state's), set once the increment
+        // The self-contact's press at the skin's vertices (the state's), set once the increment
         // is taken.
         let mut pressed = None;
         let solution = match own_skin {
@@ -670,18 +657,25 @@ impl Flexion<'_> {
                 let stiffness = (&k, loads.as_slice(), absolute);
                 let at = (&mesh, &*next);
                 match self.barrier_increment(sub, barrier, stiffness, at, stats)? {
-                    BarrierIncrement::Crushed(cell, q) => return Ok(Some((cell, q))),
-                    BarrierIncrement::Solved(solution, u) => {
-                        let vertices = self.hand.contact_skin.vertex_count();
-                        let (forces, count, total) = skin.barrier_forces(barrier, &u, vertices);
-                        stats.self_contacts = count;
-                        stats.self_contact_force = total;
-                        pressed = Some(if count > 0 { forces } else { Vec::new() });
+                    Err((cell, q)) => return Ok(Some((cell, q))),
+                    Ok((solution, u)) => {
+                        pressed = Some((skin, barrier, u));
                         solution
                     }
                 }
             }
             None => {
+                let mut prescribed = vec![0.0; dofs];
+                for (i, &n) in sub.nodes.iter().enumerate() {
+                    if sub.partition.prescribed[3 * i] {
+                        let value = if absolute {
+                            next[n]
+                        } else {
+                            next[n] - state.positions[n]
+                        };
+                        prescribed[3 * i..3 * i + 3].copy_from_slice(value.as_slice());
+                    }
+                }
                 let solution = self
                     .caches
                     .solver
@@ -714,8 +708,10 @@ impl Flexion<'_> {
                 return Ok(Some((sub.cells[local], q)));
             }
         }
-        if let Some(forces) = pressed {
-            state.self_contact = forces;
+        if let Some((skin, barrier, u)) = pressed {
+            let vertices = self.hand.contact_skin.vertex_count();
+            let press = (&mut state.self_contact, vertices);
+            (stats.self_contacts, stats.self_contact_force) = skin.set_press(barrier, &u, press);
         }
         for (i, &n) in sub.nodes.iter().enumerate() {
             if sub.partition.prescribed[3 * i] {

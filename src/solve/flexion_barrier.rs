@@ -27,25 +27,22 @@ use crate::fem::assembly::Stiffness;
 use crate::fem::elastic_energy::ElasticEnergy;
 use crate::fem::newton::{solve_increment_with, NewtonSettings, StepFailure};
 use crate::fem::quadratic_body::QuadraticBody;
-use crate::fem::solve::{Solution, SolveStats};
+use crate::fem::solve::{Solution, SolveError, SolveStats};
 use crate::mesh::Mesh;
 use crate::state::KeyframeStats;
 use nalgebra::Vector3;
 
 /// Newton iterations allowed an increment before it is halved. An increment whose skin does not
-/// touch itself takes one; a pressed crease 3–10.
+/// touch itself takes one; a pressed crease 6–10, fingers pressed on each other and the palm up
+/// to about 50 (the four fingers' fist).
 const MAX_ITERATIONS: usize = 60;
 
-/// What one linear increment with the barrier gives.
-pub(super) enum BarrierIncrement {
-    /// The increment's solution, as the linear solve's: the new positions (corotated) or the
-    /// displacements (the paper's) at every dof, the reactions at the prescribed ones (the
-    /// factorizations and their cost counted in the keyframe's statistics already); and the
-    /// displacements from the region's rest mesh the barrier takes.
-    Solved(Solution, Vec<f64>),
-    /// A cell turned inside out at every step length tried (the hand's cell, its det J).
-    Crushed(usize, f64),
-}
+/// What one linear increment with the barrier gives: the solution, as the linear solve's — the
+/// new positions (corotated) or the displacements (the paper's) at every dof, the reactions at
+/// the prescribed ones (the factorizations and their cost counted in the keyframe's statistics
+/// already) — with the displacements from the region's rest mesh the barrier takes; or the cell
+/// that turned inside out at every step length tried (the hand's cell, its det J).
+pub(super) type BarrierIncrement = Result<(Solution, Vec<f64>), (usize, f64)>;
 
 impl Flexion<'_> {
     /// The increment K·x = `loads` (`absolute`: x the new positions, else the displacements
@@ -111,15 +108,25 @@ impl Flexion<'_> {
         stats.symbolic_ms += cost.symbolic_ms;
         stats.factorization_ms += cost.factorization_ms;
         stats.solve_ms += cost.solve_ms;
-        if let Some(&r) = record.residuals.last() {
-            stats.relative_residual = stats.relative_residual.max(r);
-        }
         let u = match outcome.result {
             Ok(u) => u,
-            Err(StepFailure::Inverted { cell, det_f }) => {
-                return Ok(BarrierIncrement::Crushed(sub.cells[cell], det_f))
+            Err(StepFailure::Inverted { cell, det_f }) => return Ok(Err((sub.cells[cell], det_f))),
+            // The factorization itself failed (memory refused, a value not finite): not the
+            // self-contact's doing, and no smaller increment helps.
+            Err(StepFailure::Tangent(reason)) => {
+                return Err(SimError::Solve {
+                    body: self.body.clone(),
+                    source: SolveError::Faer(reason),
+                })
             }
             Err(reason) => {
+                let reason = match reason {
+                    StepFailure::NotPositiveDefinite { node } => format!(
+                        "the tangent stiffness is not positive definite (pivot at flesh node {})",
+                        sub.nodes[node]
+                    ),
+                    other => other.to_string(),
+                };
                 let mut reason =
                     format!("with the skin kept out of itself by its barrier, {reason}");
                 if record.regularised > 0 {
@@ -131,11 +138,14 @@ impl Flexion<'_> {
                 return Err(self.unsettled(reason));
             }
         };
+        if let Some(&r) = record.residuals.last() {
+            stats.relative_residual = stats.relative_residual.max(r);
+        }
         // The reactions: the flesh's increment and the change of the press, at the prescribed
         // dofs (ΔU, or the positions, at every dof, as the linear solve gives).
         let mut reaction = match body.internal_forces(&u) {
             Ok((_, f)) => f,
-            Err(e) => return Ok(BarrierIncrement::Crushed(sub.cells[e.cell], e.det_f)),
+            Err(e) => return Ok(Err((sub.cells[e.cell], e.det_f))),
         };
         if barrier.energy(&u, &mut reaction).is_none() {
             return Err(self.unsettled("the barrier's equilibrium is not admissible".into()));
@@ -161,7 +171,7 @@ impl Flexion<'_> {
             reaction,
             stats: SolveStats::default(),
         };
-        Ok(BarrierIncrement::Solved(solution, u))
+        Ok(Ok((solution, u)))
     }
 
     /// The error of an increment whose self-contact found no equilibrium (its joint and angle

@@ -31,7 +31,7 @@
 
 use super::error::SimError;
 use super::flexion::{Flexion, Plan, Predicted};
-use super::region::SubProblem;
+use super::region::{local_displacements, SubProblem};
 use super::self_contact::{barrier_kappa, OwnSkin};
 use super::step_control::StepControl;
 use crate::contact::SelfBarrier;
@@ -154,11 +154,12 @@ impl Flexion<'_> {
             stats.increments_taken += 1;
             if let (Some(sub), Some((skin, barrier))) = (&plan.sub, &barrier) {
                 let u = local_displacements(sub, &next);
-                let vertices = self.hand.contact_skin.vertex_count();
-                let (forces, count, total) = skin.barrier_forces(barrier, &u, vertices);
-                stats.self_contacts = count;
-                stats.self_contact_force = total;
-                state.self_contact = if count > 0 { forces } else { Vec::new() };
+                let press = (
+                    &mut state.self_contact,
+                    self.hand.contact_skin.vertex_count(),
+                );
+                (stats.self_contacts, stats.self_contact_force) =
+                    skin.set_press(barrier, &u, press);
             }
             state.positions = next;
             state.transforms = transforms;
@@ -402,18 +403,6 @@ impl Flexion<'_> {
         }
         Ok(())
     }
-}
-
-/// The displacements from rest of `sub`'s local nodes where the hand's nodes are at `positions`.
-pub(super) fn local_displacements(sub: &SubProblem, positions: &[Vector3<f64>]) -> Vec<f64> {
-    sub.nodes
-        .iter()
-        .enumerate()
-        .flat_map(|(i, &n)| {
-            let d = positions[n] - sub.mesh.nodes[i];
-            [d.x, d.y, d.z]
-        })
-        .collect()
 }
 
 /// The internal forces ∂W/∂x of the Neo-Hookean flesh (total Lagrangian from the rest mesh,

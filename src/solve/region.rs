@@ -6,6 +6,7 @@ use crate::fem::assembly::StiffnessPattern;
 use crate::fem::{DofPartition, Material};
 use crate::hand::HandModel;
 use crate::mesh::Mesh;
+use nalgebra::Vector3;
 use std::sync::Arc;
 
 /// The FEM sub-problem of a keyframe: the active cells with their nodes renumbered.
@@ -80,4 +81,16 @@ pub(crate) fn sub_problem(
         partition,
         materials,
     })
+}
+
+/// The displacements from rest of `sub`'s local nodes where the hand's nodes are at `positions`.
+pub(super) fn local_displacements(sub: &SubProblem, positions: &[Vector3<f64>]) -> Vec<f64> {
+    sub.nodes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &n)| {
+            let d = positions[n] - sub.mesh.nodes[i];
+            [d.x, d.y, d.z]
+        })
+        .collect()
 }

@@ -156,21 +156,30 @@ impl OwnSkin {
         barrier
     }
 
-    /// The barrier's forces at `u` on the contact skin's vertices (N, one per vertex of the
-    /// hand's contact skin, `vertices` long), with the pairs held and the points' total force.
-    pub(super) fn barrier_forces(
+    /// Sets the barrier's forces at `u` on the region's skin vertices in `press` (N, one per
+    /// vertex of the hand's contact skin, `vertices` of them; empty while nothing presses),
+    /// leaving the other vertices' as they were (pressed in a keyframe before, outside this
+    /// region); returns the pairs held and the points' total force.
+    pub(super) fn set_press(
         &self,
         barrier: &crate::contact::SelfBarrier,
         u: &[f64],
-        vertices: usize,
-    ) -> (Vec<f64>, usize, f64) {
+        (press, vertices): (&mut Vec<f64>, usize),
+    ) -> (usize, f64) {
         let (at, count, total) = barrier.forces(u);
         let first = self.embedded.first();
-        let mut out = vec![0.0; vertices];
+        let mut out = std::mem::take(press);
+        out.resize(vertices, 0.0);
+        for &v in &self.vertices {
+            out[v] = 0.0;
+        }
         for (i, f) in at.into_iter().enumerate().skip(first) {
             out[self.vertices[i - first]] += f;
         }
-        (out, count, total)
+        if out.iter().any(|&f| f != 0.0) {
+            *press = out;
+        }
+        (count, total)
     }
 }
 

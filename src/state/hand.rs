@@ -18,11 +18,11 @@ pub struct HandState {
     /// reactions, as the updated Lagrangian scheme sums their stresses (each increment's
     /// reactions balance, so the total does).
     pub reaction: Vec<Vector3<f64>>,
-    /// Normal force of the skin's contact with itself at each vertex of the contact skin, N: as
-    /// the point held, and as a corner of the facet holding it by its share h_i (each press is
-    /// felt on both sides); summed over the increments as the reactions are (the increments'
-    /// flesh starts each from where the last left it, unstressed). Empty until the skin meets
-    /// itself.
+    /// Normal force of the skin's contact with itself at each vertex of the contact skin, N: the
+    /// barrier's force on the vertex, as a point pressed and as a corner of the facets and edges
+    /// pressed (each press is felt on both sides), at the state — a total, where the reactions
+    /// are the increments' sums. A keyframe sets it over its FEM region's skin and leaves the
+    /// rest as the keyframes before left it. Empty until the skin meets itself.
     pub self_contact: Vec<f64>,
 }
 
@@ -121,7 +121,8 @@ pub struct KeyframeStats {
     pub update_ms: f64,
     /// Wall time of the keyframe, ms.
     pub total_ms: f64,
-    /// Largest relative residual of the linear solves.
+    /// Largest relative residual of the linear solves (of the Newton iterations that
+    /// converged, where an increment is solved by Newton).
     pub relative_residual: f64,
     /// Cells of the FEM region left to skinning because their part of the hand stayed far
     /// from every other body ([`Flexion::set_far_parts`]); over several steps, in the step
@@ -153,9 +154,9 @@ pub struct KeyframeStats {
     /// Contact solves that did not settle and were redone smaller (the one-step attempt of a
     /// keyframe then solved in steps, halved steps).
     pub contact_retries: usize,
-    /// Skin points of the hand held against its own skin at the end of the flexion (the fold
-    /// of a crease, a fingertip on the palm, fingers side by side; issue 16); in the nonlinear
-    /// tier, the pairs its barrier holds apart: a point off a facet, or an edge off an edge.
+    /// The pairs of the hand's skin its barrier holds apart at the end of the flexion (the fold
+    /// of a crease, a fingertip on the palm, fingers side by side; issue 16): a point off a
+    /// facet, or an edge off an edge.
     pub self_contacts: usize,
     /// The sum of their normal forces (of a pair's one side: its point, or its first edge), N.
     pub self_contact_force: f64,
