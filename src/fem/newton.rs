@@ -88,6 +88,23 @@ impl Default for NewtonSettings {
     }
 }
 
+impl NewtonSettings {
+    /// A descent method for a stable equilibrium of a displacement-driven increment: the
+    /// residual against the largest force met, the tangent regularised where it is not
+    /// positive definite, steps taken only where they lower the energy (with an energy added,
+    /// a barrier, as the hand's flexion increments are solved).
+    pub fn descent(max_iterations: usize, ordering: FillOrdering) -> Self {
+        NewtonSettings {
+            max_iterations,
+            ordering,
+            relative_to_peak: true,
+            regularise: true,
+            energy_descent: true,
+            ..NewtonSettings::default()
+        }
+    }
+}
+
 /// One converged load increment.
 #[derive(Clone, Debug, Serialize)]
 pub struct StepRecord {

@@ -21,6 +21,7 @@
 use super::error::SimError;
 use super::flexion::Flexion;
 use super::region::SubProblem;
+use super::step_control::count_newton;
 use crate::contact::SelfBarrier;
 use crate::fem::added_energy::AddedEnergy;
 use crate::fem::assembly::Stiffness;
@@ -87,14 +88,7 @@ impl Flexion<'_> {
             *f -= b;
         }
         let body = QuadraticBody::new(k, &sub.mesh, u0.clone(), force);
-        let newton = NewtonSettings {
-            max_iterations: MAX_ITERATIONS,
-            ordering: self.ordering,
-            relative_to_peak: true,
-            regularise: true,
-            energy_descent: true,
-            ..NewtonSettings::default()
-        };
+        let newton = NewtonSettings::descent(MAX_ITERATIONS, self.ordering);
         let outcome = solve_increment_with(
             &body,
             (&sub.partition, &u0, &target, &vec![0.0; dofs]),
@@ -102,12 +96,8 @@ impl Flexion<'_> {
             &newton,
             &mut self.caches.solver,
         );
-        let (record, cost) = (&outcome.record, outcome.record.cost);
-        stats.factorizations += record.iterations + record.regularised;
-        stats.assembly_ms += cost.tangent_ms + cost.forces_ms;
-        stats.symbolic_ms += cost.symbolic_ms;
-        stats.factorization_ms += cost.factorization_ms;
-        stats.solve_ms += cost.solve_ms;
+        let record = &outcome.record;
+        count_newton(stats, record);
         let u = match outcome.result {
             Ok(u) => u,
             Err(StepFailure::Inverted { cell, det_f }) => return Ok(Err((sub.cells[cell], det_f))),

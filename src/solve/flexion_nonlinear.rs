@@ -33,7 +33,7 @@ use super::error::SimError;
 use super::flexion::{Flexion, Plan, Predicted};
 use super::region::{local_displacements, SubProblem};
 use super::self_contact::{barrier_kappa, OwnSkin};
-use super::step_control::StepControl;
+use super::step_control::{count_newton, StepControl};
 use crate::contact::SelfBarrier;
 use crate::fem::added_energy::AddedEnergy;
 use crate::fem::hex8::mapped_points;
@@ -85,12 +85,7 @@ impl Flexion<'_> {
         };
         let newton = NewtonSettings {
             volumetric: self.settings.volumetric,
-            max_iterations: MAX_ITERATIONS,
-            ordering: self.ordering,
-            relative_to_peak: true,
-            regularise: true,
-            energy_descent: true,
-            ..NewtonSettings::default()
+            ..NewtonSettings::descent(MAX_ITERATIONS, self.ordering)
         };
         let body = match &plan.sub {
             Some(sub) => Some(
@@ -219,12 +214,7 @@ impl Flexion<'_> {
                 newton,
                 &mut self.caches.solver,
             );
-            let (record, cost) = (&outcome.record, outcome.record.cost);
-            stats.factorizations += record.iterations + record.regularised;
-            stats.assembly_ms += cost.tangent_ms + cost.forces_ms;
-            stats.symbolic_ms += cost.symbolic_ms;
-            stats.factorization_ms += cost.factorization_ms;
-            stats.solve_ms += cost.solve_ms;
+            count_newton(stats, &outcome.record);
             outcome
         };
         let mut outcome = attempt(&previous, stats);

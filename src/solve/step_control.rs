@@ -84,6 +84,20 @@ impl StepControl {
     }
 }
 
+/// Adds what one Newton increment cost (`record`: its iterations, retried factorizations and
+/// times) to a keyframe's statistics.
+pub(crate) fn count_newton(
+    stats: &mut crate::state::KeyframeStats,
+    record: &crate::fem::newton::StepRecord,
+) {
+    let cost = record.cost;
+    stats.factorizations += record.iterations + record.regularised;
+    stats.assembly_ms += cost.tangent_ms + cost.forces_ms;
+    stats.symbolic_ms += cost.symbolic_ms;
+    stats.factorization_ms += cost.factorization_ms;
+    stats.solve_ms += cost.solve_ms;
+}
+
 #[cfg(test)]
 mod tests {
     use super::StepControl;
