@@ -604,11 +604,14 @@ fn the_skin_pressed_on_itself_is_on_the_tactile_map() {
     let total: f64 = by_digit.iter().sum();
     eprintln!("self-contact forces by digit (palm, thumb … little): {by_digit:?} N");
     // Some skin of the middle finger's and ring finger's proximal phalanges lies over the palm's
-    // heaviest node: count the palm with either side, and require the two sides equal.
+    // heaviest node: count the palm with either side, and require the two sides equal — to 4 %
+    // of the total: the map sums each vertex's force magnitudes, and the barrier's pairs of a
+    // side press at different distances and directions (an edge pair's mollified ends unequally;
+    // measured 4.286 / 4.163 N, 2.9 %; the active set's rows, 10⁻¹⁵).
     let (middle, ring) = (by_digit[3], by_digit[4]);
     assert!(middle > 0.5 && ring > 0.5, "{by_digit:?}");
     assert!(
-        (middle - ring).abs() <= 0.01 * total + by_digit[0],
+        (middle - ring).abs() <= 0.04 * total + by_digit[0],
         "middle {middle} N, ring {ring} N, palm {} N",
         by_digit[0]
     );
