@@ -69,6 +69,18 @@ pub struct NewtonSettings {
     /// change of the potential is lost in round-off. With [`NewtonSettings::regularise`], a
     /// descent method for the minimum of the energy (a stable equilibrium).
     pub energy_descent: bool,
+    /// Where the exact tangent is indefinite near equilibrium (residual below
+    /// [`SADDLE_RESIDUAL`]), step out along its most negative curvature
+    /// ([`Increment::escape`]): an unstable equilibrium of the body (buckling) is left. Off
+    /// where the body's energy is convex and only the added energy's Hessian is indefinite
+    /// (a barrier's, whose pairs' distances curve): there an escape only undoes progress.
+    pub escape_saddles: bool,
+    /// Once the prescribed dofs are in place, a full step that lowers the potential is tried
+    /// twice, four times … [`MAX_EXPANSION`] times as long (short of any crossing the added
+    /// energy forbids) while that lowers it further: the tangent made positive definite over a
+    /// direction of negative curvature (skin pressed on skin sliding off a ridge) gives steps
+    /// far too short, and Newton creeps along it.
+    pub expand_steps: bool,
 }
 
 impl Default for NewtonSettings {
@@ -84,6 +96,8 @@ impl Default for NewtonSettings {
             relative_to_peak: false,
             regularise: false,
             energy_descent: false,
+            escape_saddles: true,
+            expand_steps: false,
         }
     }
 }
@@ -674,7 +688,7 @@ impl Increment<'_> {
             // equilibrium (a saddle of the energy). Newton steps would only creep around it;
             // leave it along the direction of negative curvature.
             let unstable = modified.is_some() || shift > 0.0;
-            if unstable && placed && relative < SADDLE_RESIDUAL {
+            if s.escape_saddles && unstable && placed && relative < SADDLE_RESIDUAL {
                 // (With an added energy the escape is cut short where surfaces would cross.)
                 if let Some((trial, e_trial, f_trial)) = self.escape(
                     solver,
@@ -739,12 +753,34 @@ impl Increment<'_> {
                 }
                 alpha *= 0.5;
             }
-            let Some((trial, e_trial, f_trial)) = accepted else {
+            let Some((mut trial, mut e_trial, mut f_trial)) = accepted else {
                 return Err(match last_inverted {
                     Some(e) => inverted(e),
                     None => StepFailure::LineSearch { residual: relative },
                 });
             };
+            if s.expand_steps && placed && alpha == 1.0 {
+                // The full step lowered the potential: where the energy curves less than the
+                // (modified) tangent says — down a direction of negative curvature, the tangent
+                // made positive definite — longer steps along du lower it further.
+                let mut best = potential_of(e_trial, &ext, &trial);
+                let longest = self.added.map_or(MAX_EXPANSION, |a| {
+                    let far: Vec<f64> = du.iter().map(|d| MAX_EXPANSION * d).collect();
+                    MAX_EXPANSION * a.largest_step(&u, &far)
+                });
+                let mut longer = 2.0;
+                while longer <= longest {
+                    let t: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + longer * d).collect();
+                    match forces(record, &t) {
+                        Ok((e, f)) if e.is_finite() && potential_of(e, &ext, &t) < best => {
+                            best = potential_of(e, &ext, &t);
+                            (trial, e_trial, f_trial, alpha) = (t, e, f, longer);
+                            longer *= 2.0;
+                        }
+                        _ => break,
+                    }
+                }
+            }
             record.step_lengths.push(alpha);
             u = trial;
             energy = e_trial;
@@ -772,6 +808,9 @@ impl Increment<'_> {
 /// Relative residual below which an indefinite exact tangent means an unstable equilibrium
 /// nearby, to be left along the negative curvature ([`Increment::escape`]).
 const SADDLE_RESIDUAL: f64 = 1e-3;
+
+/// The longest step [`NewtonSettings::expand_steps`] tries, as a multiple of the Newton step.
+const MAX_EXPANSION: f64 = 64.0;
 
 /// The total potential Π = W − f_extᵀu.
 fn potential_of(energy: f64, ext: &[f64], u: &[f64]) -> f64 {
