@@ -130,7 +130,8 @@ pub struct StepRecord {
     pub iterations: usize,
     /// Relative residual ‖R_u‖ / max(‖f_ext‖, ‖f_int‖) before each iteration and at convergence.
     pub residuals: Vec<f64>,
-    /// Step length α accepted by the line search at each iteration.
+    /// Step length α accepted by the line search at each iteration (above 1 where lengthened,
+    /// [`NewtonSettings::expand_steps`]; 0 an escape from a saddle).
     pub step_lengths: Vec<f64>,
     /// Factorizations retried with a diagonal shift because the tangent was not positive
     /// definite ([`NewtonSettings::regularise`]); each is one more factorization.
