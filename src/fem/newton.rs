@@ -74,6 +74,7 @@ pub struct NewtonSettings {
     /// ([`Increment::escape`]): an unstable equilibrium of the body (buckling) is left. Off
     /// where the body's energy is convex and only the added energy's Hessian is indefinite
     /// (a barrier's, whose pairs' distances curve): there an escape only undoes progress.
+    /// (Only with [`NewtonSettings::regularise`]: without it an indefinite tangent fails.)
     pub escape_saddles: bool,
     /// Once the prescribed dofs are in place, a full step that lowers the potential is tried
     /// twice, four times … [`MAX_EXPANSION`] times as long (short of any crossing the added
@@ -764,6 +765,9 @@ impl Increment<'_> {
                 // The full step lowered the potential: where the energy curves less than the
                 // (modified) tangent says — down a direction of negative curvature, the tangent
                 // made positive definite — longer steps along du lower it further.
+                // (Each longer step must lower it by more than round-off: near convergence the
+                // change is below it, and a longer step there would only overshoot.)
+                let noise = 1e-12 * (energy.abs() + dot(&ext, &u).abs());
                 let mut best = potential_of(e_trial, &ext, &trial);
                 let longest = self.added.map_or(MAX_EXPANSION, |a| {
                     let far: Vec<f64> = du.iter().map(|d| MAX_EXPANSION * d).collect();
@@ -773,7 +777,7 @@ impl Increment<'_> {
                 while longer <= longest {
                     let t: Vec<f64> = u.iter().zip(&du).map(|(x, d)| x + longer * d).collect();
                     match forces(record, &t) {
-                        Ok((e, f)) if e.is_finite() && potential_of(e, &ext, &t) < best => {
+                        Ok((e, f)) if e.is_finite() && potential_of(e, &ext, &t) < best - noise => {
                             best = potential_of(e, &ext, &t);
                             (trial, e_trial, f_trial, alpha) = (t, e, f, longer);
                             longer *= 2.0;

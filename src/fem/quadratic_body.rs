@@ -108,14 +108,20 @@ mod tests {
     use crate::fem::{DofPartition, Material, PartitionedSolver};
     use crate::mesh::box_mesh;
     use nalgebra::DMatrix;
+    use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::Arc;
 
     /// A hill under each of some dofs: h(u) = A·exp(−u²/(2σ²)), whose curvature is negative
     /// within σ of its top (u = 0, where the increment starts).
+    /// Beyond `wall` (if any) no state is admissible: its energy is not finite, a step is cut
+    /// at 0.8 of the way to it (as continuous collision cuts one), and `past_wall` tells
+    /// whether a state beyond it was ever evaluated.
     struct Hills {
         dofs: Vec<usize>,
         height: f64,
         width: f64,
+        wall: Option<f64>,
+        past_wall: AtomicBool,
     }
 
     impl Hills {
@@ -128,6 +134,12 @@ mod tests {
 
     impl AddedEnergy for Hills {
         fn energy(&self, u: &[f64], gradient: &mut [f64]) -> Option<f64> {
+            if let Some(wall) = self.wall {
+                if self.dofs.iter().any(|&d| u[d] >= wall) {
+                    self.past_wall.store(true, Ordering::Relaxed);
+                    return None;
+                }
+            }
             let mut e = 0.0;
             for &d in &self.dofs {
                 let (h, g, _) = self.at(u[d]);
@@ -152,8 +164,21 @@ mod tests {
                 .collect()
         }
 
-        fn largest_step(&self, _u: &[f64], _du: &[f64]) -> f64 {
-            1.0
+        fn largest_step(&self, u: &[f64], du: &[f64]) -> f64 {
+            let Some(wall) = self.wall else {
+                return 1.0;
+            };
+            let first = self
+                .dofs
+                .iter()
+                .filter(|&&d| u[d] + du[d] >= wall)
+                .map(|&d| (wall - u[d]) / du[d])
+                .fold(1.0, f64::min);
+            if first >= 1.0 {
+                1.0
+            } else {
+                0.8 * first
+            }
         }
     }
 
@@ -185,10 +210,12 @@ mod tests {
         let width = 0.05;
         // The hills' largest negative curvature, A/σ², over the bar's k.
         const STEEP: f64 = 1.5;
-        let hills = Hills {
+        let hills = |wall: Option<f64>| Hills {
             dofs: end.clone(),
             height: STEEP * per_node * width * width,
             width,
+            wall,
+            past_wall: AtomicBool::new(false),
         };
         let mut loads = vec![0.0; dofs];
         for &d in &end {
@@ -196,7 +223,7 @@ mod tests {
         }
         let body = QuadraticBody::new(&k, &mesh, vec![0.0; dofs], vec![0.0; dofs]);
         let zeros = vec![0.0; dofs];
-        let solve = |expand: bool| {
+        let solve = |expand: bool, hills: &Hills| {
             let settings = NewtonSettings {
                 escape_saddles: false,
                 expand_steps: expand,
@@ -206,15 +233,15 @@ mod tests {
             let outcome = solve_increment_with(
                 &body,
                 (&partition, &zeros, &zeros, &loads),
-                Some(&hills as &dyn AddedEnergy),
+                Some(hills as &dyn AddedEnergy),
                 &settings,
                 &mut solver,
             );
             let u = outcome.result.expect("Newton converges");
             (u, outcome.record.iterations)
         };
-        let (plain, plain_iterations) = solve(false);
-        let (longer, longer_iterations) = solve(true);
+        let (plain, plain_iterations) = solve(false, &hills(None));
+        let (longer, longer_iterations) = solve(true, &hills(None));
         // Down the hills, where the bar's pull k·u balances their push A·u/σ²·exp(−u²/(2σ²)),
         // A/σ² = 1.5k: u = σ·√(2 ln 1.5) ≈ 0.90 σ (k the bar's stiffness per node, the end's
         // nodes moving together; the load a thousandth of kσ).
@@ -234,6 +261,20 @@ mod tests {
             2 * longer_iterations <= plain_iterations,
             "{longer_iterations} against {plain_iterations} iterations"
         );
-        eprintln!("iterations: {plain_iterations} plain, {longer_iterations} with longer steps");
+        // A wall a little past the equilibrium: the longer steps stop short of it (no state
+        // beyond it is ever evaluated) and reach the same equilibrium.
+        let walled = hills(Some(1.2 * balance));
+        let (held, held_iterations) = solve(true, &walled);
+        assert!(!walled.past_wall.load(Ordering::Relaxed));
+        let difference = plain
+            .iter()
+            .zip(&held)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(difference < 1e-9 * reached, "{difference} of {reached}");
+        eprintln!(
+            "iterations: {plain_iterations} plain, {longer_iterations} with longer steps, \
+             {held_iterations} with them before a wall"
+        );
     }
 }

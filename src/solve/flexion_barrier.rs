@@ -35,8 +35,8 @@ use nalgebra::Vector3;
 
 /// Newton iterations allowed an increment before it is halved. An increment whose skin does not
 /// touch itself takes one; a pressed crease 6–10, fingers pressed on each other and the palm up
-/// to about 50 (the four fingers' fist), the full fist at resolution 1.5 up to 57 (with the
-/// longer steps: 79 without them, and 150 the nonlinear tier's allowance).
+/// to about 50 (the four fingers' fist), the full fist at resolution 1.5 up to 57 with the
+/// longer steps (79 with saddle escapes instead, allowed 150 as the nonlinear tier is).
 const MAX_ITERATIONS: usize = 100;
 
 /// What one linear increment with the barrier gives: the solution, as the linear solve's — the
