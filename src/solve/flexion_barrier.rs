@@ -20,7 +20,7 @@
 
 use super::error::SimError;
 use super::flexion::Flexion;
-use super::region::SubProblem;
+use super::region::{local_displacements, SubProblem};
 use super::step_control::count_newton;
 use crate::contact::SelfBarrier;
 use crate::fem::added_energy::AddedEnergy;
@@ -61,17 +61,14 @@ impl Flexion<'_> {
     ) -> Result<BarrierIncrement, SimError> {
         let rest = &sub.mesh.nodes;
         let dofs = 3 * rest.len();
-        let flat =
-            |p: &[Vector3<f64>]| -> Vec<f64> { p.iter().flat_map(|v| [v.x, v.y, v.z]).collect() };
-        let x0 = flat(&start.nodes);
-        let u0: Vec<f64> = x0.iter().zip(flat(rest)).map(|(x, r)| x - r).collect();
-        let mut target = vec![0.0; dofs];
-        for (i, &n) in sub.nodes.iter().enumerate() {
-            if sub.partition.prescribed[3 * i] {
-                let d = next[n] - rest[i];
-                target[3 * i..3 * i + 3].copy_from_slice(d.as_slice());
-            }
-        }
+        let x0: Vec<f64> = start.nodes.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+        let u0: Vec<f64> = x0
+            .iter()
+            .zip(rest.iter().flat_map(|v| [v.x, v.y, v.z]))
+            .map(|(x, r)| x - r)
+            .collect();
+        // (Newton takes the target at the prescribed dofs only.)
+        let target = local_displacements(sub, next);
         // f₀: the quadratic energy's gradient where the increment starts, less the barrier's
         // force there (carried by the increments before).
         let mut force: Vec<f64> = if absolute {
