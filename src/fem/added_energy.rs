@@ -34,6 +34,38 @@ pub trait AddedEnergy: Sync {
     fn largest_step(&self, u: &[f64], du: &[f64]) -> f64;
 }
 
+/// Several energies added together: admissible where each is, the step as short as the
+/// shortest any allows.
+pub struct AddedSum<'a>(pub Vec<&'a dyn AddedEnergy>);
+
+impl AddedEnergy for AddedSum<'_> {
+    fn energy(&self, u: &[f64], gradient: &mut [f64]) -> Option<f64> {
+        let mut sum = vec![0.0; gradient.len()];
+        let mut total = 0.0;
+        for e in &self.0 {
+            total += e.energy(u, &mut sum)?;
+        }
+        for (g, s) in gradient.iter_mut().zip(sum) {
+            *g += s;
+        }
+        Some(total)
+    }
+
+    fn hessian(&self, u: &[f64], projected: bool) -> Vec<NodeBlock> {
+        self.0
+            .iter()
+            .flat_map(|e| e.hessian(u, projected))
+            .collect()
+    }
+
+    fn largest_step(&self, u: &[f64], du: &[f64]) -> f64 {
+        self.0
+            .iter()
+            .map(|e| e.largest_step(u, du))
+            .fold(1.0, f64::min)
+    }
+}
+
 /// `k` plus the blocks, on `k`'s pattern grown by every coupling of two nodes of one block
 /// (values of `k` kept where they were). Without blocks, `k` itself.
 pub fn with_blocks(k: &Stiffness, blocks: &[NodeBlock]) -> Stiffness {

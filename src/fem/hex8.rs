@@ -33,6 +33,11 @@ pub static GAUSS_POINTS: LazyLock<[Vector3<f64>; 8]> = LazyLock::new(|| {
 static GAUSS_DERIVATIVES: LazyLock<[[Vector3<f64>; 8]; 8]> =
     LazyLock::new(|| GAUSS_POINTS.map(|xi| shape_derivatives(&xi)));
 
+/// The shape-function derivatives ∂N_a/∂ξ at the 2×2×2 Gauss points (`[point][node]`).
+pub fn gauss_derivatives() -> &'static [[Vector3<f64>; 8]; 8] {
+    &GAUSS_DERIVATIVES
+}
+
 /// Trilinear shape functions N_a(ξ) = (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)/8.
 pub fn shape(xi: &Vector3<f64>) -> [f64; 8] {
     NODE_SIGNS.map(|s| (1.0 + s[0] * xi.x) * (1.0 + s[1] * xi.y) * (1.0 + s[2] * xi.z) / 8.0)

@@ -10,6 +10,7 @@ pub mod added_energy;
 pub mod assembly;
 pub(crate) mod blocks;
 pub mod cavity;
+pub mod crush_barrier;
 pub mod definite;
 pub mod elastic_energy;
 pub mod forward;

@@ -16,15 +16,19 @@
 //! are). Its reactions at the prescribed nodes are K·Δu's and the barrier's change there; summed
 //! over the increments they are the flesh's and the press's totals (equation (8)). Every step is
 //! cut short of a point passing through a facet or an edge through an edge (continuous
-//! collision), and of a cell turning inside out.
+//! collision), and of a cell turning inside out. Beside the skin's barrier, the flesh's own
+//! (`fem::crush_barrier`, the same treatment) resists a Gauss point's loss of more than half its
+//! volume, which the linear flesh does not: a fingertip's pulp squeezed between its bone and the
+//! palm's.
 
 use super::error::SimError;
 use super::flexion::Flexion;
 use super::region::{local_displacements, SubProblem};
 use super::step_control::count_newton;
 use crate::contact::SelfBarrier;
-use crate::fem::added_energy::AddedEnergy;
+use crate::fem::added_energy::{AddedEnergy, AddedSum};
 use crate::fem::assembly::Stiffness;
+use crate::fem::crush_barrier::CrushBarrier;
 use crate::fem::elastic_energy::ElasticEnergy;
 use crate::fem::newton::{solve_increment_with, NewtonSettings, StepFailure};
 use crate::fem::quadratic_body::QuadraticBody;
@@ -76,8 +80,12 @@ impl Flexion<'_> {
         } else {
             loads.iter().map(|r| -r).collect()
         };
+        // The flesh kept from being crushed inside out beside it (`fem::crush_barrier`: a pulp
+        // squeezed between two bones).
+        let crush = CrushBarrier::new(&sub.mesh, &sub.materials);
+        let added = AddedSum(vec![barrier as &dyn AddedEnergy, &crush]);
         let mut press = vec![0.0; dofs];
-        if barrier.energy(&u0, &mut press).is_none() {
+        if added.energy(&u0, &mut press).is_none() {
             return Err(self.unsettled(
                 "the skin touches or crosses itself where the increment starts".into(),
             ));
@@ -97,7 +105,7 @@ impl Flexion<'_> {
         let outcome = solve_increment_with(
             &body,
             (&sub.partition, &u0, &target, &vec![0.0; dofs]),
-            Some(barrier as &dyn AddedEnergy),
+            Some(&added as &dyn AddedEnergy),
             &newton,
             &mut self.caches.solver,
         );
@@ -142,7 +150,7 @@ impl Flexion<'_> {
             Ok((_, f)) => f,
             Err(e) => return Ok(Err((sub.cells[e.cell], e.det_f))),
         };
-        if barrier.energy(&u, &mut reaction).is_none() {
+        if added.energy(&u, &mut reaction).is_none() {
             return Err(self.unsettled("the barrier's equilibrium is not admissible".into()));
         }
         // (∇B(u₀) was taken out with f₀.)
