@@ -932,10 +932,10 @@ fn flesh_crushed_says_where_and_stopping_short_works() {
     short_of_the_share_is_reached(&error, Some(45.0));
 }
 
-/// The four fingers closed into a fist with the skin kept out of itself (issue 16): index,
-/// middle and ring at MCP 88°, PIP 105°, DIP 70°; the little finger at MCP 88°, PIP 95°, DIP 60°
-/// (at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its metacarpal's, through
-/// the pulp and the palm's flesh; at 95° / 60°, 11.2 mm). Before the self-contact followed each
+/// The four fingers closed into a fist with the skin kept out of itself (issue 16): every finger
+/// at MCP 88°, PIP 105°, DIP 70° (the little finger's distal phalanx's bone then within 6.2 mm of
+/// its metacarpal's, through the pulp and the palm's flesh; until 2026-12-05 it stopped at
+/// 95° / 60°, 11.2 mm). Before the self-contact followed each
 /// skin point's path over an increment (continuous collision, 2026-12-02) this stopped at
 /// little PIP 50.7° ("the skin's self-contact did not settle"). Asserted: it closes; the fingers
 /// press on each other and on the palm; the skin crosses itself nowhere (`skin_crossings`; 318

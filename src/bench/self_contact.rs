@@ -52,7 +52,7 @@ fn motions(nonlinear: bool) -> Vec<(&'static str, Pose, f64)> {
         ),
         ("full fist", full_fist(), 10.0),
         (
-            "four fingers' fist (little PIP 95°, DIP 60°)",
+            "four fingers' fist",
             four_finger_fist(),
             10.0,
         ),

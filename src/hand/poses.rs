@@ -39,14 +39,13 @@ pub fn thumb_over_fist() -> Pose {
     .collect()
 }
 
-/// The four fingers closed as in [`full_fist`], the thumb at rest, the little finger at PIP 95°,
-/// DIP 60°: at 105° / 70° its distal phalanx's bone comes within 6.2 mm of its metacarpal's,
-/// through its pulp and the palm's flesh (11.2 mm at 95° / 60°; the other fingers' 10.2–12.0 mm),
-/// where flesh kept out of itself is crushed (docs/hand.md, "Self-contact").
+/// The four fingers closed as in [`full_fist`] (MCP 88°, PIP 105°, DIP 70°), the thumb at rest.
+/// (Until 2026-12-05 the little finger stopped at PIP 95°, DIP 60°: at the full angles its distal
+/// phalanx's bone comes within 6.2 mm of its metacarpal's, through its pulp and the palm's flesh,
+/// and the self-contact's Newton did not settle there before its steps were lengthened down the
+/// barrier's negative curvature; docs/hand.md, "Self-contact".)
 pub fn four_finger_fist() -> Pose {
     let mut pose = full_fist();
     pose.retain(|joint, _| super::digit_of(joint) != "thumb");
-    pose.insert("little.pip".into(), 95.0);
-    pose.insert("little.dip".into(), 60.0);
     pose
 }
