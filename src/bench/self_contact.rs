@@ -51,11 +51,7 @@ fn motions(nonlinear: bool) -> Vec<(&'static str, Pose, f64)> {
             1.0,
         ),
         ("full fist", full_fist(), 10.0),
-        (
-            "four fingers' fist",
-            four_finger_fist(),
-            10.0,
-        ),
+        ("four fingers' fist", four_finger_fist(), 10.0),
     ]
 }
 

@@ -18,6 +18,7 @@ use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// The volume ratio below which a Gauss point resists further crushing (q̂).
 pub const CRUSH_ONSET: f64 = 0.5;
@@ -33,6 +34,9 @@ pub struct CrushBarrier<'a> {
     modulus: Vec<f64>,
     /// det J₀ at each cell's Gauss points (the points' rest volumes, weights 1).
     rest: Vec<[f64; 8]>,
+    /// The cell that cut the last step short, and its smallest volume ratio where the step
+    /// started.
+    limiting: Mutex<Option<(usize, f64)>>,
 }
 
 /// b(q), b'(q), b''(q) for 0 < q < q̂.
@@ -88,7 +92,24 @@ impl<'a> CrushBarrier<'a> {
             mesh,
             modulus,
             rest,
+            limiting: Mutex::new(None),
         }
+    }
+
+    /// The cell that cut the last step `largest_step` was asked short (the mesh's numbering),
+    /// and its smallest volume ratio where that step started; `None` if it cut none.
+    pub fn limiting(&self) -> Option<(usize, f64)> {
+        *self.limiting.lock().unwrap()
+    }
+
+    /// The smallest volume ratio of cell `c`'s Gauss points at `u`.
+    fn smallest_ratio(&self, c: usize, u: &[f64]) -> f64 {
+        let x = self.positions(c, u);
+        gauss_derivatives()
+            .iter()
+            .zip(&self.rest[c])
+            .map(|(dn, rest)| columns(&x, dn).determinant() / rest)
+            .fold(f64::INFINITY, f64::min)
     }
 
     fn positions(&self, c: usize, u: &[f64]) -> [Vector3<f64>; 8] {
@@ -271,13 +292,15 @@ impl AddedEnergy for CrushBarrier<'_> {
     }
 
     fn largest_step(&self, u: &[f64], du: &[f64]) -> f64 {
-        let first = (0..self.mesh.cell_count())
+        let (first, cell) = (0..self.mesh.cell_count())
             .into_par_iter()
-            .map(|c| self.first_collapse(c, u, du))
-            .reduce(|| 1.0, f64::min);
+            .map(|c| (self.first_collapse(c, u, du), c))
+            .reduce(|| (1.0, usize::MAX), |a, b| if b.0 < a.0 { b } else { a });
         if first >= 1.0 {
+            *self.limiting.lock().unwrap() = None;
             1.0
         } else {
+            *self.limiting.lock().unwrap() = Some((cell, self.smallest_ratio(cell, u)));
             TO_COLLAPSE * first
         }
     }
@@ -510,5 +533,65 @@ mod tests {
             "soft cell's volume ratio {q_soft:.4}, stress {:.4e} Pa",
             -exact / (h * h)
         );
+    }
+
+    /// Plates squeezed past the column's height (no flesh fits between them): each step toward
+    /// them is cut short of the soft cell's collapse, Newton stops once its placing iterations
+    /// are spent, and the barrier names the soft cell as the one in the way.
+    #[test]
+    fn a_squeeze_no_flesh_fits_fails_fast_and_names_the_cell() {
+        let h = 0.01;
+        let mesh = box_mesh(Vector3::zeros(), Vector3::new(h, h, 2.0 * h), [1, 1, 2]);
+        let stiff = flesh();
+        let soft = Material {
+            young: stiff.young / 10.0,
+            ..stiff
+        };
+        let top_cell = (0..2)
+            .find(|&c| mesh.cell_coords(c).iter().map(|x| x.z).sum::<f64>() / 8.0 > h)
+            .unwrap();
+        let materials: Vec<Material> = (0..2)
+            .map(|c| if c == top_cell { soft } else { stiff })
+            .collect();
+        let k = assemble(&Arc::new(StiffnessPattern::new(&mesh)), &mesh, &materials).unwrap();
+        let dofs = 3 * mesh.node_count();
+        let partition = DofPartition::new(
+            (0..dofs)
+                .map(|d| d % 3 != 2 || mesh.nodes[d / 3].z != h)
+                .collect(),
+        );
+        let mut target = vec![0.0; dofs];
+        for (n, x) in mesh.nodes.iter().enumerate() {
+            if x.z == 2.0 * h {
+                target[3 * n + 2] = -2.05 * h;
+            }
+        }
+        let zeros = vec![0.0; dofs];
+        let body = QuadraticBody::new(&k, &mesh, zeros.clone(), zeros.clone());
+        let crush = CrushBarrier::new(&mesh, &materials);
+        let settings = NewtonSettings {
+            escape_saddles: false,
+            expand_steps: true,
+            placing_iterations: 12,
+            ..NewtonSettings::descent(100, FillOrdering::Auto)
+        };
+        let outcome = solve_increment_with(
+            &body,
+            (&partition, &zeros, &target, &zeros),
+            Some(&crush),
+            &settings,
+            &mut PartitionedSolver::new(FillOrdering::Auto),
+        );
+        assert!(
+            matches!(
+                outcome.result,
+                Err(crate::fem::newton::StepFailure::NotPlaced { iterations: 12 })
+            ),
+            "{:?}",
+            outcome.result
+        );
+        let (cell, q) = crush.limiting().expect("the barrier cut the steps");
+        assert!(q > 0.0 && q < CRUSH_ONSET, "{q}");
+        assert!(cell < 2);
     }
 }

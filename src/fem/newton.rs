@@ -82,6 +82,11 @@ pub struct NewtonSettings {
     /// direction of negative curvature (skin pressed on skin sliding off a ridge) gives steps
     /// far too short, and Newton creeps along it.
     pub expand_steps: bool,
+    /// Iterations allowed to put the prescribed dofs in place (each step toward them cut short
+    /// where the added energy forbids going further: flesh squeezed between bones that come
+    /// too close for it); past them the increment fails ([`StepFailure::NotPlaced`]) instead
+    /// of creeping on. `usize::MAX`: no limit.
+    pub placing_iterations: usize,
 }
 
 impl Default for NewtonSettings {
@@ -99,6 +104,7 @@ impl Default for NewtonSettings {
             energy_descent: false,
             escape_saddles: true,
             expand_steps: false,
+            placing_iterations: usize::MAX,
         }
     }
 }
@@ -235,6 +241,16 @@ pub enum StepFailure {
     /// The tangent could not be factorized for another reason.
     #[error("the tangent stiffness could not be factorized: {0}")]
     Tangent(String),
+    /// The prescribed dofs were not in place after [`NewtonSettings::placing_iterations`]:
+    /// each step toward them was cut short by the added energy.
+    #[error(
+        "the prescribed displacements could not be reached in {iterations} iterations: each \
+         step toward them was cut short where the added energy forbids going further"
+    )]
+    NotPlaced {
+        /// Iterations done.
+        iterations: usize,
+    },
 }
 
 /// Why the nonlinear solve failed.
@@ -591,6 +607,11 @@ impl Increment<'_> {
                 return Ok(u);
             }
             record.iterations = iteration;
+            if !placed && iteration >= s.placing_iterations {
+                return Err(StepFailure::NotPlaced {
+                    iterations: iteration,
+                });
+            }
             if iteration == s.max_iterations || !relative.is_finite() {
                 return Err(StepFailure::NotConverged {
                     iterations: iteration,

@@ -41,9 +41,10 @@ pub fn thumb_over_fist() -> Pose {
 
 /// The four fingers closed as in [`full_fist`] (MCP 88°, PIP 105°, DIP 70°), the thumb at rest.
 /// (Until 2026-12-05 the little finger stopped at PIP 95°, DIP 60°: at the full angles its distal
-/// phalanx's bone comes within 6.2 mm of its metacarpal's, through its pulp and the palm's flesh,
-/// and the self-contact's Newton did not settle there before its steps were lengthened down the
-/// barrier's negative curvature; docs/hand.md, "Self-contact".)
+/// phalanx's bone comes within 6.2 mm of its metacarpal's, through its pulp and the palm's flesh;
+/// the self-contact's Newton settled there once its steps were lengthened down the barrier's
+/// negative curvature, and at resolution 1.5 once the linear flesh was kept from being crushed
+/// inside out, `fem::crush_barrier`; docs/hand.md, "Self-contact".)
 pub fn four_finger_fist() -> Pose {
     let mut pose = full_fist();
     pose.retain(|joint, _| super::digit_of(joint) != "thumb");

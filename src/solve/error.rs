@@ -22,7 +22,8 @@ pub enum SimError {
     #[error(
         "body \"{body}\": flesh element {element} (at rest near [{:.1}, {:.1}, {:.1}] mm) would turn \
          inside out as {joint} reaches {angle:.1}°, even with the increment halved four times: \
-         the flesh is crushed in a crease of the joint; {}",
+         the flesh is crushed (in a crease of the joint, or between bones that come too close \
+         for it); {}",
         rest_position_mm[0], rest_position_mm[1], rest_position_mm[2],
         stop_short_advice(*self_contact, *share)
     )]

@@ -43,6 +43,12 @@ use nalgebra::Vector3;
 /// longer steps (79 with saddle escapes instead, allowed 150 as the nonlinear tier is).
 const MAX_ITERATIONS: usize = 100;
 
+/// Newton iterations allowed to put the bones in place. Increments that settle put them there
+/// within 4 (the full fist at resolution 1.5, traced); where the flesh between two bones would
+/// have to be crushed inside out every step toward them is cut short, and Newton crept on for
+/// its 100 iterations at each of the five halvings.
+const PLACING_ITERATIONS: usize = 12;
+
 /// What one linear increment with the barrier gives: the solution, as the linear solve's — the
 /// new positions (corotated) or the displacements (the paper's) at every dof, the reactions at
 /// the prescribed ones (the factorizations and their cost counted in the keyframe's statistics
@@ -100,6 +106,7 @@ impl Flexion<'_> {
         let newton = NewtonSettings {
             escape_saddles: false,
             expand_steps: true,
+            placing_iterations: PLACING_ITERATIONS,
             ..NewtonSettings::descent(MAX_ITERATIONS, self.ordering)
         };
         let outcome = solve_increment_with(
@@ -114,6 +121,12 @@ impl Flexion<'_> {
         let u = match outcome.result {
             Ok(u) => u,
             Err(StepFailure::Inverted { cell, det_f }) => return Ok(Err((sub.cells[cell], det_f))),
+            // The bones come too close for the flesh between them: it would have to be crushed
+            // inside out (as a cell that turns inside out, the increment is halved).
+            Err(StepFailure::NotPlaced { .. }) if crush.limiting().is_some() => {
+                let (cell, q) = crush.limiting().unwrap();
+                return Ok(Err((sub.cells[cell], q)));
+            }
             // The factorization itself failed (memory refused, a value not finite): not the
             // self-contact's doing, and no smaller increment helps.
             Err(StepFailure::Tangent(reason)) => {
