@@ -1016,8 +1016,8 @@ fn full_fist_closes(resolution: f64, volume: f64) -> f64 {
 /// the barrier the straight path closes: the same pose, the bones balanced, the flesh's volume
 /// and the skin inside its own flesh as after the two keyframes (a path of its own: the joints
 /// all at once), the largest bone reaction within a tenth of theirs. (The staged fallback is
-/// still tried where the straight path fails: `the_full_fist_with_self_contact_says_where_it_
-/// stops_and_its_advice_works`, where both fail.)
+/// still tried where the straight path fails; with the flesh kept from being crushed inside
+/// out, issue 16's full fist, its thumb across, closes in one keyframe too.)
 #[test]
 fn the_shipped_full_fist_closes_in_one_keyframe_as_in_two() {
     // The simple form's: the anatomical hand's (the shipped scene's) closed along its straight

@@ -123,8 +123,17 @@ impl Flexion<'_> {
             Err(StepFailure::Inverted { cell, det_f }) => return Ok(Err((sub.cells[cell], det_f))),
             // The bones come too close for the flesh between them: it would have to be crushed
             // inside out (as a cell that turns inside out, the increment is halved).
-            Err(StepFailure::NotPlaced { .. }) if crush.limiting().is_some() => {
-                let (cell, q) = crush.limiting().unwrap();
+            // (Blamed on the flesh only where its collapse, not the skin's crossing, set the
+            // length of the last step taken.)
+            Err(StepFailure::NotPlaced { .. })
+                if crush.limiting().is_some_and(|(_, _, allowed)| {
+                    record
+                        .step_lengths
+                        .last()
+                        .is_some_and(|&taken| (taken - allowed).abs() <= 1e-9 * allowed)
+                }) =>
+            {
+                let (cell, q, _) = crush.limiting().unwrap();
                 return Ok(Err((sub.cells[cell], q)));
             }
             // The factorization itself failed (memory refused, a value not finite): not the
