@@ -437,14 +437,19 @@ mod tests {
         assert!(least >= -1e-9 * hscale, "{least}");
     }
 
-    /// Two cells in a column, confined at their sides, squeezed by 95 % of its height: the top
-    /// one ten times softer. Linear flesh alone would put 91 % of the squeeze into the soft
-    /// cell and turn it inside out (its strain 1.73); with the barrier Newton finds the
-    /// equilibrium where both cells carry the same stress M·ε − κ·b'(1 − ε), the soft cell's
-    /// volume still positive, and the force on the top plate is that stress times its area.
-    #[test]
-    fn a_soft_cell_squeezed_in_series_with_a_stiff_one_stays_right_side_out() {
-        let h = 0.01;
+    /// Two cells of side h in a column, the top one ten times softer, confined at their sides
+    /// (only the middle nodes' z free), the bottom held and the top pushed down by `squeeze`.
+    struct Column {
+        mesh: Mesh,
+        materials: Vec<Material>,
+        stiff: Material,
+        soft: Material,
+        k: crate::fem::Stiffness,
+        partition: DofPartition,
+        target: Vec<f64>,
+    }
+
+    fn column(h: f64, squeeze: f64) -> Column {
         let mesh = box_mesh(Vector3::zeros(), Vector3::new(h, h, 2.0 * h), [1, 1, 2]);
         let stiff = flesh();
         let soft = Material {
@@ -463,28 +468,63 @@ mod tests {
             .collect();
         let k = assemble(&Arc::new(StiffnessPattern::new(&mesh)), &mesh, &materials).unwrap();
         let dofs = 3 * mesh.node_count();
-        let squeeze = 0.95 * 2.0 * h;
-        let prescribed: Vec<bool> = (0..dofs)
-            .map(|d| d % 3 != 2 || mesh.nodes[d / 3].z != h)
-            .collect();
-        let partition = DofPartition::new(prescribed);
+        let partition = DofPartition::new(
+            (0..dofs)
+                .map(|d| d % 3 != 2 || mesh.nodes[d / 3].z != h)
+                .collect(),
+        );
         let mut target = vec![0.0; dofs];
         for (n, x) in mesh.nodes.iter().enumerate() {
             if x.z == 2.0 * h {
                 target[3 * n + 2] = -squeeze;
             }
         }
+        Column {
+            mesh,
+            materials,
+            stiff,
+            soft,
+            k,
+            partition,
+            target,
+        }
+    }
+
+    /// The settings of the flexion's increments with self-contact.
+    fn flexion_settings() -> NewtonSettings {
+        NewtonSettings {
+            escape_saddles: false,
+            expand_steps: true,
+            placing_iterations: 12,
+            ..NewtonSettings::descent(100, FillOrdering::Auto)
+        }
+    }
+
+    /// Two cells in a column, confined at their sides, squeezed by 95 % of its height: the top
+    /// one ten times softer. Linear flesh alone would put 91 % of the squeeze into the soft
+    /// cell and turn it inside out (its strain 1.73); with the barrier Newton finds the
+    /// equilibrium where both cells carry the same stress M·ε − κ·b'(1 − ε), the soft cell's
+    /// volume still positive, and the force on the top plate is that stress times its area.
+    #[test]
+    fn a_soft_cell_squeezed_in_series_with_a_stiff_one_stays_right_side_out() {
+        let h = 0.01;
+        let squeeze = 0.95 * 2.0 * h;
+        let Column {
+            mesh,
+            materials,
+            stiff,
+            soft,
+            k,
+            partition,
+            target,
+        } = column(h, squeeze);
+        let dofs = 3 * mesh.node_count();
         let zeros = vec![0.0; dofs];
         let body = QuadraticBody::new(&k, &mesh, zeros.clone(), zeros.clone());
         let crush = CrushBarrier::new(&mesh, &materials);
         // (The flexion's settings: a squeeze the flesh can take is placed within its placing
         // iterations.)
-        let settings = NewtonSettings {
-            escape_saddles: false,
-            expand_steps: true,
-            placing_iterations: 12,
-            ..NewtonSettings::descent(100, FillOrdering::Auto)
-        };
+        let settings = flexion_settings();
         let solve = |added: Option<&dyn AddedEnergy>| {
             let mut solver = PartitionedSolver::new(FillOrdering::Auto);
             solve_increment_with(
@@ -554,40 +594,18 @@ mod tests {
     #[test]
     fn a_squeeze_no_flesh_fits_fails_fast_and_names_the_cell() {
         let h = 0.01;
-        let mesh = box_mesh(Vector3::zeros(), Vector3::new(h, h, 2.0 * h), [1, 1, 2]);
-        let stiff = flesh();
-        let soft = Material {
-            young: stiff.young / 10.0,
-            ..stiff
-        };
-        let top_cell = (0..2)
-            .find(|&c| mesh.cell_coords(c).iter().map(|x| x.z).sum::<f64>() / 8.0 > h)
-            .unwrap();
-        let materials: Vec<Material> = (0..2)
-            .map(|c| if c == top_cell { soft } else { stiff })
-            .collect();
-        let k = assemble(&Arc::new(StiffnessPattern::new(&mesh)), &mesh, &materials).unwrap();
-        let dofs = 3 * mesh.node_count();
-        let partition = DofPartition::new(
-            (0..dofs)
-                .map(|d| d % 3 != 2 || mesh.nodes[d / 3].z != h)
-                .collect(),
-        );
-        let mut target = vec![0.0; dofs];
-        for (n, x) in mesh.nodes.iter().enumerate() {
-            if x.z == 2.0 * h {
-                target[3 * n + 2] = -2.05 * h;
-            }
-        }
-        let zeros = vec![0.0; dofs];
+        let Column {
+            mesh,
+            materials,
+            k,
+            partition,
+            target,
+            ..
+        } = column(h, 2.05 * h);
+        let zeros = vec![0.0; 3 * mesh.node_count()];
         let body = QuadraticBody::new(&k, &mesh, zeros.clone(), zeros.clone());
         let crush = CrushBarrier::new(&mesh, &materials);
-        let settings = NewtonSettings {
-            escape_saddles: false,
-            expand_steps: true,
-            placing_iterations: 12,
-            ..NewtonSettings::descent(100, FillOrdering::Auto)
-        };
+        let settings = flexion_settings();
         let outcome = solve_increment_with(
             &body,
             (&partition, &zeros, &target, &zeros),
