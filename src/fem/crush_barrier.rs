@@ -509,19 +509,13 @@ mod tests {
     fn a_soft_cell_squeezed_in_series_with_a_stiff_one_stays_right_side_out() {
         let h = 0.01;
         let squeeze = 0.95 * 2.0 * h;
-        let Column {
-            mesh,
-            materials,
-            stiff,
-            soft,
-            k,
-            partition,
-            target,
-        } = column(h, squeeze);
+        let c = column(h, squeeze);
+        let (mesh, materials, k) = (&c.mesh, &c.materials, &c.k);
+        let (partition, target, stiff, soft) = (&c.partition, &c.target, c.stiff, c.soft);
         let dofs = 3 * mesh.node_count();
         let zeros = vec![0.0; dofs];
-        let body = QuadraticBody::new(&k, &mesh, zeros.clone(), zeros.clone());
-        let crush = CrushBarrier::new(&mesh, &materials);
+        let body = QuadraticBody::new(k, mesh, zeros.clone(), zeros.clone());
+        let crush = CrushBarrier::new(mesh, materials);
         // (The flexion's settings: a squeeze the flesh can take is placed within its placing
         // iterations.)
         let settings = flexion_settings();
@@ -529,7 +523,7 @@ mod tests {
             let mut solver = PartitionedSolver::new(FillOrdering::Auto);
             solve_increment_with(
                 &body,
-                (&partition, &zeros, &target, &zeros),
+                (partition, &zeros, target, &zeros),
                 added,
                 &settings,
                 &mut solver,
@@ -594,21 +588,16 @@ mod tests {
     #[test]
     fn a_squeeze_no_flesh_fits_fails_fast_and_names_the_cell() {
         let h = 0.01;
-        let Column {
-            mesh,
-            materials,
-            k,
-            partition,
-            target,
-            ..
-        } = column(h, 2.05 * h);
+        let c = column(h, 2.05 * h);
+        let (mesh, materials, k) = (&c.mesh, &c.materials, &c.k);
+        let (partition, target) = (&c.partition, &c.target);
         let zeros = vec![0.0; 3 * mesh.node_count()];
-        let body = QuadraticBody::new(&k, &mesh, zeros.clone(), zeros.clone());
-        let crush = CrushBarrier::new(&mesh, &materials);
+        let body = QuadraticBody::new(k, mesh, zeros.clone(), zeros.clone());
+        let crush = CrushBarrier::new(mesh, materials);
         let settings = flexion_settings();
         let outcome = solve_increment_with(
             &body,
-            (&partition, &zeros, &target, &zeros),
+            (partition, &zeros, target, &zeros),
             Some(&crush),
             &settings,
             &mut PartitionedSolver::new(FillOrdering::Auto),
