@@ -1060,8 +1060,8 @@ fn the_shipped_full_fist_closes_in_one_keyframe_as_in_two() {
 /// The shipped full fist at resolutions 1 and 1.5 (the flesh loses up to about 1.7 % and 1.8 % of
 /// its volume: the creases pressed shut, the little finger's pulp squeezed against the palm;
 /// bound 2 %). The largest bone reaction (the little finger's metacarpal) changes by less
-/// than 5 % between them (11.350 → 10.990 N measured, 3.2 %; at resolution 2 …, docs/hand.md,
-/// "Self-contact": the refinement study).
+/// than 5 % between them (11.350 → 10.990 N measured with `prehensile solve`, 3.2 %;
+/// docs/hand.md, "Self-contact").
 #[test]
 fn the_shipped_full_fist_closes_and_its_largest_bone_reaction_converges() {
     let coarse = full_fist_closes(1.0, 0.02);
