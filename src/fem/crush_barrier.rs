@@ -13,7 +13,7 @@
 //! step is a cubic in the step's length).
 
 use super::added_energy::{AddedEnergy, NodeBlock};
-use super::hex8::gauss_derivatives;
+use super::hex8::{gauss_derivatives, jacobian};
 use super::material::Material;
 use crate::mesh::Mesh;
 use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
@@ -49,24 +49,10 @@ fn barrier(q: f64) -> (f64, f64, f64) {
     )
 }
 
-/// J's columns ∂x/∂ξ_j at one Gauss point.
-fn columns(x: &[Vector3<f64>; 8], dn: &[Vector3<f64>; 8]) -> Matrix3<f64> {
-    let mut j = Matrix3::zeros();
-    for a in 0..8 {
-        j += x[a] * dn[a].transpose();
-    }
-    j
-}
-
 /// ∂ det J / ∂c_j for J's columns c_j: c₁×c₂, c₂×c₀, c₀×c₁.
 fn det_by_columns(j: &Matrix3<f64>) -> [Vector3<f64>; 3] {
     let (c0, c1, c2) = (j.column(0), j.column(1), j.column(2));
     [c1.cross(&c2), c2.cross(&c0), c0.cross(&c1)]
-}
-
-/// The skew matrix [v]× (v × w = [v]× w).
-fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
 impl<'a> CrushBarrier<'a> {
@@ -83,7 +69,7 @@ impl<'a> CrushBarrier<'a> {
                 let x = mesh.cell_coords(c);
                 let mut r = [0.0; 8];
                 for (g, dn) in gauss_derivatives().iter().enumerate() {
-                    r[g] = columns(&x, dn).determinant();
+                    r[g] = jacobian(&x, dn).determinant();
                 }
                 r
             })
@@ -109,7 +95,7 @@ impl<'a> CrushBarrier<'a> {
         gauss_derivatives()
             .iter()
             .zip(&self.rest[c])
-            .map(|(dn, rest)| columns(&x, dn).determinant() / rest)
+            .map(|(dn, rest)| jacobian(&x, dn).determinant() / rest)
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -130,7 +116,7 @@ impl<'a> CrushBarrier<'a> {
         let x = self.positions(c, u);
         let mut out: Option<(f64, SVector<f64, 24>, Option<DMatrix<f64>>)> = None;
         for (g, dn) in gauss_derivatives().iter().enumerate() {
-            let j = columns(&x, dn);
+            let j = jacobian(&x, dn);
             let det = j.determinant();
             let rest = self.rest[c][g];
             if !(rest > 0.0 && det > 0.0) {
@@ -171,7 +157,7 @@ impl<'a> CrushBarrier<'a> {
                     j.column(2).into_owned(),
                 ];
                 for (p, q2, other) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
-                    let m = -skew(&cols[other]);
+                    let m = -cols[other].cross_matrix();
                     dd[p][q2] = m;
                     dd[q2][p] = m.transpose();
                 }
@@ -199,7 +185,7 @@ impl<'a> CrushBarrier<'a> {
         let d = self.mesh.cells[c].map(|n| Vector3::new(du[3 * n], du[3 * n + 1], du[3 * n + 2]));
         let mut first = 1.0f64;
         for dn in gauss_derivatives() {
-            let (a, b) = (columns(&x, dn), columns(&d, dn));
+            let (a, b) = (jacobian(&x, dn), jacobian(&d, dn));
             let da = det_by_columns(&a);
             let db = det_by_columns(&b);
             // det(A + αB) = c₀ + c₁α + c₂α² + c₃α³.
