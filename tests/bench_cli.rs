@@ -122,7 +122,8 @@ fn the_smallest_sizes_run() {
 }
 
 /// `bench self-contact --nonlinear` at the coarsest hand: both creases fold to 110° with the
-/// skin kept out of itself (the barrier's pairs and force in the table) and without it.
+/// skin kept out of itself (the barrier's pairs and force in the table) and without it; the
+/// largest bone reaction and the flesh's change of volume are read.
 #[test]
 fn the_nonlinear_self_contact_bench_folds_both_creases() {
     let run = bench(&["self-contact", "--nonlinear", "--resolutions", "0.5"]);
@@ -139,6 +140,9 @@ fn the_nonlinear_self_contact_bench_folds_both_creases() {
     for row in &rows {
         assert!(!row[4].starts_with("stopped"), "{table}");
         let (points, force): (usize, f64) = (row[7].parse().unwrap(), row[8].parse().unwrap());
+        // The bones feel the flexion; the flesh keeps its volume to 2 %.
+        let (bone, volume): (f64, f64) = (row[9].parse().unwrap(), row[10].parse().unwrap());
+        assert!(bone > 0.1 && bone < 100.0 && volume.abs() < 2.0, "{table}");
         if row[3] == "on" {
             assert!(points > 0 && force > 0.0, "{table}");
         } else {

@@ -1,12 +1,15 @@
 //! `prehensile bench self-contact`: the skin kept out of itself (issue 16) against the skin left
 //! to pass through itself, on the motions that fold it — the index PIP to 110°, the middle finger
-//! adducted onto the ring finger, a full fist — per hand resolution: time, increments,
-//! factorizations, the pairs held and their force, or why it stopped.
+//! adducted onto the ring finger, the shipped full fist (the four fingers closed, then the thumb
+//! folded over them) — per hand resolution: time, increments, factorizations, the pairs held and
+//! their force, the largest bone reaction and the flesh's change of volume, or why it stopped.
+//! Over resolutions 1, 1.5 and 2 its rows are the full fist's refinement study (docs/hand.md,
+//! "Self-contact").
 
 use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
 use crate::fem::Material;
-use crate::hand::{four_finger_fist, full_fist, HandModel, Pose, Side};
+use crate::hand::{four_finger_fist, thumb_over_fist, HandModel, Pose, Side};
 use crate::model::{FlexionScheme, FlexionSettings};
 use crate::solve::Flexion;
 use crate::state::HandState;
@@ -22,36 +25,57 @@ pub struct SelfContactRow {
     pub self_contact: bool,
     /// Wall time, s.
     pub seconds: f64,
-    /// Increments taken and factorizations, pairs held and their force (N) at the end; or the
-    /// error.
-    pub outcome: Result<(usize, usize, usize, f64), String>,
+    /// What the motion came to, or the error.
+    pub outcome: Result<MotionOutcome, String>,
 }
 
-/// The benchmark's motions: a name, the joints and angles (degrees), the increment; for the
-/// nonlinear tier, the creases' folding only (its fists stop where the flesh buckles).
-fn motions(nonlinear: bool) -> Vec<(&'static str, Pose, f64)> {
+/// Where a motion that closed ended.
+#[derive(Clone, Copy, Debug)]
+pub struct MotionOutcome {
+    /// Increments taken over its stages.
+    pub increments: usize,
+    /// Factorizations over its stages.
+    pub factorizations: usize,
+    /// Self-contact pairs held at the end.
+    pub pairs: usize,
+    /// Their force, N.
+    pub force: f64,
+    /// The largest bone reaction at the end, N.
+    pub largest_bone: f64,
+    /// The flesh's change of volume from rest (a fraction).
+    pub volume_change: f64,
+}
+
+/// The benchmark's motions: a name, its stages (joints and angles in degrees, each over where
+/// the one before ended), the increment; for the nonlinear tier, the creases' folding only (its
+/// fists stop where the flesh buckles).
+fn motions(nonlinear: bool) -> Vec<(&'static str, Vec<Pose>, f64)> {
     let pose = |pairs: &[(&str, f64)]| -> Pose {
         pairs.iter().map(|(j, a)| (j.to_string(), *a)).collect()
     };
     if nonlinear {
         return vec![
-            ("index PIP 110°", pose(&[("index.pip", 110.0)]), 10.0),
+            ("index PIP 110°", vec![pose(&[("index.pip", 110.0)])], 10.0),
             (
                 "index and middle PIP 110°",
-                pose(&[("index.pip", 110.0), ("middle.pip", 110.0)]),
+                vec![pose(&[("index.pip", 110.0), ("middle.pip", 110.0)])],
                 10.0,
             ),
         ];
     }
     vec![
-        ("index PIP 110°", pose(&[("index.pip", 110.0)]), 10.0),
+        ("index PIP 110°", vec![pose(&[("index.pip", 110.0)])], 10.0),
         (
             "middle MCP abduction −8° (onto the ring)",
-            pose(&[("middle.mcp.abd", -8.0)]),
+            vec![pose(&[("middle.mcp.abd", -8.0)])],
             1.0,
         ),
-        ("full fist", full_fist(), 10.0),
-        ("four fingers' fist", four_finger_fist(), 10.0),
+        // assets/scenes/hand-full-fist.toml's two keyframes.
+        (
+            "full fist (fingers, then thumb over)",
+            vec![four_finger_fist(), thumb_over_fist()],
+            10.0,
+        ),
     ]
 }
 
@@ -69,7 +93,7 @@ pub fn self_contact_rows(
     let mut rows = Vec::new();
     for &resolution in resolutions {
         let hand = HandModel::new(Side::Right, resolution)?;
-        for (name, pose, step) in motions(nonlinear) {
+        for (name, stages, step) in motions(nonlinear) {
             for self_contact in [false, true] {
                 let mut stepper = Flexion::new(
                     &hand,
@@ -88,19 +112,36 @@ pub fn self_contact_rows(
                     FillOrdering::Auto,
                 );
                 let mut state = HandState::rest(&hand);
-                let target = hand.skeleton.apply_pose(&state.angles, &pose)?;
+                let rest_volume = state.flesh_volume(&hand);
                 let t = Instant::now();
-                let outcome = stepper
-                    .move_to(&mut state, &target)
-                    .map(|s| {
-                        (
-                            s.increments_taken,
-                            s.factorizations,
-                            s.self_contacts,
-                            s.self_contact_force,
-                        )
-                    })
-                    .map_err(|e| e.to_string());
+                let mut outcome = Ok(MotionOutcome {
+                    increments: 0,
+                    factorizations: 0,
+                    pairs: 0,
+                    force: 0.0,
+                    largest_bone: 0.0,
+                    volume_change: 0.0,
+                });
+                for pose in &stages {
+                    let Ok(done) = &mut outcome else { break };
+                    let target = hand.skeleton.apply_pose(&state.angles, pose)?;
+                    match stepper.move_to(&mut state, &target) {
+                        Ok(s) => {
+                            done.increments += s.increments_taken;
+                            done.factorizations += s.factorizations;
+                            (done.pairs, done.force) = (s.self_contacts, s.self_contact_force);
+                        }
+                        Err(e) => outcome = Err(e.to_string()),
+                    }
+                }
+                if let Ok(done) = &mut outcome {
+                    done.largest_bone = state
+                        .bone_reactions(&hand)
+                        .iter()
+                        .map(|r| r.norm())
+                        .fold(0.0, f64::max);
+                    done.volume_change = state.flesh_volume(&hand) / rest_volume - 1.0;
+                }
                 rows.push(SelfContactRow {
                     motion: name.to_string(),
                     resolution,
@@ -117,20 +158,28 @@ pub fn self_contact_rows(
 /// The rows as a markdown table.
 pub fn self_contact_table(rows: &[SelfContactRow]) -> String {
     let mut out = String::from(
-        "| motion | resolution | self-contact | time (s) | increments | factorizations | pairs held | force (N) |\n|---|---|---|---|---|---|---|---|\n",
+        "| motion | resolution | self-contact | time (s) | increments | factorizations | pairs held | force (N) | largest bone reaction (N) | volume (%) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let on = if r.self_contact { "on" } else { "off" };
         match &r.outcome {
-            Ok((increments, factorizations, points, force)) => out.push_str(&format!(
-                "| {} | {} | {on} | {:.2} | {increments} | {factorizations} | {points} | {force:.3} |\n",
-                r.motion, r.resolution, r.seconds
+            Ok(o) => out.push_str(&format!(
+                "| {} | {} | {on} | {:.2} | {} | {} | {} | {:.3} | {:.3} | {:+.2} |\n",
+                r.motion,
+                r.resolution,
+                r.seconds,
+                o.increments,
+                o.factorizations,
+                o.pairs,
+                o.force,
+                o.largest_bone,
+                100.0 * o.volume_change
             )),
             Err(e) => {
                 // The error's gist: up to its first parenthesis or semicolon.
                 let gist = e.split([';', '(']).next().unwrap_or(e).trim();
                 out.push_str(&format!(
-                    "| {} | {} | {on} | {:.2} | stopped: {gist} | | | |\n",
+                    "| {} | {} | {on} | {:.2} | stopped: {gist} | | | | | |\n",
                     r.motion, r.resolution, r.seconds
                 ));
             }
