@@ -140,11 +140,16 @@ fn the_nonlinear_self_contact_bench_folds_both_creases() {
     for row in &rows {
         assert!(!row[4].starts_with("stopped"), "{table}");
         let (points, force): (usize, f64) = (row[7].parse().unwrap(), row[8].parse().unwrap());
-        // The bones feel the flexion; the flesh keeps its volume to 2 %.
+        // The flesh keeps its volume to 2 %; the skin pressed on itself presses on the bones.
+        // (Without it the coarsest nonlinear crease reads 0.000 N: 0.48 N at 0.75, 1.4 N at
+        // 1; docs/performance.md.)
         let (bone, volume): (f64, f64) = (row[9].parse().unwrap(), row[10].parse().unwrap());
-        assert!(bone > 0.1 && bone < 100.0 && volume.abs() < 2.0, "{table}");
+        assert!(
+            (0.0..100.0).contains(&bone) && volume.abs() < 2.0,
+            "{table}"
+        );
         if row[3] == "on" {
-            assert!(points > 0 && force > 0.0, "{table}");
+            assert!(points > 0 && force > 0.0 && bone > 0.1, "{table}");
         } else {
             assert!(points == 0 && force == 0.0, "{table}");
         }
