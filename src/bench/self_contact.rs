@@ -3,8 +3,7 @@
 //! adducted onto the ring finger, the shipped full fist (the four fingers closed, then the thumb
 //! folded over them) — per hand resolution: time, increments, factorizations, the pairs held and
 //! their force, the largest bone reaction and the flesh's change of volume, or why it stopped.
-//! Over resolutions 1, 1.5 and 2 its rows are the full fist's refinement study (docs/hand.md,
-//! "Self-contact").
+//! The hand is the simple form's ([`HandModel::new`]; the shipped scene's is the anatomical).
 
 use crate::contact::ContactSettings;
 use crate::fem::solve::FillOrdering;
@@ -13,7 +12,7 @@ use crate::hand::{four_finger_fist, thumb_over_fist, HandModel, Pose, Side};
 use crate::model::{FlexionScheme, FlexionSettings};
 use crate::solve::Flexion;
 use crate::state::HandState;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// One motion with or without self-contact.
 pub struct SelfContactRow {
@@ -111,48 +110,65 @@ pub fn self_contact_rows(
                     },
                     FillOrdering::Auto,
                 );
-                let mut state = HandState::rest(&hand);
-                let rest_volume = state.flesh_volume(&hand);
                 let t = Instant::now();
-                let mut outcome = Ok(MotionOutcome {
-                    increments: 0,
-                    factorizations: 0,
-                    pairs: 0,
-                    force: 0.0,
-                    largest_bone: 0.0,
-                    volume_change: 0.0,
-                });
-                for pose in &stages {
-                    let Ok(done) = &mut outcome else { break };
-                    let target = hand.skeleton.apply_pose(&state.angles, pose)?;
-                    match stepper.move_to(&mut state, &target) {
-                        Ok(s) => {
-                            done.increments += s.increments_taken;
-                            done.factorizations += s.factorizations;
-                            (done.pairs, done.force) = (s.self_contacts, s.self_contact_force);
-                        }
-                        Err(e) => outcome = Err(e.to_string()),
-                    }
-                }
-                if let Ok(done) = &mut outcome {
-                    done.largest_bone = state
-                        .bone_reactions(&hand)
-                        .iter()
-                        .map(|r| r.norm())
-                        .fold(0.0, f64::max);
-                    done.volume_change = state.flesh_volume(&hand) / rest_volume - 1.0;
-                }
+                let outcome = run_motion(&hand, &mut stepper, &stages, || t.elapsed());
+                let seconds = match &outcome {
+                    Ok((_, elapsed)) => elapsed.as_secs_f64(),
+                    Err(_) => t.elapsed().as_secs_f64(),
+                };
                 rows.push(SelfContactRow {
                     motion: name.to_string(),
                     resolution,
                     self_contact,
-                    seconds: t.elapsed().as_secs_f64(),
-                    outcome,
+                    seconds,
+                    outcome: outcome.map(|(o, _)| o),
                 });
             }
         }
     }
     Ok(rows)
+}
+
+/// `stages` one after another from rest by one `stepper`, each over where the one before ended
+/// (as the keyframe driver asks a scene's keyframes): what they came to and the time `clock`
+/// read when the last closed (before the bone reactions and volume are read), or the first
+/// stage's error.
+fn run_motion(
+    hand: &HandModel,
+    stepper: &mut Flexion,
+    stages: &[Pose],
+    clock: impl Fn() -> Duration,
+) -> Result<(MotionOutcome, Duration), String> {
+    let mut state = HandState::rest(hand);
+    let rest_volume = state.flesh_volume(hand);
+    let (mut increments, mut factorizations, mut pairs, mut force) = (0, 0, 0, 0.0);
+    for pose in stages {
+        let target = hand
+            .skeleton
+            .apply_pose(&state.angles, pose)
+            .map_err(|e| e.to_string())?;
+        let s = stepper
+            .move_to(&mut state, &target)
+            .map_err(|e| e.to_string())?;
+        increments += s.increments_taken;
+        factorizations += s.factorizations;
+        (pairs, force) = (s.self_contacts, s.self_contact_force);
+    }
+    let elapsed = clock();
+    let largest_bone = state
+        .bone_reactions(hand)
+        .iter()
+        .map(|r| r.norm())
+        .fold(0.0, f64::max);
+    let outcome = MotionOutcome {
+        increments,
+        factorizations,
+        pairs,
+        force,
+        largest_bone,
+        volume_change: state.flesh_volume(hand) / rest_volume - 1.0,
+    };
+    Ok((outcome, elapsed))
 }
 
 /// The rows as a markdown table.

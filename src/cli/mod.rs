@@ -208,8 +208,7 @@ enum BenchCommand {
     /// index PIP to 110°, the middle finger adducted onto the ring finger, the shipped full fist
     /// (the fingers closed, then the thumb over them), per hand resolution — time, increments,
     /// factorizations, the pairs held by the barrier (a point near a facet, an edge near an
-    /// edge) and their force, the largest bone reaction and the flesh's change of volume (over
-    /// resolutions 1, 1.5, 2: the fist's refinement study).
+    /// edge) and their force, the largest bone reaction and the flesh's change of volume.
     SelfContact {
         /// Hand mesh resolutions, 0.5 to 4, comma separated.
         #[arg(
