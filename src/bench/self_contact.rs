@@ -111,7 +111,7 @@ pub fn self_contact_rows(
                     FillOrdering::Auto,
                 );
                 let t = Instant::now();
-                let outcome = run_motion(&hand, &mut stepper, &stages, || t.elapsed());
+                let outcome = run_motion(&hand, &mut stepper, &stages, t);
                 let seconds = match &outcome {
                     Ok((_, elapsed)) => elapsed.as_secs_f64(),
                     Err(_) => t.elapsed().as_secs_f64(),
@@ -130,14 +130,14 @@ pub fn self_contact_rows(
 }
 
 /// `stages` one after another from rest by one `stepper`, each over where the one before ended
-/// (as the keyframe driver asks a scene's keyframes): what they came to and the time `clock`
-/// read when the last closed (before the bone reactions and volume are read), or the first
+/// (as the keyframe driver asks a scene's keyframes): what they came to and the time since
+/// `start` when the last closed (before the bone reactions and volume are read), or the first
 /// stage's error.
 fn run_motion(
     hand: &HandModel,
     stepper: &mut Flexion,
     stages: &[Pose],
-    clock: impl Fn() -> Duration,
+    start: Instant,
 ) -> Result<(MotionOutcome, Duration), String> {
     let mut state = HandState::rest(hand);
     let rest_volume = state.flesh_volume(hand);
@@ -154,7 +154,7 @@ fn run_motion(
         factorizations += s.factorizations;
         (pairs, force) = (s.self_contacts, s.self_contact_force);
     }
-    let elapsed = clock();
+    let elapsed = start.elapsed();
     let largest_bone = state
         .bone_reactions(hand)
         .iter()
