@@ -763,6 +763,84 @@ fn the_press_read_over_patches_converges_under_refinement() {
     assert!(fine.2 > 5e3 && fine.2 < 5e4, "{fine:?}");
 }
 
+/// What the skin's press on itself adds to each bone's reaction: the reactions with the skin
+/// kept out of itself less those of the same keyframe without (vectors, N, by bone name), the
+/// reactions with, and the press's force — the little finger closed onto the palm (MCP 88°,
+/// `pip`, `dip`) at hand `resolution`.
+fn little_finger_press(
+    resolution: f64,
+    pip: f64,
+    dip: f64,
+) -> (
+    std::collections::BTreeMap<String, Vector3<f64>>,
+    std::collections::BTreeMap<String, Vector3<f64>>,
+    f64,
+) {
+    let pose = format!("\"little.mcp.flex\" = 88, \"little.pip\" = {pip}, \"little.dip\" = {dip}");
+    let bones = |self_contact: bool| {
+        let text = fist_scene(self_contact, &pose).replace(
+            "side = \"right\"",
+            &format!("side = \"right\", resolution = {resolution}"),
+        );
+        let solved = solve_fist(&text).unwrap_or_else(|e| panic!("resolution {resolution}: {e}"));
+        let hand = solved.report.frames.last().unwrap().hands["hand"].clone();
+        let press = hand.self_contact.as_ref().map_or(0.0, |p| p.force);
+        let bones: std::collections::BTreeMap<String, Vector3<f64>> = hand
+            .bones
+            .iter()
+            .map(|(name, b)| (name.clone(), Vector3::from(b.reaction)))
+            .collect();
+        (bones, press)
+    };
+    let ((held, press), (free, _)) = (bones(true), bones(false));
+    let share = held
+        .iter()
+        .map(|(name, r)| (name.clone(), r - free[name]))
+        .collect();
+    (share, held, press)
+}
+
+/// The press of the skin on itself under refinement, what the bones feel of it (issue 16): the
+/// little finger closed onto the palm (MCP 88°, PIP 90°, DIP 50°: its pulp on the palm, not
+/// crushed) at hand resolutions 1 and 1.5. What the press adds to the reactions of the
+/// fingertip's bone and of the metacarpal it presses over — the reactions with the skin kept
+/// out of itself less those without — agrees between the two within 8 % (measured 2026-12-06:
+/// 2.797 / 2.766 N and 2.733 / 2.598 N, 1.1 % and 5.0 %; the press 4.87 / 4.48 N), where the
+/// reactions themselves do not converge: without self-contact the little finger's flexion alone
+/// gives its proximal phalanx 3.688 / 4.625 N and its middle one 1.027 / 2.069 N — the flesh
+/// bridging each joint is one or two cells (docs/hand.md, "The flexion's bone reactions under
+/// refinement"), and that, not the contact, is what moves the full fist's largest reaction.
+#[test]
+fn what_the_bones_feel_of_the_skins_press_converges_under_refinement() {
+    let (coarse, coarse_held, coarse_press) = little_finger_press(1.0, 90.0, 50.0);
+    let (fine, fine_held, fine_press) = little_finger_press(1.5, 90.0, 50.0);
+    let apart = |a: f64, b: f64| (a - b).abs() / a.max(b);
+    for bone in ["little.distal", "little.metacarpal"] {
+        let (c, f) = (coarse[bone].norm(), fine[bone].norm());
+        eprintln!(
+            "{bone}: the press adds {c:.3} N at resolution 1, {f:.3} N at 1.5 (reactions \
+             {:.3} / {:.3} N)",
+            coarse_held[bone].norm(),
+            fine_held[bone].norm()
+        );
+        // The fingertip presses the palm with a few newtons: its bone and the metacarpal
+        // under the palm take most of it.
+        assert!(c > 1.0 && f > 1.0, "{bone}: {c} / {f} N");
+        assert!(apart(c, f) < 0.08, "{bone}: {c} → {f} N");
+        // Nor turned: the angle between the two (measured 2.6° and 6.9°).
+        let angle = coarse[bone].angle(&fine[bone]).to_degrees();
+        assert!(angle < 10.0, "{bone}: turned {angle:.1}°");
+    }
+    // The press is internal to the hand: what it adds sums to nothing over the bones.
+    let total: Vector3<f64> = fine.values().sum();
+    assert!(total.norm() < 1e-6, "Σ {total}");
+    eprintln!("press {coarse_press:.3} / {fine_press:.3} N");
+    assert!(
+        apart(coarse_press, fine_press) < 0.12,
+        "{coarse_press} / {fine_press}"
+    );
+}
+
 /// The full fist's joints as the TOML of a pose.
 fn fist_pose() -> String {
     let pose: Vec<String> = prehensile::hand::full_fist()
@@ -1015,6 +1093,23 @@ fn full_fist_closes(resolution: f64, volume: f64, compare: bool) -> f64 {
     // The thumb folded: its IP at the pose.
     let last = &held.report.frames[2].hands["hand"];
     assert!((last.pose["thumb.ip"] - 70.0).abs() < 1e-9);
+    // The flesh crushed below half its volume (the report's `crushed_flesh`): most of it the
+    // little finger's pulp, squeezed between its distal phalanx and its metacarpal (at
+    // resolution 1, 338 Gauss points: little 145, palm 76, middle 58 …; down to 0.17 of its
+    // volume at the middle finger's PIP crease), never inside out.
+    let crushed = &last.crushed_flesh;
+    eprintln!(
+        "resolution {resolution}: flesh below half its volume at {} points, {:.1} mm³ at rest, \
+         {:?}; smallest volume ratio {:.3}",
+        crushed.points,
+        crushed.rest_volume * 1e9,
+        crushed.parts,
+        crushed.smallest_volume_ratio
+    );
+    assert!(crushed.smallest_volume_ratio > 0.0 && crushed.smallest_volume_ratio < 0.5);
+    assert_eq!(crushed.parts.values().sum::<usize>(), crushed.points);
+    let most = crushed.parts.iter().max_by_key(|(_, n)| **n).unwrap().0;
+    assert_eq!(most, "little", "{:?}", crushed.parts);
     // Every bone's reaction for the refinement study (docs/hand.md, "Self-contact").
     let mut bones: Vec<(&String, f64)> = last.bones.iter().map(|(n, b)| (n, b.magnitude)).collect();
     bones.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -1083,15 +1178,28 @@ fn the_shipped_full_fist_closes_in_one_keyframe_as_in_two() {
     assert!(a.skin_overlap.vertices <= 2 * b.skin_overlap.vertices.max(50));
 }
 
-/// The shipped full fist at resolutions 1 and 1.5 (the flesh loses up to about 1.7 % and 1.8 % of
-/// its volume: the creases pressed shut, the little finger's pulp squeezed against the palm;
-/// bound 2 %). The largest bone reaction (the little finger's metacarpal at 1.5) changes by
-/// less than 10 % between them (10.210 → 10.990 N measured, 7.1 %; with the little finger at
-/// 95° / 60°, 9.337 → 10.337 N, 10.7 %; docs/hand.md, "Self-contact").
+/// The shipped full fist at resolution 1, against the same scene without self-contact (the
+/// flesh loses about 1.5 % of its volume: the creases pressed shut, the little finger's pulp
+/// squeezed against the palm; bound 2 %). Its largest bone reaction under refinement is the
+/// ignored test below (20 minutes).
 #[test]
-fn the_shipped_full_fist_closes_and_its_largest_bone_reaction_converges() {
-    let coarse = full_fist_closes(1.0, 0.02, true);
-    let fine = full_fist_closes(1.5, 0.02, true);
+fn the_shipped_full_fist_closes_at_resolution_1() {
+    let largest = full_fist_closes(1.0, 0.02, true);
+    // The little finger's pulp squeezed against its metacarpal (10.210 N measured).
+    assert!(largest > 5.0 && largest < 20.0, "{largest} N");
+}
+
+/// The shipped full fist at resolutions 1 and 1.5 (about 20 minutes on two cores: run by hand
+/// with `cargo test --release --test suite -- --ignored`). The largest bone reaction (the little
+/// finger's metacarpal) changes by less than 10 % between them (10.210 → 10.990 N measured,
+/// 7.1 %; with the little finger at 95° / 60°, 9.337 → 10.337 N, 10.7 %) — but at resolution 2
+/// it is 12.452 N: it does not converge, where the little finger's pulp is crushed to less than
+/// half its volume between its bones (docs/hand.md, "Self-contact", "Under refinement").
+#[test]
+#[ignore = "about 20 minutes: the refinement study's resolutions 1 and 1.5, run by hand"]
+fn the_shipped_full_fist_largest_bone_reaction_at_resolutions_1_and_1_5() {
+    let coarse = full_fist_closes(1.0, 0.02, false);
+    let fine = full_fist_closes(1.5, 0.02, false);
     eprintln!("largest bone reaction: {coarse:.3} N at resolution 1, {fine:.3} N at 1.5");
     assert!((fine - coarse).abs() < 0.1 * fine, "{coarse} → {fine} N");
 }

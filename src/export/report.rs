@@ -323,6 +323,10 @@ pub struct HandReport {
     /// fingers side by side); absent where it is not.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub self_contact: Option<SelfContactReport>,
+    /// Where the flesh has lost more than half its volume (`state::crushed_flesh`): squeezed
+    /// between bones past what flesh, nearly incompressible, bears; the reactions of the bones
+    /// around it depend on the mesh there.
+    pub crushed_flesh: crate::state::CrushedFlesh,
 }
 
 /// The press of a hand's skin on itself in a frame: part of the tactile map.
@@ -543,6 +547,7 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                             .unwrap_or_default()
                     },
                     self_contact: self_contact_report(model, h),
+                    crushed_flesh: crate::state::crushed_flesh(hand, &h.positions),
                 },
             )
         })

@@ -2,6 +2,7 @@
 //! May import model, the kernels and util.
 
 mod cavity;
+mod crushed;
 mod finite;
 mod frame;
 mod grip;
@@ -11,6 +12,7 @@ mod tactile;
 mod validity;
 
 pub use cavity::{cavity_state, CavityState};
+pub use crushed::{crushed_flesh, CrushedFlesh};
 pub use finite::{first_non_finite, NonFinite};
 pub use frame::{Frame, HandFrame, PendingStress};
 pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};

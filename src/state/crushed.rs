@@ -1,0 +1,109 @@
+//! Flesh crushed past what flesh bears: the Gauss points of a hand's flesh that have lost more
+//! than half their volume (volume ratio q = det J / det J₀ below
+//! [`CRUSH_ONSET`](crate::fem::crush_barrier::CRUSH_ONSET)). Flesh, nearly incompressible,
+//! flows aside rather than lose volume; the linear increments' flesh is held there only by the
+//! barrier on its volume (`fem::crush_barrier`), and the reactions of the bones that squeeze it
+//! depend on the mesh (docs/hand.md, "Self-contact": the little finger's pulp squeezed between
+//! its distal phalanx and its metacarpal in the full fist, 10.2 / 11.0 / 12.5 N at resolutions
+//! 1 / 1.5 / 2).
+
+use super::outcome::PARTS;
+use crate::fem::crush_barrier::CRUSH_ONSET;
+use crate::fem::hex8::{gauss_derivatives, jacobian};
+use crate::hand::HandModel;
+use nalgebra::Vector3;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Where a hand's flesh is crushed to less than half its volume.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CrushedFlesh {
+    /// Gauss points (eight a cell) below half their rest volume.
+    pub points: usize,
+    /// Their rest volume, m³ (each point a cell's share: det J₀ at the point, weight 1).
+    pub rest_volume: f64,
+    /// The smallest volume ratio over every Gauss point of the flesh (1 at rest; below 0.5
+    /// where crushed).
+    pub smallest_volume_ratio: f64,
+    /// How many points per part of the hand (`palm`, `thumb` … `little`: the digit the cell
+    /// belongs to); parts with none left out.
+    pub parts: BTreeMap<String, usize>,
+}
+
+/// The crushed flesh of `hand` with its flesh nodes at `positions` (m). A cell inside out at
+/// rest (none in a built hand) is skipped.
+pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFlesh {
+    let mesh = &hand.flesh.mesh;
+    let mut out = CrushedFlesh {
+        smallest_volume_ratio: 1.0,
+        ..Default::default()
+    };
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
+        for dn in gauss_derivatives() {
+            let det0 = jacobian(&rest, dn).determinant();
+            if !(det0 > 0.0) {
+                continue;
+            }
+            let q = jacobian(&now, dn).determinant() / det0;
+            // A position not finite counts as crushed flat: it is not flesh that holds.
+            let q = if q.is_finite() { q } else { 0.0 };
+            out.smallest_volume_ratio = out.smallest_volume_ratio.min(q);
+            if q < CRUSH_ONSET {
+                out.points += 1;
+                out.rest_volume += det0;
+                let part = hand.flesh.cell_digit[c].map_or(0, |d| d + 1);
+                *out.parts.entry(PARTS[part].to_string()).or_default() += 1;
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hand::Side;
+
+    /// The built hand at rest has nothing crushed; a uniform squeeze of the whole flesh by s
+    /// along z crushes every point when s < ½ and none when s > ½, its ratio s exactly (det J
+    /// scales by s), their rest volume the flesh's.
+    #[test]
+    fn a_uniform_squeeze_crushes_every_point_below_half() {
+        let hand = HandModel::new(Side::Right, 0.5).unwrap();
+        let mesh = &hand.flesh.mesh;
+        let at_rest = crushed_flesh(&hand, &mesh.nodes);
+        assert_eq!(at_rest.points, 0);
+        assert!((at_rest.smallest_volume_ratio - 1.0).abs() < 1e-12);
+        let volume: f64 = (0..mesh.cells.len())
+            .flat_map(|c| {
+                let x = mesh.cell_coords(c);
+                gauss_derivatives()
+                    .iter()
+                    .map(move |dn| jacobian(&x, dn).determinant())
+            })
+            .sum();
+        let squeezed = |s: f64| {
+            let nodes: Vec<Vector3<f64>> = mesh
+                .nodes
+                .iter()
+                .map(|p| Vector3::new(p.x, p.y, s * p.z))
+                .collect();
+            crushed_flesh(&hand, &nodes)
+        };
+        let light = squeezed(0.55);
+        assert_eq!(light.points, 0);
+        assert!((light.smallest_volume_ratio - 0.55).abs() < 1e-9);
+        let hard = squeezed(0.4);
+        assert_eq!(hard.points, 8 * mesh.cells.len());
+        assert!((hard.smallest_volume_ratio - 0.4).abs() < 1e-9);
+        assert!((hard.rest_volume - volume).abs() < 1e-12 * volume);
+        assert_eq!(hard.parts.values().sum::<usize>(), hard.points);
+        assert_eq!(hard.parts.len(), 6, "{:?}", hard.parts);
+        // A position not finite is not flesh that holds.
+        let mut broken = mesh.nodes.clone();
+        broken[mesh.cells[0][0]].x = f64::NAN;
+        let broken = crushed_flesh(&hand, &broken);
+        assert!(broken.points > 0 && broken.smallest_volume_ratio == 0.0);
+    }
+}
