@@ -805,13 +805,13 @@ fn little_finger_press(
 /// crushed) at hand resolutions 1 and 1.5. What the press adds to the reactions of the
 /// fingertip's bone and of the metacarpal it presses over — the reactions with the skin kept
 /// out of itself less those without — agrees between the two within 8 % (measured 2026-12-06:
-/// 2.797 / 2.766 N and 2.733 / 2.598 N, 1.1 % and 5.0 %; the press 4.87 / 4.48 N), where the
+/// 2.797 / 2.766 N and 2.733 / 2.598 N, 1.1 % and 4.9 %; the press 4.87 / 4.48 N; 63 s), where the
 /// reactions themselves do not converge: without self-contact the little finger's flexion alone
 /// gives its proximal phalanx 3.688 / 4.625 N and its middle one 1.027 / 2.069 N — the flesh
 /// bridging each joint is one or two cells (docs/hand.md, "The flexion's bone reactions under
 /// refinement"), and that, not the contact, is what moves the full fist's largest reaction.
 #[test]
-fn what_the_bones_feel_of_the_skins_press_converges_under_refinement() {
+fn what_the_bones_feel_of_the_skins_press_agrees_at_resolutions_1_and_1_5() {
     let (coarse, coarse_held, coarse_press) = little_finger_press(1.0, 90.0, 50.0);
     let (fine, fine_held, fine_press) = little_finger_press(1.5, 90.0, 50.0);
     let apart = |a: f64, b: f64| (a - b).abs() / a.max(b);
@@ -1093,10 +1093,10 @@ fn full_fist_closes(resolution: f64, volume: f64, compare: bool) -> f64 {
     // The thumb folded: its IP at the pose.
     let last = &held.report.frames[2].hands["hand"];
     assert!((last.pose["thumb.ip"] - 70.0).abs() < 1e-9);
-    // The flesh crushed below half its volume (the report's `crushed_flesh`): most of it the
-    // little finger's pulp, squeezed between its distal phalanx and its metacarpal (at
-    // resolution 1, 338 Gauss points: little 145, palm 76, middle 58 …; down to 0.17 of its
-    // volume at the middle finger's PIP crease), never inside out.
+    // The flesh crushed below half its volume (the report's `crushed_flesh`), never inside out;
+    // at resolution 1 most of it the little finger's, its pulp squeezed between its distal
+    // phalanx and its metacarpal (docs/hand.md: the counts; down to 0.17 of its volume at the
+    // middle finger's PIP crease).
     let crushed = &last.crushed_flesh;
     eprintln!(
         "resolution {resolution}: flesh below half its volume at {} points, {:.1} mm³ at rest, \
@@ -1108,8 +1108,10 @@ fn full_fist_closes(resolution: f64, volume: f64, compare: bool) -> f64 {
     );
     assert!(crushed.smallest_volume_ratio > 0.0 && crushed.smallest_volume_ratio < 0.5);
     assert_eq!(crushed.parts.values().sum::<usize>(), crushed.points);
-    let most = crushed.parts.iter().max_by_key(|(_, n)| **n).unwrap().0;
-    assert_eq!(most, "little", "{:?}", crushed.parts);
+    if resolution == 1.0 {
+        let most = crushed.parts.iter().max_by_key(|(_, n)| **n).unwrap().0;
+        assert_eq!(most, "little", "{:?}", crushed.parts);
+    }
     // Every bone's reaction for the refinement study (docs/hand.md, "Self-contact").
     let mut bones: Vec<(&String, f64)> = last.bones.iter().map(|(n, b)| (n, b.magnitude)).collect();
     bones.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -1118,8 +1120,9 @@ fn full_fist_closes(resolution: f64, volume: f64, compare: bool) -> f64 {
 }
 
 /// The refinement study's third mesh: the shipped full fist at resolution 2 (about 4 GB and an
-/// hour on two cores; run by hand with `cargo test --release --test suite -- --ignored`): it
-/// closes, its skin crosses itself nowhere, its flesh keeps its volume to 2 %, its bones balance.
+/// hour on two cores; run by hand with `cargo test --release --test suite -- --ignored
+/// at_resolution_2`): it closes, its skin crosses itself nowhere, its flesh keeps its volume to
+/// 2 % and is nowhere inside out, its bones balance.
 /// Measured 2026-12-06: it closes (1 h 38 min, 4.4 GB; volume −1.75 %), its largest bone
 /// reaction 12.452 N (the little metacarpal) against 10.210 and 10.990 N at 1 and 1.5 — growing,
 /// not converging (docs/hand.md, "Self-contact").
@@ -1189,8 +1192,9 @@ fn the_shipped_full_fist_closes_at_resolution_1() {
     assert!(largest > 5.0 && largest < 20.0, "{largest} N");
 }
 
-/// The shipped full fist at resolutions 1 and 1.5 (about 20 minutes on two cores: run by hand
-/// with `cargo test --release --test suite -- --ignored`). The largest bone reaction (the little
+/// The shipped full fist at resolutions 1 and 1.5, each against the same scene without
+/// self-contact (about 20 minutes on two cores: run by hand with `cargo test --release --test
+/// suite -- --ignored resolutions_1_and_1_5`). The largest bone reaction (the little
 /// finger's metacarpal) changes by less than 10 % between them (10.210 → 10.990 N measured,
 /// 7.1 %; with the little finger at 95° / 60°, 9.337 → 10.337 N, 10.7 %) — but at resolution 2
 /// it is 12.452 N: it does not converge, where the little finger's pulp is crushed to less than
@@ -1198,8 +1202,8 @@ fn the_shipped_full_fist_closes_at_resolution_1() {
 #[test]
 #[ignore = "about 20 minutes: the refinement study's resolutions 1 and 1.5, run by hand"]
 fn the_shipped_full_fist_largest_bone_reaction_at_resolutions_1_and_1_5() {
-    let coarse = full_fist_closes(1.0, 0.02, false);
-    let fine = full_fist_closes(1.5, 0.02, false);
+    let coarse = full_fist_closes(1.0, 0.02, true);
+    let fine = full_fist_closes(1.5, 0.02, true);
     eprintln!("largest bone reaction: {coarse:.3} N at resolution 1, {fine:.3} N at 1.5");
     assert!((fine - coarse).abs() < 0.1 * fine, "{coarse} → {fine} N");
 }

@@ -2,12 +2,10 @@
 //! than half their volume (volume ratio q = det J / det J₀ below
 //! [`CRUSH_ONSET`](crate::fem::crush_barrier::CRUSH_ONSET)). Flesh, nearly incompressible,
 //! flows aside rather than lose volume; the linear increments' flesh is held there only by the
-//! barrier on its volume (`fem::crush_barrier`), and the reactions of the bones that squeeze it
-//! depend on the mesh (docs/hand.md, "Self-contact": the little finger's pulp squeezed between
-//! its distal phalanx and its metacarpal in the full fist, 10.2 / 11.0 / 12.5 N at resolutions
-//! 1 / 1.5 / 2).
+//! barrier on its volume (`fem::crush_barrier`), and what the bones squeezing it feel depends on
+//! how finely the squeeze is meshed (docs/hand.md, "Self-contact", "What moves it").
 
-use super::outcome::PARTS;
+use super::outcome::{node_bone, part_of_bone, PARTS};
 use crate::fem::crush_barrier::CRUSH_ONSET;
 use crate::fem::hex8::{gauss_derivatives, jacobian};
 use crate::hand::HandModel;
@@ -23,10 +21,11 @@ pub struct CrushedFlesh {
     /// Their rest volume, m³ (each point a cell's share: det J₀ at the point, weight 1).
     pub rest_volume: f64,
     /// The smallest volume ratio over every Gauss point of the flesh (1 at rest; below 0.5
-    /// where crushed).
+    /// where crushed, negative where a point is inside out, 0 where a position is not finite).
     pub smallest_volume_ratio: f64,
-    /// How many points per part of the hand (`palm`, `thumb` … `little`: the digit the cell
-    /// belongs to); parts with none left out.
+    /// How many points per part of the hand (`palm`, `thumb` … `little`: the part of the bone
+    /// most of the cell's nodes follow, as the report's other parts — a finger's metacarpal is
+    /// the finger's); parts with none left out.
     pub parts: BTreeMap<String, usize>,
 }
 
@@ -52,12 +51,23 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
             if q < CRUSH_ONSET {
                 out.points += 1;
                 out.rest_volume += det0;
-                let part = hand.flesh.cell_digit[c].map_or(0, |d| d + 1);
-                *out.parts.entry(PARTS[part].to_string()).or_default() += 1;
+                *out.parts
+                    .entry(PARTS[cell_part(hand, c)].to_string())
+                    .or_default() += 1;
             }
         }
     }
     out
+}
+
+/// Index into [`PARTS`] of flesh cell `c`: the part of the bone most of its nodes follow (their
+/// attachment, or their heaviest skinning weight); a tie goes to the part listed first.
+fn cell_part(hand: &HandModel, c: usize) -> usize {
+    let mut votes = [0usize; PARTS.len()];
+    for &n in &hand.flesh.mesh.cells[c] {
+        votes[part_of_bone(hand, node_bone(hand, n))] += 1;
+    }
+    (0..PARTS.len()).fold(0, |best, p| if votes[p] > votes[best] { p } else { best })
 }
 
 #[cfg(test)]
@@ -100,6 +110,30 @@ mod tests {
         assert!((hard.rest_volume - volume).abs() < 1e-12 * volume);
         assert_eq!(hard.parts.values().sum::<usize>(), hard.points);
         assert_eq!(hard.parts.len(), 6, "{:?}", hard.parts);
+        // The little finger's distal phalanx's flesh squeezed alone (its nodes not on the bone
+        // pulled halfway onto the bone's axis point nearest): only the little finger's part.
+        let distal = hand.skeleton.bone_index("little.distal").unwrap();
+        let cells: Vec<usize> = (0..mesh.cells.len())
+            .filter(|&c| mesh.cells[c].iter().all(|&n| node_bone(&hand, n) == distal))
+            .collect();
+        assert!(!cells.is_empty());
+        let mut pulled = mesh.nodes.clone();
+        let tip = hand.skeleton.bones[distal].end;
+        for &c in &cells {
+            for &n in &mesh.cells[c] {
+                if hand.flesh.node_bone[n].is_none() {
+                    pulled[n] = tip + 0.2 * (mesh.nodes[n] - tip);
+                }
+            }
+        }
+        let pulp = crushed_flesh(&hand, &pulled);
+        assert!(pulp.points > 0);
+        assert_eq!(
+            pulp.parts.keys().collect::<Vec<_>>(),
+            ["little"],
+            "{:?}",
+            pulp.parts
+        );
         // A position not finite is not flesh that holds.
         let mut broken = mesh.nodes.clone();
         broken[mesh.cells[0][0]].x = f64::NAN;
