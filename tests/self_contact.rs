@@ -763,19 +763,14 @@ fn the_press_read_over_patches_converges_under_refinement() {
     assert!(fine.2 > 5e3 && fine.2 < 5e4, "{fine:?}");
 }
 
+/// Vectors by bone name.
+type ByBone = std::collections::BTreeMap<String, Vector3<f64>>;
+
 /// What the skin's press on itself adds to each bone's reaction: the reactions with the skin
 /// kept out of itself less those of the same keyframe without (vectors, N, by bone name), the
 /// reactions with, and the press's force — the little finger closed onto the palm (MCP 88°,
 /// `pip`, `dip`) at hand `resolution`.
-fn little_finger_press(
-    resolution: f64,
-    pip: f64,
-    dip: f64,
-) -> (
-    std::collections::BTreeMap<String, Vector3<f64>>,
-    std::collections::BTreeMap<String, Vector3<f64>>,
-    f64,
-) {
+fn little_finger_press(resolution: f64, pip: f64, dip: f64) -> (ByBone, ByBone, f64) {
     let pose = format!("\"little.mcp.flex\" = 88, \"little.pip\" = {pip}, \"little.dip\" = {dip}");
     let bones = |self_contact: bool| {
         let text = fist_scene(self_contact, &pose).replace(
@@ -785,7 +780,7 @@ fn little_finger_press(
         let solved = solve_fist(&text).unwrap_or_else(|e| panic!("resolution {resolution}: {e}"));
         let hand = solved.report.frames.last().unwrap().hands["hand"].clone();
         let press = hand.self_contact.as_ref().map_or(0.0, |p| p.force);
-        let bones: std::collections::BTreeMap<String, Vector3<f64>> = hand
+        let bones: ByBone = hand
             .bones
             .iter()
             .map(|(name, b)| (name.clone(), Vector3::from(b.reaction)))

@@ -41,7 +41,7 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
         let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
         for dn in gauss_derivatives() {
             let det0 = jacobian(&rest, dn).determinant();
-            if !(det0 > 0.0) {
+            if det0.is_nan() || det0 <= 0.0 {
                 continue;
             }
             let q = jacobian(&now, dn).determinant() / det0;
