@@ -804,7 +804,8 @@ fn little_finger_press(resolution: f64, pip: f64, dip: f64) -> (ByBone, ByBone, 
 /// reactions themselves do not converge: without self-contact the little finger's flexion alone
 /// gives its proximal phalanx 3.688 / 4.625 N and its middle one 1.027 / 2.069 N — the flesh
 /// bridging each joint is one or two cells (docs/hand.md, "The flexion's bone reactions under
-/// refinement"), and that, not the contact, is what moves the full fist's largest reaction.
+/// refinement"): that, not the contact, moves the reactions at this pose; at the shipped fist's
+/// pulp, crushed, the press's share moves them too (docs/hand.md, "What moves it, taken apart").
 #[test]
 fn what_the_bones_feel_of_the_skins_press_agrees_at_resolutions_1_and_1_5() {
     let (coarse, coarse_held, coarse_press) = little_finger_press(1.0, 90.0, 50.0);
@@ -1114,15 +1115,15 @@ fn full_fist_closes(resolution: f64, volume: f64, compare: bool) -> f64 {
     largest
 }
 
-/// The refinement study's third mesh: the shipped full fist at resolution 2 (about 4 GB and an
-/// hour on two cores; run by hand with `cargo test --release --test suite -- --ignored
+/// The refinement study's third mesh: the shipped full fist at resolution 2 (about 4.4 GB and
+/// 1 h 40 min on two cores; run by hand with `cargo test --release --test suite -- --ignored
 /// at_resolution_2`): it closes, its skin crosses itself nowhere, its flesh keeps its volume to
 /// 2 % and is nowhere inside out, its bones balance.
 /// Measured 2026-12-06: it closes (1 h 38 min, 4.4 GB; volume −1.75 %), its largest bone
 /// reaction 12.452 N (the little metacarpal) against 10.210 and 10.990 N at 1 and 1.5 — growing,
 /// not converging (docs/hand.md, "Self-contact").
 #[test]
-#[ignore = "about an hour and 4 GB: the refinement study's resolution 2, run by hand"]
+#[ignore = "about 1 h 40 min and 4.4 GB: the refinement study's resolution 2, run by hand"]
 fn the_shipped_full_fist_closes_at_resolution_2() {
     let largest = full_fist_closes(2.0, 0.02, false);
     eprintln!("largest bone reaction at resolution 2: {largest:.3} N");
@@ -1191,9 +1192,10 @@ fn the_shipped_full_fist_closes_at_resolution_1() {
 /// self-contact (about 20 minutes on two cores: run by hand with `cargo test --release --test
 /// suite -- --ignored resolutions_1_and_1_5`). The largest bone reaction (the little
 /// finger's metacarpal) changes by less than 10 % between them (10.210 → 10.990 N measured,
-/// 7.1 %; with the little finger at 95° / 60°, 9.337 → 10.337 N, 10.7 %) — but at resolution 2
-/// it is 12.452 N: it does not converge, where the little finger's pulp is crushed to less than
-/// half its volume between its bones (docs/hand.md, "Self-contact", "Under refinement").
+/// 7.1 %; with the little finger at 95° / 60°, the index metacarpal's then, 9.337 → 10.337 N,
+/// 10.7 %) — but at resolution 2 it is 12.452 N: it does not converge, moved by the press of the
+/// little finger's pulp, crushed to less than half its volume between its bones, and from 1.5 to
+/// 2 by the flexion's flesh across the joints (docs/hand.md, "What moves it, taken apart").
 #[test]
 #[ignore = "about 20 minutes: the refinement study's resolutions 1 and 1.5, run by hand"]
 fn the_shipped_full_fist_largest_bone_reaction_at_resolutions_1_and_1_5() {

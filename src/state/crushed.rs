@@ -110,8 +110,25 @@ mod tests {
         assert!((hard.rest_volume - volume).abs() < 1e-12 * volume);
         assert_eq!(hard.parts.values().sum::<usize>(), hard.points);
         assert_eq!(hard.parts.len(), 6, "{:?}", hard.parts);
+        // The cells' parts follow their nodes' bones, as the report's other parts: a finger's
+        // metacarpal's flesh (the lattice's palm) is the finger's, the carpus's the palm's.
+        let metacarpal = hand.skeleton.bone_index("little.metacarpal").unwrap();
+        let carpus = hand.skeleton.bone_index("carpus").unwrap();
+        let all_on = |c: usize, b: usize| mesh.cells[c].iter().all(|&n| node_bone(&hand, n) == b);
+        let on_metacarpal: Vec<usize> = (0..mesh.cells.len())
+            .filter(|&c| all_on(c, metacarpal))
+            .collect();
+        assert!(!on_metacarpal.is_empty());
+        for &c in &on_metacarpal {
+            assert_eq!(cell_part(&hand, c), 5, "cell {c}");
+        }
+        assert!(on_metacarpal
+            .iter()
+            .any(|&c| hand.flesh.cell_digit[c].is_none()));
+        let on_carpus = (0..mesh.cells.len()).find(|&c| all_on(c, carpus)).unwrap();
+        assert_eq!(cell_part(&hand, on_carpus), 0);
         // The little finger's distal phalanx's flesh squeezed alone (its nodes not on the bone
-        // pulled halfway onto the bone's axis point nearest): only the little finger's part.
+        // pulled four fifths of the way to the bone's distal end): only the little finger's part.
         let distal = hand.skeleton.bone_index("little.distal").unwrap();
         let cells: Vec<usize> = (0..mesh.cells.len())
             .filter(|&c| mesh.cells[c].iter().all(|&n| node_bone(&hand, n) == distal))
