@@ -39,6 +39,7 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
     };
     for (c, cell) in mesh.cells.iter().enumerate() {
         let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
+        let mut crushed = 0;
         for dn in gauss_derivatives() {
             let det0 = jacobian(&rest, dn).determinant();
             if det0.is_nan() || det0 <= 0.0 {
@@ -49,12 +50,15 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
             let q = if q.is_finite() { q } else { 0.0 };
             out.smallest_volume_ratio = out.smallest_volume_ratio.min(q);
             if q < CRUSH_ONSET {
-                out.points += 1;
+                crushed += 1;
                 out.rest_volume += det0;
-                *out.parts
-                    .entry(PARTS[cell_part(hand, c)].to_string())
-                    .or_default() += 1;
             }
+        }
+        if crushed > 0 {
+            out.points += crushed;
+            *out.parts
+                .entry(PARTS[cell_part(hand, c)].to_string())
+                .or_default() += crushed;
         }
     }
     out
@@ -85,14 +89,7 @@ mod tests {
         let at_rest = crushed_flesh(&hand, &mesh.nodes);
         assert_eq!(at_rest.points, 0);
         assert!((at_rest.smallest_volume_ratio - 1.0).abs() < 1e-12);
-        let volume: f64 = (0..mesh.cells.len())
-            .flat_map(|c| {
-                let x = mesh.cell_coords(c);
-                gauss_derivatives()
-                    .iter()
-                    .map(move |dn| jacobian(&x, dn).determinant())
-            })
-            .sum();
+        let volume = crate::state::HandState::rest(&hand).flesh_volume(&hand);
         let squeezed = |s: f64| {
             let nodes: Vec<Vector3<f64>> = mesh
                 .nodes
