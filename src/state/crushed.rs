@@ -27,6 +27,33 @@ pub struct CrushedFlesh {
     /// most of the cell's nodes follow, as the report's other parts — a finger's metacarpal is
     /// the finger's); parts with none left out.
     pub parts: BTreeMap<String, usize>,
+    /// Their rest volume per part, m³ (the parts of `parts`).
+    pub part_volumes: BTreeMap<String, f64>,
+}
+
+/// Crushed flesh a part may hold, rest volume, before the solve warns (0.1 cm³, a cube of
+/// 4.6 mm). Measured (docs/hand.md, "What moves it, taken apart") at hand resolutions 1 / 1.5 /
+/// 2, the whole hand's: the little finger's pulp on the palm (MCP 88°, PIP 90°, DIP 50°) 30 / 29 /
+/// 39 mm³ (its creases; what the press adds to its bones holds within 5 % a step), the index PIP
+/// at 110° 24 / 37 / 34 mm³, either without self-contact at most 59 mm³; the little finger's pulp
+/// pressed into the palm (105°, 70°, the shipped fist's) 505 / 439 / 401 mm³, where what the
+/// bones feel does not settle. A rest volume, not a count of points: the same squeeze at every
+/// resolution.
+pub const CRUSH_WARNING_VOLUME: f64 = 1.0e-7;
+
+impl CrushedFlesh {
+    /// The parts holding more than [`CRUSH_WARNING_VOLUME`] of crushed flesh and how much (m³),
+    /// the most first.
+    pub fn warned_parts(&self) -> Vec<(&str, f64)> {
+        let mut out: Vec<(&str, f64)> = self
+            .part_volumes
+            .iter()
+            .filter(|(_, &v)| v > CRUSH_WARNING_VOLUME)
+            .map(|(p, &v)| (p.as_str(), v))
+            .collect();
+        out.sort_by(|a, b| b.1.total_cmp(&a.1));
+        out
+    }
 }
 
 /// The crushed flesh of `hand` with its flesh nodes at `positions` (m). A cell inside out at
@@ -39,7 +66,7 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
     };
     for (c, cell) in mesh.cells.iter().enumerate() {
         let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
-        let mut crushed = 0;
+        let (mut crushed, mut volume) = (0, 0.0);
         for dn in gauss_derivatives() {
             let det0 = jacobian(&rest, dn).determinant();
             if det0.is_nan() || det0 <= 0.0 {
@@ -51,14 +78,15 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
             out.smallest_volume_ratio = out.smallest_volume_ratio.min(q);
             if q < CRUSH_ONSET {
                 crushed += 1;
-                out.rest_volume += det0;
+                volume += det0;
             }
         }
         if crushed > 0 {
+            let part = PARTS[cell_part(hand, c)];
             out.points += crushed;
-            *out.parts
-                .entry(PARTS[cell_part(hand, c)].to_string())
-                .or_default() += crushed;
+            out.rest_volume += volume;
+            *out.parts.entry(part.to_string()).or_default() += crushed;
+            *out.part_volumes.entry(part.to_string()).or_default() += volume;
         }
     }
     out
@@ -106,6 +134,18 @@ mod tests {
         assert!((hard.smallest_volume_ratio - 0.4).abs() < 1e-9);
         assert!((hard.rest_volume - volume).abs() < 1e-12 * volume);
         assert_eq!(hard.parts.values().sum::<usize>(), hard.points);
+        let by_part: f64 = hard.part_volumes.values().sum();
+        assert!((by_part - volume).abs() < 1e-12 * volume);
+        assert_eq!(
+            hard.part_volumes.keys().collect::<Vec<_>>(),
+            hard.parts.keys().collect::<Vec<_>>()
+        );
+        // Every part of a whole hand squeezed flat holds far more than the warning's volume:
+        // all warned, the most first.
+        let warned = hard.warned_parts();
+        assert_eq!(warned.len(), 6, "{warned:?}");
+        assert!(warned.windows(2).all(|w| w[0].1 >= w[1].1), "{warned:?}");
+        assert!(light.warned_parts().is_empty());
         assert_eq!(hard.parts.len(), 6, "{:?}", hard.parts);
         // The cells' parts follow their nodes' bones, as the report's other parts: a finger's
         // metacarpal's flesh (the lattice's palm) is the finger's, the carpus's the palm's.
@@ -142,6 +182,14 @@ mod tests {
         }
         let pulp = crushed_flesh(&hand, &pulled);
         assert!(pulp.points > 0);
+        // Warned exactly when the crushed pulp's volume is over the warning's.
+        let pulp_volume = pulp.part_volumes["little"];
+        assert!((pulp_volume - pulp.rest_volume).abs() < 1e-15);
+        assert_eq!(
+            pulp.warned_parts().len(),
+            usize::from(pulp_volume > CRUSH_WARNING_VOLUME),
+            "{pulp_volume:e} m³"
+        );
         assert_eq!(
             pulp.parts.keys().collect::<Vec<_>>(),
             ["little"],
