@@ -2,17 +2,15 @@
 //! to pass through itself, on the motions that fold it — the index PIP to 110°, the middle finger
 //! adducted onto the ring finger, the shipped full fist (the four fingers closed, then the thumb
 //! folded over them) — per hand resolution: time, increments, factorizations, the pairs held and
-//! their force, the largest bone reaction and the flesh's change of volume, or why it stopped.
-//! The hand is the simple form's ([`HandModel::new`]; the shipped scene's is the anatomical).
+//! their force, the largest bone reaction, the flesh's change of volume and the flesh crushed
+//! below half its volume, or why it stopped. Each motion is a scene of the built-in hand (the
+//! anatomical form, as the shipped scenes') solved by the keyframe driver
+//! ([`solve_scene`]), its stages its keyframes: what the CLI and the viewer solve.
 
-use crate::contact::ContactSettings;
-use crate::fem::solve::FillOrdering;
-use crate::fem::Material;
-use crate::hand::{four_finger_fist, thumb_over_fist, HandModel, Pose, Side};
-use crate::model::{FlexionScheme, FlexionSettings};
-use crate::solve::Flexion;
-use crate::state::HandState;
-use std::time::{Duration, Instant};
+use crate::hand::{four_finger_fist, thumb_over_fist, Pose};
+use crate::headless::solve_scene;
+use crate::scene::Scene;
+use std::time::Instant;
 
 /// One motion with or without self-contact.
 pub struct SelfContactRow {
@@ -31,11 +29,11 @@ pub struct SelfContactRow {
 /// Where a motion that closed ended.
 #[derive(Clone, Copy, Debug)]
 pub struct MotionOutcome {
-    /// Increments taken over its stages.
+    /// Increments taken over its keyframes.
     pub increments: usize,
-    /// Factorizations over its stages.
+    /// Factorizations over its keyframes.
     pub factorizations: usize,
-    /// Self-contact pairs held at the end.
+    /// Self-contact pairs held at the end (the last keyframe's).
     pub pairs: usize,
     /// Their force, N.
     pub force: f64,
@@ -43,11 +41,13 @@ pub struct MotionOutcome {
     pub largest_bone: f64,
     /// The flesh's change of volume from rest (a fraction).
     pub volume_change: f64,
+    /// The flesh crushed below half its volume at the end, its rest volume, m³.
+    pub crushed: f64,
 }
 
-/// The benchmark's motions: a name, its stages (joints and angles in degrees, each over where
-/// the one before ended), the increment; for the nonlinear tier, the creases' folding only (its
-/// fists stop where the flesh buckles).
+/// The benchmark's motions: a name, its stages (joints and angles in degrees, each a keyframe
+/// over where the one before ended), the increment; for the nonlinear tier, the creases' folding
+/// only (its fists stop where the flesh buckles).
 fn motions(nonlinear: bool) -> Vec<(&'static str, Vec<Pose>, f64)> {
     let pose = |pairs: &[(&str, f64)]| -> Pose {
         pairs.iter().map(|(j, a)| (j.to_string(), *a)).collect()
@@ -78,50 +78,61 @@ fn motions(nonlinear: bool) -> Vec<(&'static str, Vec<Pose>, f64)> {
     ]
 }
 
+/// The scene of one motion: the built-in right hand at `resolution`, the shipped scenes' flesh,
+/// the corotational increments (or the nonlinear tier's) of at most `step` degrees, `stages` its
+/// keyframes one second apart.
+fn motion_scene(
+    resolution: f64,
+    stages: &[Pose],
+    step: f64,
+    self_contact: bool,
+    nonlinear: bool,
+) -> String {
+    let tier = if nonlinear {
+        "nonlinear"
+    } else {
+        "corotational"
+    };
+    let mut text = format!(
+        "[solver]\ntier = \"{tier}\"\nmax_step_deg = {step}\nself_contact = {self_contact}\n\n\
+         [[material]]\nname = \"flesh\"\nyoung = 5.0e4\npoisson = 0.45\ndensity = 1050.0\n\n\
+         [[body]]\nname = \"hand\"\nmaterial = \"flesh\"\n\
+         shape = {{ hand = {{ side = \"right\", resolution = {resolution} }} }}\n"
+    );
+    for (k, stage) in stages.iter().enumerate() {
+        let joints: Vec<String> = stage
+            .iter()
+            .map(|(j, a)| format!("\"{j}\" = {a}"))
+            .collect();
+        text.push_str(&format!(
+            "\n[[keyframe]]\ntime = {}\npose = {{ {} }}\n",
+            k + 1,
+            joints.join(", ")
+        ));
+    }
+    text
+}
+
 /// Runs every motion at every resolution, without and with self-contact (by the corotational
 /// increments, or the `nonlinear` tier's).
 pub fn self_contact_rows(
     resolutions: &[f64],
     nonlinear: bool,
 ) -> anyhow::Result<Vec<SelfContactRow>> {
-    let flesh = Material {
-        young: 5.0e4,
-        poisson: 0.45,
-        density: 1050.0,
-    };
     let mut rows = Vec::new();
     for &resolution in resolutions {
-        let hand = HandModel::new(Side::Right, resolution)?;
         for (name, stages, step) in motions(nonlinear) {
             for self_contact in [false, true] {
-                let mut stepper = Flexion::new(
-                    &hand,
-                    "hand",
-                    vec![flesh; hand.flesh.mesh.cells.len()],
-                    FlexionSettings {
-                        max_step_deg: step,
-                        self_contact: self_contact.then(ContactSettings::default),
-                        scheme: if nonlinear {
-                            FlexionScheme::Nonlinear
-                        } else {
-                            FlexionScheme::Corotational
-                        },
-                        ..Default::default()
-                    },
-                    FillOrdering::Auto,
-                );
+                let text = motion_scene(resolution, &stages, step, self_contact, nonlinear);
+                let scene = Scene::parse(&text, name)?;
                 let t = Instant::now();
-                let outcome = run_motion(&hand, &mut stepper, &stages, t);
-                let seconds = match &outcome {
-                    Ok((_, elapsed)) => elapsed.as_secs_f64(),
-                    Err(_) => t.elapsed().as_secs_f64(),
-                };
+                let outcome = run_motion(&scene, name);
                 rows.push(SelfContactRow {
                     motion: name.to_string(),
                     resolution,
                     self_contact,
-                    seconds,
-                    outcome: outcome.map(|(o, _)| o),
+                    seconds: t.elapsed().as_secs_f64(),
+                    outcome,
                 });
             }
         }
@@ -129,58 +140,46 @@ pub fn self_contact_rows(
     Ok(rows)
 }
 
-/// `stages` one after another from rest by one `stepper`, each over where the one before ended
-/// (as the keyframe driver asks a scene's keyframes): what they came to and the time since
-/// `start` when the last closed (before the bone reactions and volume are read), or the first
-/// stage's error.
-fn run_motion(
-    hand: &HandModel,
-    stepper: &mut Flexion,
-    stages: &[Pose],
-    start: Instant,
-) -> Result<(MotionOutcome, Duration), String> {
-    let mut state = HandState::rest(hand);
-    let rest_volume = state.flesh_volume(hand);
-    let (mut increments, mut factorizations, mut pairs, mut force) = (0, 0, 0, 0.0);
-    for pose in stages {
-        let target = hand
-            .skeleton
-            .apply_pose(&state.angles, pose)
-            .map_err(|e| e.to_string())?;
-        let s = stepper
-            .move_to(&mut state, &target)
-            .map_err(|e| e.to_string())?;
-        increments += s.increments_taken;
-        factorizations += s.factorizations;
-        (pairs, force) = (s.self_contacts, s.self_contact_force);
-    }
-    let elapsed = start.elapsed();
-    let largest_bone = state
-        .bone_reactions(hand)
+/// `scene` solved by the keyframe driver: what its last frame came to, or why it stopped (an
+/// error, or a keyframe that stopped short of its pose).
+fn run_motion(scene: &Scene, name: &str) -> Result<MotionOutcome, String> {
+    let solved = solve_scene(scene, name).map_err(|e| e.to_string())?;
+    let hands: Vec<_> = solved
+        .report
+        .frames
         .iter()
-        .map(|r| r.norm())
-        .fold(0.0, f64::max);
-    let outcome = MotionOutcome {
-        increments,
-        factorizations,
-        pairs,
-        force,
-        largest_bone,
-        volume_change: state.flesh_volume(hand) / rest_volume - 1.0,
-    };
-    Ok((outcome, elapsed))
+        .skip(1)
+        .map(|f| &f.hands["hand"])
+        .collect();
+    if let Some(s) = hands.iter().find_map(|h| h.motion.stopped_short.as_ref()) {
+        return Err(format!(
+            "stopped at {:.1} % of a keyframe: {}",
+            100.0 * s.reached,
+            s.reason
+        ));
+    }
+    let last = hands.last().ok_or("no keyframe")?;
+    Ok(MotionOutcome {
+        increments: hands.iter().map(|h| h.motion.increments_taken).sum(),
+        factorizations: hands.iter().map(|h| h.motion.factorizations).sum(),
+        pairs: last.motion.self_contacts,
+        force: last.motion.self_contact_force,
+        largest_bone: last.bones.values().map(|b| b.magnitude).fold(0.0, f64::max),
+        volume_change: last.volume_change,
+        crushed: last.crushed_flesh.rest_volume,
+    })
 }
 
 /// The rows as a markdown table.
 pub fn self_contact_table(rows: &[SelfContactRow]) -> String {
     let mut out = String::from(
-        "| motion | resolution | self-contact | time (s) | increments | factorizations | pairs held | force (N) | largest bone reaction (N) | volume (%) |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| motion | resolution | self-contact | time (s) | increments | factorizations | pairs held | force (N) | largest bone reaction (N) | volume (%) | crushed (mm³) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let on = if r.self_contact { "on" } else { "off" };
         match &r.outcome {
             Ok(o) => out.push_str(&format!(
-                "| {} | {} | {on} | {:.2} | {} | {} | {} | {:.3} | {:.3} | {:+.2} |\n",
+                "| {} | {} | {on} | {:.2} | {} | {} | {} | {:.3} | {:.3} | {:+.2} | {:.0} |\n",
                 r.motion,
                 r.resolution,
                 r.seconds,
@@ -189,13 +188,14 @@ pub fn self_contact_table(rows: &[SelfContactRow]) -> String {
                 o.pairs,
                 o.force,
                 o.largest_bone,
-                100.0 * o.volume_change
+                100.0 * o.volume_change,
+                o.crushed * 1e9
             )),
             Err(e) => {
                 // The error's gist: up to its first parenthesis or semicolon.
                 let gist = e.split([';', '(']).next().unwrap_or(e).trim();
                 out.push_str(&format!(
-                    "| {} | {} | {on} | {:.2} | stopped: {gist} | | | | | |\n",
+                    "| {} | {} | {on} | {:.2} | stopped: {gist} | | | | | | |\n",
                     r.motion, r.resolution, r.seconds
                 ));
             }

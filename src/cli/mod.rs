@@ -208,7 +208,9 @@ enum BenchCommand {
     /// index PIP to 110°, the middle finger adducted onto the ring finger, the shipped full fist
     /// (the fingers closed, then the thumb over them), per hand resolution — time, increments,
     /// factorizations, the pairs held by the barrier (a point near a facet, an edge near an
-    /// edge) and their force, the largest bone reaction and the flesh's change of volume.
+    /// edge) and their force, the largest bone reaction, the flesh's change of volume and the
+    /// flesh crushed below half its volume. Each motion is a scene of the built-in hand solved
+    /// by the keyframe driver, as `prehensile solve` solves it.
     SelfContact {
         /// Hand mesh resolutions, 0.5 to 4, comma separated.
         #[arg(
