@@ -142,7 +142,7 @@ fn the_nonlinear_self_contact_bench_folds_both_creases() {
         let (points, force): (usize, f64) = (row[7].parse().unwrap(), row[8].parse().unwrap());
         // The flesh keeps its volume to 2 %; the skin pressed on itself presses on the bones.
         // (Without it the coarsest hand reads 0.000 N: at resolution 0.5 no flesh spans the
-        // PIP, docs/hand.md "Forms"; 0.48 N at 0.75, 1.4 N at 1.)
+        // PIP, docs/hand.md "Forms".)
         let (bone, volume): (f64, f64) = (row[9].parse().unwrap(), row[10].parse().unwrap());
         assert!(
             (0.0..100.0).contains(&bone) && volume.abs() < 2.0,
