@@ -583,8 +583,32 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
     let followed = solve("strain-less-deep", &press(23.0));
     assert_eq!(followed.code, Some(0), "{}", followed.stderr);
     assert!(strain(&followed).is_empty(), "{}", followed.stderr);
-    assert!(followed.warnings().is_empty(), "{}", followed.stderr);
     // Less deep, still a press: more than at the first keyframe (3 N at MCP 21°).
-    let press = followed.last_press();
-    assert!(press > 4.0, "{press} N");
+    let pressed = followed.last_press();
+    assert!(pressed > 4.0, "{pressed} N");
+    // What it still says: the ball's press crushes the coarse pulp of this hand (resolution 0.5)
+    // — 229 mm³ of the index's flesh below half its volume, some of it inside out (measured
+    // 2026-12-06; 38 mm³ at MCP 21°) — and that warning's advice, to press less deep, followed
+    // to the first keyframe's MCP 21°, leaves no warning at all.
+    let others: Vec<&str> = followed
+        .warnings()
+        .into_iter()
+        .filter(|w| !w.contains("principal strain"))
+        .collect();
+    assert_eq!(others.len(), 1, "{}", followed.stderr);
+    assert!(
+        others[0].contains("crushed below half its volume")
+            && others[0].contains("(frame 2: index ")
+            && others[0].contains("press them less deep"),
+        "{}",
+        others[0]
+    );
+    let gentler = FingerPress {
+        keyframes: &[21.0],
+        ..FingerPress::default()
+    };
+    let gentler = solve("crush-less-deep", &gentler.scene());
+    assert_eq!(gentler.code, Some(0), "{}", gentler.stderr);
+    assert!(gentler.warnings().is_empty(), "{}", gentler.stderr);
+    assert!(gentler.last_press() > 1.0, "{} N", gentler.last_press());
 }
