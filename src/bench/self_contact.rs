@@ -20,7 +20,7 @@ pub struct SelfContactRow {
     pub resolution: f64,
     /// Whether the skin was kept out of itself.
     pub self_contact: bool,
-    /// Wall time, s.
+    /// Wall time, s: the model's build (the hand meshed), the keyframes' solve and the report.
     pub seconds: f64,
     /// What the motion came to, or the error.
     pub outcome: Result<MotionOutcome, String>,
@@ -78,6 +78,9 @@ fn motions(nonlinear: bool) -> Vec<(&'static str, Vec<Pose>, f64)> {
     ]
 }
 
+/// The name the motions' scenes go by in errors.
+const SCENE_FILE: &str = "self-contact-bench.toml";
+
 /// The scene of one motion: the built-in right hand at `resolution`, the shipped scenes' flesh,
 /// the corotational increments (or the nonlinear tier's) of at most `step` degrees, `stages` its
 /// keyframes one second apart.
@@ -124,9 +127,11 @@ pub fn self_contact_rows(
         for (name, stages, step) in motions(nonlinear) {
             for self_contact in [false, true] {
                 let text = motion_scene(resolution, &stages, step, self_contact, nonlinear);
-                let scene = Scene::parse(&text, name)?;
+                // (The file's name, not the motion's, in errors: the table keeps an error's
+                // text up to its first parenthesis.)
+                let scene = Scene::parse(&text, SCENE_FILE)?;
                 let t = Instant::now();
-                let outcome = run_motion(&scene, name);
+                let outcome = run_motion(&scene);
                 rows.push(SelfContactRow {
                     motion: name.to_string(),
                     resolution,
@@ -142,8 +147,8 @@ pub fn self_contact_rows(
 
 /// `scene` solved by the keyframe driver: what its last frame came to, or why it stopped (an
 /// error, or a keyframe that stopped short of its pose).
-fn run_motion(scene: &Scene, name: &str) -> Result<MotionOutcome, String> {
-    let solved = solve_scene(scene, name).map_err(|e| e.to_string())?;
+fn run_motion(scene: &Scene) -> Result<MotionOutcome, String> {
+    let solved = solve_scene(scene, SCENE_FILE).map_err(|e| e.to_string())?;
     let hands: Vec<_> = solved
         .report
         .frames
@@ -153,7 +158,7 @@ fn run_motion(scene: &Scene, name: &str) -> Result<MotionOutcome, String> {
         .collect();
     if let Some(s) = hands.iter().find_map(|h| h.motion.stopped_short.as_ref()) {
         return Err(format!(
-            "stopped at {:.1} % of a keyframe: {}",
+            "at {:.1} % of a keyframe: {}",
             100.0 * s.reached,
             s.reason
         ));

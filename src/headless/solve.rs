@@ -192,11 +192,11 @@ fn crushed_flesh_warnings(frames: &[FrameReport]) -> Vec<String> {
                 .collect();
             format!(
                 "hand \"{name}\": its flesh is crushed below half its volume in {count} frame{} \
-                 (frame {i}: {}, down to {:.2} of its volume{}): the pose or the grip squeezes \
+                 (frame {i}: {}; the flesh at its most squeezed {:.2} of its volume{}): the pose or the grip squeezes \
                  more flesh than flesh gives way (a pulp pressed into the palm or onto a stiffer \
                  body, a crease folded flat), and what the bones of those parts feel there \
                  depends on the mesh (from resolution 1 to 1.5 the shipped fist's little \
-                 metacarpal moves 7 %: docs/hand.md, \"What moves it, taken apart\"); flex \
+                 metacarpal moves 7 %: docs/hand.md, \"Self-contact\"); flex \
                  those digits less or press them less deep (the little finger's pulp on the \
                  palm at MCP 88°, PIP 90°, DIP 50° crushes 30 mm³, under the {:.0} mm³ this \
                  warns from)",

@@ -32,7 +32,7 @@ pub struct CrushedFlesh {
 }
 
 /// Crushed flesh a part may hold, rest volume, before the solve warns (0.1 cm³, a cube of
-/// 4.6 mm). Measured (docs/hand.md, "What moves it, taken apart") at hand resolutions 1 / 1.5 /
+/// 4.6 mm). Measured (docs/hand.md, "Self-contact", "What moves it, taken apart") at hand resolutions 1 / 1.5 /
 /// 2, the whole hand's: the little finger's pulp on the palm (MCP 88°, PIP 90°, DIP 50°) 30 / 29 /
 /// 39 mm³ (its creases; what the press adds to its bones holds within 5 % a step), the index PIP
 /// at 110° 24 / 37 / 34 mm³, either without self-contact at most 59 mm³; the little finger's pulp
