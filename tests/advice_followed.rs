@@ -588,20 +588,29 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
     assert!(pressed > 4.0, "{pressed} N");
     // What it still says: the ball's press crushes the coarse pulp of this hand (resolution 0.5)
     // — 229 mm³ of the index's flesh below half its volume, some of it inside out (measured
-    // 2026-12-06; 38 mm³ at MCP 21°) — and that warning's advice, to press less deep, followed
-    // to the first keyframe's MCP 21°, leaves no warning at all.
+    // 2026-12-06; 38 mm³ at MCP 21°), which the contact's press turned so — and those warnings'
+    // advice, to press less deep, followed to the first keyframe's MCP 21°, leaves no warning at
+    // all.
     let others: Vec<&str> = followed
         .warnings()
         .into_iter()
         .filter(|w| !w.contains("principal strain"))
         .collect();
-    assert_eq!(others.len(), 1, "{}", followed.stderr);
+    assert_eq!(others.len(), 2, "{}", followed.stderr);
     assert!(
         others[0].contains("crushed below half its volume")
             && others[0].contains("(frame 2: index ")
             && others[0].contains("press them less deep"),
         "{}",
         others[0]
+    );
+    assert!(
+        others[1]
+            .contains("the press of a contact turns its flesh inside out in 1 frame (frame 2: ")
+            && others[1].contains("of the index's flesh")
+            && others[1].contains("press those digits less deep"),
+        "{}",
+        others[1]
     );
     let gentler = FingerPress {
         keyframes: &[21.0],
@@ -611,4 +620,69 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
     assert_eq!(gentler.code, Some(0), "{}", gentler.stderr);
     assert!(gentler.warnings().is_empty(), "{}", gentler.stderr);
     assert!(gentler.last_press() > 1.0, "{} N", gentler.last_press());
+}
+
+/// A press deeper than the flesh near a contact follows, linearised about the hand's pose: the
+/// finger press at resolution 1 to MCP 21° then 23° turns a pad cell to −2.4 of its volume
+/// under 5.6 N (measured 2026-12-06), the same at every step size (the contact displacement is
+/// linear in the press). The frames are written, and a warning names the flesh turned inside
+/// out; its advice, to press less deep, followed (the press to 20.5°, where the same pad cell
+/// keeps 6 % of its volume): no such warning, still a press.
+#[test]
+fn a_press_that_turns_flesh_inside_out_is_warned_of_and_a_shallower_one_is_not() {
+    let deep = FingerPress {
+        resolution: 1.0,
+        keyframes: &[21.0, 23.0],
+        ..FingerPress::default()
+    };
+    let run = solve("inside-out", &deep.scene());
+    assert_eq!(run.code, Some(0), "{}", run.stderr);
+    let turned: Vec<&str> = run
+        .warnings()
+        .into_iter()
+        .filter(|w| w.contains("turns its flesh inside out"))
+        .collect();
+    assert_eq!(turned.len(), 1, "{}", run.stderr);
+    assert!(
+        turned[0].starts_with("hand \"hand\": the press of a contact turns its flesh inside out in 2 frames (frame 2: ")
+            && turned[0].contains("of the index's flesh, down to -2.")
+            && turned[0].contains("press those digits less deep"),
+        "{}",
+        turned[0]
+    );
+    let report = run.report();
+    let at = |f: usize| report["frames"][f]["hands"]["hand"].clone();
+    // The scene's pose (MCP 20°) presses without turning any flesh; 21° and 23° do, the deeper
+    // the more, and the report's smallest volume ratio is the pressed point's.
+    assert!(at(0)["pressed_inside_out"].is_null());
+    let ratio = |f: usize| at(f)["pressed_inside_out"]["ratio"].as_f64().unwrap();
+    assert!(
+        ratio(1) < 0.0 && ratio(2) < ratio(1),
+        "{} {}",
+        ratio(1),
+        ratio(2)
+    );
+    assert_eq!(
+        ratio(2),
+        at(2)["crushed_flesh"]["smallest_volume_ratio"]
+            .as_f64()
+            .unwrap()
+    );
+    assert_eq!(at(2)["pressed_inside_out"]["part"], "index");
+
+    let followed = FingerPress {
+        resolution: 1.0,
+        keyframes: &[20.5],
+        ..FingerPress::default()
+    };
+    let followed = solve("inside-out-less-deep", &followed.scene());
+    assert_eq!(followed.code, Some(0), "{}", followed.stderr);
+    assert!(
+        !followed.stderr.contains("inside out"),
+        "{}",
+        followed.stderr
+    );
+    // Still a press, harder than at the scene's pose (MCP 20°: 1.8 N).
+    let pressed = followed.last_press();
+    assert!(pressed > 2.0, "{pressed} N");
 }

@@ -327,6 +327,10 @@ pub struct HandReport {
     /// between bones past what flesh, nearly incompressible, bears; the reactions of the bones
     /// around it depend on the mesh there.
     pub crushed_flesh: crate::state::CrushedFlesh,
+    /// Flesh the frame's contact pressed inside out (`state::pressed_inside_out`); absent where
+    /// none is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pressed_inside_out: Option<crate::state::InsideOut>,
 }
 
 /// The press of a hand's skin on itself in a frame: part of the tactile map.
@@ -548,6 +552,11 @@ pub fn hand_reports(model: &Model, frame: &Frame) -> BTreeMap<String, HandReport
                     },
                     self_contact: self_contact_report(model, h),
                     crushed_flesh: crate::state::crushed_flesh(hand, &h.positions),
+                    pressed_inside_out: crate::state::pressed_inside_out(
+                        hand,
+                        &h.positions,
+                        &h.contact_displacement,
+                    ),
                 },
             )
         })

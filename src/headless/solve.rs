@@ -74,6 +74,7 @@ pub fn solve_scene(scene: &Scene, file: &str) -> Result<Solved, PipelineError> {
             .chain(skin_overlap_warnings(&model, &reports))
             .chain(preshape_grip_warnings(&reports))
             .chain(crushed_flesh_warnings(&reports))
+            .chain(pressed_inside_out_warnings(&reports))
             .collect(),
         frames: reports,
     };
@@ -210,6 +211,47 @@ fn crushed_flesh_warnings(frames: &[FrameReport]) -> Vec<String> {
                 },
                 crate::state::CRUSH_WARNING_VOLUME * 1e9,
             )
+        })
+        .collect()
+}
+
+/// One warning per hand whose flesh a contact's press turned inside out in some frame
+/// (`state::pressed_inside_out`): the frame with the point turned the most, where it is, and how
+/// many frames did.
+fn pressed_inside_out_warnings(frames: &[FrameReport]) -> Vec<String> {
+    let mut worst: BTreeMap<&str, (usize, usize, f64)> = BTreeMap::new();
+    for (i, frame) in frames.iter().enumerate() {
+        for (name, hand) in &frame.hands {
+            let Some(turned) = &hand.pressed_inside_out else {
+                continue;
+            };
+            let entry = worst.entry(name).or_insert((i, 0, f64::INFINITY));
+            entry.1 += 1;
+            if turned.ratio < entry.2 {
+                (entry.0, entry.2) = (i, turned.ratio);
+            }
+        }
+    }
+    worst
+        .into_iter()
+        .filter_map(|(name, (i, count, _))| {
+            let t = frames[i].hands[name].pressed_inside_out.as_ref()?;
+            let [x, y, z] = t.rest_position_mm;
+            Some(format!(
+                "hand \"{name}\": the press of a contact turns its flesh inside out in {count} \
+                 frame{} (frame {i}: {} point{} of the {}'s flesh, down to {:.2} of its volume in \
+                 element {} at rest near [{x:.1}, {y:.1}, {z:.1}] mm): the flesh near a contact \
+                 is solved linearised about the hand's pose, small strain in the press, and a \
+                 press this deep is beyond it — the forces there are not flesh's, which would \
+                 stiffen without bound; press those digits less deep (docs/contact.md, \
+                 \"Flesh pressed inside out\")",
+                if count == 1 { "" } else { "s" },
+                t.points,
+                if t.points == 1 { "" } else { "s" },
+                t.part,
+                t.ratio,
+                t.cell,
+            ))
         })
         .collect()
 }

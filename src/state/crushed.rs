@@ -92,6 +92,77 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
     out
 }
 
+/// Flesh that a contact's press turned inside out: the flesh near a contact is solved
+/// linearised about the hand's pose (small strain in the press), and a press deeper than that
+/// follows passes cells through zero volume while the force stays the small strain's, where
+/// real flesh, nearly incompressible, stiffens without bound. The Gauss point turned the most,
+/// and how many are.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InsideOut {
+    /// Gauss points (eight a cell) the press turned inside out.
+    pub points: usize,
+    /// The flesh cell of the one turned the most, numbered within the hand.
+    pub cell: usize,
+    /// Its volume ratio (≤ 0), against rest.
+    pub ratio: f64,
+    /// Its part of the hand (as [`CrushedFlesh::parts`]).
+    pub part: &'static str,
+    /// The cell's centre at rest, mm.
+    pub rest_position_mm: [f64; 3],
+}
+
+/// Where the press of a contact step turned `hand`'s flesh inside out: the Gauss point with the
+/// smallest volume ratio among those at or below 0 with its flesh nodes at `positions` and
+/// above 0 in the flexed pose (`positions` less `contact_displacement`, the step's own
+/// displacement of each node; an empty one: no contact), over the cells the step moved.
+/// Flesh the flexion left crushed is the flexion's to tell (`crushed_flesh`); positions not
+/// finite are the solve's error (`SimError::NonFinite`), not looked at here.
+pub fn pressed_inside_out(
+    hand: &HandModel,
+    positions: &[Vector3<f64>],
+    contact_displacement: &[Vector3<f64>],
+) -> Option<InsideOut> {
+    if contact_displacement.len() != positions.len() {
+        return None;
+    }
+    let mesh = &hand.flesh.mesh;
+    let (mut points, mut worst) = (0, None::<(usize, f64)>);
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        if cell
+            .iter()
+            .all(|&n| contact_displacement[n] == Vector3::zeros())
+        {
+            continue;
+        }
+        let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
+        let flexed = cell.map(|n| positions[n] - contact_displacement[n]);
+        for dn in gauss_derivatives() {
+            let det0 = jacobian(&rest, dn).determinant();
+            if det0.is_nan() || det0 <= 0.0 {
+                continue;
+            }
+            let q = jacobian(&now, dn).determinant() / det0;
+            if !q.is_finite() || q > 0.0 || jacobian(&flexed, dn).determinant() / det0 <= 0.0 {
+                continue;
+            }
+            points += 1;
+            if worst.is_none_or(|(_, w)| q < w) {
+                worst = Some((c, q));
+            }
+        }
+    }
+    worst.map(|(cell, ratio)| {
+        let centre = mesh.cell_coords(cell).iter().sum::<Vector3<f64>>() / 8.0 * 1e3;
+        InsideOut {
+            points,
+            cell,
+            ratio,
+            part: PARTS[cell_part(hand, cell)],
+            rest_position_mm: [centre.x, centre.y, centre.z],
+        }
+    })
+}
+
 /// Index into [`PARTS`] of flesh cell `c`: the part of the bone most of its nodes follow (their
 /// attachment, or their heaviest skinning weight); a tie goes to the part listed first.
 fn cell_part(hand: &HandModel, c: usize) -> usize {
@@ -199,5 +270,45 @@ mod tests {
         broken[mesh.cells[0][0]].x = f64::NAN;
         let broken = crushed_flesh(&hand, &broken);
         assert!(broken.points > 0 && broken.smallest_volume_ratio == 0.0);
+    }
+
+    /// A press that mirrors the whole flesh through a plane (z → −z/2) turns every Gauss point
+    /// inside out at −½ exactly; the same positions reached by a flexion already inside out
+    /// (the contact adding a hair) are the flexion's, not the press's; without contact, none.
+    #[test]
+    fn a_press_that_mirrors_the_flesh_turns_every_point_inside_out() {
+        let hand = HandModel::new(Side::Right, 0.5).unwrap();
+        let mesh = &hand.flesh.mesh;
+        let mirrored: Vec<Vector3<f64>> = mesh
+            .nodes
+            .iter()
+            .map(|p| Vector3::new(p.x, p.y, -0.5 * p.z))
+            .collect();
+        let pressed: Vec<Vector3<f64>> = mirrored
+            .iter()
+            .zip(&mesh.nodes)
+            .map(|(m, r)| m - r)
+            .collect();
+        let turned = pressed_inside_out(&hand, &mirrored, &pressed).unwrap();
+        assert_eq!(turned.points, 8 * mesh.cells.len());
+        assert!((turned.ratio + 0.5).abs() < 1e-9, "{}", turned.ratio);
+        let centre = mesh.cell_coords(turned.cell).iter().sum::<Vector3<f64>>() / 8.0 * 1e3;
+        assert_eq!(turned.rest_position_mm, [centre.x, centre.y, centre.z]);
+        assert_eq!(turned.part, PARTS[cell_part(&hand, turned.cell)]);
+        let hair = vec![Vector3::new(1e-9, 0.0, 0.0); mesh.nodes.len()];
+        assert_eq!(pressed_inside_out(&hand, &mirrored, &hair), None);
+        assert_eq!(pressed_inside_out(&hand, &mirrored, &[]), None);
+        // A press that squeezes without turning: none.
+        let squeezed: Vec<Vector3<f64>> = mesh
+            .nodes
+            .iter()
+            .map(|p| Vector3::new(p.x, p.y, 0.1 * p.z))
+            .collect();
+        let pressed: Vec<Vector3<f64>> = squeezed
+            .iter()
+            .zip(&mesh.nodes)
+            .map(|(m, r)| m - r)
+            .collect();
+        assert_eq!(pressed_inside_out(&hand, &squeezed, &pressed), None);
     }
 }

@@ -12,7 +12,9 @@ mod tactile;
 mod validity;
 
 pub use cavity::{cavity_state, CavityState};
-pub use crushed::{crushed_flesh, CrushedFlesh, CRUSH_WARNING_VOLUME};
+pub use crushed::{
+    crushed_flesh, pressed_inside_out, CrushedFlesh, InsideOut, CRUSH_WARNING_VOLUME,
+};
 pub use finite::{first_non_finite, NonFinite};
 pub use frame::{Frame, HandFrame, PendingStress};
 pub use grip::{grip, mass_centre, GraspOutcome, Grip, GripTrial};
