@@ -227,9 +227,48 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
             contact.max_penetration,
             shown.solve_ms
         );
+        // Flesh the press turned inside out is said in red, as the solve's report has it: the
+        // Pinch turns a thumb-pad cell to −0.20 of its volume (the press deeper than the
+        // flesh's linearised contact follows; docs/contact.md, "Flesh pressed inside out"), the
+        // Power grasp none (measured 2026-12-06).
+        let turned = prehensile::state::pressed_inside_out(
+            shown.model.bodies[shown.frame.hands[0].body]
+                .hand
+                .as_deref()
+                .unwrap(),
+            &shown.frame.hands[0].positions,
+            &shown.frame.hands[0].contact_displacement,
+        );
+        assert_eq!(
+            shown.pressed_inside_out.first().map(|(_, t)| t),
+            turned.as_ref(),
+            "{preset}"
+        );
         h.step();
         h.get_by_label("skin pressure");
         h.get_by_label(&text);
+        match preset {
+            "Pinch" => {
+                let t = turned.expect("Pinch: the thumb's pad pressed inside out");
+                assert_eq!(t.part, "thumb");
+                assert!(t.ratio <= 0.0 && t.ratio > -1.0, "{t:?}");
+                h.get_by_label(&format!(
+                    "flesh pressed inside out: {} point{} of the thumb's, down to {:.2} of its \
+                     volume",
+                    t.points,
+                    if t.points == 1 { "" } else { "s" },
+                    t.ratio
+                ));
+            }
+            _ => {
+                assert_eq!(turned, None, "{preset}");
+                assert!(
+                    h.query_by_label_contains("flesh pressed inside out")
+                        .is_none(),
+                    "{preset}"
+                );
+            }
+        }
     }
     // Rest: the hand opens, the ball is released and springs back to its static frame.
     h.get_by_label("Rest").click();
@@ -288,6 +327,17 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
         hand.angles,
         Preset::Fist.angles(&model.bodies[hand_body].hand.as_ref().unwrap().skeleton)
     );
+    // The fingers closing over the 7 cm ball press their flesh inside out (the middle finger's
+    // down to −12.5 of its volume, measured 2026-12-06): said in red.
+    let turned = shown
+        .pressed_inside_out
+        .first()
+        .map(|(_, t)| t.clone())
+        .expect("Fist: flesh pressed inside out");
+    assert!(turned.ratio < 0.0, "{turned:?}");
+    assert!(h
+        .query_by_label_contains("flesh pressed inside out: ")
+        .is_some());
     let reached = 1.0;
     println!(
         "Fist: reached {:.0} % of its motion, {grip:.2} N, display skin {:.3} mm inside the \

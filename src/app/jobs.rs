@@ -100,6 +100,10 @@ pub struct Solution {
     /// The peaks of the press on the hands' skin (`state::tactile_peaks`, made on the solver
     /// thread with the draw list); `None` for a preview or where no skin is pressed.
     pub tactile: Option<crate::state::TactilePeaks>,
+    /// Per hand (its body's name), the flesh its contact pressed inside out
+    /// (`state::pressed_inside_out`, made on the solver thread with the draw list); empty for a
+    /// preview or where none is.
+    pub pressed_inside_out: Vec<(String, crate::state::InsideOut)>,
 }
 
 /// Why a job produced no frame.

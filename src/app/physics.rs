@@ -261,13 +261,18 @@ fn deliver(
     } else {
         SkinDetail::Full
     };
-    // (The tactile map's peaks on the other core meanwhile: both on a settling frame's way.)
-    let (list, tactile) = rayon::join(
+    // (The tactile map's peaks and the flesh pressed inside out on the other core meanwhile:
+    // both on a settling frame's way.)
+    let (list, (tactile, pressed_inside_out)) = rayon::join(
         || draw_list_with(model, &frame, &job.visual, detail),
         || {
-            (!preview)
-                .then(|| crate::state::tactile_peaks(model, &frame))
-                .flatten()
+            if preview {
+                return (None, Vec::new());
+            }
+            (
+                crate::state::tactile_peaks(model, &frame),
+                inside_out_hands(model, &frame),
+            )
         },
     );
     let list = list.map_err(error)?;
@@ -281,7 +286,21 @@ fn deliver(
         preview,
         settling: false,
         tactile,
+        pressed_inside_out,
     })
+}
+
+/// Each hand of `frame` (its body's name) whose flesh its contact pressed inside out, and where.
+fn inside_out_hands(model: &Model, frame: &Frame) -> Vec<(String, crate::state::InsideOut)> {
+    frame
+        .hands
+        .iter()
+        .filter_map(|h| {
+            let hand = model.bodies[h.body].hand.as_deref()?;
+            crate::state::pressed_inside_out(hand, &h.positions, &h.contact_displacement)
+                .map(|t| (model.bodies[h.body].name.clone(), t))
+        })
+        .collect()
 }
 
 /// The pose of `job` drawn at once from `from` by skinning, where the model has bodies besides

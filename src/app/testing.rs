@@ -117,5 +117,6 @@ pub fn tiny_solution(x: f32, timeline_frame: Option<usize>) -> Solution {
         preview: false,
         settling: false,
         tactile: None,
+        pressed_inside_out: Vec::new(),
     }
 }

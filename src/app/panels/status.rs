@@ -79,6 +79,26 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
             .on_hover_text(reason);
         }
     }
+    // Flesh a contact pressed inside out: the press is deeper than the flesh near a contact
+    // follows (docs/contact.md, "Flesh pressed inside out").
+    for (name, t) in &shown.solution.pressed_inside_out {
+        ui.label(
+            RichText::new(format!(
+                "flesh pressed inside out: {} point{} of the {}'s, down to {:.2} of its volume",
+                t.points,
+                if t.points == 1 { "" } else { "s" },
+                t.part,
+                t.ratio
+            ))
+            .color(Color32::LIGHT_RED),
+        )
+        .on_hover_text(format!(
+            "hand \"{name}\", element {}: the flesh near a contact is solved linearised about \
+             the hand's pose, and this press is deeper than that follows — the forces there are \
+             not flesh's; press those digits less deep",
+            t.cell
+        ));
+    }
     Grid::new("status grid").num_columns(2).show(ui, |ui| {
         ui.label("DOFs");
         ui.label(format!("{}", 3 * model.mesh.node_count()))
