@@ -607,8 +607,8 @@ fn a_grasp_posed_less_deep_is_not_warned_of_its_strain() {
     assert!(
         others[1]
             .contains("the press of a contact turns its flesh inside out in 1 frame (frame 2: ")
-            && others[1].contains("of the index's flesh")
-            && others[1].contains("press those digits less deep"),
+            && others[1].contains(", the most in the index finger — element ")
+            && others[1].contains("press the index finger less deep"),
         "{}",
         others[1]
     );
@@ -645,8 +645,9 @@ fn a_press_that_turns_flesh_inside_out_is_warned_of_and_a_shallower_one_is_not()
     assert_eq!(turned.len(), 1, "{}", run.stderr);
     assert!(
         turned[0].starts_with("hand \"hand\": the press of a contact turns its flesh inside out in 2 frames (frame 2: ")
-            && turned[0].contains("of the index's flesh, down to -2.")
-            && turned[0].contains("press those digits less deep"),
+            && turned[0].contains(", the most in the index finger — element ")
+            && turned[0].contains("volume ratio -2.")
+            && turned[0].contains("press the index finger less deep"),
         "{}",
         turned[0]
     );

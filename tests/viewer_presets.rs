@@ -253,8 +253,8 @@ fn the_grasp_presets_solve_on_the_default_scene_and_rest_releases_the_ball() {
                 assert_eq!(t.part, "thumb");
                 assert!(t.ratio <= 0.0 && t.ratio > -1.0, "{t:?}");
                 h.get_by_label(&format!(
-                    "flesh pressed inside out: {} point{} of the thumb's, down to {:.2} of its \
-                     volume",
+                    "flesh pressed inside out: {} point{}, the most in the thumb (volume ratio \
+                     {:.2})",
                     t.points,
                     if t.points == 1 { "" } else { "s" },
                     t.ratio

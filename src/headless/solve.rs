@@ -239,18 +239,19 @@ fn pressed_inside_out_warnings(frames: &[FrameReport]) -> Vec<String> {
             let [x, y, z] = t.rest_position_mm;
             Some(format!(
                 "hand \"{name}\": the press of a contact turns its flesh inside out in {count} \
-                 frame{} (frame {i}: {} point{} of the {}'s flesh, down to {:.2} of its volume in \
-                 element {} at rest near [{x:.1}, {y:.1}, {z:.1}] mm): the flesh near a contact \
-                 is solved linearised about the hand's pose, small strain in the press, and a \
-                 press this deep is beyond it — the forces there are not flesh's, which would \
-                 stiffen without bound; press those digits less deep (docs/contact.md, \
-                 \"Flesh pressed inside out\")",
+                 frame{} (frame {i}: {} point{}, the most in the {} — element {} at rest near \
+                 [{x:.1}, {y:.1}, {z:.1}] mm, volume ratio {:.2}): the flesh near a contact is \
+                 solved linearised about the hand's pose, small strain in the press, and a press \
+                 this deep is beyond it — the forces there are not flesh's, which would stiffen \
+                 without bound; press the {} less deep (docs/contact.md, \"Flesh pressed inside \
+                 out\")",
                 if count == 1 { "" } else { "s" },
                 t.points,
                 if t.points == 1 { "" } else { "s" },
-                t.part,
-                t.ratio,
+                t.part_named(),
                 t.cell,
+                t.ratio,
+                t.part_named(),
             ))
         })
         .collect()

@@ -111,6 +111,20 @@ pub struct InsideOut {
     pub rest_position_mm: [f64; 3],
 }
 
+impl InsideOut {
+    /// The part of the point turned the most, as a user names it ("index finger", "thumb",
+    /// "palm").
+    pub fn part_named(&self) -> &'static str {
+        match self.part {
+            "index" => "index finger",
+            "middle" => "middle finger",
+            "ring" => "ring finger",
+            "little" => "little finger",
+            other => other,
+        }
+    }
+}
+
 /// Where the press of a contact step turned `hand`'s flesh inside out: the Gauss point with the
 /// smallest volume ratio among those at or below 0 with its flesh nodes at `positions` and
 /// above 0 in the flexed pose (`positions` less `contact_displacement`, the step's own
@@ -122,10 +136,11 @@ pub fn pressed_inside_out(
     positions: &[Vector3<f64>],
     contact_displacement: &[Vector3<f64>],
 ) -> Option<InsideOut> {
-    if contact_displacement.len() != positions.len() {
+    let mesh = &hand.flesh.mesh;
+    let nodes = mesh.nodes.len();
+    if contact_displacement.len() != nodes || positions.len() != nodes {
         return None;
     }
-    let mesh = &hand.flesh.mesh;
     let (mut points, mut worst) = (0, None::<(usize, f64)>);
     for (c, cell) in mesh.cells.iter().enumerate() {
         if cell

@@ -84,10 +84,10 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
     for (name, t) in &shown.solution.pressed_inside_out {
         ui.label(
             RichText::new(format!(
-                "flesh pressed inside out: {} point{} of the {}'s, down to {:.2} of its volume",
+                "flesh pressed inside out: {} point{}, the most in the {} (volume ratio {:.2})",
                 t.points,
                 if t.points == 1 { "" } else { "s" },
-                t.part,
+                t.part_named(),
                 t.ratio
             ))
             .color(Color32::LIGHT_RED),
@@ -95,8 +95,9 @@ pub(super) fn ui(state: &mut ViewerState, ui: &mut egui::Ui) {
         .on_hover_text(format!(
             "hand \"{name}\", element {}: the flesh near a contact is solved linearised about \
              the hand's pose, and this press is deeper than that follows — the forces there are \
-             not flesh's; press those digits less deep",
-            t.cell
+             not flesh's; press the {} less deep",
+            t.cell,
+            t.part_named()
         ));
     }
     Grid::new("status grid").num_columns(2).show(ui, |ui| {
