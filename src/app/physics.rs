@@ -269,9 +269,9 @@ fn deliver(
             if preview {
                 return (None, Vec::new());
             }
-            (
-                crate::state::tactile_peaks(model, &frame),
-                inside_out_hands(model, &frame),
+            rayon::join(
+                || crate::state::tactile_peaks(model, &frame),
+                || inside_out_hands(model, &frame),
             )
         },
     );
