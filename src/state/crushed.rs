@@ -65,14 +65,14 @@ pub fn crushed_flesh(hand: &HandModel, positions: &[Vector3<f64>]) -> CrushedFle
         ..Default::default()
     };
     for (c, cell) in mesh.cells.iter().enumerate() {
-        let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
+        let rest = gauss_determinants(&mesh.cell_coords(c));
+        let now = gauss_determinants(&cell.map(|n| positions[n]));
         let (mut crushed, mut volume) = (0, 0.0);
-        for dn in gauss_derivatives() {
-            let det0 = jacobian(&rest, dn).determinant();
+        for (det0, det) in rest.into_iter().zip(now) {
             if det0.is_nan() || det0 <= 0.0 {
                 continue;
             }
-            let q = jacobian(&now, dn).determinant() / det0;
+            let q = det / det0;
             // A position not finite counts as crushed flat: it is not flesh that holds.
             let q = if q.is_finite() { q } else { 0.0 };
             out.smallest_volume_ratio = out.smallest_volume_ratio.min(q);
@@ -149,15 +149,16 @@ pub fn pressed_inside_out(
         {
             continue;
         }
-        let (rest, now) = (mesh.cell_coords(c), cell.map(|n| positions[n]));
-        let flexed = cell.map(|n| positions[n] - contact_displacement[n]);
-        for dn in gauss_derivatives() {
-            let det0 = jacobian(&rest, dn).determinant();
+        let rest = gauss_determinants(&mesh.cell_coords(c));
+        let now = gauss_determinants(&cell.map(|n| positions[n]));
+        let flexed = gauss_determinants(&cell.map(|n| positions[n] - contact_displacement[n]));
+        for g in 0..8 {
+            let det0 = rest[g];
             if det0.is_nan() || det0 <= 0.0 {
                 continue;
             }
-            let q = jacobian(&now, dn).determinant() / det0;
-            if !q.is_finite() || q > 0.0 || jacobian(&flexed, dn).determinant() / det0 <= 0.0 {
+            let q = now[g] / det0;
+            if !q.is_finite() || q > 0.0 || flexed[g] / det0 <= 0.0 {
                 continue;
             }
             points += 1;
@@ -176,6 +177,11 @@ pub fn pressed_inside_out(
             rest_position_mm: [centre.x, centre.y, centre.z],
         }
     })
+}
+
+/// det J at the eight Gauss points of a cell with corners `x` (each point's volume, weight 1).
+fn gauss_determinants(x: &[Vector3<f64>; 8]) -> [f64; 8] {
+    gauss_derivatives().map(|dn| jacobian(x, &dn).determinant())
 }
 
 /// Index into [`PARTS`] of flesh cell `c`: the part of the bone most of its nodes follow (their
@@ -294,16 +300,17 @@ mod tests {
     fn a_press_that_mirrors_the_flesh_turns_every_point_inside_out() {
         let hand = HandModel::new(Side::Right, 0.5).unwrap();
         let mesh = &hand.flesh.mesh;
-        let mirrored: Vec<Vector3<f64>> = mesh
-            .nodes
-            .iter()
-            .map(|p| Vector3::new(p.x, p.y, -0.5 * p.z))
-            .collect();
-        let pressed: Vec<Vector3<f64>> = mirrored
-            .iter()
-            .zip(&mesh.nodes)
-            .map(|(m, r)| m - r)
-            .collect();
+        // The flesh's positions with z scaled by `s`, and what the press moved each node.
+        let pressed_along_z = |s: f64| -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+            let moved: Vec<Vector3<f64>> = mesh
+                .nodes
+                .iter()
+                .map(|p| Vector3::new(p.x, p.y, s * p.z))
+                .collect();
+            let by = moved.iter().zip(&mesh.nodes).map(|(m, r)| m - r).collect();
+            (moved, by)
+        };
+        let (mirrored, pressed) = pressed_along_z(-0.5);
         let turned = pressed_inside_out(&hand, &mirrored, &pressed).unwrap();
         assert_eq!(turned.points, 8 * mesh.cells.len());
         assert!((turned.ratio + 0.5).abs() < 1e-9, "{}", turned.ratio);
@@ -314,16 +321,7 @@ mod tests {
         assert_eq!(pressed_inside_out(&hand, &mirrored, &hair), None);
         assert_eq!(pressed_inside_out(&hand, &mirrored, &[]), None);
         // A press that squeezes without turning: none.
-        let squeezed: Vec<Vector3<f64>> = mesh
-            .nodes
-            .iter()
-            .map(|p| Vector3::new(p.x, p.y, 0.1 * p.z))
-            .collect();
-        let pressed: Vec<Vector3<f64>> = squeezed
-            .iter()
-            .zip(&mesh.nodes)
-            .map(|(m, r)| m - r)
-            .collect();
+        let (squeezed, pressed) = pressed_along_z(0.1);
         assert_eq!(pressed_inside_out(&hand, &squeezed, &pressed), None);
     }
 }
