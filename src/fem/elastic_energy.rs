@@ -21,6 +21,14 @@ pub trait ElasticEnergy: Sync {
     /// where it has nothing to leave out.
     fn tangent_without_pressure_hessian(&self, u: &[f64]) -> Result<Stiffness, InvertedElement>;
 
+    /// A tangent positive semi-definite element by element (the Neo-Hookean body's with each
+    /// element's negative eigenvalues turned positive, `fem::definite`): positive definite
+    /// wherever the prescribed nodes hold the body. `None` where the body has none other than
+    /// its tangent (a linear increment's quadratic energy, whose tangent is its stiffness).
+    fn tangent_definite(&self, _u: &[f64]) -> Option<Result<Stiffness, InvertedElement>> {
+        None
+    }
+
     /// The mesh (its node positions the reference configuration u is measured from).
     fn mesh(&self) -> &Mesh;
 
@@ -39,6 +47,10 @@ impl ElasticEnergy for HyperelasticBody<'_> {
 
     fn tangent_without_pressure_hessian(&self, u: &[f64]) -> Result<Stiffness, InvertedElement> {
         HyperelasticBody::tangent_without_pressure_hessian(self, u)
+    }
+
+    fn tangent_definite(&self, u: &[f64]) -> Option<Result<Stiffness, InvertedElement>> {
+        Some(HyperelasticBody::tangent_definite(self, u))
     }
 
     fn mesh(&self) -> &Mesh {
