@@ -21,14 +21,14 @@ pub fn absolute_eigenvalues(ke: &ElementStiffness) -> ElementStiffness {
             }
         }
     }
-    // Most elements are positive semi-definite already: a Cholesky factorization (about a
-    // sixtieth of the eigen-decomposition's cost) of the matrix shifted by round-off tells.
+    // Most elements are positive semi-definite already: a Cholesky factorization (a small
+    // fraction of the eigen-decomposition's cost) of the matrix shifted by round-off tells.
     let scale = (0..24).map(|i| m[(i, i)].abs()).fold(0.0, f64::max);
     let mut shifted = m.clone();
     for i in 0..24 {
         shifted[(i, i)] += 1e-12 * scale;
     }
-    if scale > 0.0 && shifted.cholesky().is_some() {
+    if scale > 0.0 && scale.is_finite() && shifted.cholesky().is_some() {
         return *ke;
     }
     let eigen = SymmetricEigen::new(m);
@@ -114,5 +114,19 @@ mod tests {
         let lowest = SymmetricEigen::new(turned).eigenvalues.min();
         assert!(lowest > -1e-12, "{lowest}");
         assert_ne!(absolute_eigenvalues(&element(-1e-3)), element(-1e-3));
+        // An eigenvalue 10⁻⁹ of the largest below zero is not round-off: turned too.
+        let turned = dense(&absolute_eigenvalues(&element(-2e-8)));
+        let mut spectrum: Vec<f64> = SymmetricEigen::new(turned)
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect();
+        spectrum.sort_by(f64::total_cmp);
+        // (Six zeros, as given, then the turned one.)
+        assert!(spectrum[0] > -1e-12, "{spectrum:?}");
+        assert!((spectrum[6] - 2e-8).abs() < 1e-11, "{spectrum:?}");
+        // A zero element is kept (nothing to turn).
+        let zero: super::ElementStiffness = [[Matrix3::zeros(); 8]; 8];
+        assert_eq!(absolute_eigenvalues(&zero), zero);
     }
 }

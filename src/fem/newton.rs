@@ -61,7 +61,8 @@ pub struct NewtonSettings {
     /// factorization with an added energy's Hessian projected positive semi-definite, then
     /// without the pressure's Hessian, then with each element's tangent made positive
     /// semi-definite (its negative eigenvalues turned positive, `fem::definite`), and only
-    /// should that fail with τ·diag(K_T,11) added too, τ = 10⁻⁴, 10⁻³, … 10 (Nocedal & Wright,
+    /// should that fail with τ·diag added to the last tangent tried, τ = 10⁻⁴, 10⁻³, … 10
+    /// (Nocedal & Wright,
     /// *Numerical Optimization*, §3.4): a descent direction of the energy, so the line search
     /// keeps lowering it towards a stable equilibrium, where plain Newton steps resume.
     pub regularise: bool,
