@@ -62,9 +62,9 @@ pub struct NewtonSettings {
     /// without the pressure's Hessian, then with each element's tangent made positive
     /// semi-definite (its negative eigenvalues turned positive, `fem::definite`), and only
     /// should that fail with τ·diag added to the last tangent tried, τ = 10⁻⁴, 10⁻³, … 10
-    /// (Nocedal & Wright,
-    /// *Numerical Optimization*, §3.4): a descent direction of the energy, so the line search
-    /// keeps lowering it towards a stable equilibrium, where plain Newton steps resume.
+    /// (Nocedal & Wright, *Numerical Optimization*, §3.4): a descent direction of the energy,
+    /// so the line search keeps lowering it towards a stable equilibrium, where plain Newton
+    /// steps resume.
     pub regularise: bool,
     /// Once the prescribed dofs are in place, accept a step length only when it lowers the
     /// total potential (Armijo) — not also when it merely lowers the residual, which lets
@@ -652,6 +652,8 @@ impl Increment<'_> {
             let nodes = &self.body.mesh().nodes;
             let mut shift = 0.0;
             let mut definite = false;
+            // The first shift tried: a tenth of the last iterate's, τ changing slowly.
+            let first_shift = (last_shift * 0.1).max(1e-4);
             let solution = loop {
                 let k = modified.as_ref().unwrap_or(&exact);
                 let attempt = if shift == 0.0 {
@@ -710,14 +712,13 @@ impl Increment<'_> {
                                     None => k,
                                 });
                             }
-                            None => shift = (last_shift * 0.1).max(1e-4),
+                            None => shift = first_shift,
                         }
                         record.cost.tangent_ms += ms(t);
                     }
                     Err(SolveError::NotPositiveDefinite { .. }) if s.regularise && shift < 10.0 => {
-                        // From a tenth of the last iterate's shift: τ changes slowly.
                         shift = if shift == 0.0 {
-                            (last_shift * 0.1).max(1e-4)
+                            first_shift
                         } else {
                             shift * 10.0
                         };
