@@ -183,6 +183,11 @@ impl<'a> Flexion<'a> {
         self.settings.methods[self.hand.flesh.cell_digit[c].map_or(0, |d| d + 1)]
     }
 
+    /// The parts left to skinning because they stay far from contact (`set_far_parts`).
+    pub(super) fn far_parts(&self) -> [bool; 6] {
+        self.far
+    }
+
     /// Moves `state` to the joint angles `target` (degrees).
     pub fn move_to(
         &mut self,

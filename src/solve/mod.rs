@@ -8,6 +8,7 @@ mod crossing;
 mod detection;
 mod driver;
 mod error;
+mod far_strain;
 mod flexion;
 mod flexion_barrier;
 mod flexion_nonlinear;

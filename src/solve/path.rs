@@ -13,7 +13,9 @@
 //! with w_b the node's skinning weights and T_b the bones' motions from rest (exact at the
 //! knots and for flesh that moves rigidly with its bones); the reactions are interpolated
 //! linearly. The contact steps along a motion (≤ 5° each) then cost no flexion of their own,
-//! and a keyframe tried in one contact step and again in several flexes the hand once.
+//! and a keyframe tried in one contact step and again in several flexes the hand once. Where
+//! the flesh so carried turns a cell inside out that neither knot does (a crease cell nearly
+//! flat at both), the step's pose is flexed from the knot before instead.
 //!
 //! The knots depend on the contact steps in nothing: while the contact steps solve, the knots
 //! they will need next are flexed ahead on another thread ([`flex_ahead`]), one knot after the
@@ -352,13 +354,42 @@ impl FlexionPath {
             .expect("a hand body");
         let t = position - (j - 1) as f64;
         let angles = path.angles_at(f);
-        Ok(between(
-            hand,
-            (&path.knots[j - 1], &path.knots[j]),
-            t,
-            angles,
-        ))
+        let knots = (&path.knots[j - 1], &path.knots[j]);
+        let carried = between(hand, knots, t, angles.clone());
+        if !turned_inside_out(hand, knots, &carried) {
+            return Ok(carried);
+        }
+        // Flesh nearly flat in a crease may be carried through zero volume between two knots
+        // where it is not (a cell of the middle finger's MCP crease, the nonlinear Power grasp
+        // at resolution 1.5, then refused by the contact step's linearisation): flexed from the
+        // knot before instead, at this step's own angles (kept for this step only).
+        let start = knots.0.clone();
+        let (far, region) = (path.far, path.region_knot(j));
+        let region = self.hands[k].knots[region].positions.clone();
+        let (state, stats) = flex(self.hands[k].body, start, &angles, (far, &region))?;
+        if let Some(total) = &mut self.hands[k].stats {
+            total.absorb(&stats);
+        }
+        Ok(state)
     }
+}
+
+/// Whether `carried`, the flesh carried between the knots `a` and `b`, turns a cell inside out
+/// (a Gauss point's det J ≤ 0) that neither knot does.
+fn turned_inside_out(
+    hand: &HandModel,
+    (a, b): (&HandState, &HandState),
+    carried: &HandState,
+) -> bool {
+    use crate::fem::hex8::relative_min_jacobian;
+    use rayon::prelude::*;
+    let cells = &hand.flesh.mesh.cells;
+    let flat = |state: &HandState, c: usize| {
+        relative_min_jacobian(&cells[c].map(|n| state.positions[n])) <= 0.0
+    };
+    (0..cells.len())
+        .into_par_iter()
+        .any(|c| flat(carried, c) && !flat(a, c) && !flat(b, c))
 }
 
 /// The largest change of the joints `which` picks from `from` to `to`, degrees.
@@ -541,6 +572,84 @@ mod tests {
             for (n, p) in there.positions.iter().enumerate() {
                 assert!((p - moved(&knot.positions[n])).norm() < 1e-12, "node {n}");
             }
+        }
+    }
+
+    /// A stand-in flexion: the flesh at `rest` turned about z by `rate` times the angle of
+    /// joint `joint` from rest, the bones at rest (so that the knots' flesh is carried between
+    /// them by its positions alone); `calls` counts the flexions.
+    fn turning<'a>(
+        rest: &'a HandState,
+        joint: usize,
+        rate: f64,
+        calls: &'a std::cell::Cell<usize>,
+    ) -> impl FnMut(usize, HandState, &[f64], Parts<'_>) -> Flexed + 'a {
+        move |_, _, angles, _| {
+            calls.set(calls.get() + 1);
+            let turn = nalgebra::Rotation3::from_axis_angle(
+                &Vector3::z_axis(),
+                (rate * (angles[joint] - rest.angles[joint])).to_radians(),
+            );
+            let mut state = rest.clone();
+            state.angles = angles.to_vec();
+            state.positions = rest.positions.iter().map(|p| turn * p).collect();
+            Ok((state, KeyframeStats::default()))
+        }
+    }
+
+    /// Flesh that the bones would carry through zero volume between two knots (the hand turned
+    /// half a turn about z from one knot to the next: carried halfway, it is flat) is flexed at
+    /// the step's own angles instead; where the carried flesh stays whole, no flexion is added.
+    #[test]
+    fn flesh_carried_inside_out_between_knots_is_flexed_there_instead() {
+        let scene = crate::scene::Scene::parse(
+            include_str!("../../assets/scenes/finger-flexion.toml"),
+            "finger-flexion.toml",
+        )
+        .unwrap();
+        let model = Model::build(&scene, "finger-flexion.toml").unwrap();
+        let body = (0..model.bodies.len())
+            .find(|&b| model.bodies[b].hand.is_some())
+            .unwrap();
+        let hand = model.bodies[body].hand.as_deref().unwrap();
+        let rest = HandState::rest(hand);
+        let joint = 0;
+        let mut to = rest.angles.clone();
+        to[joint] += 10.0;
+        for (rate, flexions) in [(18.0, 2), (1.0, 1)] {
+            let calls = std::cell::Cell::new(0);
+            let mut flex = turning(&rest, joint, rate, &calls);
+            let moving = [(body, rest.clone(), to.clone(), [false; PARTS])];
+            let mut path = FlexionPath::new(&model, moving, false);
+            let half = path.state_at(&model, 0, 0.5, &mut flex).unwrap();
+            assert_eq!(calls.get(), flexions, "{rate}° a degree");
+            let turn = nalgebra::Rotation3::from_axis_angle(
+                &Vector3::z_axis(),
+                (rate * 5.0f64).to_radians(),
+            );
+            let off: f64 = half
+                .positions
+                .iter()
+                .zip(&rest.positions)
+                .map(|(p, r)| (p - turn * r).norm())
+                .fold(0.0, f64::max);
+            if flexions == 2 {
+                // Flexed at 5°: the flesh turned 90°, whole.
+                assert!(off < 1e-12, "{off}");
+            } else {
+                // Carried: a chord of the 10° turn, not the arc, but whole.
+                assert!(off > 1e-9, "{off}");
+            }
+            let flat = hand
+                .flesh
+                .mesh
+                .cells
+                .iter()
+                .filter(|c| {
+                    crate::fem::hex8::relative_min_jacobian(&c.map(|n| half.positions[n])) <= 0.0
+                })
+                .count();
+            assert_eq!(flat, 0, "{rate}° a degree");
         }
     }
 

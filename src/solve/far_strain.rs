@@ -1,0 +1,61 @@
+//! Which flesh cells skinning strains where a part of the hand is left to it far from contact
+//! (`[solver] far_from_contact = "skinning"`): their positions are no equilibrium, so the
+//! internal force there is no reaction of the bones.
+
+use crate::hand::HandModel;
+use nalgebra::Isometry3;
+
+/// The flesh cells (by index) whose nodes follow, by their skinning weights, a bone of a part
+/// marked `far` (0 palm, 1 thumb … 5 little) and another bone of a far part or of the palm that
+/// has moved apart from it since the rest pose (the bones at `transforms`): a bent joint of a
+/// skinned finger, its blend into the palm. A far finger still as at rest strains nothing, and
+/// a cell between a far finger and one solved (their web) is left to the solved finger, whose
+/// motion moved them apart.
+pub(super) fn strained_by_far_skinning(
+    hand: &HandModel,
+    transforms: &[Isometry3<f64>],
+    far: &[bool; 6],
+) -> Vec<bool> {
+    let cells = &hand.flesh.mesh.cells;
+    if !far.iter().any(|&f| f) {
+        return vec![false; cells.len()];
+    }
+    let bones = &hand.skeleton.bones;
+    let rest = hand.skeleton.transforms(&hand.skeleton.rest_angles());
+    // Bones grouped by their motion from rest.
+    let motion: Vec<Isometry3<f64>> = rest
+        .iter()
+        .zip(transforms)
+        .map(|(r, t)| t * r.inverse())
+        .collect();
+    let mut class = vec![0usize; motion.len()];
+    let mut reps: Vec<usize> = Vec::new();
+    for b in 0..motion.len() {
+        let same = reps
+            .iter()
+            .position(|&r| super::self_contact::still(&(motion[r].inverse() * motion[b])));
+        class[b] = same.unwrap_or_else(|| {
+            reps.push(b);
+            reps.len() - 1
+        });
+    }
+    let part = |b: usize| bones[b].digit.map_or(0, |d| d + 1);
+    let weights = &hand.weights.weights;
+    cells
+        .iter()
+        .map(|cell| {
+            let mut followed: Vec<usize> = cell
+                .iter()
+                .flat_map(|&n| weights[n].iter().filter(|w| w.1 > 0.0).map(|w| w.0))
+                .collect();
+            followed.sort_unstable();
+            followed.dedup();
+            followed.iter().any(|&f| {
+                far[part(f)]
+                    && followed
+                        .iter()
+                        .any(|&b| class[b] != class[f] && (far[part(b)] || part(b) == 0))
+            })
+        })
+        .collect()
+}
