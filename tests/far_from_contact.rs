@@ -172,8 +172,11 @@ fn a_finger_far_from_the_ball_is_skinned_and_the_finger_near_it_is_unchanged() {
 #[test]
 fn the_nonlinear_tier_gives_a_far_finger_no_reaction_from_its_skinned_flesh() {
     let solve = |far: &str| {
+        // Then the index's DIP alone: the little finger, skinned and still, stays strained as
+        // the first keyframe left it (`HandState::far_strained`).
         let text = scene_text(0.160, "pip", 30.0, far)
-            .replace("[solver]\n", "[solver]\ntier = \"nonlinear\"\n");
+            .replace("[solver]\n", "[solver]\ntier = \"nonlinear\"\n")
+            + "\n[[keyframe]]\ntime = 2.0\npose = { \"index.dip\" = 15.0 }\n";
         let scene = Scene::parse(&text, "far-from-contact test").unwrap();
         solve_scene(&scene, "nonlinear").unwrap()
     };
@@ -202,6 +205,18 @@ fn the_nonlinear_tier_gives_a_far_finger_no_reaction_from_its_skinned_flesh() {
             // finger, still counted: measured 0.532 / 0.869 / 3.436 N in both).
             assert!(b > 0.1 && (a - b).abs() < 1e-3 * b, "{bone}: {a} / {b}");
         }
+    }
+    // The second keyframe: the little finger's bones still bear nothing of its skinned flesh
+    // (counted from that keyframe's motion alone, its first keyframe's strain would be read
+    // again), the index's as solved.
+    let second = |s: &Solved, bone: &str| {
+        let hand = s.model.bodies[0].hand.as_deref().unwrap();
+        s.frames[2].hands[0].bone_reactions[hand.skeleton.bone_index(bone).unwrap()].norm()
+    };
+    for bone in ["little.proximal", "little.middle", "index.distal"] {
+        let (a, b) = (second(&cheap, bone), second(&full, bone));
+        println!("second keyframe, {bone}: {a:.4e} / {b:.4e} N");
+        assert!((a - b).abs() < 1e-3 * b.max(1e-6), "{bone}: {a} / {b}");
     }
     // No skinned bone reads more than the solved hand's largest reaction.
     let largest = |s: &Solved| {

@@ -1234,6 +1234,9 @@ fn hands_of(model: &Model, frame: &Frame) -> Vec<PosedHand> {
                 positions: less(&h.positions, &h.contact_displacement),
                 reaction: less(&h.reaction, &h.contact_reaction),
                 self_contact: h.self_contact.clone(),
+                // (Not in a frame: a finger skinned far from contact before it counts as
+                // solved.)
+                far_strained: Vec::new(),
             };
             PosedHand {
                 body: h.body,

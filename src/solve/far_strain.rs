@@ -5,15 +5,16 @@
 use crate::hand::HandModel;
 use nalgebra::Isometry3;
 
-/// The flesh cells (by index) whose nodes follow, by their skinning weights, a bone of a part
-/// marked `far` (0 palm, 1 thumb … 5 little) and another bone of a far part or of the palm that
-/// has moved apart from it since the rest pose (the bones at `transforms`): a bent joint of a
-/// skinned finger, its blend into the palm. A far finger still as at rest strains nothing, and
-/// a cell between a far finger and one solved (their web) is left to the solved finger, whose
-/// motion moved them apart.
+/// The flesh cells (by index) that skinning strains as the bones move from `from` to `to`:
+/// those whose nodes follow, by their skinning weights, a bone of a part marked `far` (0 palm,
+/// 1 thumb … 5 little, a bone's part its digit's: a finger's metacarpal is its finger's, where
+/// the flesh around it is the palm's) and another bone, of a far part or of the palm, that
+/// moves apart from it: a bending joint of a skinned finger, its blend into the palm. A far
+/// finger that keeps still strains nothing; a cell between a far finger and another (their
+/// web), where only the other moves, is left to it.
 pub(super) fn strained_by_far_skinning(
     hand: &HandModel,
-    transforms: &[Isometry3<f64>],
+    (from, to): (&[Isometry3<f64>], &[Isometry3<f64>]),
     far: &[bool; 6],
 ) -> Vec<bool> {
     let cells = &hand.flesh.mesh.cells;
@@ -21,13 +22,8 @@ pub(super) fn strained_by_far_skinning(
         return vec![false; cells.len()];
     }
     let bones = &hand.skeleton.bones;
-    let rest = hand.skeleton.transforms(&hand.skeleton.rest_angles());
-    // Bones grouped by their motion from rest.
-    let motion: Vec<Isometry3<f64>> = rest
-        .iter()
-        .zip(transforms)
-        .map(|(r, t)| t * r.inverse())
-        .collect();
+    // Bones grouped by their motion.
+    let motion: Vec<Isometry3<f64>> = from.iter().zip(to).map(|(a, b)| b * a.inverse()).collect();
     let mut class = vec![0usize; motion.len()];
     let mut reps: Vec<usize> = Vec::new();
     for b in 0..motion.len() {

@@ -47,7 +47,7 @@ use crate::hand::HandModel;
 use crate::model::FleshMethod;
 use crate::state::{HandState, KeyframeStats};
 use crate::util::timing::ms;
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -81,6 +81,8 @@ impl Flexion<'_> {
     ) -> Result<KeyframeStats, SimError> {
         let t_all = Instant::now();
         let mut stats = KeyframeStats::default();
+        // (The bones where the keyframe starts: what skinning strains is their motion from.)
+        let start = state.transforms.clone();
         let Some(plan) = self.plan(state, target, &mut stats) else {
             return Ok(stats);
         };
@@ -165,7 +167,7 @@ impl Flexion<'_> {
         // The reactions of the state reached: a consistent pose even when stopped early.
         let t = Instant::now();
         let kept = barrier.as_ref().map(|b| &b.1);
-        let settled = self.settle_reactions(state, plan.sub.as_ref(), kept);
+        let settled = self.settle_reactions(state, (plan.sub.as_ref(), &start), kept);
         stats.update_ms += ms(t);
         outcome?;
         settled?;
@@ -353,24 +355,30 @@ impl Flexion<'_> {
     /// state reached, at every node but the free nodes of the region `sub` (zero there, where
     /// the force is the Newton residual), plus the skin's press on itself where the `barrier`
     /// reaches a prescribed node (a bone's, or the region's edge). Outside the region, the
-    /// cells that skinning strains far from contact are left out (the bent joints of a finger
-    /// skinned far from contact, and their blend into the palm,
-    /// `far_strain::strained_by_far_skinning`): their positions are no equilibrium (the Power
-    /// grasp's static frame at resolution 1, four digits skinned, read 9.75 N on the skinned
-    /// index's metacarpal, where solved it holds 0.22 N), so a finger skinned far from contact
-    /// bears no flexion reaction, as in the increments of the other tiers.
+    /// cells a finger's skinning far from contact has strained since they were last solved
+    /// (its bending joints and their blend into the palm, `far_strain`; kept in
+    /// `state.far_strained`, the keyframe's from the bones at `start`) are left out: their
+    /// positions are no equilibrium (the Power grasp's static frame at resolution 1, four
+    /// digits skinned, read 9.75 N on the skinned index's metacarpal, where solved it holds
+    /// 0.22 N). A finger skinned far from contact so bears no new flexion reaction, as in the
+    /// other tiers; one solved before that keeps still keeps its own.
     fn settle_reactions(
         &self,
         state: &mut HandState,
-        sub: Option<&SubProblem>,
+        (sub, start): (Option<&SubProblem>, &[Isometry3<f64>]),
         barrier: Option<&SelfBarrier>,
     ) -> Result<(), SimError> {
-        let strained = strained_by_far_skinning(self.hand, &state.transforms, &self.far_parts());
-        let mut solved = vec![false; strained.len()];
+        let now =
+            strained_by_far_skinning(self.hand, (start, &state.transforms), &self.far_parts());
+        let mut solved = vec![false; now.len()];
         for &c in sub.iter().flat_map(|s| &s.cells) {
             solved[c] = true;
         }
-        let fem = |c: usize| solved[c] || (self.cell_method(c) == FleshMethod::Fem && !strained[c]);
+        let before = &state.far_strained;
+        let strained: Vec<bool> = (0..now.len())
+            .map(|c| (now[c] || before.get(c).copied().unwrap_or(false)) && !solved[c])
+            .collect();
+        let fem = |c: usize| self.cell_method(c) == FleshMethod::Fem && !strained[c];
         let forces = flesh_internal_forces(
             self.hand,
             &self.materials,
@@ -403,6 +411,11 @@ impl Flexion<'_> {
         for (n, f) in forces.into_iter().enumerate() {
             state.reaction[n] = if free[n] { Vector3::zeros() } else { f };
         }
+        state.far_strained = if strained.iter().any(|&s| s) {
+            strained
+        } else {
+            Vec::new()
+        };
         Ok(())
     }
 }

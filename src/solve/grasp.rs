@@ -547,6 +547,7 @@ fn solve_grasp_with(
             positions: hf.positions.clone(),
             reaction: hf.reaction.clone(),
             self_contact: Vec::new(),
+            far_strained: Vec::new(),
         };
         hf.bone_reactions = state.bone_reactions(hand);
         hf.volume = state.flesh_volume(hand);

@@ -161,6 +161,7 @@ pub(super) fn same_state(a: &HandState, b: &HandState) -> bool {
         && same_points(&a.positions, &b.positions)
         && same_points(&a.reaction, &b.reaction)
         && same_bits(&a.self_contact, &b.self_contact)
+        && a.far_strained == b.far_strained
         && a.transforms.len() == b.transforms.len()
         && a.transforms.iter().zip(&b.transforms).all(|(x, y)| {
             same_bits(
@@ -182,6 +183,7 @@ mod tests {
             positions: vec![Vector3::new(x, 0.0, 1.0); 3],
             reaction: vec![Vector3::zeros(); 3],
             self_contact: Vec::new(),
+            far_strained: Vec::new(),
         }
     }
 

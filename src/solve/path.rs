@@ -520,6 +520,17 @@ fn between(
         positions,
         reaction,
         self_contact: crate::state::blend_forces(&a.self_contact, 1.0 - t, &b.self_contact, t),
+        far_strained: if a.far_strained.is_empty() {
+            b.far_strained.clone()
+        } else if b.far_strained.is_empty() {
+            a.far_strained.clone()
+        } else {
+            a.far_strained
+                .iter()
+                .zip(&b.far_strained)
+                .map(|(x, y)| *x || *y)
+                .collect()
+        },
     }
 }
 
@@ -552,6 +563,7 @@ mod tests {
                 .collect(),
             reaction: vec![Vector3::new(s, 0.0, -s); rest.positions.len()],
             self_contact: vec![s; 3],
+            far_strained: Vec::new(),
         };
         let (a, b) = (at(0.0), at(1.0));
         // `between` takes the angles' transforms; for a rigid motion of all bones, compare the
@@ -661,6 +673,7 @@ mod tests {
             positions: vec![Vector3::new(flexions, 0.0, 0.0)],
             reaction: Vec::new(),
             self_contact: Vec::new(),
+            far_strained: Vec::new(),
         }
     }
 

@@ -24,6 +24,11 @@ pub struct HandState {
     /// are the increments' sums. A keyframe sets it over its FEM region's skin and leaves the
     /// rest as the keyframes before left it. Empty until the skin meets itself.
     pub self_contact: Vec<f64>,
+    /// The flesh cells (by index) whose positions a part's skinning far from contact has
+    /// strained since they were last solved: no equilibrium, so the nonlinear tier, which reads
+    /// the reactions as the flesh's internal force at the state, leaves them out
+    /// (`solve::far_strain`). Empty: none (and for a state rebuilt from a frame).
+    pub far_strained: Vec<bool>,
 }
 
 /// `a` and `b` (forces at the same points; an empty one is zero everywhere) added with the
@@ -51,6 +56,7 @@ impl HandState {
             positions: hand.flesh.mesh.nodes.clone(),
             reaction: vec![Vector3::zeros(); hand.flesh.mesh.nodes.len()],
             self_contact: Vec::new(),
+            far_strained: Vec::new(),
         }
     }
 
