@@ -366,7 +366,12 @@ impl FlexionPath {
         let start = knots.0.clone();
         let (far, region) = (path.far, path.region_knot(j));
         let region = self.hands[k].knots[region].positions.clone();
-        let (state, stats) = flex(self.hands[k].body, start, &angles, (far, &region))?;
+        // (Where that flexion fails, the carried flesh as before: the step tells of it.)
+        let (state, stats) = match flex(self.hands[k].body, start, &angles, (far, &region)) {
+            Ok(flexed) => flexed,
+            Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+            Err(_) => return Ok(carried),
+        };
         if let Some(total) = &mut self.hands[k].stats {
             total.absorb(&stats);
         }
