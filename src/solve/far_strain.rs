@@ -24,17 +24,7 @@ pub(super) fn strained_by_far_skinning(
     let bones = &hand.skeleton.bones;
     // Bones grouped by their motion.
     let motion: Vec<Isometry3<f64>> = from.iter().zip(to).map(|(a, b)| b * a.inverse()).collect();
-    let mut class = vec![0usize; motion.len()];
-    let mut reps: Vec<usize> = Vec::new();
-    for b in 0..motion.len() {
-        let same = reps
-            .iter()
-            .position(|&r| super::self_contact::still(&(motion[r].inverse() * motion[b])));
-        class[b] = same.unwrap_or_else(|| {
-            reps.push(b);
-            reps.len() - 1
-        });
-    }
+    let class = super::self_contact::motion_classes(&motion);
     let part = |b: usize| bones[b].digit.map_or(0, |d| d + 1);
     let weights = &hand.weights.weights;
     cells

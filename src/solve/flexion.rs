@@ -398,20 +398,7 @@ impl<'a> Flexion<'a> {
             FleshRegion::Local { radius } => {
                 let motion = state.motion_to(&skeleton.transforms(target));
                 // Bones grouped by their motion over the keyframe.
-                let mut class = vec![usize::MAX; motion.len()];
-                let mut reps: Vec<usize> = Vec::new();
-                for b in 0..motion.len() {
-                    let same = reps
-                        .iter()
-                        .find(|&&r| super::self_contact::still(&(motion[r].inverse() * motion[b])));
-                    class[b] = match same {
-                        Some(&r) => class[r],
-                        None => {
-                            reps.push(b);
-                            reps.len() - 1
-                        }
-                    };
-                }
+                let class = super::self_contact::motion_classes(&motion);
                 // Cells where bones moving apart meet (a joint's blend zone), counting only
                 // the bones of parts not in `far`: a node that follows far bones only sides
                 // with any neighbour, so a far finger's joints and their blend into the palm

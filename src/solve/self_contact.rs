@@ -188,6 +188,23 @@ pub(super) fn still(m: &Isometry3<f64>) -> bool {
     m.translation.vector.norm() < 1e-12 && m.rotation.angle() < 1e-12
 }
 
+/// The bones grouped by their rigid `motion`: each bone's class, bones moving alike (to
+/// round-off, [`still`] relative to each other) in the same one, numbered as first met.
+pub(super) fn motion_classes(motion: &[Isometry3<f64>]) -> Vec<usize> {
+    let mut class = vec![0usize; motion.len()];
+    let mut reps: Vec<usize> = Vec::new();
+    for b in 0..motion.len() {
+        let same = reps
+            .iter()
+            .position(|&r| still(&(motion[r].inverse() * motion[b])));
+        class[b] = same.unwrap_or_else(|| {
+            reps.push(b);
+            reps.len() - 1
+        });
+    }
+    class
+}
+
 /// How near its own skin (m) a skin point must come at a keyframe's end, predicted by
 /// skinning, for the local flexion region to grow around it.
 const MEETING: f64 = 0.003;
