@@ -6,6 +6,8 @@
 use super::error::SimError;
 use super::flexion::{CancelCheck, Flexion, FlexionCaches};
 use super::grasp::{frame_with_hands, Carried, ContactCache};
+use super::hyperelastic_objects::neo_hookean_objects;
+use super::iterated_steps;
 use super::path::{flex_ahead, FlexionPath, Knot, Parts};
 use super::proximity::{crushed_by_skinning, deeper_on_the_way, PARTS};
 use super::statics::{solve_static, solve_static_alone};
@@ -453,14 +455,70 @@ impl Workspace {
         // Retried along the motion in at least two steps: a keyframe shorter than one step
         // (a degree of flexion against a thin wall) may need halving too.
         let along = steps.max(2);
+        // On the nonlinear tier, where the keyframe ends unsettled, it is followed again with
+        // each step iterated at its own pose (`super::iterated_steps`): from where it started.
+        let restart = start
+            .as_ref()
+            .filter(|_| neo_hookean_objects(model))
+            .cloned();
+        let ended = self.move_once_along(
+            model,
+            posed,
+            (moving, path),
+            (too_deep, start),
+            along,
+            watch,
+        );
+        match (ended, restart) {
+            (Ok(frame), Some(restart)) if iterated_steps::unsettled(&frame, moving, posed) => {
+                let first = (posed.clone(), frame);
+                *posed = restart;
+                let carried = posed.contact.clone();
+                let again =
+                    self.move_in_steps(model, posed, (moving, path), (along, true), carried, watch);
+                match again {
+                    Ok(mut frame) if iterated_steps::better(&frame, &first.1, moving, posed) => {
+                        // The first attempt was a contact solve redone.
+                        count_retry(posed, moving, &mut frame);
+                        Ok(frame)
+                    }
+                    Err(SimError::Cancelled) => Err(SimError::Cancelled),
+                    _ => {
+                        *posed = first.0;
+                        Ok(first.1)
+                    }
+                }
+            }
+            (ended, _) => ended,
+        }
+    }
+
+    /// [`Workspace::move_along`] with its steps as planned: in one contact step, then along
+    /// the motion in `along` steps where that does not settle.
+    fn move_once_along(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        (moving, path): Motion<'_, '_>,
+        (too_deep, start): (bool, Option<Posed>),
+        along: usize,
+        watch: Watch<'_>,
+    ) -> Result<Frame, SimError> {
         if too_deep {
             let carried = posed.contact.clone();
-            return self.move_in_steps(model, posed, (moving, path), along, carried, watch);
+            return self.move_in_steps(
+                model,
+                posed,
+                (moving, path),
+                (along, false),
+                carried,
+                watch,
+            );
         }
         // Going on from a frame in contact, from the state it carries (the same formulation
         // as its own steps: the pose again gives the frame again).
         let carried = posed.contact.clone();
-        match self.move_in_steps(model, posed, (moving, path), 1, carried, watch) {
+        match self.move_in_steps(model, posed, (moving, path), (1, false), carried, watch) {
             // The one-step attempt did not settle: the keyframe in steps along the motion. If
             // that fails too, its error is the one returned (it failed at its first contact, in
             // its smallest step: the cause); the one-step error only says that the whole motion
@@ -468,16 +526,10 @@ impl Workspace {
             Err(SimError::Contact(_)) if start.is_some() => {
                 *posed = start.expect("kept above");
                 let carried = posed.contact.clone();
-                self.move_in_steps(model, posed, (moving, path), along, carried, watch)
+                self.move_in_steps(model, posed, (moving, path), (along, false), carried, watch)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
-                        for h in moving {
-                            let body = posed.hands[h.0].body;
-                            posed.hands[h.0].frame.stats.contact_retries += 1;
-                            if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
-                                fh.stats.contact_retries += 1;
-                            }
-                        }
+                        count_retry(posed, moving, &mut frame);
                         frame
                     })
             }
@@ -487,13 +539,14 @@ impl Workspace {
 
     /// The motion of `moving` (hand, from, to) in `steps` contact steps (halved where contact
     /// does not settle), each from the displacements the last one left, starting from
-    /// `carried`.
+    /// `carried`; with `iterated`, each step in contact short of the pose is followed by a
+    /// correction at its own pose (`super::iterated_steps`).
     fn move_in_steps(
         &mut self,
         model: &Model,
         posed: &mut Posed,
         (moving, path): Motion<'_, '_>,
-        steps: usize,
+        (steps, iterated): (usize, bool),
         carried: Option<Vec<f64>>,
         (cancel, reached): Watch<'_>,
     ) -> Result<Frame, SimError> {
@@ -563,7 +616,22 @@ impl Workspace {
                     finish(model, posed, (moving, path), &mut frame, counts, short);
                     return Ok(frame);
                 }
-                Ok(frame) => {
+                Ok(mut frame) => {
+                    if iterated && hand_contact_force(model, &frame) > 0.0 {
+                        // The step again at its own pose, from the state it reached: a second
+                        // Newton iteration on the same increment. Where it fails or lets go,
+                        // the step stands as it was.
+                        let step = posed.clone();
+                        posed.contact = carried_by(model, &frame);
+                        match self.contact_step(model, posed, (moving, path), f, false, cancel) {
+                            Ok(next) if hand_contact_force(model, &next) > 0.0 => {
+                                kept += 1;
+                                frame = next;
+                            }
+                            Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+                            _ => *posed = step,
+                        }
+                    }
                     kept += usize::from(frame.contact.is_some());
                     pressed |= hand_contact_force(model, &frame) > 0.0;
                     posed.contact = carried_by(model, &frame);
@@ -1478,5 +1546,17 @@ fn hand_frame(
             &model.bodies[body].thresholds,
         ),
         grasp: None,
+    }
+}
+
+/// A contact solve of the keyframe redone: counted in each moving hand's stats, in `posed` and
+/// in `frame`.
+fn count_retry(posed: &mut Posed, moving: &[(usize, Vec<f64>, Vec<f64>)], frame: &mut Frame) {
+    for h in moving {
+        let body = posed.hands[h.0].body;
+        posed.hands[h.0].frame.stats.contact_retries += 1;
+        if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
+            fh.stats.contact_retries += 1;
+        }
     }
 }

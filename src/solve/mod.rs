@@ -18,6 +18,7 @@ mod gentle_grip;
 mod grasp;
 mod hyperelastic_objects;
 mod insides;
+mod iterated_steps;
 mod knot_memo;
 mod let_go;
 mod linear_factor;

@@ -603,10 +603,7 @@ mod tests {
     ) -> impl FnMut(usize, HandState, &[f64], Parts<'_>) -> Flexed + 'a {
         move |_, _, angles, _| {
             calls.set(calls.get() + 1);
-            let turn = nalgebra::Rotation3::from_axis_angle(
-                &Vector3::z_axis(),
-                (rate * (angles[joint] - rest.angles[joint])).to_radians(),
-            );
+            let turn = stretched_turn(rate, angles[joint] - rest.angles[joint]);
             let mut state = rest.clone();
             state.angles = angles.to_vec();
             state.positions = rest.positions.iter().map(|p| turn * p).collect();
@@ -614,9 +611,22 @@ mod tests {
         }
     }
 
+    /// The stand-in flexion's map after `degrees` of its joint: a turn about z of `rate` degrees
+    /// a degree, after a stretch along x and a squeeze along y of 2 % a degree (volume ratio
+    /// 1 − (0.02·degrees)², whole at every angle). Two such states half a turn apart blend, halfway,
+    /// into diag(−0.1, 0.1, 1) — inside out by a margin, where two turns alone would blend
+    /// into flat flesh (det (R₁ + R₂)/2 ≥ 0 for any rotations), and only round-off could tell.
+    fn stretched_turn(rate: f64, degrees: f64) -> nalgebra::Matrix3<f64> {
+        let turn =
+            nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), (rate * degrees).to_radians());
+        let k = 0.02 * degrees;
+        turn.matrix() * nalgebra::Matrix3::from_diagonal(&Vector3::new(1.0 + k, 1.0 - k, 1.0))
+    }
+
     /// Flesh that the bones would carry through zero volume between two knots (the hand turned
-    /// half a turn about z from one knot to the next: carried halfway, it is flat) is flexed at
-    /// the step's own angles instead; where the carried flesh stays whole, no flexion is added.
+    /// half a turn about z from one knot to the next, and stretched: carried halfway, it is
+    /// inside out) is flexed at the step's own angles instead; where the carried flesh stays
+    /// whole, no flexion is added.
     #[test]
     fn flesh_carried_inside_out_between_knots_is_flexed_there_instead() {
         let scene = crate::scene::Scene::parse(
@@ -640,10 +650,7 @@ mod tests {
             let mut path = FlexionPath::new(&model, moving, false);
             let half = path.state_at(&model, 0, 0.5, &mut flex).unwrap();
             assert_eq!(calls.get(), flexions, "{rate}° a degree");
-            let turn = nalgebra::Rotation3::from_axis_angle(
-                &Vector3::z_axis(),
-                (rate * 5.0f64).to_radians(),
-            );
+            let turn = stretched_turn(rate, 5.0);
             let off: f64 = half
                 .positions
                 .iter()
@@ -651,7 +658,7 @@ mod tests {
                 .map(|(p, r)| (p - turn * r).norm())
                 .fold(0.0, f64::max);
             if flexions == 2 {
-                // Flexed at 5°: the flesh turned 90°, whole.
+                // Flexed at 5°: the flesh turned 90° (and stretched 10 %), whole.
                 assert!(off < 1e-12, "{off}");
             } else {
                 // Carried: a chord of the 10° turn, not the arc, but whole.
