@@ -456,40 +456,49 @@ impl Workspace {
         // (a degree of flexion against a thin wall) may need halving too.
         let along = steps.max(2);
         // On the nonlinear tier, where the keyframe ends unsettled, it is followed again with
-        // each step iterated at its own pose (`super::iterated_steps`): from where it started.
-        let restart = start
-            .as_ref()
-            .filter(|_| neo_hookean_objects(model))
-            .cloned();
+        // each step iterated at its own pose (`super::iterated_steps`): from where it started,
+        // the hands and what the contact steps carry alike.
+        let nonlinear = neo_hookean_objects(model);
+        let cache = nonlinear.then(|| self.contact.carried()).flatten();
         let ended = self.move_once_along(
             model,
             posed,
             (moving, path),
-            (too_deep, start),
+            (too_deep, start.as_ref()),
             along,
             watch,
         );
-        match (ended, restart) {
-            (Ok(frame), Some(restart)) if iterated_steps::unsettled(&frame, moving, posed) => {
-                let first = (posed.clone(), frame);
+        match (ended, start, cache) {
+            (Ok(frame), Some(restart), Some(cache))
+                if nonlinear
+                    && hand_contact_force(model, &frame) > 0.0
+                    && iterated_steps::unsettled(&frame, moving, posed) =>
+            {
+                // (A keyframe whose hands let go is settled from the static frame, whatever
+                // the steps: nothing to redo.)
+                let first = (posed.clone(), self.contact.carried(), frame);
                 *posed = restart;
+                self.contact.restore(cache);
                 let carried = posed.contact.clone();
                 let again =
                     self.move_in_steps(model, posed, (moving, path), (along, true), carried, watch);
                 match again {
-                    Ok(mut frame) if iterated_steps::better(&frame, &first.1, moving, posed) => {
-                        // The first attempt was a contact solve redone.
-                        count_retry(posed, moving, &mut frame);
+                    Ok(mut frame) if iterated_steps::better(&frame, &first.2, moving, posed) => {
+                        // The first attempt's contact solves were all redone.
+                        count_retry(posed, moving, &mut frame, Some(&first.2));
                         Ok(frame)
                     }
                     Err(SimError::Cancelled) => Err(SimError::Cancelled),
                     _ => {
                         *posed = first.0;
-                        Ok(first.1)
+                        if let Some(carried) = first.1 {
+                            self.contact.restore(carried);
+                        }
+                        Ok(first.2)
                     }
                 }
             }
-            (ended, _) => ended,
+            (ended, _, _) => ended,
         }
     }
 
@@ -500,7 +509,7 @@ impl Workspace {
         model: &Model,
         posed: &mut Posed,
         (moving, path): Motion<'_, '_>,
-        (too_deep, start): (bool, Option<Posed>),
+        (too_deep, start): (bool, Option<&Posed>),
         along: usize,
         watch: Watch<'_>,
     ) -> Result<Frame, SimError> {
@@ -524,12 +533,12 @@ impl Workspace {
             // its smallest step: the cause); the one-step error only says that the whole motion
             // was too large a step.
             Err(SimError::Contact(_)) if start.is_some() => {
-                *posed = start.expect("kept above");
+                *posed = start.expect("kept above").clone();
                 let carried = posed.contact.clone();
                 self.move_in_steps(model, posed, (moving, path), (along, false), carried, watch)
                     .map(|mut frame| {
                         // The one-step attempt was a contact solve redone.
-                        count_retry(posed, moving, &mut frame);
+                        count_retry(posed, moving, &mut frame, None);
                         frame
                     })
             }
@@ -619,17 +628,28 @@ impl Workspace {
                 Ok(mut frame) => {
                     if iterated && hand_contact_force(model, &frame) > 0.0 {
                         // The step again at its own pose, from the state it reached: a second
-                        // Newton iteration on the same increment. Where it fails or lets go,
-                        // the step stands as it was.
+                        // Newton iteration on the same increment. Where it fails, lets go or
+                        // overruns a threshold, the step stands as it was.
                         let step = posed.clone();
                         posed.contact = carried_by(model, &frame);
+                        let held = self.contact.carried();
                         match self.contact_step(model, posed, (moving, path), f, false, cancel) {
-                            Ok(next) if hand_contact_force(model, &next) > 0.0 => {
+                            Ok(next)
+                                if hand_contact_force(model, &next) > 0.0
+                                    && !stopped_by_threshold(&next) =>
+                            {
                                 kept += 1;
                                 frame = next;
                             }
-                            Err(SimError::Cancelled) => return Err(SimError::Cancelled),
-                            _ => *posed = step,
+                            // Its contact let go, a bone overran its threshold (the step's
+                            // own control judges that), or its contact failed.
+                            Ok(_) | Err(SimError::Contact(_)) => {
+                                *posed = step;
+                                if let Some(held) = held {
+                                    self.contact.restore(held);
+                                }
+                            }
+                            Err(e) => return Err(e),
                         }
                     }
                     kept += usize::from(frame.contact.is_some());
@@ -1549,14 +1569,23 @@ fn hand_frame(
     }
 }
 
-/// A contact solve of the keyframe redone: counted in each moving hand's stats, in `posed` and
-/// in `frame`.
-fn count_retry(posed: &mut Posed, moving: &[(usize, Vec<f64>, Vec<f64>)], frame: &mut Frame) {
+/// Contact solves of the keyframe redone, counted in each moving hand's stats, in `posed` and
+/// in `frame`: a one-step attempt (`first` `None`), or every solve of a `first` attempt (its
+/// steps kept and those it redid itself).
+fn count_retry(
+    posed: &mut Posed,
+    moving: &[(usize, Vec<f64>, Vec<f64>)],
+    frame: &mut Frame,
+    first: Option<&Frame>,
+) {
     for h in moving {
         let body = posed.hands[h.0].body;
-        posed.hands[h.0].frame.stats.contact_retries += 1;
+        let n = first
+            .and_then(|f| f.hands.iter().find(|x| x.body == body))
+            .map_or(1, |x| x.stats.contact_steps + x.stats.contact_retries);
+        posed.hands[h.0].frame.stats.contact_retries += n;
         if let Some(fh) = frame.hands.iter_mut().find(|x| x.body == body) {
-            fh.stats.contact_retries += 1;
+            fh.stats.contact_retries += n;
         }
     }
 }

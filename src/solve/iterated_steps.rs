@@ -25,11 +25,20 @@ fn outcome(stats: &KeyframeStats) -> (f64, bool, f64) {
         .as_ref()
         .filter(|s| s.solver_limit)
         .map_or(1.0, |s| s.reached);
+    // (A change that is not a number counts as unsettled, the most.)
     let change = stats
         .unsettled_at_pose
+        .map(|c| if c.is_nan() { f64::INFINITY } else { c })
         .filter(|&c| c > KeyframeStats::UNSETTLED_WARNING)
         .unwrap_or(0.0);
     (reached, stats.correction_failed.is_none(), -change)
+}
+
+/// Outcomes in their order (worse first), total over every value.
+fn ordered(a: &(f64, bool, f64), b: &(f64, bool, f64)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0)
+        .then(a.1.cmp(&b.1))
+        .then(a.2.total_cmp(&b.2))
 }
 
 /// The moving hands' stats in `frame` (`moving`: hand index in `posed`, angles from, to).
@@ -70,10 +79,10 @@ pub(super) fn better(
     let worst = |frame: &Frame| {
         moving_stats(frame, moving, posed)
             .map(outcome)
-            .min_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal))
+            .min_by(ordered)
     };
     match (worst(again), worst(first)) {
-        (Some(a), Some(b)) => a > b,
+        (Some(a), Some(b)) => ordered(&a, &b).is_gt(),
         (Some(_), None) => true,
         _ => false,
     }
@@ -81,7 +90,7 @@ pub(super) fn better(
 
 #[cfg(test)]
 mod tests {
-    use super::outcome;
+    use super::{ordered, outcome};
     use crate::state::{KeyframeStats, StoppedShort};
 
     #[test]
@@ -114,9 +123,17 @@ mod tests {
         assert_eq!(outcome(&settled), (1.0, true, 0.0));
         // A bone's threshold is the grasp's limit: as settled as a pose reached.
         assert_eq!(outcome(&by_threshold), outcome(&settled));
-        assert!(outcome(&settled) > outcome(&swinging));
-        assert!(outcome(&swinging) > outcome(&failed));
-        assert!(outcome(&failed) > outcome(&short));
+        let better =
+            |a: &KeyframeStats, b: &KeyframeStats| ordered(&outcome(a), &outcome(b)).is_gt();
+        assert!(better(&settled, &swinging));
+        assert!(better(&swinging, &failed));
+        assert!(better(&failed, &short));
+        // A change that is not a number is the most unsettled.
+        let nan = KeyframeStats {
+            unsettled_at_pose: Some(f64::NAN),
+            ..KeyframeStats::default()
+        };
+        assert!(better(&swinging, &nan) && better(&nan, &failed));
         // Under the report's warning, a change counts as settled.
         let within = KeyframeStats {
             unsettled_at_pose: Some(0.5 * KeyframeStats::UNSETTLED_WARNING),
