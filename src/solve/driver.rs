@@ -472,7 +472,7 @@ impl Workspace {
             (Ok(frame), Some(restart), Some(cache))
                 if nonlinear
                     && hand_contact_force(model, &frame) > 0.0
-                    && iterated_steps::unsettled(&frame, moving, posed) =>
+                    && iterated_steps::unsettled(&frame, &moving_bodies(posed, moving)) =>
             {
                 // (A keyframe whose hands let go is settled from the static frame, whatever
                 // the steps: nothing to redo.)
@@ -483,7 +483,13 @@ impl Workspace {
                 let again =
                     self.move_in_steps(model, posed, (moving, path), (along, true), carried, watch);
                 match again {
-                    Ok(mut frame) if iterated_steps::better(&frame, &first.2, moving, posed) => {
+                    Ok(mut frame)
+                        if iterated_steps::better(
+                            &frame,
+                            &first.2,
+                            &moving_bodies(posed, moving),
+                        ) =>
+                    {
                         // The first attempt's contact solves were all redone.
                         count_retry(posed, moving, &mut frame, Some(&first.2));
                         Ok(frame)
@@ -1567,6 +1573,14 @@ fn hand_frame(
         ),
         grasp: None,
     }
+}
+
+/// The bodies of the hands `moving` (hand index in `posed`, angles from, to).
+fn moving_bodies(posed: &Posed, moving: &[(usize, Vec<f64>, Vec<f64>)]) -> Vec<usize> {
+    moving
+        .iter()
+        .map(|(h, _, _)| posed.hands[*h].body)
+        .collect()
 }
 
 /// Contact solves of the keyframe redone, counted in each moving hand's stats, in `posed` and

@@ -12,7 +12,6 @@
 //! increment): the pose is reached nearer equilibrium. The attempt that ends better
 //! ([`better`]) is kept. Keyframes that settle pay nothing.
 
-use super::driver::Posed;
 use crate::state::{Frame, KeyframeStats};
 
 /// How a keyframe ended, worst first when compared: how far its motion went (1 when it reached
@@ -41,14 +40,12 @@ fn ordered(a: &(f64, bool, f64), b: &(f64, bool, f64)) -> std::cmp::Ordering {
         .then(a.2.total_cmp(&b.2))
 }
 
-/// The moving hands' stats in `frame` (`moving`: hand index in `posed`, angles from, to).
+/// The stats in `frame` of the hands whose bodies are `bodies` (the keyframe's moving hands).
 fn moving_stats<'f>(
     frame: &'f Frame,
-    moving: &'f [(usize, Vec<f64>, Vec<f64>)],
-    posed: &'f Posed,
+    bodies: &'f [usize],
 ) -> impl Iterator<Item = &'f KeyframeStats> + 'f {
-    moving.iter().filter_map(move |(h, _, _)| {
-        let body = posed.hands[*h].body;
+    bodies.iter().filter_map(move |&body| {
         frame
             .hands
             .iter()
@@ -57,30 +54,17 @@ fn moving_stats<'f>(
     })
 }
 
-/// Whether a moving hand's keyframe ended short of settled: its motion stopped by the solver,
-/// a correction at its pose failed, or the last changed its force by more than the report
-/// warns of.
-pub(super) fn unsettled(
-    frame: &Frame,
-    moving: &[(usize, Vec<f64>, Vec<f64>)],
-    posed: &Posed,
-) -> bool {
-    moving_stats(frame, moving, posed).any(|s| outcome(s) != (1.0, true, 0.0))
+/// Whether a moving hand's keyframe (`bodies`: the moving hands' bodies) ended short of
+/// settled: its motion stopped by the solver, a correction at its pose failed, or the last
+/// changed its force by more than the report warns of.
+pub(super) fn unsettled(frame: &Frame, bodies: &[usize]) -> bool {
+    moving_stats(frame, bodies).any(|s| outcome(s) != (1.0, true, 0.0))
 }
 
 /// Whether `again` ended better than `first`: its worst moving hand's outcome is better
 /// (further along the motion, then no correction failed, then settled closer).
-pub(super) fn better(
-    again: &Frame,
-    first: &Frame,
-    moving: &[(usize, Vec<f64>, Vec<f64>)],
-    posed: &Posed,
-) -> bool {
-    let worst = |frame: &Frame| {
-        moving_stats(frame, moving, posed)
-            .map(outcome)
-            .min_by(ordered)
-    };
+pub(super) fn better(again: &Frame, first: &Frame, bodies: &[usize]) -> bool {
+    let worst = |frame: &Frame| moving_stats(frame, bodies).map(outcome).min_by(ordered);
     match (worst(again), worst(first)) {
         (Some(a), Some(b)) => ordered(&a, &b).is_gt(),
         (Some(_), None) => true,
