@@ -468,11 +468,11 @@ impl Workspace {
             along,
             watch,
         );
+        let bodies = moving_bodies(posed, moving);
         match (ended, start, cache) {
             (Ok(frame), Some(restart), Some(cache))
-                if nonlinear
-                    && hand_contact_force(model, &frame) > 0.0
-                    && iterated_steps::unsettled(&frame, &moving_bodies(posed, moving)) =>
+                if hand_contact_force(model, &frame) > 0.0
+                    && iterated_steps::unsettled(&frame, &bodies) =>
             {
                 // (A keyframe whose hands let go is settled from the static frame, whatever
                 // the steps: nothing to redo.)
@@ -483,13 +483,7 @@ impl Workspace {
                 let again =
                     self.move_in_steps(model, posed, (moving, path), (along, true), carried, watch);
                 match again {
-                    Ok(mut frame)
-                        if iterated_steps::better(
-                            &frame,
-                            &first.2,
-                            &moving_bodies(posed, moving),
-                        ) =>
-                    {
+                    Ok(mut frame) if iterated_steps::better(&frame, &first.2, &bodies) => {
                         // The first attempt's contact solves were all redone.
                         count_retry(posed, moving, &mut frame, Some(&first.2));
                         Ok(frame)
@@ -633,29 +627,11 @@ impl Workspace {
                 }
                 Ok(mut frame) => {
                     if iterated && hand_contact_force(model, &frame) > 0.0 {
-                        // The step again at its own pose, from the state it reached: a second
-                        // Newton iteration on the same increment. Where it fails, lets go or
-                        // overruns a threshold, the step stands as it was.
-                        let step = posed.clone();
-                        posed.contact = carried_by(model, &frame);
-                        let held = self.contact.carried();
-                        match self.contact_step(model, posed, (moving, path), f, false, cancel) {
-                            Ok(next)
-                                if hand_contact_force(model, &next) > 0.0
-                                    && !stopped_by_threshold(&next) =>
-                            {
-                                kept += 1;
-                                frame = next;
-                            }
-                            // Its contact let go, a bone overran its threshold (the step's
-                            // own control judges that), or its contact failed.
-                            Ok(_) | Err(SimError::Contact(_)) => {
-                                *posed = step;
-                                if let Some(held) = held {
-                                    self.contact.restore(held);
-                                }
-                            }
-                            Err(e) => return Err(e),
+                        if let Some(next) =
+                            self.step_again(model, posed, (moving, path), (f, &frame), cancel)?
+                        {
+                            kept += 1;
+                            frame = next;
                         }
                     }
                     kept += usize::from(frame.contact.is_some());
@@ -709,6 +685,37 @@ impl Workspace {
                 }
                 Err(e) => return Err(e),
             }
+        }
+    }
+
+    /// The contact step to fraction `f` that ended on `frame` taken again at its own pose, from
+    /// the state it reached: a second Newton iteration on the same increment
+    /// (`super::iterated_steps`). `None` where it fails, lets go or overruns a bone's threshold
+    /// (the step's own control judges that): the step stands as it was, `posed` and what the
+    /// contact steps carry as `frame` left them.
+    fn step_again(
+        &mut self,
+        model: &Model,
+        posed: &mut Posed,
+        (moving, path): Motion<'_, '_>,
+        (f, frame): (f64, &Frame),
+        cancel: Option<&CancelCheck>,
+    ) -> Result<Option<Frame>, SimError> {
+        let step = posed.clone();
+        posed.contact = carried_by(model, frame);
+        let held = self.contact.carried();
+        match self.contact_step(model, posed, (moving, path), f, false, cancel) {
+            Ok(next) if hand_contact_force(model, &next) > 0.0 && !stopped_by_threshold(&next) => {
+                Ok(Some(next))
+            }
+            Ok(_) | Err(SimError::Contact(_)) => {
+                *posed = step;
+                if let Some(held) = held {
+                    self.contact.restore(held);
+                }
+                Ok(None)
+            }
+            Err(e) => Err(e),
         }
     }
 
