@@ -77,17 +77,17 @@ impl SurfaceEdgeSet {
         }
     }
 
-    /// The edges of the facets whose boxes `bvh` finds meeting `query`, each once.
-    fn candidates(&self, bvh: &SurfaceBvh, query: &Bounds) -> Vec<usize> {
-        let mut found: Vec<usize> = bvh
-            .facets_meeting(query)
-            .into_iter()
-            .flat_map(|t| self.by_facet[t])
-            .filter(|&e| e != NONE)
-            .collect();
+    /// The edges of the facets whose boxes `bvh` finds meeting `query`, each once, into
+    /// `found` (emptied first: a worker's buffer, used again edge after edge).
+    fn candidates(&self, bvh: &SurfaceBvh, query: &Bounds, found: &mut Vec<usize>) {
+        found.clear();
+        found.extend(
+            bvh.facets_meeting_iter(query)
+                .flat_map(|t| self.by_facet[t])
+                .filter(|&e| e != NONE),
+        );
         found.sort_unstable();
         found.dedup();
-        found
     }
 
     /// Every pair of edges (e, f), e < f, nearer than `reach` at `positions` and not the same
@@ -101,21 +101,32 @@ impl SurfaceEdgeSet {
         own: &OwnNeighbourhood,
     ) -> Vec<(usize, usize, f64)> {
         let reach2 = reach * reach;
+        // (Each worker's candidates in one buffer; the pairs in the order of e, then f.)
         (0..self.edges.len())
             .into_par_iter()
-            .flat_map_iter(|e| {
-                let [a0, a1] = self.edges[e].map(|n| positions[n]);
-                self.candidates(bvh, &Bounds::of([&a0, &a1]))
-                    .into_iter()
-                    .filter(move |&f| f > e && !own.excludes_edge(&self.edges[e], &self.edges[f]))
-                    .filter_map(move |f| {
+            .fold(
+                || (Vec::new(), Vec::new()),
+                |(mut out, mut found): (Vec<(usize, usize, f64)>, Vec<usize>), e| {
+                    let [a0, a1] = self.edges[e].map(|n| positions[n]);
+                    self.candidates(bvh, &Bounds::of([&a0, &a1]), &mut found);
+                    for &f in &found {
+                        if f <= e || own.excludes_edge(&self.edges[e], &self.edges[f]) {
+                            continue;
+                        }
                         let [b0, b1] = self.edges[f].map(|n| positions[n]);
                         let d2 = edge_edge_distance2(&a0, &a1, &b0, &b1);
-                        (d2 < reach2).then_some((e, f, d2))
-                    })
-                    .collect::<Vec<_>>()
+                        if d2 < reach2 {
+                            out.push((e, f, d2));
+                        }
+                    }
+                    (out, found)
+                },
+            )
+            .map(|(out, _)| out)
+            .reduce(Vec::new, |mut a, mut b| {
+                a.append(&mut b);
+                a
             })
-            .collect()
     }
 
     /// The first share t ∈ [0, 1] of the step from `start` to `end` at which an edge passes
@@ -130,11 +141,12 @@ impl SurfaceEdgeSet {
     ) -> f64 {
         (0..self.edges.len())
             .into_par_iter()
-            .map(|e| {
+            .map_init(Vec::new, |found, e| {
                 let [i, j] = self.edges[e];
                 let path = Bounds::of([&start[i], &start[j], &end[i], &end[j]]);
                 let mut first = 1.0f64;
-                for f in self.candidates(bvh, &path) {
+                self.candidates(bvh, &path, found);
+                for &f in found.iter() {
                     if f <= e
                         || own.excludes_edge(&self.edges[e], &self.edges[f])
                         || left_out.contains(&(e, f))

@@ -38,7 +38,7 @@ use crate::fem::added_energy::{AddedEnergy, NodeBlock};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashSet};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// Share of the way to a first crossing a step may go (continuous collision's margin).
 const TO_CROSSING: f64 = 0.8;
@@ -67,7 +67,14 @@ pub struct SelfBarrier {
     reach: f64,
     /// Its stiffness κ, N/m⁵ (b on squared distances, m⁴, times an area and κ: J).
     kappa: f64,
+    /// The pairs found at the last positions asked: a Newton iteration asks for them at one
+    /// iterate up to three times (its energy in the line search that chose it, its Hessian,
+    /// its Hessian projected), and finding them is most of the barrier's cost.
+    last: Mutex<Option<FoundAt>>,
 }
+
+/// The pairs found at some positions, and the positions.
+type FoundAt = (Vec<Vector3<f64>>, Arc<Vec<Pair>>);
 
 /// One pair within reach: its four corners (contact indices: a point and a facet's three, or
 /// two edges' ends), which it is, its share of the surface's area (m²) and its squared distance
@@ -130,6 +137,7 @@ impl SelfBarrier {
             edges_at_start: HashSet::new(),
             reach,
             kappa,
+            last: Mutex::new(None),
         };
         barrier.leave_out_within(start, f64::INFINITY);
         barrier
@@ -157,6 +165,8 @@ impl SelfBarrier {
             .map(|(e, f, _)| (e, f))
             .collect();
         self.edges_at_start.extend(near);
+        // (The pairs found before may hold some left out now.)
+        *self.last.get_mut().unwrap_or_else(|e| e.into_inner()) = None;
     }
 
     /// The barrier's reach d̂, m.
@@ -172,8 +182,7 @@ impl SelfBarrier {
             .par_iter()
             .flat_map_iter(|&v| {
                 let x = positions[v];
-                bvh.facets_meeting(&Bounds::of([&x]))
-                    .into_iter()
+                bvh.facets_meeting_iter(&Bounds::of([&x]))
                     .filter_map(move |t| {
                         let facet = self.surface.triangles[t];
                         if self.own.excludes(v, &facet) {
@@ -189,8 +198,24 @@ impl SelfBarrier {
     }
 
     /// The pairs held apart at `positions` (within reach, not left out): points against
-    /// facets, then edges against edges.
-    fn active(&self, positions: &[Vector3<f64>]) -> Vec<Pair> {
+    /// facets, then edges against edges; found again only where the positions are not the
+    /// last asked for.
+    fn active(&self, positions: &[Vector3<f64>]) -> Arc<Vec<Pair>> {
+        let lock = || self.last.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((at, pairs)) = lock().as_ref() {
+            if at.as_slice() == positions {
+                return pairs.clone();
+            }
+        }
+        // (Found with the lock released: the search runs on the thread pool, whose threads
+        // may take up other work meanwhile.)
+        let pairs = Arc::new(self.find_active(positions));
+        *lock() = Some((positions.to_vec(), pairs.clone()));
+        pairs
+    }
+
+    /// [`SelfBarrier::active`], found.
+    fn find_active(&self, positions: &[Vector3<f64>]) -> Vec<Pair> {
         let bvh = self.surface.hierarchy(positions, self.reach);
         let points = self
             .pairs(positions, &bvh)
@@ -251,10 +276,10 @@ impl SelfBarrier {
         let positions = place(&self.embedded, &self.reference, u);
         let mut out = vec![0.0; positions.len()];
         let (mut count, mut total) = (0, 0.0);
-        for pair in self.active(&positions) {
+        for pair in self.active(&positions).iter() {
             let Some(PairBarrier {
                 energy, gradient, ..
-            }) = self.evaluate(&pair, &positions, false)
+            }) = self.evaluate(pair, &positions, false)
             else {
                 continue;
             };
@@ -286,7 +311,7 @@ impl AddedEnergy for SelfBarrier {
         let positions = place(&self.embedded, &self.reference, u);
         let mut energy = 0.0;
         let mut grad = vec![0.0; gradient.len()];
-        for pair in self.active(&positions) {
+        for pair in self.active(&positions).iter() {
             if pair.d2 <= 0.0 {
                 return None;
             }
@@ -294,7 +319,7 @@ impl AddedEnergy for SelfBarrier {
                 energy: e,
                 gradient: g,
                 ..
-            }) = self.evaluate(&pair, &positions, false)
+            }) = self.evaluate(pair, &positions, false)
             else {
                 continue;
             };
@@ -325,12 +350,12 @@ impl AddedEnergy for SelfBarrier {
         let positions = place(&self.embedded, &self.reference, u);
         let pairs: Vec<([usize; 4], SMatrix<f64, 12, 12>)> = self
             .active(&positions)
-            .into_par_iter()
+            .par_iter()
             .filter_map(|pair| {
                 if pair.d2.is_nan() || pair.d2 <= 0.0 {
                     return None;
                 }
-                let h = self.evaluate(&pair, &positions, projected)?.hessian;
+                let h = self.evaluate(pair, &positions, projected)?.hessian;
                 Some((pair.corners, h))
             })
             .collect();
@@ -391,7 +416,7 @@ impl AddedEnergy for SelfBarrier {
             .map(|&v| {
                 let path = Bounds::of([&start[v], &end[v]]);
                 let mut first = 1.0f64;
-                for t in bvh.facets_meeting(&path) {
+                for t in bvh.facets_meeting_iter(&path) {
                     let facet = self.surface.triangles[t];
                     if self.own.excludes(v, &facet) || self.at_start.contains(&(v, t)) {
                         continue;
@@ -585,6 +610,34 @@ mod tests {
         let mut g = vec![0.0; 3 * n];
         assert_eq!(b.energy(&vec![0.0; 3 * n], &mut g), Some(0.0));
         assert!(g.iter().all(|&x| x == 0.0));
+    }
+
+    #[test]
+    fn the_pairs_found_at_an_iterate_serve_its_hessian_but_not_a_barrier_that_left_them_out() {
+        let (mut b, n) = barrier();
+        let u = moved(n, 1.7e-3, 0.1);
+        let mut g = vec![0.0; 3 * n];
+        let e = b.energy(&u, &mut g).unwrap();
+        assert!(e > 0.0);
+        // The Hessian at the same iterate: the same pairs, found once.
+        let (first, blocks) = (
+            b.active(&place(&b.embedded, &b.reference, &u)),
+            b.hessian(&u, false),
+        );
+        assert!(!blocks.is_empty());
+        assert!(Arc::ptr_eq(
+            &first,
+            &b.active(&place(&b.embedded, &b.reference, &u))
+        ));
+        // Elsewhere, found again: 0.1 mm lower, nearer, more energy.
+        let lower = moved(n, 1.8e-3, 0.1);
+        assert!(b.energy(&lower, &mut vec![0.0; 3 * n]).unwrap() > e);
+        // The pairs within reach at `u` (found last) left out: none is held there any more.
+        assert_eq!(b.energy(&u, &mut vec![0.0; 3 * n]), Some(e));
+        b.leave_out_within(&u, f64::INFINITY);
+        let mut g = vec![0.0; 3 * n];
+        assert_eq!(b.energy(&u, &mut g), Some(0.0));
+        assert!(b.hessian(&u, false).is_empty());
     }
 
     /// Two long thin strips (10 mm × 0.2 mm, two triangles each) crossed at right angles, the

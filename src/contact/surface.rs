@@ -350,10 +350,15 @@ impl SurfaceBvh<'_> {
 
     /// The facets (indices into the surface's triangles) whose box meets `query`.
     pub fn facets_meeting(&self, query: &Bounds) -> Vec<usize> {
+        self.facets_meeting_iter(query).collect()
+    }
+
+    /// [`Self::facets_meeting`], one at a time (nothing allocated).
+    pub fn facets_meeting_iter(&self, query: &Bounds) -> impl Iterator<Item = usize> + '_ {
+        let query = BvhNode::leaf(query.aabb(), 0);
         self.bvh
-            .intersect_aabb(&query.aabb())
+            .leaves(move |node: &BvhNode| node.intersects(&query))
             .map(|leaf| self.facet(leaf))
-            .collect()
     }
 
     /// The distance from `x` to the nearest facet whose grown box holds it and that `skip`
