@@ -193,7 +193,6 @@ impl SelfBarrier {
                         let d2 = point_triangle_distance2(&x, &a, &b, &c);
                         (d2 < reach2).then_some((v, t, d2))
                     })
-                    .collect::<Vec<_>>()
             })
             .collect()
     }
