@@ -626,15 +626,10 @@ mod tests {
         let e = b.energy(&u, &mut g).unwrap();
         assert!(e > 0.0);
         // The Hessian at the same iterate: the same pairs, found once.
-        let (first, blocks) = (
-            b.active(&place(&b.embedded, &b.reference, &u)),
-            b.hessian(&u, false),
-        );
-        assert!(!blocks.is_empty());
-        assert!(Arc::ptr_eq(
-            &first,
-            &b.active(&place(&b.embedded, &b.reference, &u))
-        ));
+        let at = place(&b.embedded, &b.reference, &u);
+        let first = b.active(&at);
+        assert!(!b.hessian(&u, false).is_empty());
+        assert!(Arc::ptr_eq(&first, &b.active(&at)));
         // Elsewhere, found again: 0.1 mm lower, nearer, more energy.
         let lower = moved(n, 1.8e-3, 0.1);
         assert!(b.energy(&lower, &mut vec![0.0; 3 * n]).unwrap() > e);

@@ -371,10 +371,7 @@ impl Workspace {
         };
         // The knots flexed ahead on another thread while the contact steps solve (the caches of
         // the moving hands go with it, and come back).
-        let bodies: Vec<usize> = moving
-            .iter()
-            .map(|(h, _, _)| posed.hands[*h].body)
-            .collect();
+        let bodies = moving_bodies(posed, &moving);
         let (ahead_caches, kept): (Vec<_>, Vec<_>) = std::mem::take(&mut self.caches)
             .into_iter()
             .partition(|(b, _)| bodies.contains(b));
