@@ -91,6 +91,26 @@ fn numbers_out_of_range_are_refused_naming_the_option_and_its_range() {
         ),
         (&["render", "--frames", "0"], "--frames", "at least 1"),
         (&["viewer", "--changes", "0"], "--changes", "at least 1"),
+        (
+            &["flexion-refinement", "--offsets", "0"],
+            "--offsets",
+            "from 1 to 6",
+        ),
+        (
+            &["flexion-refinement", "--offsets", "7"],
+            "--offsets",
+            "from 1 to 6",
+        ),
+        (
+            &["flexion-refinement", "--resolutions", "5"],
+            "--resolutions",
+            "from 0.5 to 4",
+        ),
+        (
+            &["flexion-refinement", "--angles", "nan"],
+            "--angles",
+            "not a finite number",
+        ),
     ];
     for (args, option, range) in cases {
         let t = std::time::Instant::now();
@@ -175,4 +195,53 @@ fn the_library_entries_return_errors() {
             "{text}"
         );
     }
+}
+
+/// `bench flexion-refinement` at the coarsest hands: the table of the means and their observed
+/// order; an angle beyond the joint's range stops it naming the joint (exit 1, not a panic).
+/// Through the library: a small flexion's reaction is proportional to its angle (1° and 2°
+/// within 2 %: the corotated increments are linear in a small turn), and none at 0°.
+#[test]
+fn the_flexion_refinement_bench_reads_the_reactions_and_their_order() {
+    let run = bench(&[
+        "flexion-refinement",
+        "--angles",
+        "10",
+        "--resolutions",
+        "0.5,0.75,1",
+        "--offsets",
+        "2",
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let table = String::from_utf8_lossy(&run.stdout);
+    for r in [
+        "| 10° | 0.5 |",
+        "| 10° | 0.75 |",
+        "| 10° | 1 |",
+        "| 10° | 0.5, 0.75, 1 |",
+    ] {
+        assert!(table.contains(r), "{r}: {table}");
+    }
+    let run = bench(&[
+        "flexion-refinement",
+        "--angles",
+        "120",
+        "--resolutions",
+        "0.5",
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("index.pip") && stderr.contains("--angles 120"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    use prehensile::bench::flexion_refinement::refinement_rows;
+    let rows = refinement_rows(&[0.0, 1.0, 2.0], &[1.0], 1).unwrap();
+    let f: Vec<f64> = rows.iter().map(|r| r.mean()).collect();
+    assert_eq!(f[0], 0.0, "{f:?}");
+    assert!(f[1] > 0.0, "{f:?}");
+    assert!((f[2] / f[1] - 2.0).abs() < 0.04, "{f:?}");
 }

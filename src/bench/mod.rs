@@ -4,6 +4,7 @@
 pub mod accuracy;
 pub mod contact;
 pub mod elements;
+pub mod flexion_refinement;
 pub mod gentle;
 pub mod grasp;
 pub mod hand;

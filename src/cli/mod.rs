@@ -154,6 +154,32 @@ enum BenchCommand {
         #[arg(long, default_value_t = 1.25, value_parser = ranges::finite)]
         whole_limit: f64,
     },
+    /// A free flexion's bone reactions under refinement: the index PIP flexed from rest to each
+    /// angle (corotated, local region) on the flesh lattice moved by up to six offsets, per
+    /// resolution — the middle phalanx's reaction (mean, lowest, highest over the offsets) and,
+    /// over three successive resolutions, the observed order of the mean and its limit.
+    FlexionRefinement {
+        /// PIP angles, degrees, comma separated (within the joint's range, 0 to 110).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "20,45",
+            value_parser = ranges::finite
+        )]
+        angles: Vec<f64>,
+        /// Mesh resolutions, 0.5 to 4, comma separated (each built once per offset: 4 takes
+        /// about 5 GB).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "2.5,3,3.5,4",
+            value_parser = ranges::hand_resolution
+        )]
+        resolutions: Vec<f64>,
+        /// How many of the six lattice offsets, 1 to 6.
+        #[arg(long, default_value_t = 6, value_parser = ranges::count(ranges::LATTICE_OFFSETS))]
+        offsets: usize,
+    },
     /// Contact methods (Lagrange active set, the paper's iteration) on the same scenes:
     /// iterations, factorizations, time of the contact keyframe.
     Contact {
@@ -432,6 +458,21 @@ fn run() -> Result<()> {
                     rayon::current_num_threads()
                 );
                 print!("{}", hand_tables(&hand_rows(&resolutions, whole_limit)?));
+            }
+            BenchCommand::FlexionRefinement {
+                angles,
+                resolutions,
+                offsets,
+            } => {
+                println!(
+                    "flexion refinement benchmark: index PIP from rest, corotated, local region; {} threads",
+                    rayon::current_num_threads()
+                );
+                use crate::bench::flexion_refinement::{refinement_rows, refinement_table};
+                print!(
+                    "{}",
+                    refinement_table(&refinement_rows(&angles, &resolutions, offsets)?)
+                );
             }
             BenchCommand::Contact { scenes, friction } => {
                 println!(

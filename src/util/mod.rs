@@ -1,6 +1,7 @@
 //! Small helpers (timing, glTF's axes, numbers in messages) every folder may use.
 //! Imports nothing of the crate.
 
+pub mod convergence;
 pub mod gltf_axes;
 pub mod near;
 pub mod number;

@@ -1,0 +1,251 @@
+//! `prehensile bench flexion-refinement`: how a free flexion's bone reactions converge under
+//! refinement, and where the lattice falls. The index PIP is flexed from rest to each angle
+//! (corotated, 10° increments, the local region, no contact) on the flesh lattice moved by up
+//! to six offsets at each resolution (`HandModel::build_offset`); per angle and resolution the
+//! middle phalanx's reaction — its mean over the offsets, the lowest and the highest — and, over
+//! each three successive resolutions, the observed order of the mean in the lattice spacing and
+//! the limit it points to (`util::convergence`).
+
+use crate::bench::hand::FLESH;
+use crate::fem::solve::FillOrdering;
+use crate::hand::{HandModel, Pose, Side, Skeleton, SkinShape, BASE_SPACING};
+use crate::model::FlexionSettings;
+use crate::solve::Flexion;
+use crate::state::HandState;
+use crate::util::convergence::{convergence, Convergence};
+use crate::util::timing::ms;
+use nalgebra::Vector3;
+use std::fmt::Write;
+use std::time::Instant;
+
+/// The lattice's offsets, in cells: none, half a cell along x, y or z, and two oblique ones.
+pub const OFFSETS: [[f64; 3]; 6] = [
+    [0.0, 0.0, 0.0],
+    [0.5, 0.0, 0.0],
+    [0.0, 0.5, 0.0],
+    [0.0, 0.0, 0.5],
+    [0.25, 0.5, 0.75],
+    [0.75, 0.25, 0.5],
+];
+
+/// The bone whose reaction is read: the middle phalanx, which the flexion turns.
+const BONE: &str = "index.middle";
+
+/// One angle at one resolution.
+#[derive(Clone, Debug)]
+pub struct RefinementRow {
+    /// The PIP's angle, degrees.
+    pub angle_deg: f64,
+    /// The hand's resolution.
+    pub resolution: f64,
+    /// Flesh cells of the lattice without offset.
+    pub cells: usize,
+    /// The middle phalanx's reaction on each offset's lattice, N.
+    pub reactions: Vec<f64>,
+    /// Wall time of the flexions (all offsets; the lattices' building left out), ms.
+    pub ms: f64,
+}
+
+impl RefinementRow {
+    /// The mean over the offsets, N.
+    pub fn mean(&self) -> f64 {
+        self.reactions.iter().sum::<f64>() / self.reactions.len() as f64
+    }
+
+    /// The lowest and the highest, N.
+    pub fn range(&self) -> (f64, f64) {
+        let lo = self.reactions.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = self
+            .reactions
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    }
+}
+
+/// The middle phalanx's reaction after flexing the index PIP of `hand` from rest to `angle`.
+fn flexed(hand: &HandModel, angle: f64) -> Result<f64, String> {
+    let mut stepper = Flexion::new(
+        hand,
+        "hand",
+        vec![FLESH; hand.flesh.mesh.cells.len()],
+        FlexionSettings::default(),
+        FillOrdering::Auto,
+    );
+    let mut state = HandState::rest(hand);
+    let pose: Pose = [("index.pip".to_string(), angle)].into_iter().collect();
+    let target = hand
+        .skeleton
+        .apply_pose(&state.angles, &pose)
+        .map_err(|e| e.to_string())?;
+    stepper
+        .move_to(&mut state, &target)
+        .map_err(|e| e.to_string())?;
+    let bone = hand
+        .skeleton
+        .bones
+        .iter()
+        .position(|b| b.name == BONE)
+        .ok_or_else(|| format!("the hand has no bone {BONE}"))?;
+    Ok(state.bone_reactions(hand)[bone].norm())
+}
+
+/// Runs the benchmark: every angle at every resolution on the first `offsets` lattice offsets
+/// (1 to 6). A resolution the hand cannot be built at, or an angle it cannot be flexed to, is
+/// the error, naming them.
+pub fn refinement_rows(
+    angles: &[f64],
+    resolutions: &[f64],
+    offsets: usize,
+) -> anyhow::Result<Vec<RefinementRow>> {
+    let offsets = &OFFSETS[..offsets.clamp(1, OFFSETS.len())];
+    let mut rows = Vec::new();
+    for &resolution in resolutions {
+        let h = BASE_SPACING / resolution;
+        let first = rows.len();
+        rows.extend(angles.iter().map(|&angle_deg| RefinementRow {
+            angle_deg,
+            resolution,
+            cells: 0,
+            reactions: Vec::new(),
+            ms: 0.0,
+        }));
+        // One lattice at a time (each about a gigabyte at resolution 4), every angle on it.
+        for o in offsets {
+            let hand = HandModel::build_offset(
+                Skeleton::new(Side::Right),
+                SkinShape::new(Side::Right),
+                resolution,
+                None,
+                Vector3::from(*o) * h,
+            )
+            .map_err(|e| anyhow::anyhow!("--resolutions {resolution}: {e}"))?;
+            for row in &mut rows[first..] {
+                let t = Instant::now();
+                let reaction = flexed(&hand, row.angle_deg).map_err(|e| {
+                    anyhow::anyhow!(
+                        "--resolutions {resolution}, --angles {}, the lattice moved by {o:?} \
+                         cells: {e}",
+                        row.angle_deg
+                    )
+                })?;
+                row.reactions.push(reaction);
+                row.ms += ms(t);
+                if row.cells == 0 {
+                    row.cells = hand.flesh.mesh.cells.len();
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The table: a row per angle and resolution (in the order run), then per angle the observed
+/// order of each three successive resolutions' means.
+pub fn refinement_table(rows: &[RefinementRow]) -> String {
+    let mut s = String::from(
+        "| PIP | resolution | cells | lattices | middle phalanx: mean (N) | lowest – highest (N) \
+         | spread / mean | change of the mean | time (s) |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut angles: Vec<f64> = Vec::new();
+    for r in rows {
+        if !angles.contains(&r.angle_deg) {
+            angles.push(r.angle_deg);
+        }
+    }
+    for &angle in &angles {
+        let series: Vec<&RefinementRow> = rows.iter().filter(|r| r.angle_deg == angle).collect();
+        for (i, r) in series.iter().enumerate() {
+            let (lo, hi) = r.range();
+            let change = match i {
+                0 => "—".to_string(),
+                _ => {
+                    let before = series[i - 1].mean();
+                    format!("{:+.1} %", 100.0 * (r.mean() - before) / before)
+                }
+            };
+            let _ = writeln!(
+                s,
+                "| {angle}° | {} | {} | {} | {:.3} | {lo:.3} – {hi:.3} | {:.1} % | {change} | {:.1} |",
+                r.resolution,
+                r.cells,
+                r.reactions.len(),
+                r.mean(),
+                100.0 * (hi - lo) / r.mean(),
+                r.ms * 1e-3
+            );
+        }
+    }
+    let mut orders = String::new();
+    for &angle in &angles {
+        let mut series: Vec<&RefinementRow> =
+            rows.iter().filter(|r| r.angle_deg == angle).collect();
+        series.sort_by(|a, b| a.resolution.total_cmp(&b.resolution));
+        for w in series.windows(3) {
+            let h = [0, 1, 2].map(|k| BASE_SPACING / w[k].resolution);
+            let f = [0, 1, 2].map(|k| w[k].mean());
+            let read = match convergence(h, f) {
+                Convergence::Order { order, limit } => {
+                    format!(
+                        "{order:.2} | {limit:.3} | {:.1} %",
+                        100.0 * (f[2] - limit) / limit
+                    )
+                }
+                Convergence::NotMonotone => "not monotone | — | —".to_string(),
+                Convergence::NotShrinking => "the changes do not shrink | — | —".to_string(),
+            };
+            let _ = writeln!(
+                orders,
+                "| {angle}° | {}, {}, {} | {read} |",
+                w[0].resolution, w[1].resolution, w[2].resolution
+            );
+        }
+    }
+    if !orders.is_empty() {
+        s.push_str(
+            "\n| PIP | resolutions | observed order of the mean in the spacing | Richardson's \
+             limit (N) | finest from it |\n|---|---|---|---|---|\n",
+        );
+        s.push_str(&orders);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(angle_deg: f64, resolution: f64, reactions: Vec<f64>) -> RefinementRow {
+        RefinementRow {
+            angle_deg,
+            resolution,
+            cells: 1,
+            reactions,
+            ms: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_table_reads_the_order_of_the_means() {
+        // Means 4 − (h/mm)² at resolutions 1, 2, 4: order 2, limit 4.
+        let mean = |r: f64| 4.0 - (3.2 / r) * (3.2 / r);
+        let rows: Vec<RefinementRow> = [1.0, 2.0, 4.0]
+            .iter()
+            .map(|&r| row(20.0, r, vec![mean(r) - 0.1, mean(r) + 0.1]))
+            .chain([row(45.0, 1.0, vec![1.0]), row(45.0, 2.0, vec![2.0])])
+            .collect();
+        let t = refinement_table(&rows);
+        assert!(t.contains("| 20° | 1, 2, 4 | 2.00 | 4.000 |"), "{t}");
+        assert!(
+            !t.contains("| 45° | 1, 2"),
+            "two resolutions give no order: {t}"
+        );
+        let scatter = [
+            row(20.0, 1.0, vec![1.0]),
+            row(20.0, 2.0, vec![2.0]),
+            row(20.0, 4.0, vec![1.5]),
+        ];
+        assert!(refinement_table(&scatter).contains("not monotone"));
+    }
+}
