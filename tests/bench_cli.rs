@@ -197,8 +197,8 @@ fn the_library_entries_return_errors() {
     }
 }
 
-/// `bench flexion-refinement` at the coarsest hands: the table of the means and their observed
-/// order; an angle beyond the joint's range stops it naming the joint (exit 1, not a panic).
+/// `bench flexion-refinement` at coarse hands: the table of the means and their observed order,
+/// coarse to fine whatever the order asked, no NaN or infinity; an angle beyond the joint's range stops it naming the joint (exit 1, not a panic).
 /// Through the library: a small flexion's reaction is proportional to its angle (1° and 2°
 /// within 2 %: the corotated increments are linear in a small turn), and none at 0°.
 #[test]
@@ -208,21 +208,26 @@ fn the_flexion_refinement_bench_reads_the_reactions_and_their_order() {
         "--angles",
         "10",
         "--resolutions",
-        "0.5,0.75,1",
+        "1,0.75,1.25,1",
         "--offsets",
         "2",
     ]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     let table = String::from_utf8_lossy(&run.stdout);
-    for r in [
-        "| 10° | 0.5 |",
+    // Coarse to fine, each resolution once, whatever the order asked.
+    let rows: Vec<&str> = table.lines().filter(|l| l.starts_with("| 10° |")).collect();
+    let expected = [
         "| 10° | 0.75 |",
         "| 10° | 1 |",
-        "| 10° | 0.5, 0.75, 1 |",
-    ] {
-        assert!(table.contains(r), "{r}: {table}");
+        "| 10° | 1.25 |",
+        "| 10° | 0.75, 1, 1.25 |",
+    ];
+    assert_eq!(rows.len(), expected.len(), "{table}");
+    for (row, r) in rows.iter().zip(expected) {
+        assert!(row.starts_with(r), "{r}: {table}");
     }
+    assert!(!table.contains("NaN") && !table.contains("inf"), "{table}");
     let run = bench(&[
         "flexion-refinement",
         "--angles",

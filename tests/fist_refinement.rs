@@ -107,14 +107,7 @@ fn the_full_fist_closes_at_resolution_2() {
 /// 4.15 / 4.43 N). docs/hand.md has the table.
 #[test]
 fn where_the_lattice_falls_matters_less_as_it_refines() {
-    let offsets = [
-        [0.0, 0.0, 0.0],
-        [0.5, 0.0, 0.0],
-        [0.0, 0.5, 0.0],
-        [0.0, 0.0, 0.5],
-        [0.25, 0.5, 0.75],
-        [0.75, 0.25, 0.5],
-    ];
+    let offsets = prehensile::bench::flexion_refinement::OFFSETS;
     let spread = |resolution: f64| {
         let h = BASE_SPACING / resolution;
         let middle: Vec<f64> = offsets

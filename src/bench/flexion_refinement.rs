@@ -6,13 +6,10 @@
 //! each three successive resolutions, the observed order of the mean in the lattice spacing and
 //! the limit it points to (`util::convergence`).
 
-use crate::bench::hand::FLESH;
-use crate::fem::solve::FillOrdering;
-use crate::hand::{HandModel, Pose, Side, Skeleton, SkinShape, BASE_SPACING};
+use crate::bench::hand::flex_index_pip;
+use crate::hand::{HandModel, Side, Skeleton, SkinShape, BASE_SPACING};
 use crate::model::FlexionSettings;
-use crate::solve::Flexion;
-use crate::state::HandState;
-use crate::util::convergence::{convergence, Convergence};
+use crate::util::convergence::{convergence, Convergence, LARGEST_ORDER};
 use crate::util::timing::ms;
 use nalgebra::Vector3;
 use std::fmt::Write;
@@ -66,33 +63,16 @@ impl RefinementRow {
 
 /// The middle phalanx's reaction after flexing the index PIP of `hand` from rest to `angle`.
 fn flexed(hand: &HandModel, angle: f64) -> Result<f64, String> {
-    let mut stepper = Flexion::new(
-        hand,
-        "hand",
-        vec![FLESH; hand.flesh.mesh.cells.len()],
-        FlexionSettings::default(),
-        FillOrdering::Auto,
-    );
-    let mut state = HandState::rest(hand);
-    let pose: Pose = [("index.pip".to_string(), angle)].into_iter().collect();
-    let target = hand
-        .skeleton
-        .apply_pose(&state.angles, &pose)
-        .map_err(|e| e.to_string())?;
-    stepper
-        .move_to(&mut state, &target)
-        .map_err(|e| e.to_string())?;
     let bone = hand
         .skeleton
-        .bones
-        .iter()
-        .position(|b| b.name == BONE)
+        .bone_index(BONE)
         .ok_or_else(|| format!("the hand has no bone {BONE}"))?;
+    let (state, _) = flex_index_pip(hand, FlexionSettings::default(), angle)?;
     Ok(state.bone_reactions(hand)[bone].norm())
 }
 
-/// Runs the benchmark: every angle at every resolution on the first `offsets` lattice offsets
-/// (1 to 6). A resolution the hand cannot be built at, or an angle it cannot be flexed to, is
+/// Runs the benchmark: every angle at every resolution (each once, coarse to fine) on the
+/// first `offsets` lattice offsets (1 to 6; more are the six, none is the first). A resolution the hand cannot be built at, or an angle it cannot be flexed to, is
 /// the error, naming them.
 pub fn refinement_rows(
     angles: &[f64],
@@ -100,8 +80,17 @@ pub fn refinement_rows(
     offsets: usize,
 ) -> anyhow::Result<Vec<RefinementRow>> {
     let offsets = &OFFSETS[..offsets.clamp(1, OFFSETS.len())];
+    // Coarse to fine, each once: a row's change is then against the next coarser mesh, and
+    // three successive spacings decrease.
+    let sorted = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v
+    };
+    let (angles, resolutions) = (sorted(angles), sorted(resolutions));
     let mut rows = Vec::new();
-    for &resolution in resolutions {
+    for &resolution in &resolutions {
         let h = BASE_SPACING / resolution;
         let first = rows.len();
         rows.extend(angles.iter().map(|&angle_deg| RefinementRow {
@@ -111,7 +100,8 @@ pub fn refinement_rows(
             reactions: Vec::new(),
             ms: 0.0,
         }));
-        // One lattice at a time (each about a gigabyte at resolution 4), every angle on it.
+        // One lattice at a time (at resolution 4 it and its flexion take up to 4.8 GB), every angle
+        // on it.
         for o in offsets {
             let hand = HandModel::build_offset(
                 Skeleton::new(Side::Right),
@@ -141,6 +131,20 @@ pub fn refinement_rows(
     Ok(rows)
 }
 
+/// `part` as a percentage of `whole` (signed when `signed`); a dash where `whole` is no
+/// reaction to speak of (below 1 µN: a joint no flesh bridges, or no flexion).
+fn percent(part: f64, whole: f64, signed: bool) -> String {
+    if whole.abs() < 1e-6 || !part.is_finite() {
+        return "—".to_string();
+    }
+    let p = 100.0 * part / whole;
+    if signed {
+        format!("{p:+.1} %")
+    } else {
+        format!("{p:.1} %")
+    }
+}
+
 /// The table: a row per angle and resolution (in the order run), then per angle the observed
 /// order of each three successive resolutions' means.
 pub fn refinement_table(rows: &[RefinementRow]) -> String {
@@ -160,19 +164,16 @@ pub fn refinement_table(rows: &[RefinementRow]) -> String {
             let (lo, hi) = r.range();
             let change = match i {
                 0 => "—".to_string(),
-                _ => {
-                    let before = series[i - 1].mean();
-                    format!("{:+.1} %", 100.0 * (r.mean() - before) / before)
-                }
+                _ => percent(r.mean() - series[i - 1].mean(), series[i - 1].mean(), true),
             };
             let _ = writeln!(
                 s,
-                "| {angle}° | {} | {} | {} | {:.3} | {lo:.3} – {hi:.3} | {:.1} % | {change} | {:.1} |",
+                "| {angle}° | {} | {} | {} | {:.3} | {lo:.3} – {hi:.3} | {} | {change} | {:.1} |",
                 r.resolution,
                 r.cells,
                 r.reactions.len(),
                 r.mean(),
-                100.0 * (hi - lo) / r.mean(),
+                percent(hi - lo, r.mean(), false),
                 r.ms * 1e-3
             );
         }
@@ -185,15 +186,23 @@ pub fn refinement_table(rows: &[RefinementRow]) -> String {
         for w in series.windows(3) {
             let h = [0, 1, 2].map(|k| BASE_SPACING / w[k].resolution);
             let f = [0, 1, 2].map(|k| w[k].mean());
+            if f.iter().any(|x| x.abs() < 1e-6) {
+                // No reaction to speak of on some mesh (no flesh across the joint): no order.
+                continue;
+            }
             let read = match convergence(h, f) {
+                Convergence::Order { order, limit } if order >= LARGEST_ORDER => format!(
+                    "≥ {LARGEST_ORDER} | {limit:.3} | {}",
+                    percent(f[2] - limit, limit, true)
+                ),
                 Convergence::Order { order, limit } => {
                     format!(
-                        "{order:.2} | {limit:.3} | {:.1} %",
-                        100.0 * (f[2] - limit) / limit
+                        "{order:.2} | {limit:.3} | {}",
+                        percent(f[2] - limit, limit, true)
                     )
                 }
                 Convergence::NotMonotone => "not monotone | — | —".to_string(),
-                Convergence::NotShrinking => "the changes do not shrink | — | —".to_string(),
+                Convergence::NotShrinking => "no positive order | — | —".to_string(),
             };
             let _ = writeln!(
                 orders,
@@ -247,5 +256,16 @@ mod tests {
             row(20.0, 4.0, vec![1.5]),
         ];
         assert!(refinement_table(&scatter).contains("not monotone"));
+        // No flexion, or no flesh across the joint: no reaction, and no NaN or infinity shown.
+        let none: Vec<RefinementRow> = [1.0, 2.0, 4.0]
+            .iter()
+            .map(|&r| row(0.0, r, vec![0.0, 0.0]))
+            .collect();
+        let t = refinement_table(&none);
+        assert!(!t.contains("NaN") && !t.contains("inf"), "{t}");
+        assert!(
+            t.contains("| 0° | 2 | 1 | 2 | 0.000 | 0.000 – 0.000 | — | — |"),
+            "{t}"
+        );
     }
 }

@@ -9,6 +9,7 @@
 use crate::app::pose::Preset;
 use crate::app::{run_viewer, ViewOptions, ViewerError};
 use crate::bench::elements::{element_rows, element_table};
+use crate::bench::flexion_refinement::{refinement_rows, refinement_table};
 use crate::bench::hand::{hand_rows, hand_tables};
 use crate::bench::render::{frame_times, render_table, update_rows};
 use crate::bench::solver::{solver_rows, solver_table};
@@ -468,7 +469,6 @@ fn run() -> Result<()> {
                     "flexion refinement benchmark: index PIP from rest, corotated, local region; {} threads",
                     rayon::current_num_threads()
                 );
-                use crate::bench::flexion_refinement::{refinement_rows, refinement_table};
                 print!(
                     "{}",
                     refinement_table(&refinement_rows(&angles, &resolutions, offsets)?)

@@ -15,18 +15,22 @@ pub enum Convergence {
     /// The changes change sign: no order (the values scatter about their limit, or have not
     /// reached the range where one power of h governs them).
     NotMonotone,
-    /// The changes keep their sign but do not shrink as any positive power of h would: the
-    /// values diverge, or are not yet converging.
+    /// The changes keep their sign but do not shrink as fast as any positive power of h would
+    /// (no positive order: the values diverge, or are not yet converging), or the spacings do
+    /// not decrease, or a value is not finite.
     NotShrinking,
 }
 
-/// The largest order looked for: beyond it the middle value is as good as the finest.
-const LARGEST_ORDER: f64 = 20.0;
+/// The largest order looked for: an order read as this is at least this (the middle value is
+/// then as good as the finest).
+pub const LARGEST_ORDER: f64 = 20.0;
 
 /// Reads the convergence of `f` (at spacings `h`, decreasing, positive).
 pub fn convergence(h: [f64; 3], f: [f64; 3]) -> Convergence {
     let (d1, d2) = (f[0] - f[1], f[1] - f[2]);
-    if !(h[0] > h[1] && h[1] > h[2] && h[2] > 0.0) || f.iter().any(|x| !x.is_finite()) {
+    if !(h[0].is_finite() && h[0] > h[1] && h[1] > h[2] && h[2] > 0.0)
+        || f.iter().any(|x| !x.is_finite())
+    {
         return Convergence::NotShrinking;
     }
     if d2 == 0.0 {
@@ -51,7 +55,7 @@ pub fn convergence(h: [f64; 3], f: [f64; 3]) -> Convergence {
     if ratio(hi) < wanted {
         lo = hi;
     } else {
-        for _ in 0..200 {
+        for _ in 0..80 {
             let mid = 0.5 * (lo + hi);
             if ratio(mid.max(1e-9)) < wanted {
                 lo = mid;
@@ -92,10 +96,25 @@ mod tests {
     fn scatter_and_growth_have_no_order() {
         let h = [1.0, 0.5, 0.25];
         assert_eq!(convergence(h, [1.0, 2.0, 1.5]), Convergence::NotMonotone);
-        // ln(1/h): changes equal on a geometric series, as p → 0 — no positive order.
+        // Changes equal on a geometric series (ln(1/h) — the order → 0) and growing a little:
+        // no positive order.
+        assert_eq!(convergence(h, [0.0, 1.0, 2.05]), Convergence::NotShrinking);
+        // Spacings not decreasing, a value not finite.
         assert_eq!(
-            convergence(h, [0.0, 2f64.ln(), 4f64.ln()]),
+            convergence([0.5, 1.0, 0.25], [1.0, 2.0, 2.5]),
             Convergence::NotShrinking
+        );
+        assert_eq!(
+            convergence(h, [1.0, f64::NAN, 2.5]),
+            Convergence::NotShrinking
+        );
+        // Settled on the middle mesh: the order read as the largest, the limit the finest.
+        assert_eq!(
+            convergence(h, [1.0, 2.0, 2.0]),
+            Convergence::Order {
+                order: LARGEST_ORDER,
+                limit: 2.0
+            }
         );
         // Growing changes (the shipped fist's largest bone reaction at resolutions 1, 1.5, 2).
         assert_eq!(

@@ -76,6 +76,15 @@ pub(crate) fn run(
     hand: &HandModel,
     settings: FlexionSettings,
 ) -> Result<(HandState, KeyframeStats), String> {
+    flex_index_pip(hand, settings, 90.0)
+}
+
+/// Index PIP from rest to `angle` (degrees) in one keyframe, or the error.
+pub(crate) fn flex_index_pip(
+    hand: &HandModel,
+    settings: FlexionSettings,
+    angle: f64,
+) -> Result<(HandState, KeyframeStats), String> {
     let mut stepper = Flexion::new(
         hand,
         "hand",
@@ -84,11 +93,11 @@ pub(crate) fn run(
         FillOrdering::Auto,
     );
     let mut state = HandState::rest(hand);
-    let pose: Pose = [("index.pip".to_string(), 90.0)].into_iter().collect();
+    let pose: Pose = [("index.pip".to_string(), angle)].into_iter().collect();
     let target = hand
         .skeleton
         .apply_pose(&state.angles, &pose)
-        .expect("pose");
+        .map_err(|e| e.to_string())?;
     let stats = stepper
         .move_to(&mut state, &target)
         .map_err(|e| e.to_string())?;
