@@ -168,8 +168,8 @@ enum BenchCommand {
             value_parser = ranges::finite
         )]
         angles: Vec<f64>,
-        /// Mesh resolutions, 0.5 to 4, comma separated (each built once per offset: 4 takes
-        /// about 5 GB).
+        /// Mesh resolutions, 0.5 to 4, comma separated (each built once per offset; at 4 a
+        /// lattice and its flexion take up to 4.8 GB).
         #[arg(
             long,
             value_delimiter = ',',
