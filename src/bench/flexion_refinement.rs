@@ -72,8 +72,8 @@ fn flexed(hand: &HandModel, angle: f64) -> Result<f64, String> {
 }
 
 /// Runs the benchmark: every angle at every resolution (each once, coarse to fine) on the
-/// first `offsets` lattice offsets (1 to 6; more are the six, none is the first). A resolution the hand cannot be built at, or an angle it cannot be flexed to, is
-/// the error, naming them.
+/// first `offsets` lattice offsets (1 to 6; more are the six, none is the first). A resolution
+/// the hand cannot be built at, or an angle it cannot be flexed to, is the error, naming them.
 pub fn refinement_rows(
     angles: &[f64],
     resolutions: &[f64],
@@ -100,8 +100,8 @@ pub fn refinement_rows(
             reactions: Vec::new(),
             ms: 0.0,
         }));
-        // One lattice at a time (at resolution 4 it and its flexion take up to 4.8 GB), every angle
-        // on it.
+        // One lattice at a time (at resolution 4 it and its flexion take up to 4.8 GB), every
+        // angle on it.
         for o in offsets {
             let hand = HandModel::build_offset(
                 Skeleton::new(Side::Right),
@@ -145,7 +145,7 @@ fn percent(part: f64, whole: f64, signed: bool) -> String {
     }
 }
 
-/// The table: a row per angle and resolution (in the order run), then per angle the observed
+/// The table: a row per angle and resolution (coarse to fine), then per angle the observed
 /// order of each three successive resolutions' means.
 pub fn refinement_table(rows: &[RefinementRow]) -> String {
     let mut s = String::from(
@@ -158,8 +158,11 @@ pub fn refinement_table(rows: &[RefinementRow]) -> String {
             angles.push(r.angle_deg);
         }
     }
+    let mut orders = String::new();
     for &angle in &angles {
-        let series: Vec<&RefinementRow> = rows.iter().filter(|r| r.angle_deg == angle).collect();
+        let mut series: Vec<&RefinementRow> =
+            rows.iter().filter(|r| r.angle_deg == angle).collect();
+        series.sort_by(|a, b| a.resolution.total_cmp(&b.resolution));
         for (i, r) in series.iter().enumerate() {
             let (lo, hi) = r.range();
             let change = match i {
@@ -177,12 +180,6 @@ pub fn refinement_table(rows: &[RefinementRow]) -> String {
                 r.ms * 1e-3
             );
         }
-    }
-    let mut orders = String::new();
-    for &angle in &angles {
-        let mut series: Vec<&RefinementRow> =
-            rows.iter().filter(|r| r.angle_deg == angle).collect();
-        series.sort_by(|a, b| a.resolution.total_cmp(&b.resolution));
         for w in series.windows(3) {
             let h = [0, 1, 2].map(|k| BASE_SPACING / w[k].resolution);
             let f = [0, 1, 2].map(|k| w[k].mean());
@@ -191,15 +188,13 @@ pub fn refinement_table(rows: &[RefinementRow]) -> String {
                 continue;
             }
             let read = match convergence(h, f) {
-                Convergence::Order { order, limit } if order >= LARGEST_ORDER => format!(
-                    "≥ {LARGEST_ORDER} | {limit:.3} | {}",
-                    percent(f[2] - limit, limit, true)
-                ),
                 Convergence::Order { order, limit } => {
-                    format!(
-                        "{order:.2} | {limit:.3} | {}",
-                        percent(f[2] - limit, limit, true)
-                    )
+                    let order = match order >= LARGEST_ORDER {
+                        true => format!("≥ {LARGEST_ORDER}"),
+                        false => format!("{order:.2}"),
+                    };
+                    let off = percent(f[2] - limit, limit, true);
+                    format!("{order} | {limit:.3} | {off}")
                 }
                 Convergence::NotMonotone => "not monotone | — | —".to_string(),
                 Convergence::NotShrinking => "no positive order | — | —".to_string(),
