@@ -173,17 +173,7 @@ impl<'a> HyperelasticBody<'a> {
         }
         let elements = (0..cells)
             .into_par_iter()
-            .map(|c| {
-                element_state_with(
-                    &self.reference[c],
-                    &self.displacements(c, u),
-                    &self.laws[c],
-                    self.volumetric,
-                    Tangent::Exact,
-                )
-                .map(|s| s.tangent.expect("asked for"))
-                .map_err(Self::inverted(c))
-            })
+            .map(|c| self.element_tangent(c, u, Tangent::Exact))
             .collect::<Result<Vec<_>, _>>()?;
         let (k, _) = assemble_elements(&self.pattern, self.mesh, false, &|c| {
             Ok::<_, InvertedElement>((elements[c], None))
@@ -234,25 +224,34 @@ impl<'a> HyperelasticBody<'a> {
         definite: bool,
     ) -> Result<Stiffness, InvertedElement> {
         assemble_elements(&self.pattern, self.mesh, false, &|c| {
-            element_state_with(
-                &self.reference[c],
-                &self.displacements(c, u),
-                &self.laws[c],
-                self.volumetric,
-                kind,
-            )
-            .map(|s| {
-                let ke = s.tangent.expect("asked for");
-                let ke = if definite {
-                    super::definite::absolute_eigenvalues(&ke)
-                } else {
-                    ke
-                };
-                (ke, None)
-            })
-            .map_err(Self::inverted(c))
+            let ke = self.element_tangent(c, u, kind)?;
+            Ok((
+                match definite {
+                    true => super::definite::absolute_eigenvalues(&ke),
+                    false => ke,
+                },
+                None,
+            ))
         })
         .map(|(k, _)| k)
+    }
+
+    /// The tangent of cell `c` at displacement `u`.
+    fn element_tangent(
+        &self,
+        c: usize,
+        u: &[f64],
+        kind: Tangent,
+    ) -> Result<ElementStiffness, InvertedElement> {
+        element_state_with(
+            &self.reference[c],
+            &self.displacements(c, u),
+            &self.laws[c],
+            self.volumetric,
+            kind,
+        )
+        .map(|s| s.tangent.expect("asked for"))
+        .map_err(Self::inverted(c))
     }
 
     /// Cauchy stress at the Gauss points of every cell, Pa.
