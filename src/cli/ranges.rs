@@ -14,8 +14,9 @@ pub const CANTILEVER_CELLS: std::ops::RangeInclusive<u64> = 1..=16;
 /// and index buffers, within a software adapter's 256 MB buffer).
 pub const SPHERE_RINGS: std::ops::RangeInclusive<u64> = 1..=1000;
 
-/// `bench flexion-refinement --offsets`: how many of its six lattice offsets.
-pub const LATTICE_OFFSETS: std::ops::RangeInclusive<u64> = 1..=6;
+/// `bench flexion-refinement --offsets`: how many of its lattice offsets (six).
+pub const LATTICE_OFFSETS: std::ops::RangeInclusive<u64> =
+    1..=crate::bench::flexion_refinement::OFFSETS.len() as u64;
 
 /// A whole number within `range`.
 pub fn count(
