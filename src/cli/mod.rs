@@ -9,7 +9,7 @@
 use crate::app::pose::Preset;
 use crate::app::{run_viewer, ViewOptions, ViewerError};
 use crate::bench::elements::{element_rows, element_table};
-use crate::bench::flexion_refinement::{refinement_rows, refinement_table};
+use crate::bench::flexion_refinement::{nested_refinement_rows, refinement_table};
 use crate::bench::hand::{hand_rows, hand_tables};
 use crate::bench::render::{frame_times, render_table, update_rows};
 use crate::bench::solver::{solver_rows, solver_table};
@@ -181,6 +181,16 @@ enum BenchCommand {
         /// How many of the six lattice offsets, 1 to 6.
         #[arg(long, default_value_t = 6, value_parser = ranges::count(ranges::LATTICE_OFFSETS))]
         offsets: usize,
+        /// Each lattice also split, every cell into n × n × n, for each n, comma separated (1 to
+        /// 4; 1: the lattice itself): the nested refinement, which keeps the lattice's hand; the
+        /// orders are then read along the splits.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "1",
+            value_parser = ranges::count(ranges::SUBDIVISIONS)
+        )]
+        subdivisions: Vec<usize>,
     },
     /// Contact methods (Lagrange active set, the paper's iteration) on the same scenes:
     /// iterations, factorizations, time of the contact keyframe.
@@ -465,6 +475,7 @@ fn run() -> Result<()> {
                 angles,
                 resolutions,
                 offsets,
+                subdivisions,
             } => {
                 println!(
                     "flexion refinement benchmark: index PIP from rest, corotated, local region; {} threads",
@@ -472,7 +483,12 @@ fn run() -> Result<()> {
                 );
                 print!(
                     "{}",
-                    refinement_table(&refinement_rows(&angles, &resolutions, offsets)?)
+                    refinement_table(&nested_refinement_rows(
+                        &angles,
+                        &resolutions,
+                        &subdivisions,
+                        offsets
+                    )?)
                 );
             }
             BenchCommand::Contact { scenes, friction } => {

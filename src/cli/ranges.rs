@@ -18,6 +18,9 @@ pub const SPHERE_RINGS: std::ops::RangeInclusive<u64> = 1..=1000;
 pub const LATTICE_OFFSETS: std::ops::RangeInclusive<u64> =
     1..=crate::bench::flexion_refinement::OFFSETS.len() as u64;
 
+/// `bench flexion-refinement --subdivisions`: how many times a cell's edges are split.
+pub const SUBDIVISIONS: std::ops::RangeInclusive<u64> = 1..=crate::hand::MAX_SUBDIVISIONS as u64;
+
 /// A whole number within `range`.
 pub fn count(
     range: std::ops::RangeInclusive<u64>,

@@ -104,6 +104,12 @@ pub enum MeshingError {
         /// The resolution asked for.
         resolution: f64,
     },
+    /// Bad number of subdivisions (outside 1 ..= [`super::MAX_SUBDIVISIONS`]).
+    #[error(
+        "subdivisions must be a whole number from 1 (the lattice as it is) to {max}, got {0}",
+        max = super::MAX_SUBDIVISIONS
+    )]
+    Subdivisions(usize),
     /// Bad resolution (outside [`RESOLUTIONS`]).
     #[error("resolution must be a number between 0.5 and 4, got {0}")]
     Resolution(f64),
@@ -139,11 +145,13 @@ pub const LATTICE_BYTES: u64 = 1000;
 /// Refuses to mesh the hand of `skeleton` in `skin` at `resolution` when its lattice would take
 /// more memory than a solve may (`max_memory`, `[solver] max_memory`; the machine's free memory
 /// and the address space left otherwise): an error naming the resolution that fits, instead of
-/// the allocator aborting the process.
+/// the allocator aborting the process. With its cells split into `subdivisions`³ each
+/// ([`super::subdivide`]) it counts `subdivisions`³ times the lattice's points.
 pub fn check_memory(
     skeleton: &Skeleton,
     skin: &SkinShape,
     resolution: f64,
+    subdivisions: usize,
     max_memory: Option<u64>,
 ) -> Result<(), MeshingError> {
     if !RESOLUTIONS.contains(&resolution) {
@@ -154,9 +162,11 @@ pub fn check_memory(
     };
     let points = |r: f64| {
         let [xs, ys, zs] = lattice_axes(skeleton, skin, r, Vector3::zeros());
+        let split = subdivisions as u64;
         (xs.len() as u64)
             .saturating_mul(ys.len() as u64)
             .saturating_mul(zs.len() as u64)
+            .saturating_mul(split.saturating_mul(split).saturating_mul(split))
     };
     let fits = |r: f64| points(r).saturating_mul(LATTICE_BYTES) <= available;
     let asked = points(resolution);
@@ -185,7 +195,13 @@ pub fn check_memory(
         needed: human(asked.saturating_mul(LATTICE_BYTES)),
         available: human(available),
         limit: limit.to_string(),
-        advice: if fits(advised) {
+        advice: if fits(advised) && subdivisions > 1 {
+            format!(
+                "use fewer subdivisions, or a resolution of at most {advised:.2} with \
+                 {subdivisions}, or {}",
+                limit.remedy()
+            )
+        } else if fits(advised) {
             format!(
                 "use a resolution of at most {advised:.2}, or {}",
                 limit.remedy()
@@ -398,17 +414,7 @@ pub fn mesh_flesh_offset(
             }
         }
     }
-    let group: Vec<usize> = {
-        let mut group: Vec<usize> = (0..skeleton.bones.len()).collect();
-        for (b, bone) in skeleton.bones.iter().enumerate() {
-            if let Some(p) = bone.parent {
-                if !skeleton.dofs.iter().any(|d| d.bone == b) {
-                    group[b] = group[p];
-                }
-            }
-        }
-        group
-    };
+    let group = rigid_groups(skeleton);
     // Nodes in a joint space (within `joint_band` of two bones that move relative to each
     // other) follow the nearer bone; the cells between them are then left out below. The band
     // reaches as far from the bones at every resolution as at resolution 1, where it is half a
@@ -730,6 +736,20 @@ pub fn mesh_flesh_offset(
     })
 }
 
+/// The group of every bone: a bone without joint degrees of freedom of its own moves with its
+/// parent, so they are one group.
+pub(super) fn rigid_groups(skeleton: &Skeleton) -> Vec<usize> {
+    let mut group: Vec<usize> = (0..skeleton.bones.len()).collect();
+    for (b, bone) in skeleton.bones.iter().enumerate() {
+        if let Some(p) = bone.parent {
+            if !skeleton.dofs.iter().any(|d| d.bone == b) {
+                group[b] = group[p];
+            }
+        }
+    }
+    group
+}
+
 /// One node per lattice node and group of face-connected, `compatible` incident cells (cells
 /// are numbered i + nx·(j + ny·k); `bone_of(cell)` is `None` for a cell that is not there).
 /// Returns the lattice position of every node, and the node of every (lattice node, octant)
@@ -806,7 +826,7 @@ fn octant_groups(
 /// Moves each node that has a target towards it as far as the cells around it stay of quality
 /// [`MIN_QUALITY`]: the nodes of a cell that would be spoiled go half as far, up to six times,
 /// then stay where they were.
-fn move_within_quality(
+pub(super) fn move_within_quality(
     nodes: &mut [Vector3<f64>],
     cells: &[[usize; 8]],
     target: &[Option<Vector3<f64>>],
@@ -848,7 +868,7 @@ fn move_within_quality(
 
 /// `p` moved onto the surface of `bone` (Newton steps on its signed distance, whose gradient is
 /// taken by central differences).
-fn project_on_bone(bone: &super::skeleton::Bone, p: &Vector3<f64>) -> Vector3<f64> {
+pub(super) fn project_on_bone(bone: &super::skeleton::Bone, p: &Vector3<f64>) -> Vector3<f64> {
     const EPS: f64 = 1e-7;
     let mut q = *p;
     for _ in 0..8 {

@@ -24,6 +24,7 @@ mod skin;
 mod skin_follow;
 mod skinning;
 mod stretch;
+mod subdivide;
 pub mod synergy;
 
 pub use bone_mesh::{bone_surface, TriangleSurface};
@@ -45,3 +46,4 @@ pub use skeleton::{
 pub use skin::DisplaySkin;
 pub use skinning::{Blend, SkinningWeights};
 pub use stretch::Stretch;
+pub use subdivide::{subdivide, MAX_SUBDIVISIONS};

@@ -11,6 +11,7 @@ use super::skeleton::{Side, Skeleton};
 use super::skin::DisplaySkin;
 use super::skinning::SkinningWeights;
 use super::stretch::Stretch;
+use super::subdivide::{subdivide, MAX_SUBDIVISIONS};
 use nalgebra::Vector3;
 
 /// Catmull–Clark levels of the display skin.
@@ -37,6 +38,9 @@ pub struct HandModel {
     pub weights: SkinningWeights,
     /// The resolution it was meshed at.
     pub resolution: f64,
+    /// How many times each edge of that lattice's cells was split ([`super::subdivide`]; 1 = not
+    /// split).
+    pub subdivisions: usize,
     /// What building it changed of its input that the user should be told (an imported rig's
     /// joint found outside its finger and moved into it); empty for the built-in hand.
     pub mended: Vec<String>,
@@ -85,6 +89,19 @@ impl HandModel {
         resolution: f64,
         max_memory: Option<u64>,
     ) -> Result<HandModel, MeshingError> {
+        HandModel::built_in_nested(side, size, form, resolution, 1, max_memory)
+    }
+
+    /// [`HandModel::built_in`] with every cell of its lattice split into `subdivisions`³
+    /// ([`super::subdivide`]: the nested refinement, whose hand stays that of the lattice).
+    pub fn built_in_nested(
+        side: Side,
+        size: Option<HandSize>,
+        form: HandForm,
+        resolution: f64,
+        subdivisions: usize,
+        max_memory: Option<u64>,
+    ) -> Result<HandModel, MeshingError> {
         let stretch = match size {
             Some(size) => {
                 size.check().map_err(MeshingError::Size)?;
@@ -94,11 +111,13 @@ impl HandModel {
         };
         let mut skeleton = Skeleton::from_joints(side, &RigJoints::builtin_form(stretch, form));
         skeleton.set_rest("thumb.cmc.abd", form.thumb_rest_abduction_deg());
-        HandModel::build(
+        HandModel::build_nested(
             skeleton,
             SkinShape::sized(side, stretch, form),
             resolution,
+            subdivisions,
             max_memory,
+            Vector3::zeros(),
         )
     }
 
@@ -123,8 +142,28 @@ impl HandModel {
         max_memory: Option<u64>,
         lattice_offset: Vector3<f64>,
     ) -> Result<HandModel, MeshingError> {
-        super::lattice::check_memory(&skeleton, &shape, resolution, max_memory)?;
-        let flesh = mesh_flesh_offset(&skeleton, &shape, resolution, lattice_offset)?;
+        HandModel::build_nested(skeleton, shape, resolution, 1, max_memory, lattice_offset)
+    }
+
+    /// [`HandModel::build_offset`] with every cell of the lattice split into `subdivisions`³
+    /// ([`super::subdivide`]); the display skin takes a Catmull–Clark level less for each
+    /// doubling of its control net, so that it is as fine as the lattice's.
+    pub fn build_nested(
+        skeleton: Skeleton,
+        shape: SkinShape,
+        resolution: f64,
+        subdivisions: usize,
+        max_memory: Option<u64>,
+        lattice_offset: Vector3<f64>,
+    ) -> Result<HandModel, MeshingError> {
+        if !(1..=MAX_SUBDIVISIONS).contains(&subdivisions) {
+            return Err(MeshingError::Subdivisions(subdivisions));
+        }
+        super::lattice::check_memory(&skeleton, &shape, resolution, subdivisions, max_memory)?;
+        let lattice = mesh_flesh_offset(&skeleton, &shape, resolution, lattice_offset)?;
+        let flesh = subdivide(&lattice, subdivisions, &skeleton, &shape);
+        drop(lattice);
+        let skin_levels = SKIN_LEVELS.saturating_sub(subdivisions.ilog2() as usize);
         let embedded = |levels, reach| {
             DisplaySkin::embedded(
                 &flesh.display_quads,
@@ -136,7 +175,7 @@ impl HandModel {
                 |p| shape.project(p),
             )
         };
-        let mut skin = embedded(SKIN_LEVELS, Reach::Nearest);
+        let mut skin = embedded(skin_levels, Reach::Nearest);
         // The contact skin keeps its vertices within reach of their own cells: placed exactly
         // on the skin, the 106 (of 6 560) it pulls in by up to 4.2 mm on the backs and creases
         // of the fingers made the fist's self-contact fail to settle (ring PIP 41°), the folded
@@ -149,7 +188,7 @@ impl HandModel {
             (
                 &flesh.display_quads,
                 flesh.display_vertices.len(),
-                SKIN_LEVELS,
+                skin_levels,
             ),
             &flesh.mesh.nodes,
         );
@@ -161,6 +200,7 @@ impl HandModel {
             contact_skin,
             weights,
             resolution,
+            subdivisions,
             mended: Vec::new(),
         })
     }

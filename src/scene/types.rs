@@ -435,6 +435,11 @@ pub enum Shape {
         /// Mesh resolution (0.5 … 4).
         #[serde(default = "one")]
         resolution: f64,
+        /// Every cell of the lattice split into n × n × n (1, the default, to 4): the nested
+        /// refinement, which refines the finite elements of the hand meshed at `resolution`
+        /// without meshing another (docs/hand.md, "Nested refinement"). The built-in hand's.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        subdivisions: Option<usize>,
         /// A rigged hand from a glTF 2.0 file (`.glb`, or `.gltf`), relative to the scene file:
         /// its skin and its joints instead of the built-in hand's (docs/hand.md, "Your own
         /// hand").

@@ -1,0 +1,468 @@
+//! Nested refinement of the flesh mesh: every cell split into n × n × n by its own trilinear map,
+//! the skin's and the bones' new nodes moved onto their surfaces.
+//!
+//! A finer lattice ([`super::lattice`]) cuts the hand anew: which cells are flesh, which are joint
+//! space, which nodes follow which bone, all change with the spacing, so that a bone reaction
+//! measured on lattices of resolution 1, 1.5 and 2 compares three hands, not three meshes of one
+//! (docs/hand.md, "Why the shipped mean rises"). Split instead, the cells of one lattice keep its
+//! hand: the same joint spaces, the same flesh between the digits, the bones holding the same
+//! faces — what is refined is the finite element space alone (and the skin's and the bones'
+//! surfaces, approached as the spacing shrinks), the setting in which a finite element solution
+//! converges at a rate.
+//!
+//! What a split mesh holds by its parent's:
+//! - a node at a parent node keeps its attachment;
+//! - a node inside a parent face whose four nodes follow one group of bones (they move as one
+//!   body), or on an edge of such a face, or inside a parent cell all of whose nodes do, follows
+//!   the bone of its nearest parent node; a node on a parent edge alone that joins two attached
+//!   nodes does not (a line held in three dimensions holds nothing in the limit: its reaction
+//!   would fall away with the spacing);
+//! - new nodes on the skin (free ones, on the outer skin) are moved onto the skin's shape and new
+//!   nodes on a face against a bone onto the bone, as far as every cell keeps its quality, as the
+//!   lattice's own are; the joint spaces' walls stay as the parent cells' maps lay them;
+//! - each skin quadrilateral becomes n² of the cells along it, the display skin's control net is
+//!   split alike (bilinearly) and each of its quadrilaterals tied to the child of its parent's
+//!   cell nearest it.
+
+use super::lattice::{move_within_quality, project_on_bone, rigid_groups, FleshMesh};
+use super::shape::SkinShape;
+use super::skeleton::Skeleton;
+use crate::mesh::{Mesh, HEX_FACES};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// The most splits of an edge a mesh may be refined by.
+pub const MAX_SUBDIVISIONS: usize = 4;
+
+/// Corner offsets of a cell in VTK node order (as the lattice's).
+const CORNERS: [[usize; 3]; 8] = [
+    [0, 0, 0],
+    [1, 0, 0],
+    [1, 1, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+    [1, 0, 1],
+    [1, 1, 1],
+    [0, 1, 1],
+];
+
+/// A point of a parent entity, named by its parent nodes and their weights' numerators (over n³
+/// in a cell, n² on a display quad), sorted by node: the same key from every cell sharing it.
+type Key = [(u32, u32); 8];
+
+fn key_of(terms: impl Iterator<Item = (usize, u32)>) -> Key {
+    let mut key = [(u32::MAX, 0u32); 8];
+    let mut len = 0;
+    for (node, w) in terms {
+        if w == 0 {
+            continue;
+        }
+        let node = node as u32;
+        match key[..len].iter_mut().find(|e| e.0 == node) {
+            Some(e) => e.1 += w,
+            None => {
+                key[len] = (node, w);
+                len += 1;
+            }
+        }
+    }
+    key[..len].sort_unstable();
+    key
+}
+
+fn terms(key: &Key) -> impl Iterator<Item = (usize, u32)> + '_ {
+    key.iter()
+        .take_while(|e| e.0 != u32::MAX)
+        .map(|&(n, w)| (n as usize, w))
+}
+
+/// The point of `key` over `points` (weights over `denominator`), summed in the key's order so
+/// that every cell sharing it places it alike.
+fn place(key: &Key, points: &[Vector3<f64>], denominator: u32) -> Vector3<f64> {
+    terms(key).fold(Vector3::zeros(), |p, (n, w)| {
+        p + points[n] * (w as f64 / denominator as f64)
+    })
+}
+
+/// Node registry: one node per key.
+struct Registry {
+    index: HashMap<Key, u32>,
+    keys: Vec<Key>,
+}
+
+impl Registry {
+    fn new() -> Registry {
+        Registry {
+            index: HashMap::new(),
+            keys: Vec::new(),
+        }
+    }
+
+    fn id(&mut self, key: Key) -> usize {
+        let next = self.keys.len() as u32;
+        let id = *self.index.entry(key).or_insert(next);
+        if id == next {
+            self.keys.push(key);
+        }
+        id as usize
+    }
+}
+
+/// The local point (i, j, k) of 0..=n of a cell: its key over the cell's nodes.
+fn cell_point(cell: &[usize; 8], n: usize, [i, j, k]: [usize; 3]) -> Key {
+    let w = |a: usize, t: usize| if a == 1 { t } else { n - t } as u32;
+    key_of(
+        CORNERS
+            .iter()
+            .zip(cell)
+            .map(|(&[a, b, c], &node)| (node, w(a, i) * w(b, j) * w(c, k))),
+    )
+}
+
+/// The children of a cell along its face `f` ([`HEX_FACES`]: −ξ, +ξ, −η, +η, −ζ, +ζ), as local
+/// offsets (i, j, k) in 0..n.
+fn along_face(f: usize, n: usize) -> impl Iterator<Item = [usize; 3]> {
+    let (axis, side) = (f / 2, if f.is_multiple_of(2) { 0 } else { n - 1 });
+    (0..n * n).map(move |s| {
+        let (u, v) = (s % n, s / n);
+        match axis {
+            0 => [side, u, v],
+            1 => [u, side, v],
+            _ => [u, v, side],
+        }
+    })
+}
+
+/// `flesh` (meshed from `skeleton` inside `skin`) with every cell split into `n` × `n` × `n`
+/// (module doc); `n` = 1 gives it back unchanged.
+pub fn subdivide(flesh: &FleshMesh, n: usize, skeleton: &Skeleton, skin: &SkinShape) -> FleshMesh {
+    if n <= 1 {
+        return flesh.clone();
+    }
+    let parent = &flesh.mesh;
+    let group = rigid_groups(skeleton);
+    let same_group = |nodes: &mut dyn Iterator<Item = usize>| -> bool {
+        let mut groups = nodes.map(|p| flesh.node_bone[p].map(|b| group[b]));
+        match groups.next() {
+            Some(Some(first)) => groups.all(|g| g == Some(first)),
+            _ => false,
+        }
+    };
+    // Parent edges on a held face (a face whose four nodes move as one body).
+    let mut held_edges: std::collections::HashSet<(usize, usize)> = Default::default();
+    for cell in &parent.cells {
+        for face in HEX_FACES {
+            let q = face.map(|l| cell[l]);
+            if same_group(&mut q.iter().copied()) {
+                for e in 0..4 {
+                    let (a, b) = (q[e], q[(e + 1) % 4]);
+                    held_edges.insert((a.min(b), a.max(b)));
+                }
+            }
+        }
+    }
+
+    // Nodes and cells.
+    let n3 = (n * n * n) as u32;
+    let mut registry = Registry::new();
+    let mut cells = Vec::with_capacity(parent.cells.len() * n * n * n);
+    let mut cell_digit = Vec::with_capacity(cells.capacity());
+    for (c, cell) in parent.cells.iter().enumerate() {
+        let mut local = vec![0usize; (n + 1) * (n + 1) * (n + 1)];
+        for k in 0..=n {
+            for j in 0..=n {
+                for i in 0..=n {
+                    local[i + (n + 1) * (j + (n + 1) * k)] =
+                        registry.id(cell_point(cell, n, [i, j, k]));
+                }
+            }
+        }
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    cells.push(CORNERS.map(|[a, b, cc]| {
+                        local[(i + a) + (n + 1) * ((j + b) + (n + 1) * (k + cc))]
+                    }));
+                    cell_digit.push(flesh.cell_digit[c]);
+                }
+            }
+        }
+    }
+    let child = |c: usize, [i, j, k]: [usize; 3]| c * n * n * n + i + n * (j + n * k);
+    let mut nodes: Vec<Vector3<f64>> = registry
+        .keys
+        .iter()
+        .map(|key| place(key, &parent.nodes, n3))
+        .collect();
+
+    // Attachments.
+    let node_bone: Vec<Option<usize>> = registry
+        .keys
+        .iter()
+        .map(|key| {
+            let parents: Vec<usize> = terms(key).map(|(p, _)| p).collect();
+            let nearest = terms(key).max_by_key(|&(_, w)| w).map(|(p, _)| p)?;
+            let held = match parents.len() {
+                1 => return flesh.node_bone[parents[0]],
+                2 => held_edges.contains(&(parents[0], parents[1])),
+                _ => same_group(&mut parents.iter().copied()),
+            };
+            if held {
+                flesh.node_bone[nearest]
+            } else {
+                None
+            }
+        })
+        .collect();
+
+    // Skin quadrilaterals: the children's faces along each parent one.
+    let face_of =
+        |c: usize, q: &[usize; 4]| (0..6).find(|&f| HEX_FACES[f].map(|l| parent.cells[c][l]) == *q);
+    let mut skin_quads = Vec::new();
+    let mut skin_cells = Vec::new();
+    let mut skin_outer = Vec::new();
+    for ((q, &c), &outer) in flesh
+        .skin_quads
+        .iter()
+        .zip(&flesh.skin_cells)
+        .zip(&flesh.skin_outer)
+    {
+        let Some(f) = face_of(c, q) else {
+            continue;
+        };
+        for offset in along_face(f, n) {
+            let fc = child(c, offset);
+            skin_quads.push(HEX_FACES[f].map(|l| cells[fc][l]));
+            skin_cells.push(fc);
+            skin_outer.push(outer);
+        }
+    }
+
+    // Onto the skin and onto the bones, as the lattice's nodes.
+    let mut on_skin = vec![false; nodes.len()];
+    let mut on_outer_skin = vec![false; nodes.len()];
+    for (q, &outer) in skin_quads.iter().zip(&skin_outer) {
+        for &v in q {
+            on_skin[v] = true;
+            on_outer_skin[v] |= outer;
+        }
+    }
+    let mut on_bone_face = vec![false; nodes.len()];
+    for facet in crate::mesh::boundary_facets(&Mesh {
+        nodes: Vec::new(),
+        cells: cells.clone(),
+    }) {
+        for &v in &facet.nodes {
+            on_bone_face[v] = true;
+        }
+    }
+    let h = flesh.spacing;
+    let mut skin_target: Vec<Option<Vector3<f64>>> = vec![None; nodes.len()];
+    let mut bone_target: Vec<Option<Vector3<f64>>> = vec![None; nodes.len()];
+    for v in 0..nodes.len() {
+        let (p, target) = match node_bone[v] {
+            None if on_outer_skin[v] => (skin.project(&nodes[v]), &mut skin_target[v]),
+            Some(b) if on_bone_face[v] && !on_skin[v] => (
+                project_on_bone(&skeleton.bones[b], &nodes[v]),
+                &mut bone_target[v],
+            ),
+            _ => continue,
+        };
+        if p.iter().all(|x| x.is_finite()) && (p - nodes[v]).norm() < h {
+            *target = Some(p);
+        }
+    }
+    move_within_quality(&mut nodes, &cells, &skin_target);
+    move_within_quality(&mut nodes, &cells, &bone_target);
+
+    // The display skin's control net, split bilinearly.
+    let n2 = (n * n) as u32;
+    let mut vertices = Registry::new();
+    let mut display_quads = Vec::new();
+    let mut display_cells = Vec::new();
+    let centre = |c: usize| cells[c].iter().map(|&v| nodes[v]).sum::<Vector3<f64>>() / 8.0;
+    let mut quad_keys: Vec<[Key; 4]> = Vec::new();
+    let mut quad_hosts: Vec<usize> = Vec::new();
+    for (q, &host) in flesh.display_quads.iter().zip(&flesh.display_cells) {
+        let at = |s: usize, t: usize| {
+            let (s, t) = (s as u32, t as u32);
+            let m = n as u32;
+            key_of(
+                [
+                    (q[0], (m - s) * (m - t)),
+                    (q[1], s * (m - t)),
+                    (q[2], s * t),
+                    (q[3], (m - s) * t),
+                ]
+                .into_iter(),
+            )
+        };
+        for t in 0..n {
+            for s in 0..n {
+                quad_keys.push([at(s, t), at(s + 1, t), at(s + 1, t + 1), at(s, t + 1)]);
+                quad_hosts.push(host);
+            }
+        }
+    }
+    for (keys, host) in quad_keys.iter().zip(quad_hosts) {
+        let quad = keys.map(|key| vertices.id(key));
+        let middle = keys
+            .iter()
+            .map(|key| place(key, &flesh.display_vertices, n2))
+            .sum::<Vector3<f64>>()
+            / 4.0;
+        let nearest = (0..n * n * n)
+            .map(|l| host * n * n * n + l)
+            .min_by(|&a, &b| {
+                (centre(a) - middle)
+                    .norm_squared()
+                    .total_cmp(&(centre(b) - middle).norm_squared())
+            })
+            .unwrap_or(host * n * n * n);
+        display_quads.push(quad);
+        display_cells.push(nearest);
+    }
+    let display_vertices = vertices
+        .keys
+        .iter()
+        .map(|key| place(key, &flesh.display_vertices, n2))
+        .collect();
+
+    FleshMesh {
+        mesh: Mesh { nodes, cells },
+        node_bone,
+        cell_digit,
+        skin_quads,
+        skin_cells,
+        skin_outer,
+        display_quads,
+        display_vertices,
+        display_cells,
+        spacing: h / n as f64,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::hex8::{cell_volume, scaled_jacobian};
+    use crate::hand::{mesh_flesh, Side};
+    use crate::mesh::boundary_facets;
+
+    fn volume(mesh: &Mesh) -> f64 {
+        mesh.cells
+            .iter()
+            .map(|c| cell_volume(&c.map(|n| mesh.nodes[n])))
+            .sum()
+    }
+
+    /// Split in two, the resolution-0.75 hand keeps its hand: eight cells for one, the parent
+    /// nodes where they were and as they were held, every face of the flesh either skin (the
+    /// skin quads, four for one) or held by one bone all over, and its volume to 1 % (the new
+    /// skin nodes moved onto the skin's shape, whose curvature the parents' faces cut across).
+    #[test]
+    fn a_split_hand_is_the_lattice_s_hand_with_finer_cells() {
+        let skeleton = Skeleton::new(Side::Right);
+        let skin = SkinShape::new(Side::Right);
+        let parent = mesh_flesh(&skeleton, &skin, 0.75).unwrap();
+        let split = subdivide(&parent, 2, &skeleton, &skin);
+        assert_eq!(split.mesh.cells.len(), 8 * parent.mesh.cells.len());
+        assert_eq!(split.skin_quads.len(), 4 * parent.skin_quads.len());
+        assert_eq!(split.spacing, parent.spacing / 2.0);
+        // Each parent node among the children, held as it was: where it was inside the flesh;
+        // on the skin or a bone, moved at most a cell, onto the surface the parent could not
+        // quite reach keeping its coarser cells' quality.
+        let mut on_boundary = vec![false; parent.mesh.nodes.len()];
+        for f in boundary_facets(&parent.mesh) {
+            for v in f.nodes {
+                on_boundary[v] = true;
+            }
+        }
+        let mut moved = 0;
+        for (p, x) in parent.mesh.nodes.iter().enumerate() {
+            let reach = if on_boundary[p] {
+                parent.spacing
+            } else {
+                1e-12
+            };
+            let nearest = (0..split.mesh.nodes.len())
+                .filter(|&v| split.node_bone[v] == parent.node_bone[p])
+                .map(|v| (split.mesh.nodes[v] - x).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < reach, "parent node {p} at {x:?}: {nearest:e} m");
+            moved += usize::from(nearest > 1e-12);
+        }
+        eprintln!(
+            "{moved} of {} parent nodes moved onto their surface",
+            on_boundary.len()
+        );
+        // The flesh's faces: skin, or a bone's.
+        let skin_faces: std::collections::HashSet<[usize; 4]> = split
+            .skin_quads
+            .iter()
+            .map(|q| {
+                let mut q = *q;
+                q.sort_unstable();
+                q
+            })
+            .collect();
+        let facets = boundary_facets(&split.mesh);
+        let mut loose = 0;
+        for f in &facets {
+            let mut key = f.nodes;
+            key.sort_unstable();
+            if skin_faces.contains(&key) {
+                continue;
+            }
+            let bone = split.node_bone[f.nodes[0]];
+            if bone.is_none() || f.nodes.iter().any(|&v| split.node_bone[v].is_none()) {
+                loose += 1;
+            }
+        }
+        assert_eq!(
+            facets.len() - loose,
+            facets.len(),
+            "{loose} of {} faces of the split flesh are neither skin nor held by a bone",
+            facets.len()
+        );
+        for (c, cell) in split.mesh.cells.iter().enumerate() {
+            let q = scaled_jacobian(&cell.map(|n| split.mesh.nodes[n]));
+            assert!(q > 0.0, "split cell {c}: scaled Jacobian {q}");
+        }
+        let (v0, v1) = (volume(&parent.mesh), volume(&split.mesh));
+        assert!(
+            ((v1 - v0) / v0).abs() < 0.01,
+            "volume {v0:.4e} → {v1:.4e} m³"
+        );
+        eprintln!(
+            "resolution 0.75 split 2: {} → {} cells, volume {:.3} → {:.3} ml",
+            parent.mesh.cells.len(),
+            split.mesh.cells.len(),
+            v0 * 1e6,
+            v1 * 1e6
+        );
+        // One split gives the mesh back.
+        assert_eq!(
+            subdivide(&parent, 1, &skeleton, &skin).mesh.nodes,
+            parent.mesh.nodes
+        );
+    }
+
+    /// A point the parents share gets one node, whichever cell names it; the weights sum to the
+    /// denominator.
+    #[test]
+    fn a_shared_point_is_one_key() {
+        let a = [0, 1, 2, 3, 4, 5, 6, 7];
+        // The cell beside it along +ξ shares nodes 1, 2, 6, 5 as its 0, 3, 7, 4.
+        let b = [1, 8, 9, 2, 5, 10, 11, 6];
+        for n in 2..=4 {
+            for j in 0..=n {
+                for k in 0..=n {
+                    assert_eq!(cell_point(&a, n, [n, j, k]), cell_point(&b, n, [0, j, k]));
+                }
+            }
+            let total: u32 = terms(&cell_point(&a, n, [1, 1, 1])).map(|t| t.1).sum();
+            assert_eq!(total, (n * n * n) as u32);
+        }
+    }
+}
