@@ -161,7 +161,7 @@ impl HandModel {
         }
         super::lattice::check_memory(&skeleton, &shape, resolution, subdivisions, max_memory)?;
         let lattice = mesh_flesh_offset(&skeleton, &shape, resolution, lattice_offset)?;
-        let flesh = subdivide(&lattice, subdivisions, &skeleton, &shape);
+        let flesh = subdivide(&lattice, subdivisions, &skeleton);
         drop(lattice);
         let skin_levels = SKIN_LEVELS.saturating_sub(subdivisions.ilog2() as usize);
         let embedded = |levels, reach| {
