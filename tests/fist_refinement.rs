@@ -167,6 +167,10 @@ fn the_nested_refinement_converges_the_index_flexion_at_a_rate() {
             [1, 8, 27].map(|m| m * series[0].cells),
             "{angle}°: each cell split into n³"
         );
+        assert!(
+            f[0] > f[1] && f[1] > f[2],
+            "PIP {angle}°: {f:.4?} N, not falling"
+        );
         match convergence(h, f) {
             Convergence::Order { order, limit } => {
                 println!("PIP {angle}°: {f:.4?} N, order {order:.2}, limit {limit:.4} N");

@@ -133,6 +133,48 @@ pub fn embed(
     (cell, n)
 }
 
+/// [`embed`] in a mesh whose cells are a lattice's split into `n` × `n` × `n` each
+/// (`super::subdivide`: the children of parent cell P are cells P·n³ … P·n³ + n³ − 1, child
+/// (i, j, k) at P·n³ + i + n·(j + n·k)): the point embedded first in `cell`'s parent, by the
+/// parent's map, then in the child holding its natural coordinates (the nearest one beyond
+/// the parent), at the same point. The children's maps are the parent's, piece by piece, so the
+/// point and its reach are those of the unsplit mesh at every `n` — a skin point pulled in by
+/// [`Reach::OwnCell`] at ±2 of its cell is pulled in alike, where embedded in a child directly
+/// it would be pulled in at ±2 of a cell n times smaller.
+pub fn embed_split(
+    mesh: &Mesh,
+    around: &NodeCells,
+    cell: usize,
+    p: &Vector3<f64>,
+    reach: Reach,
+    n: usize,
+) -> (usize, [f64; 8]) {
+    if n <= 1 {
+        return embed(mesh, around, cell, p, reach);
+    }
+    let per = n * n * n;
+    let first = (cell / per) * per;
+    let child_of = |[i, j, k]: [usize; 3]| first + i + n * (j + n * k);
+    let parent: [Vector3<f64>; 8] = std::array::from_fn(|a| {
+        let [x, y, z] = super::lattice::CORNERS[a];
+        mesh.nodes[mesh.cells[child_of([x * (n - 1), y * (n - 1), z * (n - 1)])][a]]
+    });
+    let xi = local_coordinates(&parent, p);
+    if !xi.iter().all(|v| v.is_finite()) {
+        return embed(mesh, around, cell, p, reach);
+    }
+    let m = n as f64;
+    let index = |t: f64| (((t + 1.0) * 0.5 * m).floor().clamp(0.0, m - 1.0)) as usize;
+    let at = [index(xi.x), index(xi.y), index(xi.z)];
+    let child = child_of(at);
+    let local = Vector3::from_fn(|d, _| m * (xi[d] + 1.0) - 2.0 * at[d] as f64 - 1.0);
+    let (weights, x) = self::at(mesh, child, &local);
+    if (x - p).norm() <= REPRODUCED || reach == Reach::OwnCell {
+        return (child, weights);
+    }
+    embed(mesh, around, child, p, reach)
+}
+
 /// How many rings of cells around a point's own cell [`embed`] looks in.
 const RINGS: usize = 3;
 

@@ -15,7 +15,7 @@ use crate::mesh::{Mesh, HEX_FACES};
 use nalgebra::Vector3;
 
 /// Corner offsets of a lattice cell in VTK node order.
-const CORNERS: [[usize; 3]; 8] = [
+pub(super) const CORNERS: [[usize; 3]; 8] = [
     [0, 0, 0],
     [1, 0, 0],
     [1, 1, 0],
@@ -826,7 +826,7 @@ fn octant_groups(
 /// Moves each node that has a target towards it as far as the cells around it stay of quality
 /// [`MIN_QUALITY`]: the nodes of a cell that would be spoiled go half as far, up to six times,
 /// then stay where they were.
-pub(super) fn move_within_quality(
+fn move_within_quality(
     nodes: &mut [Vector3<f64>],
     cells: &[[usize; 8]],
     target: &[Option<Vector3<f64>>],
@@ -868,7 +868,7 @@ pub(super) fn move_within_quality(
 
 /// `p` moved onto the surface of `bone` (Newton steps on its signed distance, whose gradient is
 /// taken by central differences).
-pub(super) fn project_on_bone(bone: &super::skeleton::Bone, p: &Vector3<f64>) -> Vector3<f64> {
+fn project_on_bone(bone: &super::skeleton::Bone, p: &Vector3<f64>) -> Vector3<f64> {
     const EPS: f64 = 1e-7;
     let mut q = *p;
     for _ in 0..8 {

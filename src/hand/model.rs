@@ -146,8 +146,9 @@ impl HandModel {
     }
 
     /// [`HandModel::build_offset`] with every cell of the lattice split into `subdivisions`³
-    /// ([`super::subdivide`]); the display skin takes a Catmull–Clark level less for each
-    /// doubling of its control net, so that it is as fine as the lattice's.
+    /// ([`super::subdivide`]); the display skin takes a Catmull–Clark level less where its
+    /// control net is split in two or more (two levels fewer from four), so that it stays about
+    /// as fine as the unsplit hand's.
     pub fn build_nested(
         skeleton: Skeleton,
         shape: SkinShape,
@@ -161,15 +162,14 @@ impl HandModel {
         }
         super::lattice::check_memory(&skeleton, &shape, resolution, subdivisions, max_memory)?;
         let lattice = mesh_flesh_offset(&skeleton, &shape, resolution, lattice_offset)?;
-        let flesh = subdivide(&lattice, subdivisions, &skeleton);
-        drop(lattice);
+        let flesh = subdivide(lattice, subdivisions, &skeleton);
         let skin_levels = SKIN_LEVELS.saturating_sub(subdivisions.ilog2() as usize);
         let embedded = |levels, reach| {
             DisplaySkin::embedded(
                 &flesh.display_quads,
                 &flesh.display_vertices,
                 &flesh.display_cells,
-                &flesh.mesh,
+                (&flesh.mesh, subdivisions),
                 levels,
                 reach,
                 |p| shape.project(p),

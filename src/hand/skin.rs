@@ -3,7 +3,7 @@
 //! flesh and follows its displacement field at the cost of one sparse product per frame; the
 //! display resolution never costs simulation time.
 
-use super::embed::{embed, NodeCells, Reach};
+use super::embed::{embed_split, NodeCells, Reach};
 use super::skin_follow::{Combinations, Follow};
 use crate::mesh::Mesh;
 use nalgebra::Vector3;
@@ -213,12 +213,14 @@ impl DisplaySkin {
     /// around it ([`super::embed`]): its weights become the trilinear shape functions of that
     /// cell at the vertex's local coordinates (extrapolated outside the cell where the skin is).
     /// The skin is then as smooth as the skin shape, whatever the lattice's steps, and follows
-    /// the flesh's displacement field.
+    /// the flesh's displacement field. `mesh` split `split` × `split` × `split` from a lattice
+    /// (`super::subdivide`): each vertex is embedded by its quad's cell's parent
+    /// ([`super::embed::embed_split`]), as in the unsplit lattice.
     pub fn embedded(
         quads: &[[usize; 4]],
         vertices: &[Vector3<f64>],
         quad_cells: &[usize],
-        mesh: &Mesh,
+        (mesh, split): (&Mesh, usize),
         levels: usize,
         reach: Reach,
         project: impl Fn(&Vector3<f64>) -> Vector3<f64> + Sync,
@@ -239,7 +241,7 @@ impl DisplaySkin {
             .par_iter()
             .enumerate()
             .map(|(v, p)| {
-                let (c, n) = embed(mesh, &around, cell_of[v], &project(p), reach);
+                let (c, n) = embed_split(mesh, &around, cell_of[v], &project(p), reach, split);
                 let cell = mesh.cells[c];
                 std::array::from_fn(|a| (cell[a] as u32, n[a]))
             })

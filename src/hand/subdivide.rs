@@ -26,7 +26,7 @@
 //!   split alike (bilinearly) and each of its quadrilaterals tied to the child of its parent's
 //!   cell nearest it.
 
-use super::lattice::{rigid_groups, FleshMesh};
+use super::lattice::{rigid_groups, FleshMesh, CORNERS};
 use super::skeleton::Skeleton;
 use crate::mesh::{Mesh, HEX_FACES};
 use nalgebra::Vector3;
@@ -34,18 +34,6 @@ use std::collections::HashMap;
 
 /// The most splits of an edge a mesh may be refined by.
 pub const MAX_SUBDIVISIONS: usize = 4;
-
-/// Corner offsets of a cell in VTK node order (as the lattice's).
-const CORNERS: [[usize; 3]; 8] = [
-    [0, 0, 0],
-    [1, 0, 0],
-    [1, 1, 0],
-    [0, 1, 0],
-    [0, 0, 1],
-    [1, 0, 1],
-    [1, 1, 1],
-    [0, 1, 1],
-];
 
 /// A point of a parent entity, named by its parent nodes and their weights' numerators (over n³
 /// in a cell, n² on a display quad), sorted by node: the same key from every cell sharing it.
@@ -136,10 +124,15 @@ fn along_face(f: usize, n: usize) -> impl Iterator<Item = [usize; 3]> {
 
 /// `flesh` (meshed around the bones of `skeleton`) with every cell split into `n` × `n` × `n`
 /// (module doc); `n` = 1 gives it back unchanged.
-pub fn subdivide(flesh: &FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh {
-    if n <= 1 {
-        return flesh.clone();
+pub fn subdivide(flesh: FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh {
+    assert!(
+        (1..=MAX_SUBDIVISIONS).contains(&n),
+        "subdivisions {n} outside 1 ..= {MAX_SUBDIVISIONS}"
+    );
+    if n == 1 {
+        return flesh;
     }
+    let flesh = &flesh;
     let parent = &flesh.mesh;
     let group = rigid_groups(skeleton);
     let same_group = |nodes: &mut dyn Iterator<Item = usize>| -> bool {
@@ -203,7 +196,14 @@ pub fn subdivide(flesh: &FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh 
         .iter()
         .map(|key| {
             let parents: Vec<usize> = terms(key).map(|(p, _)| p).collect();
-            let nearest = terms(key).max_by_key(|&(_, w)| w).map(|(p, _)| p)?;
+            // The parent node of the largest weight, the first of equals (the bones of one group
+            // move alike; this only names the one that feels the force).
+            let nearest = terms(key)
+                .fold(None, |best: Option<(usize, u32)>, (p, w)| match best {
+                    Some((_, bw)) if bw >= w => best,
+                    _ => Some((p, w)),
+                })
+                .map(|(p, _)| p)?;
             let held = match parents.len() {
                 1 => return flesh.node_bone[parents[0]],
                 2 => held_edges.contains(&(parents[0], parents[1])),
@@ -229,9 +229,7 @@ pub fn subdivide(flesh: &FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh 
         .zip(&flesh.skin_cells)
         .zip(&flesh.skin_outer)
     {
-        let Some(f) = face_of(c, q) else {
-            continue;
-        };
+        let f = face_of(c, q).expect("a skin quadrilateral is a face of its cell");
         for offset in along_face(f, n) {
             let fc = child(c, offset);
             skin_quads.push(HEX_FACES[f].map(|l| cells[fc][l]));
@@ -330,10 +328,11 @@ mod tests {
         let skeleton = Skeleton::new(Side::Right);
         let skin = crate::hand::SkinShape::new(Side::Right);
         let parent = mesh_flesh(&skeleton, &skin, 0.75).unwrap();
+        let groups = rigid_groups(&skeleton);
         let mut at: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
         let key = |p: &Vector3<f64>| [p.x, p.y, p.z].map(|c| (c * 1e9).round() as i64);
         for n in [2, 3] {
-            let split = subdivide(&parent, n, &skeleton);
+            let split = subdivide(parent.clone(), n, &skeleton);
             assert_eq!(split.mesh.cells.len(), n * n * n * parent.mesh.cells.len());
             assert_eq!(split.skin_quads.len(), n * n * parent.skin_quads.len());
             assert_eq!(split.spacing, parent.spacing / n as f64);
@@ -364,8 +363,10 @@ mod tests {
                 .filter(|f| {
                     let mut key = f.nodes;
                     key.sort_unstable();
+                    let group = |v: usize| split.node_bone[v].map(|b| groups[b]);
                     !skin_faces.contains(&key)
-                        && f.nodes.iter().any(|&v| split.node_bone[v].is_none())
+                        && (group(f.nodes[0]).is_none()
+                            || f.nodes.iter().any(|&v| group(v) != group(f.nodes[0])))
                 })
                 .count();
             assert_eq!(
@@ -386,7 +387,7 @@ mod tests {
         }
         // One split gives the mesh back.
         assert_eq!(
-            subdivide(&parent, 1, &skeleton).mesh.nodes,
+            subdivide(parent.clone(), 1, &skeleton).mesh.nodes,
             parent.mesh.nodes
         );
     }
