@@ -370,6 +370,33 @@ fn the_nonlinear_tier_folds_the_pip_crease_without_crossing_it() {
     assert!(stats.factorizations < free_stats.factorizations);
 }
 
+/// What a hand scene's first keyframe folded: the skin's crossings in the creases and in all
+/// (`crease_and_all_crossings`), the press, the bones' reactions' sum and the largest, N.
+struct Fold {
+    crease: usize,
+    all: usize,
+    press: prehensile::export::report::SelfContactReport,
+    sum: f64,
+    largest: f64,
+}
+
+fn fold(solved: &prehensile::headless::Solved) -> Fold {
+    let hand = solved.model.bodies[0].hand.as_deref().expect("a hand");
+    let report = &solved.report.frames[1].hands["hand"];
+    let (crease, all) = crease_and_all_crossings(hand, &solved.frames[1].hands[0].positions);
+    Fold {
+        crease,
+        all,
+        press: report.self_contact.clone().expect("the press"),
+        sum: Vector3::from(report.bone_reaction_sum).norm(),
+        largest: report
+            .bones
+            .values()
+            .map(|b| b.magnitude)
+            .fold(0.0, f64::max),
+    }
+}
+
 /// Issue 16's test of the nonlinear tier: index and middle PIP 0° → 110° together at resolution
 /// 1.5, from a scene file (`tier = "nonlinear"`, `self_contact = true`), the skin kept out of
 /// itself by the barrier: it converges (without self-contact the tier stopped at middle PIP
@@ -386,17 +413,14 @@ fn the_nonlinear_tier_folds_index_and_middle_to_110_at_resolution_1_5() {
                 shape = { hand = { side = \"right\", resolution = 1.5 } }\n\n[[keyframe]]\n\
                 time = 1.0\npose = { \"index.pip\" = 110.0, \"middle.pip\" = 110.0 }\n";
     let solved = solve_fist(text).unwrap_or_else(|e| panic!("{e}"));
-    let hand = solved.model.bodies[0].hand.as_deref().expect("a hand");
-    let frame = &solved.frames[1].hands[0];
     let report = &solved.report.frames[1].hands["hand"];
-    let (crease, all) = crease_and_all_crossings(hand, &frame.positions);
-    let press = report.self_contact.clone().expect("the press");
-    let sum = Vector3::from(report.bone_reaction_sum).norm();
-    let largest = report
-        .bones
-        .values()
-        .map(|b| b.magnitude)
-        .fold(0.0, f64::max);
+    let Fold {
+        crease,
+        all,
+        press,
+        sum,
+        largest,
+    } = fold(&solved);
     eprintln!(
         "nonlinear, index and middle, resolution 1.5: crossings {crease} in the creases, {all} in \
          all; press {:.3} N {:?}; volume {:+.3} %; largest bone {largest:.3} N, Σ {sum:.2e} N",
@@ -1267,16 +1291,14 @@ fn a_split_hand_folds_its_crease_without_crossing_it_and_its_reaction_falls() {
         let solved = solve_fist(&text).unwrap_or_else(|e| panic!("split {subdivisions}: {e}"));
         let hand = solved.model.bodies[0].hand.as_deref().expect("a hand");
         assert_eq!(hand.subdivisions, subdivisions);
-        let frame = &solved.frames[1].hands[0];
         let report = &solved.report.frames[1].hands["hand"];
-        let (crease, all) = crease_and_all_crossings(hand, &frame.positions);
-        let press = report.self_contact.clone().expect("the press");
-        let sum = Vector3::from(report.bone_reaction_sum).norm();
-        let largest = report
-            .bones
-            .values()
-            .map(|b| b.magnitude)
-            .fold(0.0, f64::max);
+        let Fold {
+            crease,
+            all,
+            press,
+            sum,
+            largest,
+        } = fold(&solved);
         eprintln!(
             "split {subdivisions}: {} cells; crossings {crease} / {all}; press {:.3} N; volume \
              {:+.3} %; largest bone {largest:.3} N, Σ {sum:.2e} N",
