@@ -1275,7 +1275,7 @@ fn the_shipped_full_fist_largest_bone_reaction_at_resolutions_1_and_1_5() {
 /// split into 2 × 2 × 2. Split, it folds as the lattice does: the skin crosses itself nowhere,
 /// the press reaches the bones, which balance, the flesh keeps its volume; and its largest
 /// bone reaction falls towards the limit of the nested series (measured 2026-12-07: 4.864 /
-/// 3.894 / 3.591 N split 1 / 2 / 3, an observed order of 1.11 and a limit of 3.06 N;
+/// 3.882 / 3.589 N split 1 / 2 / 3, an observed order of 1.19 and a limit of 3.12 N;
 /// docs/hand.md, "Nested refinement"), where the lattice of resolution 1.5 read more than that
 /// of 1.
 #[test]
