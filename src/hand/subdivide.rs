@@ -23,8 +23,8 @@
 //!   docs/hand.md, "Nested refinement". The skin's and the bones' surfaces are the lattice's,
 //!   to its spacing's accuracy; a finer `resolution` approaches them.)
 //! - each skin quadrilateral becomes n² of the cells along it, the display skin's control net is
-//!   split alike (bilinearly) and each of its quadrilaterals tied to the child of its parent's
-//!   cell nearest it.
+//!   split alike (bilinearly), each of its quadrilaterals tied to its parent's cell (by that
+//!   cell's first child), through which the skins are embedded (`embed::embed_split`).
 
 use super::lattice::{rigid_groups, FleshMesh, CORNERS};
 use super::skeleton::Skeleton;
@@ -238,19 +238,17 @@ pub fn subdivide(flesh: FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh {
         }
     }
 
-    // The display skin's control net, split bilinearly.
+    // The display skin's control net, split bilinearly, each quadrilateral tied to its parent's
+    // cell by that cell's first child (the skins are embedded through the parent:
+    // `embed::embed_split`).
     let n2 = (n * n) as u32;
     let mut vertices = Registry::new();
     let mut display_quads = Vec::new();
     let mut display_cells = Vec::new();
-    let centre = |c: usize| cells[c].iter().map(|&v| nodes[v]).sum::<Vector3<f64>>() / 8.0;
-    let mut quad_keys: Vec<[Key; 4]> = Vec::new();
-    let mut quad_hosts: Vec<usize> = Vec::new();
     for (q, &host) in flesh.display_quads.iter().zip(&flesh.display_cells) {
-        let at = |s: usize, t: usize| {
-            let (s, t) = (s as u32, t as u32);
-            let m = n as u32;
-            key_of(
+        let m = n as u32;
+        let mut at = |s: u32, t: u32| {
+            vertices.id(key_of(
                 [
                     (q[0], (m - s) * (m - t)),
                     (q[1], s * (m - t)),
@@ -258,32 +256,14 @@ pub fn subdivide(flesh: FleshMesh, n: usize, skeleton: &Skeleton) -> FleshMesh {
                     (q[3], (m - s) * t),
                 ]
                 .into_iter(),
-            )
+            ))
         };
-        for t in 0..n {
-            for s in 0..n {
-                quad_keys.push([at(s, t), at(s + 1, t), at(s + 1, t + 1), at(s, t + 1)]);
-                quad_hosts.push(host);
+        for t in 0..m {
+            for s in 0..m {
+                display_quads.push([at(s, t), at(s + 1, t), at(s + 1, t + 1), at(s, t + 1)]);
+                display_cells.push(child(host, [0, 0, 0]));
             }
         }
-    }
-    for (keys, host) in quad_keys.iter().zip(quad_hosts) {
-        let quad = keys.map(|key| vertices.id(key));
-        let middle = keys
-            .iter()
-            .map(|key| place(key, &flesh.display_vertices, n2))
-            .sum::<Vector3<f64>>()
-            / 4.0;
-        let nearest = (0..n * n * n)
-            .map(|l| host * n * n * n + l)
-            .min_by(|&a, &b| {
-                (centre(a) - middle)
-                    .norm_squared()
-                    .total_cmp(&(centre(b) - middle).norm_squared())
-            })
-            .unwrap_or(host * n * n * n);
-        display_quads.push(quad);
-        display_cells.push(nearest);
     }
     let display_vertices = vertices
         .keys
