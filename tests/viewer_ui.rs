@@ -397,6 +397,34 @@ fn the_self_contact_checkbox_writes_the_scene_key() {
     assert!(model.flexion.self_contact.is_none());
 }
 
+/// The Solver panel's "cells split" slider writes the hand's `subdivisions` (absent, 1, in the
+/// default scene), and the hand built from the job has each cell of its lattice split in eight.
+#[test]
+fn the_cells_split_slider_refines_the_hand_nested() {
+    use prehensile::scene::Shape;
+    let (port, mut h) = answered();
+    assert_eq!(h.state().solver.subdivisions, 1);
+    let before = port.jobs().last().unwrap().clone();
+    slider(&h, "cells split").set_value_accesskit(2.0);
+    h.run_steps(2);
+    let job = port.jobs().last().unwrap().clone();
+    assert!(job.scene_revision > before.scene_revision, "a new model");
+    let written = job.scene.body.iter().find_map(|b| match &b.shape {
+        Shape::Hand { subdivisions, .. } => Some(*subdivisions),
+        _ => None,
+    });
+    assert_eq!(written, Some(Some(2)));
+    let cells = |scene: &Scene| {
+        let model = prehensile::model::Model::build(scene, "viewer").unwrap();
+        let hand = model.bodies.iter().find_map(|b| b.hand.clone()).unwrap();
+        (hand.flesh.mesh.cells.len(), hand.subdivisions)
+    };
+    let (coarse, n1) = cells(&before.scene);
+    let (fine, n2) = cells(&job.scene);
+    assert_eq!((n1, n2), (1, 2));
+    assert_eq!(fine, 8 * coarse);
+}
+
 /// With the skin kept out of itself, the Fist preset goes in two stages, each solved before the
 /// next is asked: the four fingers close (every one at PIP 105°, DIP 70°), the thumb
 /// where it was; then the thumb folds over (IP 70°). Without self-contact, one pose. A slider

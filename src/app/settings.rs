@@ -27,6 +27,9 @@ pub struct SolverParams {
     pub max_step_deg: f64,
     /// Hand mesh resolution (0.5 … 4; 1 is the default 3.2 mm lattice).
     pub resolution: f64,
+    /// Every cell of the hands' lattices split into n × n × n (`subdivisions` of their shape;
+    /// 1, the lattice as it is, when absent): the same hand with finer elements.
+    pub subdivisions: usize,
     /// The built-in hands' size (`size` of their shape); the built-in hand's own when `None`.
     pub hand_size: Option<HandSizeDef>,
     /// The built-in hands' form (`form` of their shape): `"simple"` or `"anatomical"`.
@@ -54,6 +57,14 @@ impl SolverParams {
                 _ => None,
             })
             .unwrap_or(1.0);
+        let subdivisions = scene
+            .body
+            .iter()
+            .find_map(|b| match b.shape {
+                Shape::Hand { subdivisions, .. } => Some(subdivisions.unwrap_or(1)),
+                _ => None,
+            })
+            .unwrap_or(1);
         let hand_size = scene.body.iter().find_map(|b| match &b.shape {
             Shape::Hand {
                 gltf: None, size, ..
@@ -75,6 +86,7 @@ impl SolverParams {
             tolerance: 1e-8,
             max_step_deg: s.max_step_deg.unwrap_or(10.0),
             resolution,
+            subdivisions,
             hand_size: hand_size.flatten(),
             hand_form,
             contact: s.contact.unwrap_or_default(),
@@ -102,6 +114,7 @@ impl SolverParams {
         for b in &mut scene.body {
             if let Shape::Hand {
                 resolution,
+                subdivisions,
                 gltf,
                 size,
                 form,
@@ -109,6 +122,10 @@ impl SolverParams {
             } = &mut b.shape
             {
                 *resolution = self.resolution;
+                // Written only when it differs from the scene's (its absence is 1).
+                if subdivisions.unwrap_or(1) != self.subdivisions {
+                    *subdivisions = Some(self.subdivisions);
+                }
                 if gltf.is_none() {
                     size.clone_from(&self.hand_size);
                     // Written only when it differs from the scene's (its absence is the default form,

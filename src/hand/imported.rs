@@ -204,15 +204,18 @@ const WRIST_TO_MIDDLE_MCP: f64 = 0.0974;
 impl HandModel {
     /// The hand of `side` whose skin and joints are `rig`, meshed at `resolution`.
     pub fn from_rig(side: Side, rig: &RiggedHand, resolution: f64) -> Result<HandModel, RigError> {
-        HandModel::from_rig_within(side, rig, resolution, None)
+        HandModel::from_rig_within(side, rig, resolution, 1, None)
     }
 
-    /// [`HandModel::from_rig`] refused when meshing it would take more than `max_memory` bytes
-    /// (or what the machine has free).
+    /// [`HandModel::from_rig`] with every cell of its lattice split into `subdivisions`³
+    /// ([`super::subdivide`]: the nested refinement, whose hand stays that of the lattice),
+    /// refused when meshing it would take more than `max_memory` bytes (or what the machine
+    /// has free).
     pub fn from_rig_within(
         side: Side,
         rig: &RiggedHand,
         resolution: f64,
+        subdivisions: usize,
         max_memory: Option<u64>,
     ) -> Result<HandModel, RigError> {
         let missing: Vec<String> = joint_keys()
@@ -307,11 +310,13 @@ impl HandModel {
         };
         let skeleton = Skeleton::from_joints(side, &joints);
         let skin = skin.with_lattice_anchor(reference.anchor * scale);
-        let hand = HandModel::build(
+        let hand = HandModel::build_nested(
             skeleton,
             SkinShape::Mesh(Box::new(skin)),
             resolution,
+            subdivisions,
             max_memory,
+            Vector3::zeros(),
         )?;
         let mut hand = hand.placed(&frame);
         hand.mended = mended;

@@ -58,6 +58,17 @@ const MAX_ASPECT: f64 = 1.0e6;
 /// and the scene is not in metres.
 const MIN_ELEMENT: f64 = 1.0e-9;
 
+/// A hand's `subdivisions` (1, the lattice as it is, when absent), refused outside
+/// 1 ..= [`crate::hand::MAX_SUBDIVISIONS`] before anything is read or meshed.
+fn hand_subdivisions(subdivisions: Option<usize>) -> Result<usize, String> {
+    let n = subdivisions.unwrap_or(1);
+    if (1..=crate::hand::MAX_SUBDIVISIONS).contains(&n) {
+        Ok(n)
+    } else {
+        Err(crate::hand::MeshingError::Subdivisions(n).to_string())
+    }
+}
+
 /// A body's nodes within [`MAX_PLACEMENT`] of the origin and its elements at least
 /// [`MIN_ELEMENT`] across (their longest edge).
 fn check_extent(mesh: &Mesh) -> Result<(), String> {
@@ -127,138 +138,131 @@ pub fn bodies(
             return Err((field, "a body of this name is defined twice".into()));
         }
         let material = find_material(scene, &b.material, format!("{field}.material"))?;
-        let hand =
-            match &b.shape {
-                Shape::Hand {
-                    side,
-                    resolution,
-                    subdivisions,
-                    gltf: None,
-                    bones,
-                    placement,
-                    size,
-                    form,
-                } => {
-                    let field = format!("{field}.shape.hand");
-                    let form = match form.as_deref() {
-                        None => HandForm::default(),
-                        Some(name) => HandForm::from_name(name).ok_or_else(|| {
-                            (
-                                format!("{field}.form"),
-                                format!(
-                                    "unknown hand form \"{}\": the forms are \"simple\" and \
+        let hand = match &b.shape {
+            Shape::Hand {
+                side,
+                resolution,
+                subdivisions,
+                gltf: None,
+                bones,
+                placement,
+                size,
+                form,
+            } => {
+                let field = format!("{field}.shape.hand");
+                let form = match form.as_deref() {
+                    None => HandForm::default(),
+                    Some(name) => HandForm::from_name(name).ok_or_else(|| {
+                        (
+                            format!("{field}.form"),
+                            format!(
+                                "unknown hand form \"{}\": the forms are \"simple\" and \
                                  \"anatomical\"",
-                                    shown(name)
-                                ),
-                            )
-                        })?,
-                    };
-                    if bones.is_some() {
-                        return Err((
+                                shown(name)
+                            ),
+                        )
+                    })?,
+                };
+                if bones.is_some() {
+                    return Err((
                         field,
                         "`bones` is for a hand read from `gltf`; the built-in hand's joints are \
                          its own"
                             .into(),
                     ));
-                    }
-                    let motion = placement
-                        .as_ref()
-                        .map(builtin_placement)
-                        .transpose()
-                        .map_err(|e| (format!("{field}.placement"), e))?;
-                    let size = size
-                        .as_ref()
-                        .map(|size| hand_size(size).map_err(|e| (format!("{field}.size"), e)))
-                        .transpose()?;
-                    let split = subdivisions.unwrap_or(1);
-                    let built = match (size, form) {
-                        (None, HandForm::Simple) => HandModel::build_nested(
-                            Skeleton::new((*side).into()),
-                            SkinShape::new((*side).into()),
-                            *resolution,
-                            split,
-                            memory.0,
-                            Vector3::zeros(),
-                        ),
-                        (size, form) => HandModel::built_in_nested(
-                            (*side).into(),
-                            size,
-                            form,
-                            *resolution,
-                            split,
-                            memory.0,
-                        ),
-                    };
-                    let built = built.map_err(|e| (field, e.to_string()))?;
-                    Some(Arc::new(match motion {
-                        Some(motion) => built.placed(&motion),
-                        None => built,
-                    }))
                 }
-                Shape::Hand {
-                    size: Some(_),
-                    gltf: Some(_),
-                    ..
-                } => {
-                    return Err((
-                        format!("{field}.shape.hand.size"),
-                        "a hand read from `gltf` has its own size; scale it with `placement.scale`"
-                            .into(),
-                    ))
-                }
-                Shape::Hand {
-                    subdivisions: Some(_),
-                    gltf: Some(_),
-                    ..
-                } => return Err((
-                    format!("{field}.shape.hand.subdivisions"),
-                    "`subdivisions` splits the built-in hand's lattice; a hand read from `gltf` \
-                     is refined by its `resolution`"
-                        .into(),
-                )),
-                Shape::Hand {
-                    form: Some(_),
-                    gltf: Some(_),
-                    ..
-                } => {
-                    return Err((
-                        format!("{field}.shape.hand.form"),
-                        "a hand read from `gltf` has its own form (its skin mesh); `form` is the \
-                     built-in hand's"
-                            .into(),
-                    ))
-                }
-                Shape::Hand {
-                    side,
-                    resolution,
-                    gltf: Some(file),
-                    bones,
-                    placement,
-                    ..
-                } => {
-                    let field = format!("{field}.shape.hand.gltf");
-                    let rig = read_rigged_hand(
-                        &dir.join(file),
+                let motion = placement
+                    .as_ref()
+                    .map(builtin_placement)
+                    .transpose()
+                    .map_err(|e| (format!("{field}.placement"), e))?;
+                let size = size
+                    .as_ref()
+                    .map(|size| hand_size(size).map_err(|e| (format!("{field}.size"), e)))
+                    .transpose()?;
+                let split = hand_subdivisions(*subdivisions)
+                    .map_err(|e| (format!("{field}.subdivisions"), e))?;
+                let built = match (size, form) {
+                    (None, HandForm::Simple) => HandModel::build_nested(
+                        Skeleton::new((*side).into()),
+                        SkinShape::new((*side).into()),
+                        *resolution,
+                        split,
+                        memory.0,
+                        Vector3::zeros(),
+                    ),
+                    (size, form) => HandModel::built_in_nested(
                         (*side).into(),
-                        &bones.clone().unwrap_or_default(),
-                        &placement.clone().unwrap_or_default(),
-                    )
-                    .map_err(|e| (field.clone(), e))?;
-                    Some(Arc::new(
-                        HandModel::from_rig_within((*side).into(), &rig, *resolution, memory.0)
-                            .map_err(|e| (field, format!("\"{}\": {e}", shown(file))))?,
-                    ))
+                        size,
+                        form,
+                        *resolution,
+                        split,
+                        memory.0,
+                    ),
+                };
+                let built = built.map_err(|e| (field, e.to_string()))?;
+                Some(Arc::new(match motion {
+                    Some(motion) => built.placed(&motion),
+                    None => built,
+                }))
+            }
+            Shape::Hand {
+                size: Some(_),
+                gltf: Some(_),
+                ..
+            } => {
+                return Err((
+                    format!("{field}.shape.hand.size"),
+                    "a hand read from `gltf` has its own size; scale it with `placement.scale`"
+                        .into(),
+                ))
+            }
+            Shape::Hand {
+                form: Some(_),
+                gltf: Some(_),
+                ..
+            } => {
+                return Err((
+                    format!("{field}.shape.hand.form"),
+                    "a hand read from `gltf` has its own form (its skin mesh); `form` is the \
+                     built-in hand's"
+                        .into(),
+                ))
+            }
+            Shape::Hand {
+                side,
+                resolution,
+                subdivisions,
+                gltf: Some(file),
+                bones,
+                placement,
+                ..
+            } => {
+                let split = hand_subdivisions(*subdivisions)
+                    .map_err(|e| (format!("{field}.shape.hand.subdivisions"), e))?;
+                let field = format!("{field}.shape.hand.gltf");
+                let rig = read_rigged_hand(
+                    &dir.join(file),
+                    (*side).into(),
+                    &bones.clone().unwrap_or_default(),
+                    &placement.clone().unwrap_or_default(),
+                )
+                .map_err(|e| (field.clone(), e))?;
+                Some(Arc::new(
+                    HandModel::from_rig_within((*side).into(), &rig, *resolution, split, memory.0)
+                        .map_err(|e| (field, format!("\"{}\": {e}", shown(file))))?,
+                ))
+            }
+            _ => {
+                if b.pose.is_some() {
+                    return Err((
+                        format!("{field}.pose"),
+                        "only hand bodies have a pose".into(),
+                    ));
                 }
-                _ => {
-                    if b.pose.is_some() {
-                        return Err((
-                            format!("{field}.pose"),
-                            "only hand bodies have a pose".into(),
-                        ));
-                    }
-                    None
-                }
-            };
+                None
+            }
+        };
         let initial_angles = match &hand {
             Some(hand) => hand
                 .skeleton
