@@ -491,6 +491,7 @@ fn a_rigged_glb_split_flexes_as_the_builtin_hand_split() {
         largest(&imported),
         largest(&unsplit)
     );
+    assert_eq!(reference.len(), imported.len());
     for ((name, b), (other, i)) in reference.iter().zip(&imported) {
         assert_eq!(name, other);
         // As unsplit (the test above): the rig's lattice is laid from its skeleton as the

@@ -1213,6 +1213,17 @@ fn little_fist_split(resolution: f64, subdivisions: usize) -> (Vec<(String, f64)
         .unwrap_or_else(|e| panic!("split {subdivisions}: {e}"));
     let last = held.report.frames.last().unwrap();
     let hand = &last.hands["hand"];
+    for (joint, angle) in [
+        ("little.mcp.flex", 88.0),
+        ("little.pip", 105.0),
+        ("little.dip", 70.0),
+    ] {
+        assert!(
+            (hand.pose[joint] - angle).abs() < 1e-9,
+            "{joint}: {}°",
+            hand.pose[joint]
+        );
+    }
     let mut bones: Vec<(String, f64)> = hand
         .bones
         .iter()
@@ -1243,7 +1254,7 @@ fn little_fist_split(resolution: f64, subdivisions: usize) -> (Vec<(String, f64)
 /// of about 1, toward a limit the finest is within a quarter of (docs/hand.md, "Nested
 /// refinement": the numbers).
 #[test]
-#[ignore = "about 45 min and 3 GB: the nested refinement of the fist's largest reactions, run by hand"]
+#[ignore = "about 55 min and 2.5 GB: the nested refinement of the fist's largest reactions, run by hand"]
 fn the_little_fist_s_largest_reactions_converge_nested() {
     use prehensile::util::convergence::{convergence, Convergence};
     let runs = [1, 2, 3].map(|n| little_fist_split(0.75, n));

@@ -122,7 +122,8 @@ impl SolverParams {
             } = &mut b.shape
             {
                 *resolution = self.resolution;
-                // Written only when it differs from the scene's (its absence is 1).
+                // Every hand takes the slider's value, as its resolution; the key is written only
+                // where it differs (its absence is 1), so an unsplit scene keeps none.
                 if subdivisions.unwrap_or(1) != self.subdivisions {
                     *subdivisions = Some(self.subdivisions);
                 }
