@@ -1184,7 +1184,8 @@ fn the_shipped_full_fist_closes_at_resolution_2() {
 /// The nested refinement study's second mesh: the shipped full fist on the resolution-1 hand with
 /// every cell split into 2 × 2 × 2 (as many cells as resolution 2's lattice, about as long; run
 /// by hand with `cargo test --release --test suite -- --ignored fist_split_2`): the same checks
-/// as at resolution 2. Not yet measured to its end (2026-12-07: stopped for the session's time);
+/// as at resolution 2. Not yet measured to its end (2026-12-07: stopped twice for the session's
+/// time, the second time after 2 h 40 min beside other runs);
 /// its largest bone reaction against 10.210 N unsplit is the fist's first nested step
 /// (docs/hand.md, "Nested refinement").
 #[test]
