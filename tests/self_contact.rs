@@ -1231,7 +1231,10 @@ fn little_fist_split(resolution: f64, subdivisions: usize) -> (Vec<(String, f64)
         .map(|(n, b)| (n.clone(), b.magnitude))
         .collect();
     bones.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let sum = Vector3::from(hand.bone_reaction_sum).norm();
+    // One keyframe: the shared reading of a folded hand's frame 1.
+    let Fold {
+        crease, all, sum, ..
+    } = fold(&held);
     eprintln!(
         "resolution {resolution} split {subdivisions}: {:.3?}; press {:.3} N; volume {:+.3} %; \
          Σ bones {sum:.1e} N",
@@ -1241,9 +1244,7 @@ fn little_fist_split(resolution: f64, subdivisions: usize) -> (Vec<(String, f64)
     );
     assert!(sum < 1e-7 * bones[0].1, "Σ bones {sum} N");
     assert!(hand.volume_change.abs() < 0.01);
-    let frame = held.frames.last().unwrap();
-    let model = held.model.bodies[frame.hands[0].body].hand.clone().unwrap();
-    let crossings = crease_and_all_crossings(&model, &frame.hands[0].positions);
+    let crossings = (crease, all);
     eprintln!("split {subdivisions}: skin triangle pairs crossing {crossings:?}");
     (bones, crossings)
 }
