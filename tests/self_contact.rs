@@ -1182,7 +1182,7 @@ fn the_shipped_full_fist_closes_at_resolution_2() {
 }
 
 /// The nested refinement study's second mesh: the shipped full fist on the resolution-1 hand with
-/// every cell split into 2 × 2 × 2 (as many cells as resolution 2's lattice, about as long; run
+/// every cell split into 2 × 2 × 2 (as many cells as resolution 2's lattice, 1.3× as long; run
 /// by hand with `cargo test --release --test suite -- --ignored fist_split_2`): the same checks
 /// as at resolution 2. Measured 2026-12-07, alone: passed in 2 h 09 min 44 s, 3.89 GB; its
 /// largest bone reaction 9.810 N (the little metacarpal) against 10.210 N unsplit, −3.9 %, the
