@@ -4,11 +4,15 @@
 //! against finger.
 //!
 //! A point of a surface never meets the facets of its own neighbourhood: those with a corner
-//! within `radius` of it along the surface at rest (geodesic distance over the surface's edges),
-//! which the flesh between them keeps in place (a point always lies on its neighbouring facets,
+//! within `radius` of it along the surface at rest (geodesic distance over the surface's edges)
+//! and none farther than [`SPAN`] radii, which the flesh between them keeps in place (a point always lies on its neighbouring facets,
 //! and on a curved skin slightly behind or in front of them). Along the surface, not straight:
 //! two fingers side by side are near each other, but far apart over the web between them, and
-//! may meet.
+//! may meet. The neighbourhood is a length of the surface, not of its mesh: a facet with a
+//! corner inside the radius but reaching beyond [`SPAN`] radii is not the point's own (until
+//! 2026-12-08 any facet with a corner inside was, and a neighbourhood reached the radius plus a
+//! facet: on a coarse skin, 4.5 – 5.4 mm facets around a 6.4 mm radius, skin 10 – 11 mm apart
+//! at rest passed through itself unseen).
 //!
 //! Beyond it, over a step, a point meets a facet it **passed through** — its straight path
 //! against the facet's corners' straight paths went from the facet's front to its back
@@ -41,17 +45,21 @@ use nalgebra::Vector3;
 /// face to face; skin around a convex finger is at most 90° apart).
 pub const OPPOSED: f64 = -0.26;
 
+/// A facet of a point's own neighbourhood lies wholly within this many neighbourhood radii of
+/// it along the surface (see the module's text).
+pub const SPAN: f64 = 1.5;
+
 /// Which facets of its own surface a point may not meet (see the module's text).
 #[derive(Clone, Debug)]
 pub struct OwnNeighbourhood {
     /// Rest position of every contact index (nodes, then embedded points), m.
     rest: Vec<Vector3<f64>>,
-    /// A facet with a corner nearer than this to the point at rest, along the surface, is its
-    /// neighbourhood, m.
+    /// A facet with a corner nearer than this to the point at rest, along the surface, and none
+    /// farther than [`SPAN`] times it, is its neighbourhood, m.
     radius: f64,
-    /// Each contact index's neighbourhood: the surface's points within `radius` along it,
-    /// sorted (empty off the surface).
-    near: Vec<Vec<usize>>,
+    /// Each contact index's surroundings: the surface's points within [`SPAN`] radii along it,
+    /// each with whether it lies within the radius, sorted by point (empty off the surface).
+    near: Vec<Vec<(u32, bool)>>,
     /// A point behind a facet at rest by more than `behind`, nearer than `reach`, is the same
     /// flesh seen from its other side, m.
     behind: f64,
@@ -180,23 +188,51 @@ impl OwnNeighbourhood {
         q.normal.dot(normal) < OPPOSED && q.gap <= 0.0 && q.gap >= -self.touching && self.over(&q)
     }
 
+    /// Whether `to` lies within the radius of `from` along the surface at rest (`Some(true)`),
+    /// within [`SPAN`] radii (`Some(false)`), or farther (`None`).
+    fn along(&self, from: usize, to: usize) -> Option<bool> {
+        if from == to {
+            return Some(true);
+        }
+        let near = &self.near[from];
+        let to = u32::try_from(to).ok()?;
+        near.binary_search_by_key(&to, |e| e.0)
+            .ok()
+            .map(|i| near[i].1)
+    }
+
     /// Whether the facet with corners `facet` (contact indices) is `point`'s own: one of its
-    /// facets, or a facet with a corner in its neighbourhood along the surface.
+    /// facets, or a facet with a corner within the radius along the surface and every corner
+    /// within [`SPAN`] radii.
     pub fn excludes(&self, point: usize, facet: &[usize; 3]) -> bool {
         if facet.contains(&point) {
             return true;
         }
-        let near = &self.near[point];
-        facet.iter().any(|c| near.binary_search(c).is_ok())
+        let mut inside = false;
+        for &c in facet {
+            match self.along(point, c) {
+                Some(within) => inside |= within,
+                None => return false,
+            }
+        }
+        inside
     }
 
     /// Whether the edges `a` and `b` (contact indices of their ends) are the same flesh: they
-    /// share an end, or an end of one lies in the neighbourhood of an end of the other.
+    /// share an end, or an end of one lies within the radius of an end of the other along the
+    /// surface and every end of each within [`SPAN`] radii of an end of the other.
     pub fn excludes_edge(&self, a: &[usize; 2], b: &[usize; 2]) -> bool {
-        a.iter().any(|&p| {
-            let near = &self.near[p];
-            b.iter().any(|c| *c == p || near.binary_search(c).is_ok())
-        })
+        if a.iter().any(|p| b.contains(p)) {
+            return true;
+        }
+        let inside = a
+            .iter()
+            .any(|&p| b.iter().any(|&c| self.along(p, c) == Some(true)));
+        let spanned = |x: &[usize; 2], y: &[usize; 2]| {
+            x.iter()
+                .all(|&p| y.iter().any(|&c| self.along(p, c).is_some()))
+        };
+        inside && spanned(a, b) && spanned(b, a)
     }
 
     /// Whether `point` lies behind the facet `facet` at rest within reach — by more than
@@ -215,22 +251,30 @@ impl OwnNeighbourhood {
     }
 }
 
-/// For every point of the surface `triangles` at `positions`, the points within `radius` of it
-/// along the surface's edges (points that coincide joined), sorted; empty for a point off the
-/// surface.
+/// For every point of the surface `triangles` at `positions`, the points within [`SPAN`] times
+/// `radius` of it along the surface's edges (points that coincide joined), each with whether it
+/// lies within `radius`, sorted by point; empty for a point off the surface.
 fn geodesic_neighbourhoods(
     positions: &[Vector3<f64>],
     triangles: &[[usize; 3]],
     radius: f64,
-) -> Vec<Vec<usize>> {
+) -> Vec<Vec<(u32, bool)>> {
+    assert!(
+        u32::try_from(positions.len()).is_ok(),
+        "a self-contact surface has fewer than 2³² points"
+    );
     let edges = SurfaceEdges::new(positions, triangles);
     (0..positions.len())
         .map(|start| {
             if !edges.on_surface(start) {
                 return Vec::new();
             }
-            let mut near: Vec<usize> = edges.within(&[start], radius).into_keys().collect();
-            near.sort_unstable();
+            let mut near: Vec<(u32, bool)> = edges
+                .within(&[start], SPAN * radius)
+                .into_iter()
+                .map(|(p, d)| (p as u32, d < radius))
+                .collect();
+            near.sort_unstable_by_key(|e| e.0);
             near
         })
         .collect()
@@ -296,6 +340,38 @@ mod tests {
         assert!(strict.behind_at_rest(point, &top[16]));
         let lenient = OwnNeighbourhood::new(sunk, &triangles, 0.0025, (0.001, 0.04), 0.0);
         assert!(!lenient.behind_at_rest(point, &top[16]));
+    }
+
+    /// A neighbourhood reaches its radius, not its radius plus a facet: on a strip whose facets
+    /// are large against the radius (1 mm squares halved along 1.41 mm diagonals; radius 2.2 mm,
+    /// 1.5 radii 3.3 mm), a facet with a corner inside the radius and one beyond 1.5 radii along
+    /// the skin is not the point's own; nor is an edge with an end beyond 1.5 radii of both ends
+    /// of the other. (Along the strip's edges from (0,0): (i,0) lies i mm away, (i,1) i + 0.41.)
+    #[test]
+    fn a_neighbourhood_reaches_its_radius_not_a_facet_beyond() {
+        let mut rest = Vec::new();
+        let top = strip(&mut rest, 0.0, true);
+        let n = OwnNeighbourhood::new(rest.clone(), &top, 0.0022, (0.001, 0.01), 0.0);
+        let v = |i: usize, j: usize| 2 * i + j;
+        let point = v(0, 0);
+        // Corners 1, 2.41 and 1.41 mm away: wholly within 1.5 radii.
+        assert_eq!(top[3], [v(1, 0), v(2, 1), v(1, 1)]);
+        assert!(n.excludes(point, &top[3]));
+        // Corners 2, 3 and 3.41 mm away: one inside the radius, one beyond 1.5 radii.
+        assert_eq!(top[4], [v(2, 0), v(3, 0), v(3, 1)]);
+        assert!(!n.excludes(point, &top[4]));
+        // Its nearest corner 3 mm away, beyond the radius.
+        assert!(!n.excludes(point, &top[6]));
+        // Edges: (0,0)–(0,1) against (2,0)–(3,1): (2,0) 2 mm from (0,0); (3,1) 3.41 mm from
+        // (0,0) but 3 mm from (0,1): own. Against (3,0)–(4,0): nearest ends 3 mm apart: not.
+        assert!(n.excludes_edge(&[v(0, 0), v(0, 1)], &[v(2, 0), v(3, 1)]));
+        assert!(!n.excludes_edge(&[v(0, 0), v(0, 1)], &[v(3, 0), v(4, 0)]));
+        // Radius 1.5 mm (1.5 radii 2.25 mm): (0,0)–(1,0) against (2,0)–(3,1): (2,0) 1 mm from
+        // (1,0), but (3,1) 3.41 and 2.41 mm from (0,0) and (1,0): not own. Against (1,1)–(2,1):
+        // (2,1) 2.41 mm from (0,0) but 1.41 mm from (1,0): own.
+        let coarse = OwnNeighbourhood::new(rest, &top, 0.0015, (0.001, 0.01), 0.0);
+        assert!(!coarse.excludes_edge(&[v(0, 0), v(1, 0)], &[v(2, 0), v(3, 1)]));
+        assert!(coarse.excludes_edge(&[v(0, 0), v(1, 0)], &[v(1, 1), v(2, 1)]));
     }
 
     /// A skin split along a seam (its vertices duplicated, as where the lattice splits a node
