@@ -6,8 +6,9 @@
 //! surface's area), the pairs of edges within reach of each other, and the first time an edge
 //! passes through another over a step (`swept::edges_cross`).
 //!
-//! Two edges with a common end, or with an end in the other's ends' neighbourhood along the
-//! surface (`OwnNeighbourhood`), are the same flesh: flesh, not contact, keeps them apart.
+//! Two edges with a common end, or with an end within the radius of an end of the other along
+//! the surface and every end of each within 1.5 radii of an end of the other
+//! (`OwnNeighbourhood`), are the same flesh: flesh, not contact, keeps them apart.
 
 use super::bounds::Bounds;
 use super::edge_edge::edge_edge_distance2;

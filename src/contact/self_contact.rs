@@ -5,14 +5,16 @@
 //!
 //! A point of a surface never meets the facets of its own neighbourhood: those with a corner
 //! within `radius` of it along the surface at rest (geodesic distance over the surface's edges)
-//! and none farther than [`SPAN`] radii, which the flesh between them keeps in place (a point always lies on its neighbouring facets,
+//! and none farther than [`SPAN`] radii, and those with a corner where it is (a seam's twin),
+//! which the flesh between them keeps in place (a point always lies on its neighbouring facets,
 //! and on a curved skin slightly behind or in front of them). Along the surface, not straight:
 //! two fingers side by side are near each other, but far apart over the web between them, and
-//! may meet. The neighbourhood is a length of the surface, not of its mesh: a facet with a
-//! corner inside the radius but reaching beyond [`SPAN`] radii is not the point's own (until
-//! 2026-12-08 any facet with a corner inside was, and a neighbourhood reached the radius plus a
-//! facet: on a coarse skin, 4.5 – 5.4 mm facets around a 6.4 mm radius, skin 10 – 11 mm apart
-//! at rest passed through itself unseen).
+//! may meet. The neighbourhood's reach is bounded by a length of the surface, not of its mesh:
+//! a facet with a corner inside the radius but reaching beyond [`SPAN`] radii is not the point's
+//! own (on facets with edges over half a radius the neighbourhood may therefore fall short of
+//! the radius). Until 2026-12-07 any facet with a corner inside was, and a neighbourhood reached
+//! the radius plus a facet: on a coarse skin, 4.5 – 5.4 mm facets around a 6.4 mm radius, skin
+//! 10 – 11 mm apart at rest passed through itself unseen.
 //!
 //! Beyond it, over a step, a point meets a facet it **passed through** — its straight path
 //! against the facet's corners' straight paths went from the facet's front to its back
@@ -58,8 +60,8 @@ pub struct OwnNeighbourhood {
     /// farther than [`SPAN`] times it, is its neighbourhood, m.
     radius: f64,
     /// Each contact index's surroundings: the surface's points within [`SPAN`] radii along it,
-    /// each with whether it lies within the radius, sorted by point (empty off the surface).
-    near: Vec<Vec<(u32, bool)>>,
+    /// each with how near, sorted by point (empty off the surface).
+    near: Vec<Vec<(u32, Along)>>,
     /// A point behind a facet at rest by more than `behind`, nearer than `reach`, is the same
     /// flesh seen from its other side, m.
     behind: f64,
@@ -72,7 +74,8 @@ pub struct OwnNeighbourhood {
 
 impl OwnNeighbourhood {
     /// The neighbourhoods on the surface `triangles` (contact indices) at the rest positions
-    /// `rest` (one per contact index): points within `radius` along the surface; for the
+    /// `rest` (one per contact index): points within `radius` along the surface, their facets
+    /// wholly within [`SPAN`] radii, and their seam twins'; for the
     /// prediction by skinning, points behind a facet by more than `behind` within `reach`; a
     /// point touched a facet where a step started if it lay behind it by no more than
     /// `touching` (m).
@@ -188,11 +191,10 @@ impl OwnNeighbourhood {
         q.normal.dot(normal) < OPPOSED && q.gap <= 0.0 && q.gap >= -self.touching && self.over(&q)
     }
 
-    /// Whether `to` lies within the radius of `from` along the surface at rest (`Some(true)`),
-    /// within [`SPAN`] radii (`Some(false)`), or farther (`None`).
-    fn along(&self, from: usize, to: usize) -> Option<bool> {
+    /// How near `to` lies to `from` along the surface at rest; `None` beyond [`SPAN`] radii.
+    fn along(&self, from: usize, to: usize) -> Option<Along> {
         if from == to {
-            return Some(true);
+            return Some(Along::Joined);
         }
         let near = &self.near[from];
         let to = u32::try_from(to).ok()?;
@@ -202,32 +204,24 @@ impl OwnNeighbourhood {
     }
 
     /// Whether the facet with corners `facet` (contact indices) is `point`'s own: one of its
-    /// facets, or a facet with a corner within the radius along the surface and every corner
-    /// within [`SPAN`] radii.
+    /// facets or of its seam twin's, or a facet with a corner within the radius along the
+    /// surface and every corner within [`SPAN`] radii.
     pub fn excludes(&self, point: usize, facet: &[usize; 3]) -> bool {
-        if facet.contains(&point) {
-            return true;
-        }
-        let mut inside = false;
-        for &c in facet {
-            match self.along(point, c) {
-                Some(within) => inside |= within,
-                None => return false,
-            }
-        }
-        inside
+        let along = facet.map(|c| self.along(point, c));
+        along.contains(&Some(Along::Joined))
+            || (along.iter().all(Option::is_some) && along.contains(&Some(Along::Inside)))
     }
 
     /// Whether the edges `a` and `b` (contact indices of their ends) are the same flesh: they
-    /// share an end, or an end of one lies within the radius of an end of the other along the
-    /// surface and every end of each within [`SPAN`] radii of an end of the other.
+    /// share an end (or its seam twin), or an end of one lies within the radius of an end of
+    /// the other along the surface and every end of each within [`SPAN`] radii of an end of the
+    /// other.
     pub fn excludes_edge(&self, a: &[usize; 2], b: &[usize; 2]) -> bool {
-        if a.iter().any(|p| b.contains(p)) {
+        let nearest = |p: usize| b.iter().filter_map(move |&c| self.along(p, c));
+        if a.iter().any(|&p| nearest(p).any(|n| n == Along::Joined)) {
             return true;
         }
-        let inside = a
-            .iter()
-            .any(|&p| b.iter().any(|&c| self.along(p, c) == Some(true)));
+        let inside = a.iter().any(|&p| nearest(p).any(|n| n == Along::Inside));
         let spanned = |x: &[usize; 2], y: &[usize; 2]| {
             x.iter()
                 .all(|&p| y.iter().any(|&c| self.along(p, c).is_some()))
@@ -251,14 +245,25 @@ impl OwnNeighbourhood {
     }
 }
 
+/// How near a point lies to another along the surface at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Along {
+    /// The same point, or its twin across a seam (coinciding, joined at no length).
+    Joined,
+    /// Within the neighbourhood's radius.
+    Inside,
+    /// Beyond the radius, within [`SPAN`] radii.
+    Spanned,
+}
+
 /// For every point of the surface `triangles` at `positions`, the points within [`SPAN`] times
-/// `radius` of it along the surface's edges (points that coincide joined), each with whether it
-/// lies within `radius`, sorted by point; empty for a point off the surface.
+/// `radius` of it along the surface's edges (points that coincide joined), each with how near
+/// it lies, sorted by point; empty for a point off the surface.
 fn geodesic_neighbourhoods(
     positions: &[Vector3<f64>],
     triangles: &[[usize; 3]],
     radius: f64,
-) -> Vec<Vec<(u32, bool)>> {
+) -> Vec<Vec<(u32, Along)>> {
     assert!(
         u32::try_from(positions.len()).is_ok(),
         "a self-contact surface has fewer than 2³² points"
@@ -269,10 +274,19 @@ fn geodesic_neighbourhoods(
             if !edges.on_surface(start) {
                 return Vec::new();
             }
-            let mut near: Vec<(u32, bool)> = edges
+            let mut near: Vec<(u32, Along)> = edges
                 .within(&[start], SPAN * radius)
                 .into_iter()
-                .map(|(p, d)| (p as u32, d < radius))
+                .map(|(p, d)| {
+                    let along = if d <= 0.0 {
+                        Along::Joined
+                    } else if d < radius {
+                        Along::Inside
+                    } else {
+                        Along::Spanned
+                    };
+                    (p as u32, along)
+                })
                 .collect();
             near.sort_unstable_by_key(|e| e.0);
             near
@@ -342,13 +356,14 @@ mod tests {
         assert!(!lenient.behind_at_rest(point, &top[16]));
     }
 
-    /// A neighbourhood reaches its radius, not its radius plus a facet: on a strip whose facets
-    /// are large against the radius (1 mm squares halved along 1.41 mm diagonals; radius 2.2 mm,
-    /// 1.5 radii 3.3 mm), a facet with a corner inside the radius and one beyond 1.5 radii along
-    /// the skin is not the point's own; nor is an edge with an end beyond 1.5 radii of both ends
-    /// of the other. (Along the strip's edges from (0,0): (i,0) lies i mm away, (i,1) i + 0.41.)
+    /// A neighbourhood reaches 1.5 radii at most, not its radius plus a facet: on a strip whose
+    /// facets are large against the radius (1 mm squares halved along 1.41 mm diagonals; radius
+    /// 2.2 mm, 1.5 radii 3.3 mm), a facet with a corner inside the radius and one beyond 1.5
+    /// radii along the skin is not the point's own; nor is an edge with an end beyond 1.5 radii
+    /// of both ends of the other. (Along the strip's edges from (0,0): (i,0) lies i mm away,
+    /// (0,1) 1 mm, (i,1) i + 0.41 mm for i ≥ 1.)
     #[test]
-    fn a_neighbourhood_reaches_its_radius_not_a_facet_beyond() {
+    fn a_neighbourhood_reaches_no_facet_beyond_its_span() {
         let mut rest = Vec::new();
         let top = strip(&mut rest, 0.0, true);
         let n = OwnNeighbourhood::new(rest.clone(), &top, 0.0022, (0.001, 0.01), 0.0);
@@ -395,6 +410,14 @@ mod tests {
         assert!(n.excludes(18, &right[0]));
         // Farther than 2.5 mm along the joined skin: not excluded.
         assert!(!n.excludes(14, &right[4]));
+        // Across the seam the skin is one even where its facets are large against the radius:
+        // at 0.5 mm (1.5 radii 0.75 mm) the twin's facet, corners 0, 1 and 1.41 mm from vertex
+        // 20, and the twin's diagonal are still its own.
+        let small = OwnNeighbourhood::new(rest, &triangles, 0.0005, (0.001, 0.01), 0.0);
+        assert_eq!(right[0], [22, 24, 25]);
+        assert!(small.excludes(20, &right[0]));
+        assert!(small.excludes_edge(&[20, 21], &[22, 25]));
+        assert!(!small.excludes(18, &right[0]));
     }
 
     /// Vertices, and the triangles of a lower and an upper strip.
