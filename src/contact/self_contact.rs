@@ -41,6 +41,7 @@ use super::bounds::Bounds;
 use super::surface::{project_on_triangle, Projection};
 use super::swept::passes_through;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 /// The skin's normals at a point and at a facet it may meet are at least this far from
 /// parallel: their dot product below −cos 105°, ≈ −0.26 (skin folding onto itself meets
@@ -217,16 +218,12 @@ impl OwnNeighbourhood {
     /// the other along the surface and every end of each within [`SPAN`] radii of an end of the
     /// other.
     pub fn excludes_edge(&self, a: &[usize; 2], b: &[usize; 2]) -> bool {
-        let nearest = |p: usize| b.iter().filter_map(move |&c| self.along(p, c));
-        if a.iter().any(|&p| nearest(p).any(|n| n == Along::Joined)) {
-            return true;
-        }
-        let inside = a.iter().any(|&p| nearest(p).any(|n| n == Along::Inside));
-        let spanned = |x: &[usize; 2], y: &[usize; 2]| {
-            x.iter()
-                .all(|&p| y.iter().any(|&c| self.along(p, c).is_some()))
-        };
-        inside && spanned(a, b) && spanned(b, a)
+        // How near each end of `a` (rows) lies to each end of `b` (columns).
+        let along = a.map(|p| b.map(|c| self.along(p, c)));
+        let any = |near: Along| along.iter().flatten().any(|n| *n == Some(near));
+        let rows = along.iter().all(|row| row.iter().any(Option::is_some));
+        let columns = (0..2).all(|j| along.iter().any(|row| row[j].is_some()));
+        any(Along::Joined) || (any(Along::Inside) && rows && columns)
     }
 
     /// Whether `point` lies behind the facet `facet` at rest within reach — by more than
@@ -270,6 +267,7 @@ fn geodesic_neighbourhoods(
     );
     let edges = SurfaceEdges::new(positions, triangles);
     (0..positions.len())
+        .into_par_iter()
         .map(|start| {
             if !edges.on_surface(start) {
                 return Vec::new();
