@@ -281,8 +281,9 @@ fn skin_crossings(
 
 /// The contact skin's triangle pairs crossing each other at `positions` (`skin_crossings`,
 /// more than 3 base spacings — 9.6 mm — apart at rest: beyond the self-contact's neighbourhood,
-/// which reaches at most 1.5 × 6.4 = 9.6 mm along the skin since 2026-12-07): those of two facets facing the palm at rest (outward normal within 45° of −z:
-/// a flexion crease's two sides), and all of them.
+/// which reaches at most 1.5 × 6.4 = 9.6 mm along the skin since 2026-12-07): those of two
+/// facets facing the palm at rest (outward normal within 45° of −z: a flexion crease's two
+/// sides), and all of them.
 fn crease_and_all_crossings(hand: &HandModel, positions: &[Vector3<f64>]) -> (usize, usize) {
     let rest = hand.contact_skin.positions(&hand.flesh.mesh.nodes);
     let palmar = |t: &[usize; 3]| {
